@@ -1,0 +1,118 @@
+// `fretbuzz run`: load a case, apply command-line overrides, simulate, write the outputs.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "../Commands.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/AudioWriter.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/CsvWriters.hpp"
+#include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/io/SummaryWriter.hpp"
+#include "fretbuzz/run/Simulation.hpp"
+
+namespace fretbuzz::cli {
+
+namespace {
+
+struct RunArguments {
+    std::string case_name;
+    std::optional<double> fs, duration, stiffness, exponent;
+    bool lossless = false;
+    std::vector<double> observe;
+    std::optional<std::string> output_rate;
+    std::string out = "fretbuzz-out";
+    bool no_screen = false;
+    bool quiet = false;
+};
+
+double parse_rate(const std::string& text) {
+    try {
+        std::size_t used = 0;
+        const double value = std::stod(text, &used);
+        if (used == text.size()) return value;
+    } catch (const std::exception&) {
+    }
+    throw InputError("--output-rate " + text + ": must be a rate in Hz or 'native'");
+}
+
+void apply_overrides(const RunArguments& a, Case& c) {
+    if (a.fs) c.run.sample_rate_hz = *a.fs;
+    if (a.duration) c.run.duration_s = *a.duration;
+    if (a.stiffness) c.contact.stiffness = *a.stiffness;
+    if (a.exponent) c.contact.exponent = *a.exponent;
+    if (a.lossless) c.make_lossless();
+    c.observation_points_m.insert(c.observation_points_m.end(), a.observe.begin(), a.observe.end());
+    if (a.output_rate) {
+        if (*a.output_rate == "native")
+            c.run.output_rate_hz.reset();
+        else
+            c.run.output_rate_hz = parse_rate(*a.output_rate);
+    }
+}
+
+void print_progress(const Progress& p) {
+    std::fprintf(stderr, "\r  %5.1f%%  t = %.4f s  elapsed %.1f s  ETA %.1f s   ", 100.0 * p.fraction, p.simulated_s,
+                 p.elapsed_s, p.remaining_s);
+    std::fflush(stderr);
+}
+
+int run_command(const RunArguments& a) {
+    Case c = load_case(a.case_name);
+    apply_overrides(a, c);
+    c.validate();  // before anything is created on disk
+
+    OutputDirectory out(a.out);
+    ObservationCsvWriter observation(out.staged("observation.csv"));
+    EnergyCsvWriter energy(out.staged("energy.csv"));
+    AudioWriter audio(out.staged("audio.wav"), c.run.audio_rate_hz);
+    SummaryWriter summary_writer(out.staged("summary.json"));
+    std::vector<RunObserver*> observers{&observation, &energy, &audio, &summary_writer};
+
+    RunOptions options;
+    options.plan.screen_contacts = !a.no_screen;
+    options.plan.measure_transform = c.run.sample_rate_hz * c.run.duration_s > 1e6;
+    const bool show_progress = !a.quiet && ::isatty(STDERR_FILENO);
+    if (show_progress) options.progress = print_progress;
+    if (!a.quiet)
+        std::cerr << "fretbuzz: " << c.name << ": " << c.mode_count() << " modes, fs = " << c.run.sample_rate_hz
+                  << " Hz, " << c.run.duration_s << " s\n";
+    const RunSummary s = simulate(c, observers, options);
+    out.commit();
+    if (show_progress) std::fputs("\r\033[K", stderr);
+    if (!a.quiet) {
+        std::cerr << "fretbuzz: " << s.steps << " steps in " << s.wall_seconds << " s ("
+                  << s.wall_seconds / s.duration_s << " s per simulated second); " << s.contact_steps
+                  << " steps with contact; energy " << s.energy_initial_j << " J -> " << s.energy_final_j
+                  << " J; outputs in " << out.path().string() << "\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, Action& action) {
+    auto args = std::make_shared<RunArguments>();
+    CLI::App* cmd = app.add_subcommand("run", "Simulate a built-in case or a .toml case file");
+    cmd->add_option("case", args->case_name, "Built-in case name (see `fretbuzz cases`) or path to a .toml file")
+        ->required();
+    cmd->add_option("--fs", args->fs, "Sampling rate Fe in Hz");
+    cmd->add_option("--duration", args->duration, "Simulated duration in s");
+    cmd->add_option("--K", args->stiffness, "Penalty stiffness K");
+    cmd->add_option("--alpha", args->exponent, "Penalty exponent alpha (>= 1)");
+    cmd->add_flag("--lossless", args->lossless, "Remove all damping (sigma_j = 0)");
+    cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
+    cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
+    cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
+    cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");
+    cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+    cmd->callback([args, &action] { action = [args] { return run_command(*args); }; });
+}
+
+}  // namespace fretbuzz::cli

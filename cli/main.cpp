@@ -1,0 +1,30 @@
+// The fretbuzz command: a thin layer that parses arguments and calls the library.
+// Errors in the user's input exit with status 2, numerical failures with 3.
+#include <iostream>
+
+#include "Commands.hpp"
+#include "fretbuzz/Error.hpp"
+
+int main(int argc, char** argv) {
+    using namespace fretbuzz;
+    CLI::App app{"fretbuzz: strings vibrating against obstacles (modal scheme, exact energy balance)"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "fretbuzz 0.1.0");
+    cli::Action action;
+    cli::add_run_command(app, action);
+    cli::add_cases_commands(app, action);
+
+    CLI11_PARSE(app, argc, argv);
+    try {
+        return action ? action() : 0;
+    } catch (const InputError& e) {
+        std::cerr << "fretbuzz: error: " << e.what() << "\n";
+        return 2;
+    } catch (const SolverError& e) {
+        std::cerr << "fretbuzz: solver error: " << e.what() << "\n";
+        return 3;
+    } catch (const std::exception& e) {
+        std::cerr << "fretbuzz: failed: " << e.what() << "\n";
+        return 1;
+    }
+}

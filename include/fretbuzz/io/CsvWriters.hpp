@@ -1,0 +1,43 @@
+#pragma once
+// Streaming CSV writers: observation.csv (t_s, one column per observation point) and
+// energy.csv (t_s, energy_J, contact_energy_J, dissipated_J). Rows go straight to disk;
+// numbers are written in shortest round-trip form, so nothing is lost.
+#include <filesystem>
+#include <fstream>
+#include <span>
+#include <string>
+
+#include "fretbuzz/run/RunObserver.hpp"
+
+namespace fretbuzz {
+
+class ObservationCsvWriter : public RunObserver {
+public:
+    explicit ObservationCsvWriter(const std::filesystem::path& path);
+    void begin(const RunLayout& layout) override;
+    void observation(double t, std::span<const double> u) override;
+    void finish(const RunSummary&) override;
+
+private:
+    std::filesystem::path path_;
+    std::ofstream out_;
+    std::string line_;
+};
+
+class EnergyCsvWriter : public RunObserver {
+public:
+    explicit EnergyCsvWriter(const std::filesystem::path& path);
+    void begin(const RunLayout& layout) override;
+    void energy(double t, double h, double contact, double dissipated) override;
+    void finish(const RunSummary&) override;
+
+private:
+    std::filesystem::path path_;
+    std::ofstream out_;
+    std::string line_;
+};
+
+// Appends the shortest decimal form of v that reads back to exactly v.
+void append_number(std::string& line, double v);
+
+}  // namespace fretbuzz

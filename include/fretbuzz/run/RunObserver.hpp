@@ -1,0 +1,59 @@
+#pragma once
+// What a run reports while it goes: observers receive the observation signals at the
+// output rate, the energy terms, and (if they ask) the first observation signal at every
+// time step. Writers are observers; they know nothing of the physics.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+
+namespace fretbuzz {
+
+struct RunLayout {
+    const Case* source = nullptr;
+    double dt = 0.0;
+    long steps = 0;               // time steps after t = 0
+    long output_stride = 1;       // time steps between output rows
+    double output_rate_hz = 0.0;  // fs / output_stride
+    std::vector<double> observation_points_m;
+};
+
+struct RunSummary {
+    std::string case_name;
+    double sample_rate_hz = 0.0;
+    double duration_s = 0.0;
+    long steps = 0;
+    std::size_t modes = 0;
+    double output_rate_hz = 0.0;
+    double wall_seconds = 0.0;
+    double steps_per_second = 0.0;
+    double energy_initial_j = 0.0;  // H^{1/2}
+    double energy_final_j = 0.0;
+    double dissipated_j = 0.0;
+    double max_relative_energy_increase = 0.0;  // max over output samples of (H_k - H_{k-1}) / H^{1/2}
+    double max_relative_balance_error = 0.0;    // max |H + dissipated - H^{1/2}| / H^{1/2}
+    long contact_steps = 0;
+    int max_newton_iterations = 0;
+    double mean_points_solved = 0.0;  // contact solves per step
+    double first_contact_s = -1.0;
+    double last_contact_s = -1.0;
+    bool lossless = false;
+    bool screened = true;
+};
+
+class RunObserver {
+public:
+    virtual ~RunObserver() = default;
+    virtual void begin(const RunLayout&) {}
+    // u at each observation point at t (output rate, from t = 0).
+    virtual void observation(double, std::span<const double>) {}
+    // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
+    virtual void energy(double, double, double, double) {}
+    // Observers that return true receive the first observation signal at every step.
+    virtual bool wants_every_step() const { return false; }
+    virtual void every_step(double) {}
+    virtual void finish(const RunSummary&) {}
+};
+
+}  // namespace fretbuzz

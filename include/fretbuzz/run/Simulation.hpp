@@ -1,0 +1,30 @@
+#pragma once
+// The driver: plans a Case, steps it to the end, and feeds the observers.
+#include <functional>
+#include <span>
+
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/run/RunObserver.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+
+namespace fretbuzz {
+
+struct Progress {
+    double fraction;         // 0..1
+    double simulated_s;
+    double elapsed_s;
+    double remaining_s;      // estimate
+};
+
+struct RunOptions {
+    PlanOptions plan;
+    // Called about twice a second of wall time, if set.
+    std::function<void(const Progress&)> progress;
+};
+
+// Output stride for a case: one row per step for "native", else round(fs / output_rate).
+long output_stride(const Case& c);
+
+RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options = {});
+
+}  // namespace fretbuzz

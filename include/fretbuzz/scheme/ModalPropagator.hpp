@@ -1,0 +1,64 @@
+#pragma once
+// The exact one-step map of each damped modal oscillator q'' + 2 sigma q' + omega^2 q = 0
+// (Issanchou et al. 2017, eq. 4: q^{n+1} = A q^n - e q^{n-1} with A = 2 e^{-sigma dt} cos(omega_d dt),
+// e = e^{-2 sigma dt}). It is written in difference form, d^n = q^n - q^{n-1}:
+//     d^{n+1} = e d^n - beta q^n,   q^{n+1} = q^n + d^{n+1},   beta = 1 + e - A,
+// with beta computed without cancellation, so that low modes at tiny dt keep full precision.
+// The same coefficients give the discrete energy of section 3 in closed form
+// (C1 = (1+e)/2, C2 = beta/dt^2, C3 = (1-e)/dt once the paper's theta_j and sigma*_j are
+// substituted), and bounds on the free motion used to rule out contact.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/model/ModeTable.hpp"
+
+namespace fretbuzz {
+
+class ModalPropagator {
+public:
+    ModalPropagator(const ModeTable& modes, double dt);
+
+    std::size_t size() const { return decay_.size(); }
+    double dt() const { return dt_; }
+    std::span<const double> decay() const { return decay_; }  // e_j
+    std::span<const double> beta() const { return beta_; }    // 1 + e_j - A_j
+    std::span<const double> loss() const { return loss_; }    // 1 - e_j
+    std::span<const double> omega() const { return omega_; }
+    bool lossless() const { return lossless_; }
+
+    // Exact free motion over the first step from displacement q0 and velocity v0:
+    // q1 = q(dt), d1 = q1 - q0 (computed without cancellation).
+    void first_step(std::span<const double> q0, std::span<const double> v0, std::span<double> q1,
+                    std::span<double> d1) const;
+    // Exact free motion at time t from q(0), q'(0) (closed form, for checks).
+    double free_motion(std::size_t j, double q0, double v0, double t) const;
+
+    // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the modal energy times 2 dt^2 / mu.
+    double scaled_modal_energy(std::span<const double> q, std::span<const double> d) const;
+
+    // |q_j(t) - q_j(t_n)| <= deviation_j(tau) for t in [t_n, t_n + tau] while the mode moves
+    // freely from (q^n, d^n); +infinity where no bound is available (an aliased mode).
+    double free_deviation(std::size_t j, double q, double d, double tau) const;
+    // Largest |q_j(t)|, t >= t_n, of the free motion from (q^n, d^n).
+    double free_amplitude(std::size_t j, double q, double d) const;
+    // Largest |change| of mode j over [t_n, t_n + tau] caused by adding delta to q^{n+1}, per |delta|.
+    double impulse_gain(std::size_t j, double tau) const;
+
+private:
+    struct FreeMotionCoefficients {
+        double c_plus, c_minus;  // overdamped: q(t) = c+ e^{-(s-g)t} + c- e^{-(s+g)t}
+    };
+
+    double dt_;
+    bool lossless_ = true;
+    std::vector<double> decay_, beta_, loss_, omega_, sigma_;
+    std::vector<double> rate_;            // omega_d (underdamped) or gamma = sqrt(sigma^2 - omega^2)
+    std::vector<unsigned char> underdamped_;
+    std::vector<double> half_decay_;      // e^{-sigma dt}
+    std::vector<double> expm1_half_;      // e^{-sigma dt} - 1
+    std::vector<double> sin_step_;        // sin(omega_d dt) or sinh(gamma dt)
+    std::vector<double> versine_step_;    // 1 - cos(omega_d dt) = 2 sin^2(omega_d dt / 2), or cosh(gamma dt) - 1
+};
+
+}  // namespace fretbuzz

@@ -1,0 +1,29 @@
+#pragma once
+// The type-I discrete sine transform that maps modal coordinates to the string
+// shape on the grid and back (u = S q, q = dx S^T u). Like FFTW itself, the
+// costly planning happens once in the constructor; apply() is the cheap part.
+#include <cstddef>
+#include <span>
+
+namespace fretbuzz {
+
+class SineTransform {
+public:
+    // Plans an unnormalised RODFT00 of length n: y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)).
+    // measure = true lets FFTW time candidate algorithms (slower to plan, faster to run).
+    explicit SineTransform(std::size_t n, bool measure = false);
+    ~SineTransform();
+    SineTransform(const SineTransform&) = delete;
+    SineTransform& operator=(const SineTransform&) = delete;
+
+    std::size_t size() const { return n_; }
+    // output[k] = scale * RODFT00(input)[k]; input and output may be the same span.
+    void apply(std::span<const double> input, std::span<double> output, double scale) const;
+
+private:
+    std::size_t n_;
+    double* buffer_;
+    void* plan_;
+};
+
+}  // namespace fretbuzz

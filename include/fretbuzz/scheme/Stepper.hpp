@@ -1,0 +1,80 @@
+#pragma once
+// Advances the string one time step with the scheme of Issanchou et al. 2017 (eq. 4),
+// in modal coordinates:
+//     q^{n+1} = C q^n - C~ q^{n-1} + (dt^2/mu) dx S^T f^n,
+// where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
+// scalar solve at each grid point that can touch (ContactScreen says which). It also keeps
+// the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
+// H + dissipated is constant to round-off. Nothing here allocates or does I/O per step.
+#include <cstddef>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "fretbuzz/scheme/ContactScreen.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+
+namespace fretbuzz {
+
+struct StepStatistics {
+    long contact_steps = 0;            // steps with a non-zero contact force somewhere
+    int max_newton_iterations = 0;
+    double candidate_point_steps = 0;  // sum over steps of the points solved
+    long windows = 0;
+    long transform_steps = 0;          // steps that used the full sine transform
+};
+
+class Stepper {
+public:
+    // Starts at n = 0 from modal displacement q0 and velocity v0 (dq/dt).
+    Stepper(const Plan& plan, std::span<const double> q0, std::span<const double> v0);
+
+    // n -> n + 1. The first step is the exact free motion; the others are the scheme.
+    void step();
+
+    long step_index() const { return n_; }
+    double time() const { return static_cast<double>(n_) * plan_.dt(); }
+    std::span<const double> modal_displacement() const { return q_; }  // q^n
+    std::span<const double> modal_difference() const { return d_; }    // q^n - q^{n-1}
+    // u(x, t_n) = phi(x) . q^n
+    double displacement(std::span<const double> mode_shapes) const;
+    // (u(x, t_n) - u(x, t_{n-1})) / dt
+    double velocity(std::span<const double> mode_shapes) const;
+
+    // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
+    double energy() const;          // H^{n-1/2}, contact energy included
+    double contact_energy() const;  // dx (Psi(eta^n) + Psi(eta^{n-1})) / 2
+    double dissipated() const { return dissipated_; }  // damping losses since H^{1/2}
+
+    // Points with a non-zero force in the last step and that force (N/m).
+    std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
+    const StepStatistics& statistics() const { return stats_; }
+
+private:
+    void begin_window();
+    void track(std::size_t i);
+    void solve_contacts();
+    void apply_impulse();
+    void advance_modes();
+
+    const Plan& plan_;
+    ContactScreen screen_;
+    long n_ = 0;
+    std::vector<double> q_, d_;            // q^n and q^n - q^{n-1}
+    std::vector<double> v0_;               // initial modal velocity (first step only)
+    std::vector<double> predicted_;        // q^{n+1} without contact force
+    std::vector<double> impulse_;          // contact contribution to q^{n+1}
+    std::vector<double> grid_;             // scratch: a field on the grid
+    std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at tracked points
+    std::vector<unsigned char> tracked_;
+    std::vector<long> last_force_step_;
+    std::vector<std::size_t> recent_contacts_;
+    std::vector<std::pair<std::size_t, double>> forces_;
+    double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
+    double dissipated_ = 0.0;
+    double window_candidate_steps_ = 0.0;
+    long window_start_ = 0;
+    StepStatistics stats_;
+};
+
+}  // namespace fretbuzz

@@ -1,0 +1,35 @@
+#include "fretbuzz/Error.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace fretbuzz {
+
+std::string out_of_range_message(const std::string& name, double value, const std::string& allowed) {
+    std::ostringstream out;
+    out.precision(17);
+    out << name << " = " << value << " is out of range: " << allowed;
+    return out.str();
+}
+
+void require_finite(const std::string& name, double value) {
+    if (!std::isfinite(value)) throw InputError(out_of_range_message(name, value, "must be a finite number"));
+}
+
+void require_positive(const std::string& name, double value) {
+    require_finite(name, value);
+    if (!(value > 0.0)) throw InputError(out_of_range_message(name, value, "must be > 0"));
+}
+
+void require_at_least(const std::string& name, double value, double minimum) {
+    require_finite(name, value);
+    if (!(value >= minimum)) {
+        std::ostringstream allowed;
+        allowed << "must be >= " << minimum;
+        throw InputError(out_of_range_message(name, value, allowed.str()));
+    }
+}
+
+void require_non_negative(const std::string& name, double value) { require_at_least(name, value, 0.0); }
+
+}  // namespace fretbuzz

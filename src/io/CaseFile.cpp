@@ -1,0 +1,171 @@
+#include "fretbuzz/io/CaseFile.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "CaseSections.hpp"
+#include "TomlSection.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/BuiltinFiles.hpp"
+
+namespace fretbuzz {
+
+DataSource DataSource::directory(std::filesystem::path dir) {
+    DataSource s;
+    s.dir_ = std::move(dir);
+    return s;
+}
+
+DataSource DataSource::builtin() {
+    DataSource s;
+    s.builtin_ = true;
+    return s;
+}
+
+std::string DataSource::read(const std::string& relative_path, const std::string& key) const {
+    if (builtin_) {
+        if (auto text = find_builtin_file(relative_path)) return std::string(*text);
+        throw InputError(key + " = \"" + relative_path + "\": no such built-in data file");
+    }
+    const std::filesystem::path given(relative_path);
+    const std::filesystem::path path = given.is_absolute() ? given : dir_ / given;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(key + " = \"" + relative_path + "\": cannot read " + path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+namespace {
+
+constexpr std::string_view kCaseSuffix = ".toml";
+
+toml::table parse_toml(std::string_view text, const std::string& source) {
+    try {
+        return toml::parse(text, source);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream msg;
+        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+        throw InputError(msg.str());
+    }
+}
+
+void read_string_section(TomlSection s, Case& c, std::size_t& mode_count) {
+    c.string.length_m = s.number("L");
+    c.string.tension_n = s.number("T");
+    c.string.linear_density = s.number("mu");
+    require_positive(s.key_path("L"), c.string.length_m);
+    require_positive(s.key_path("T"), c.string.tension_n);
+    require_positive(s.key_path("mu"), c.string.linear_density);
+    const double modes = s.number("modes");
+    if (!(modes >= 1.0 && modes <= 100000.0 && modes == static_cast<double>(static_cast<long>(modes))))
+        throw InputError(out_of_range_message(s.key_path("modes"), modes, "must be an integer in [1, 100000]"));
+    mode_count = static_cast<std::size_t>(modes);
+    s.finish();
+}
+
+void read_contact_section(TomlSection s, Case& c) {
+    c.contact.stiffness = s.number("K");
+    c.contact.exponent = s.number("alpha");
+    s.finish();
+}
+
+void read_run_section(TomlSection s, Case& c) {
+    c.run.sample_rate_hz = s.number("fs");
+    c.run.duration_s = s.number("duration");
+    if (const toml::node* rate = s.node("output_rate")) {
+        if (const auto* word = rate->as_string()) {
+            if (word->get() != "native")
+                throw InputError(s.key_path("output_rate") + " = \"" + word->get() + "\": must be a rate in Hz or \"native\"");
+            c.run.output_rate_hz.reset();
+        } else {
+            c.run.output_rate_hz = s.number("output_rate");
+        }
+    }
+    s.finish();
+}
+
+void read_observe_section(TomlSection s, Case& c) {
+    c.observation_points_m = s.numbers("x");
+    s.finish();
+}
+
+void read_audio_section(TomlSection s, Case& c) {
+    c.run.audio_rate_hz = s.number_or("rate", c.run.audio_rate_hz);
+    s.finish();
+}
+
+}  // namespace
+
+Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data) {
+    const toml::table root = parse_toml(toml_text, source_name);
+    TomlSection top(root, "");
+    Case c;
+    c.source_text = std::string(toml_text);
+    c.name = top.text("name");
+    c.description = top.optional_text("description").value_or("");
+    std::size_t mode_count = 0;
+    read_string_section(top.section("string"), c, mode_count);
+    {
+        TomlSection modes = top.section("modes");
+        read_modes_section(modes, data, mode_count, c);
+        modes.finish();
+    }
+    {
+        TomlSection obstacle = top.section("obstacle");
+        read_obstacle_section(obstacle, data, c);
+        obstacle.finish();
+    }
+    {
+        TomlSection excitation = top.section("excitation");
+        read_excitation_section(excitation, data, c);
+        excitation.finish();
+    }
+    read_contact_section(top.section("contact"), c);
+    read_run_section(top.section("run"), c);
+    read_observe_section(top.section("observe"), c);
+    if (auto audio = top.optional_section("audio")) read_audio_section(*audio, c);
+    top.finish();
+    return c;
+}
+
+std::vector<BuiltinCaseInfo> builtin_cases() {
+    std::vector<BuiltinCaseInfo> cases;
+    for (const EmbeddedFile& f : builtin_files()) {
+        const std::string_view name = f.name;
+        if (name.find('/') != std::string_view::npos || !name.ends_with(kCaseSuffix)) continue;
+        const toml::table root = parse_toml(f.text(), std::string(name));
+        cases.push_back({std::string(name.substr(0, name.size() - kCaseSuffix.size())),
+                         root["description"].value_or(std::string())});
+    }
+    return cases;
+}
+
+bool is_builtin_case(std::string_view name) {
+    return find_builtin_file(std::string(name) + std::string(kCaseSuffix)).has_value();
+}
+
+std::string builtin_case_text(std::string_view name) {
+    if (auto text = find_builtin_file(std::string(name) + std::string(kCaseSuffix))) return std::string(*text);
+    std::string names;
+    for (const auto& info : builtin_cases()) names += (names.empty() ? "" : ", ") + info.name;
+    throw InputError("unknown case '" + std::string(name) + "': give a built-in case (" + names +
+                     ") or the path of a .toml case file");
+}
+
+Case load_case(const std::string& name_or_path) {
+    if (is_builtin_case(name_or_path))
+        return parse_case(builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin());
+    const std::filesystem::path path(name_or_path);
+    if (path.extension() == kCaseSuffix) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError("case file " + path.string() + " cannot be read (missing or not readable)");
+        std::ostringstream text;
+        text << in.rdbuf();
+        return parse_case(text.str(), path.string(), DataSource::directory(path.parent_path()));
+    }
+    builtin_case_text(name_or_path);  // throws the list of valid names
+    return {};
+}
+
+}  // namespace fretbuzz

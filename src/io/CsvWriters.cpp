@@ -1,0 +1,72 @@
+#include "fretbuzz/io/CsvWriters.hpp"
+
+#include <charconv>
+
+#include "fretbuzz/Error.hpp"
+
+namespace fretbuzz {
+
+void append_number(std::string& line, double v) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+    line.append(buffer, result.ptr);
+}
+
+namespace {
+void open_for_writing(std::ofstream& out, const std::filesystem::path& path) {
+    out.open(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError("cannot write " + path.string());
+}
+void check_written(std::ofstream& out, const std::filesystem::path& path) {
+    out.flush();
+    if (!out) throw std::runtime_error("writing " + path.string() + " failed (disk full?)");
+    out.close();
+}
+}  // namespace
+
+ObservationCsvWriter::ObservationCsvWriter(const std::filesystem::path& path) : path_(path) {}
+
+void ObservationCsvWriter::begin(const RunLayout& layout) {
+    open_for_writing(out_, path_);
+    line_ = "t_s";
+    for (double x : layout.observation_points_m) {
+        line_ += ',';  // the column is named by the point's x in metres
+        append_number(line_, x);
+    }
+    line_ += '\n';
+    out_ << line_;
+}
+
+void ObservationCsvWriter::observation(double t, std::span<const double> u) {
+    line_.clear();
+    append_number(line_, t);
+    for (double v : u) {
+        line_ += ',';
+        append_number(line_, v);
+    }
+    line_ += '\n';
+    out_ << line_;
+}
+
+void ObservationCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+
+EnergyCsvWriter::EnergyCsvWriter(const std::filesystem::path& path) : path_(path) {}
+
+void EnergyCsvWriter::begin(const RunLayout&) {
+    open_for_writing(out_, path_);
+    out_ << "t_s,energy_J,contact_energy_J,dissipated_J\n";
+}
+
+void EnergyCsvWriter::energy(double t, double h, double contact, double dissipated) {
+    line_.clear();
+    for (double v : {t, h, contact, dissipated}) {
+        if (!line_.empty()) line_ += ',';
+        append_number(line_, v);
+    }
+    line_ += '\n';
+    out_ << line_;
+}
+
+void EnergyCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+
+}  // namespace fretbuzz

@@ -1,0 +1,49 @@
+#pragma once
+// Strict reading of one table of a case file: every value is checked for type and
+// finiteness, and finish() rejects any key nobody asked for, so a typo is an error
+// that names the key instead of a silent fall-back to a default.
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace fretbuzz {
+
+class TomlSection {
+public:
+    TomlSection(const toml::table& table, std::string path);
+
+    const std::string& path() const { return path_; }
+    std::string key_path(std::string_view key) const;
+    bool has(std::string_view key) const;
+
+    double number(std::string_view key);
+    std::optional<double> optional_number(std::string_view key);
+    double number_or(std::string_view key, double fallback);
+    std::string text(std::string_view key);
+    std::optional<std::string> optional_text(std::string_view key);
+    std::vector<double> numbers(std::string_view key);  // a number or an array of numbers
+    std::optional<bool> optional_flag(std::string_view key);
+    TomlSection section(std::string_view key);
+    std::optional<TomlSection> optional_section(std::string_view key);
+    // Arrays of tables ([[obstacle.points]] etc.).
+    std::vector<TomlSection> sections(std::string_view key);
+    // The raw node, for values with several accepted forms (e.g. a number or "native").
+    const toml::node* node(std::string_view key);
+
+    // Throws InputError naming the first key that was never read.
+    void finish() const;
+
+private:
+    const toml::node& required(std::string_view key);
+    double to_number(const toml::node& node, std::string_view key) const;
+
+    const toml::table* table_;
+    std::string path_;
+    std::set<std::string, std::less<>> used_;
+};
+
+}  // namespace fretbuzz

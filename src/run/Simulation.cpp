@@ -1,0 +1,130 @@
+#include "fretbuzz/run/Simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz {
+
+long output_stride(const Case& c) {
+    if (!c.run.output_rate_hz) return 1;
+    return std::max(1L, std::lround(c.run.sample_rate_hz / *c.run.output_rate_hz));
+}
+
+namespace {
+
+// Tracks the energy balance over the samples the run reports.
+class EnergyAudit {
+public:
+    void record(double h, double dissipated, RunSummary& s) {
+        if (!started_) {
+            started_ = true;
+            s.energy_initial_j = h;
+            previous_ = h;
+        }
+        const double reference = s.energy_initial_j > 0.0 ? s.energy_initial_j : 1.0;
+        s.max_relative_energy_increase = std::max(s.max_relative_energy_increase, (h - previous_) / reference);
+        s.max_relative_balance_error =
+            std::max(s.max_relative_balance_error, std::abs(h + dissipated - s.energy_initial_j) / reference);
+        previous_ = h;
+        s.energy_final_j = h;
+        s.dissipated_j = dissipated;
+    }
+
+private:
+    bool started_ = false;
+    double previous_ = 0.0;
+};
+
+}  // namespace
+
+RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options) {
+    c.validate();
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    const double dt = 1.0 / c.run.sample_rate_hz;
+    const Plan plan(c, dt, options.plan);
+
+    RunLayout layout;
+    layout.source = &c;
+    layout.dt = dt;
+    layout.steps = std::lround(c.run.duration_s * c.run.sample_rate_hz);
+    layout.output_stride = output_stride(c);
+    layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
+    layout.observation_points_m = c.observation_points_m;
+
+    std::vector<std::vector<double>> shapes;
+    for (double x : c.observation_points_m) shapes.push_back(plan.basis().mode_shapes_at(x));
+    std::vector<RunObserver*> per_step;
+    for (RunObserver* o : observers) {
+        o->begin(layout);
+        if (o->wants_every_step()) per_step.push_back(o);
+    }
+
+    RunSummary summary;
+    summary.case_name = c.name;
+    summary.sample_rate_hz = c.run.sample_rate_hz;
+    summary.duration_s = static_cast<double>(layout.steps) * dt;
+    summary.steps = layout.steps;
+    summary.modes = c.mode_count();
+    summary.output_rate_hz = layout.output_rate_hz;
+    summary.lossless = plan.propagator().lossless();
+    summary.screened = options.plan.screen_contacts;
+
+    Stepper stepper(plan, c.initial_displacement, c.initial_velocity);
+    std::vector<double> u(shapes.size());
+    EnergyAudit audit;
+    auto report_observation = [&]() {
+        for (std::size_t p = 0; p < shapes.size(); ++p) u[p] = stepper.displacement(shapes[p]);
+        for (RunObserver* o : observers) o->observation(stepper.time(), u);
+    };
+    report_observation();
+    if (!per_step.empty()) {
+        const double u0 = stepper.displacement(shapes.front());
+        for (RunObserver* o : per_step) o->every_step(u0);
+    }
+
+    auto last_progress = start;
+    for (long n = 1; n <= layout.steps; ++n) {
+        stepper.step();
+        if (!stepper.forces().empty()) {
+            if (summary.first_contact_s < 0.0) summary.first_contact_s = stepper.time();
+            summary.last_contact_s = stepper.time();
+        }
+        if (!per_step.empty()) {
+            const double u0 = stepper.displacement(shapes.front());
+            for (RunObserver* o : per_step) o->every_step(u0);
+        }
+        if (n % layout.output_stride == 0 || n == 1) {
+            const double h = stepper.energy();
+            audit.record(h, stepper.dissipated(), summary);
+            if (n % layout.output_stride == 0) {
+                report_observation();
+                const double t_half = (static_cast<double>(n) - 0.5) * dt;
+                for (RunObserver* o : observers) o->energy(t_half, h, stepper.contact_energy(), stepper.dissipated());
+            }
+        }
+        if (options.progress && (n & 0xfff) == 0) {
+            const auto now = clock::now();
+            if (now - last_progress > std::chrono::milliseconds(500)) {
+                last_progress = now;
+                const double elapsed = std::chrono::duration<double>(now - start).count();
+                const double fraction = static_cast<double>(n) / static_cast<double>(layout.steps);
+                options.progress({fraction, stepper.time(), elapsed, elapsed * (1.0 - fraction) / fraction});
+            }
+        }
+    }
+
+    const StepStatistics& stats = stepper.statistics();
+    summary.contact_steps = stats.contact_steps;
+    summary.max_newton_iterations = stats.max_newton_iterations;
+    summary.mean_points_solved = layout.steps > 0 ? stats.candidate_point_steps / static_cast<double>(layout.steps) : 0.0;
+    summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+    summary.steps_per_second = summary.wall_seconds > 0.0 ? static_cast<double>(layout.steps) / summary.wall_seconds : 0.0;
+    for (RunObserver* o : observers) o->finish(summary);
+    return summary;
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,110 @@
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "fretbuzz/Error.hpp"
+
+namespace fretbuzz {
+
+namespace {
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr int kMaxIterations = 200;
+}  // namespace
+
+PenaltyContact::PenaltyContact(double stiffness, double exponent) : k_(stiffness), alpha_(exponent) {
+    require_positive("contact.K (penalty stiffness)", stiffness);
+    require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
+}
+
+double PenaltyContact::potential(double eta) const {
+    return eta > 0.0 ? k_ / (alpha_ + 1.0) * std::pow(eta, alpha_ + 1.0) : 0.0;
+}
+
+double PenaltyContact::force(double eta) const { return eta > 0.0 ? k_ * std::pow(eta, alpha_) : 0.0; }
+
+double PenaltyContact::difference_quotient(double a, double r) const {
+    if (r == 0.0) return force(a);
+    if (a > 0.0 && a + r > 0.0) {
+        // K/(alpha+1) a^(alpha+1) [(1 + r/a)^(alpha+1) - 1] / r, accurate for tiny r/a.
+        const double growth = std::expm1((alpha_ + 1.0) * std::log1p(r / a));
+        return k_ / (alpha_ + 1.0) * std::pow(a, alpha_ + 1.0) * growth / r;
+    }
+    // At most one of the two potentials is non-zero here: no cancellation.
+    return (potential(a + r) - potential(a)) / r;
+}
+
+double PenaltyContact::slope_of_quotient(double a, double r, double quotient) const {
+    // d/dr of the difference quotient: (Psi'(a+r) - quotient) / r, with its limit
+    // Psi''(a + r/2) / 2 when r is too small against a for the difference to be accurate.
+    if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
+    if (r == 0.0) return 0.0;
+    return (force(a + r) - quotient) / r;
+}
+
+ContactSolution PenaltyContact::solve(double a, double b, double k) const {
+    ContactSolution s;
+    if (a <= 0.0 && a + b <= 0.0) {  // stays out of contact over both steps: no force
+        s.increment = b;
+        return s;
+    }
+    // phi(r) = r + k F(r) - b is increasing and convex. phi(b) = k F(b) >= 0 and, F being
+    // non-decreasing, phi(b - k F(b)) <= 0: the root lies in [b - k F(b), b].
+    double hi = b;
+    double f_hi = difference_quotient(a, hi);
+    double lo = b - k * f_hi;
+    if (a <= 0.0) lo = std::max(lo, -a);  // no force while a + r <= 0, so phi < 0 there
+    double r = hi;
+    double f = f_hi;
+    double residual = k * f;  // phi(hi)
+    for (int it = 1; it <= kMaxIterations; ++it) {
+        s.iterations = it;
+        const double scale = std::abs(r) + std::abs(b) + k * f;
+        if (std::abs(residual) <= 4.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) {
+            s.increment = r;
+            s.force = f;
+            return s;
+        }
+        const double slope = 1.0 + k * slope_of_quotient(a, r, f);
+        double next = r - residual / slope;
+        // Keep inside the bracket; bisect when Newton would leave it or stalls.
+        if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);
+        const double f_next = difference_quotient(a, next);
+        const double residual_next = next + k * f_next - b;
+        if (residual_next > 0.0)
+            hi = next;
+        else
+            lo = next;
+        if (std::abs(next - r) <= kEps * std::abs(next) || residual_next == 0.0) {
+            s.increment = next;
+            s.force = f_next;
+            s.iterations = it;
+            return s;
+        }
+        // If Newton crawls (a strongly curved law from far away), halve the bracket too.
+        if (hi - lo > 0.0 && std::abs(residual_next) > 0.5 * std::abs(residual) && it % 4 == 0) {
+            const double mid = 0.5 * (lo + hi);
+            const double f_mid = difference_quotient(a, mid);
+            const double residual_mid = mid + k * f_mid - b;
+            (residual_mid > 0.0 ? hi : lo) = mid;
+            if (std::abs(residual_mid) < std::abs(residual_next)) {
+                r = mid;
+                f = f_mid;
+                residual = residual_mid;
+                continue;
+            }
+        }
+        r = next;
+        f = f_next;
+        residual = residual_next;
+    }
+    std::ostringstream msg;
+    msg.precision(17);
+    msg << "contact solve did not converge in " << kMaxIterations << " iterations (K = " << k_
+        << ", alpha = " << alpha_ << ", eta^{n-1} = " << a << ", b = " << b << ", dt^2/mu = " << k
+        << "); reduce contact.K or the time step";
+    throw SolverError(msg.str());
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,44 @@
+#include "fretbuzz/scheme/SineTransform.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <mutex>
+#include <stdexcept>
+
+namespace fretbuzz {
+
+namespace {
+// FFTW's planner is not thread-safe; execution of distinct plans is.
+std::mutex& planner_mutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+}  // namespace
+
+SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
+    std::lock_guard lock(planner_mutex());
+    buffer_ = fftw_alloc_real(n);
+    if (buffer_ == nullptr) throw std::bad_alloc();
+    std::fill(buffer_, buffer_ + n, 0.0);
+    const unsigned flags = measure ? FFTW_MEASURE : FFTW_ESTIMATE;
+    plan_ = fftw_plan_r2r_1d(static_cast<int>(n), buffer_, buffer_, FFTW_RODFT00, flags);
+    if (plan_ == nullptr) {
+        fftw_free(buffer_);
+        throw std::runtime_error("FFTW could not plan a sine transform of length " + std::to_string(n));
+    }
+}
+
+SineTransform::~SineTransform() {
+    std::lock_guard lock(planner_mutex());
+    fftw_destroy_plan(static_cast<fftw_plan>(plan_));
+    fftw_free(buffer_);
+}
+
+void SineTransform::apply(std::span<const double> input, std::span<double> output, double scale) const {
+    std::copy(input.begin(), input.end(), buffer_);
+    fftw_execute(static_cast<fftw_plan>(plan_));
+    std::transform(buffer_, buffer_ + n_, output.begin(), [scale](double y) { return scale * y; });
+}
+
+}  // namespace fretbuzz
