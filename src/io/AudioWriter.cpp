@@ -33,8 +33,8 @@ void AudioWriter::begin(const RunLayout& layout) {
     output_.reserve(static_cast<std::size_t>(static_cast<double>(layout.steps) * layout.dt * rate_) + 16);
 }
 
-void AudioWriter::every_step(double u) {
-    input_.push_back(u);
+void AudioWriter::every_step(std::span<const double> u, std::span<const double>) {
+    input_.push_back(u.front());
     if (input_.size() == kBlock) drain(false);
 }
 

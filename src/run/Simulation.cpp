@@ -58,10 +58,21 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     std::vector<std::vector<double>> shapes;
     for (double x : c.observation_points_m) shapes.push_back(plan.basis().mode_shapes_at(x));
     std::vector<RunObserver*> per_step;
+    bool velocity_wanted = false;
+    struct SnapshotTap {
+        RunObserver* observer;
+        long stride;
+    };
+    std::vector<SnapshotTap> snapshot_taps;
     for (RunObserver* o : observers) {
         o->begin(layout);
         if (o->wants_every_step()) per_step.push_back(o);
+        velocity_wanted = velocity_wanted || o->wants_velocity();
+        if (const double rate = o->snapshot_rate_hz(); rate > 0.0)
+            snapshot_taps.push_back({o, std::max(1L, std::lround(c.run.sample_rate_hz / rate))});
     }
+    std::vector<double> grid_x(c.mode_count()), grid_u(c.mode_count());
+    for (std::size_t i = 0; i < grid_x.size(); ++i) grid_x[i] = plan.basis().grid_point(i);
 
     RunSummary summary;
     summary.case_name = c.name;
@@ -80,11 +91,24 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
         for (std::size_t p = 0; p < shapes.size(); ++p) u[p] = stepper.displacement(shapes[p]);
         for (RunObserver* o : observers) o->observation(stepper.time(), u);
     };
+    std::vector<double> step_u(shapes.size()), step_v(velocity_wanted ? shapes.size() : 0);
+    auto report_step = [&]() {
+        for (std::size_t p = 0; p < shapes.size(); ++p) step_u[p] = stepper.displacement(shapes[p]);
+        for (std::size_t p = 0; p < step_v.size(); ++p) step_v[p] = stepper.time() > 0.0 ? stepper.velocity(shapes[p]) : 0.0;
+        for (RunObserver* o : per_step) o->every_step(step_u, step_v);
+    };
+    auto report_snapshots = [&](long n) {
+        bool shaped = false;
+        for (const SnapshotTap& tap : snapshot_taps) {
+            if (n % tap.stride != 0) continue;
+            if (!shaped) plan.basis().to_grid(stepper.modal_displacement(), grid_u);
+            shaped = true;
+            tap.observer->snapshot(stepper.time(), grid_x, grid_u);
+        }
+    };
     report_observation();
-    if (!per_step.empty()) {
-        const double u0 = stepper.displacement(shapes.front());
-        for (RunObserver* o : per_step) o->every_step(u0);
-    }
+    if (!per_step.empty()) report_step();
+    report_snapshots(0);
 
     auto last_progress = start;
     for (long n = 1; n <= layout.steps; ++n) {
@@ -92,11 +116,10 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
         if (!stepper.forces().empty()) {
             if (summary.first_contact_s < 0.0) summary.first_contact_s = stepper.time();
             summary.last_contact_s = stepper.time();
+            for (RunObserver* o : observers) o->contacts(stepper.time(), stepper.forces());
         }
-        if (!per_step.empty()) {
-            const double u0 = stepper.displacement(shapes.front());
-            for (RunObserver* o : per_step) o->every_step(u0);
-        }
+        if (!per_step.empty()) report_step();
+        if (!snapshot_taps.empty()) report_snapshots(n);
         if (n % layout.output_stride == 0 || n == 1) {
             const double h = stepper.energy();
             audit.record(h, stepper.dissipated(), summary);

@@ -16,7 +16,7 @@ public:
     ~AudioWriter() override;
     void begin(const RunLayout& layout) override;
     bool wants_every_step() const override { return true; }
-    void every_step(double u) override;
+    void every_step(std::span<const double> u, std::span<const double> velocity) override;
     void finish(const RunSummary&) override;
 
     // The resampled signal before normalisation (available after finish()).

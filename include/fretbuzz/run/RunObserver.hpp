@@ -2,7 +2,9 @@
 // What a run reports while it goes: observers receive the observation signals at the
 // output rate, the energy terms, and (if they ask) the first observation signal at every
 // time step. Writers are observers; they know nothing of the physics.
+#include <cstddef>
 #include <span>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -50,9 +52,16 @@ public:
     virtual void observation(double, std::span<const double>) {}
     // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
     virtual void energy(double, double, double, double) {}
-    // Observers that return true receive the first observation signal at every step.
+    // Observers that return true receive u at every observation point at every time step
+    // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
     virtual bool wants_every_step() const { return false; }
-    virtual void every_step(double) {}
+    virtual bool wants_velocity() const { return false; }
+    virtual void every_step(std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
+    // Every step with a non-zero contact force: (grid index, force per length in N/m).
+    virtual void contacts(double /*t*/, std::span<const std::pair<std::size_t, double>> /*forces*/) {}
+    // String shapes on the grid at this rate (Hz), from t = 0; 0 for none.
+    virtual double snapshot_rate_hz() const { return 0.0; }
+    virtual void snapshot(double /*t*/, std::span<const double> /*x*/, std::span<const double> /*u*/) {}
     virtual void finish(const RunSummary&) {}
 };
 
