@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -110,9 +112,67 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     if (!per_step.empty()) report_step();
     report_snapshots(0);
 
+    // Free flight: at output boundaries, jump a whole output interval when nothing can touch.
+    // Per-step observers then get the signal band-limited to the modes below their band.
+    double band_hz = std::numeric_limits<double>::infinity();
+    for (RunObserver* o : per_step) band_hz = std::min(band_hz, o->every_step_band_hz());
+    const bool may_fly = options.plan.screen_contacts && layout.output_stride > 1 && band_hz > 0.0;
+    std::size_t head = 0;
+    if (per_step.empty()) band_hz = 0.0;
+    while (head < c.mode_count() && c.modes.frequency_hz[head] < band_hz) ++head;
+    head = std::max(head, std::min<std::size_t>(48, c.mode_count()));  // enough for sharp checks
+    std::optional<FreeFlight> flight;
+    if (may_fly) flight.emplace(plan.propagator(), layout.output_stride);
+    std::vector<double> flight_u, flight_v;
+    auto no_snapshot_within = [&](long n, long steps) {
+        for (const SnapshotTap& tap : snapshot_taps)
+            if ((n / tap.stride + 1) * tap.stride < n + steps) return false;
+        return true;
+    };
+
+    auto report_output = [&](long n) {
+        const double h = stepper.energy();
+        audit.record(h, stepper.dissipated(), summary);
+        if (n % layout.output_stride != 0) return;
+        report_observation();
+        const double t_half = (static_cast<double>(n) - 0.5) * dt;
+        for (RunObserver* o : observers) o->energy(t_half, h, stepper.contact_energy(), stepper.dissipated());
+    };
     auto last_progress = start;
-    for (long n = 1; n <= layout.steps; ++n) {
+    auto report_progress = [&](long n) {
+        const auto now = clock::now();
+        if (now - last_progress < std::chrono::milliseconds(500)) return;
+        last_progress = now;
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        const double fraction = static_cast<double>(n) / static_cast<double>(layout.steps);
+        options.progress({fraction, stepper.time(), elapsed, elapsed * (1.0 - fraction) / fraction});
+    };
+
+    long n = 0;
+    while (n < layout.steps) {
+        const long stride = layout.output_stride;
+        long flown = 0;
+        if (flight && n > 1 && n % stride == 0 && n + stride <= layout.steps && no_snapshot_within(n, stride))
+            flown = stepper.free_flight(*flight, head, shapes, flight_u, velocity_wanted ? &flight_v : nullptr);
+        if (flown > 0) {
+            const std::size_t width = shapes.size();
+            for (long m = 0; m < flown; ++m) {
+                const auto row = static_cast<std::size_t>(m) * width;
+                const std::span<const double> row_u(flight_u.data() + row, width);
+                const std::span<const double> row_v =
+                    velocity_wanted ? std::span<const double>(flight_v.data() + row, width) : std::span<const double>();
+                for (RunObserver* o : per_step) o->every_step(row_u, row_v);
+            }
+            n += flown;
+            if (flown == stride) {
+                report_snapshots(n);
+                report_output(n);
+            }
+            if (options.progress) report_progress(n);
+            continue;
+        }
         stepper.step();
+        ++n;
         if (!stepper.forces().empty()) {
             if (summary.first_contact_s < 0.0) summary.first_contact_s = stepper.time();
             summary.last_contact_s = stepper.time();
@@ -120,30 +180,16 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
         }
         if (!per_step.empty()) report_step();
         if (!snapshot_taps.empty()) report_snapshots(n);
-        if (n % layout.output_stride == 0 || n == 1) {
-            const double h = stepper.energy();
-            audit.record(h, stepper.dissipated(), summary);
-            if (n % layout.output_stride == 0) {
-                report_observation();
-                const double t_half = (static_cast<double>(n) - 0.5) * dt;
-                for (RunObserver* o : observers) o->energy(t_half, h, stepper.contact_energy(), stepper.dissipated());
-            }
-        }
-        if (options.progress && (n & 0xfff) == 0) {
-            const auto now = clock::now();
-            if (now - last_progress > std::chrono::milliseconds(500)) {
-                last_progress = now;
-                const double elapsed = std::chrono::duration<double>(now - start).count();
-                const double fraction = static_cast<double>(n) / static_cast<double>(layout.steps);
-                options.progress({fraction, stepper.time(), elapsed, elapsed * (1.0 - fraction) / fraction});
-            }
-        }
+        if (n % stride == 0 || n == 1) report_output(n);
+        if (options.progress && (n & 0xfff) == 0) report_progress(n);
     }
 
     const StepStatistics& stats = stepper.statistics();
     summary.contact_steps = stats.contact_steps;
     summary.max_newton_iterations = stats.max_newton_iterations;
-    summary.mean_points_solved = layout.steps > 0 ? stats.candidate_point_steps / static_cast<double>(layout.steps) : 0.0;
+    summary.mean_points_solved = layout.steps > 0 ? stats.points_solved / static_cast<double>(layout.steps) : 0.0;
+    summary.free_flight_fraction =
+        layout.steps > 0 ? static_cast<double>(stats.free_flight_steps) / static_cast<double>(layout.steps) : 0.0;
     summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
     summary.steps_per_second = summary.wall_seconds > 0.0 ? static_cast<double>(layout.steps) / summary.wall_seconds : 0.0;
     for (RunObserver* o : observers) o->finish(summary);

@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "fretbuzz/scheme/Kernels.hpp"
+
 namespace fretbuzz {
 
 namespace {
@@ -77,10 +79,7 @@ double ModalPropagator::free_motion(std::size_t j, double q0, double v0, double 
 }
 
 double ModalPropagator::scaled_modal_energy(std::span<const double> q, std::span<const double> d) const {
-    double sum = 0.0;
-    for (std::size_t j = 0; j < size(); ++j)
-        sum += 0.5 * (1.0 + decay_[j]) * d[j] * d[j] + beta_[j] * q[j] * (q[j] - d[j]);
-    return sum;
+    return kernels::modal_energy(decay_.data(), beta_.data(), q.data(), d.data(), size());
 }
 
 double ModalPropagator::free_amplitude(std::size_t j, double q, double d) const {
@@ -90,7 +89,7 @@ double ModalPropagator::free_amplitude(std::size_t j, double q, double d) const 
         // q(t) = e^{-s t} (c1 cos wd t + c2 sin wd t) through q^n (t = 0) and q^n - d^n (t = -dt):
         // c2 sin(wd dt) = q (cos(wd dt) - h) + d h, cos(wd dt) - h = -versine - (h - 1).
         const double c2 = (q * (-versine_step_[j] - expm1_half_[j]) + d * h) / sin_step_[j];
-        return std::hypot(q, c2);
+        return std::sqrt(q * q + c2 * c2);
     }
     // Overdamped: q(t) = c+ e^{-(s-g)t} + c- e^{-(s+g)t}; |q(t)| <= |c+| + |c-|.
     const double s = sigma_[j], g = rate_[j];
@@ -99,25 +98,11 @@ double ModalPropagator::free_amplitude(std::size_t j, double q, double d) const 
     return std::abs(q - c_minus) + std::abs(c_minus);
 }
 
-double ModalPropagator::free_deviation(std::size_t j, double q, double d, double tau) const {
-    const double amplitude = free_amplitude(j, q, d);
+double ModalPropagator::free_speed(std::size_t j, double amplitude) const {
     if (amplitude == 0.0) return 0.0;
-    // Underdamped: q(t) - q(0) = Re(c (e^{z t} - 1)) with |z| = omega and Re z <= 0, so
-    // |e^{z t} - 1| <= min(2, omega t). Overdamped: each exponential moves by at most min(1, rate t).
-    if (underdamped_[j]) return amplitude * std::min(2.0, omega_[j] * tau);
-    return amplitude * std::min(1.0, (sigma_[j] + rate_[j]) * tau);
-}
-
-double ModalPropagator::impulse_gain(std::size_t j, double tau) const {
-    // Response to q^{n+1} += delta: Dq(t) = delta e^{-s (t - dt)} sin(wd t) / sin(wd dt)
-    // (sinh for overdamped modes), t in [0, tau].
-    const double growth = std::exp(sigma_[j] * dt_);
-    if (underdamped_[j]) {
-        if (std::abs(sin_step_[j]) < kAliasingLimit) return kInfinity;
-        return growth * std::min(1.0, rate_[j] * tau) / std::abs(sin_step_[j]);
-    }
-    if (rate_[j] * dt_ < 1e-8) return growth * tau / dt_;
-    return growth * std::min(0.5, rate_[j] * tau) / sin_step_[j];
+    // Underdamped: q = Re(c e^{z t}) with |z| = omega, so |dq/dt| <= omega |c|.
+    // Overdamped: each exponential decays at most at rate sigma + gamma.
+    return amplitude * (underdamped_[j] ? omega_[j] : sigma_[j] + rate_[j]);
 }
 
 }  // namespace fretbuzz

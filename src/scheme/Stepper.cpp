@@ -1,20 +1,20 @@
 #include "fretbuzz/scheme/Stepper.hpp"
 
 #include <algorithm>
-#include <limits>
-#include <numeric>
+
+#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
 namespace {
-double dot(std::span<const double> a, std::span<const double> b) {
-    return std::inner_product(a.begin(), a.end(), b.begin(), 0.0);
-}
+// Free modes decay: tighten the speed bound this often even when nothing touches.
+constexpr long kSpeedRefreshSteps = 1L << 14;
 }  // namespace
 
 Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
     : plan_(plan),
-      screen_(plan),
+      scheduler_(plan),
+      screening_(plan.options().screen_contacts),
       q_(q0.begin(), q0.end()),
       d_(q0.size(), 0.0),
       v0_(v0.begin(), v0.end()),
@@ -22,13 +22,15 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       impulse_(q0.size(), 0.0),
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
-      eta_curr_(q0.size(), 0.0),
-      tracked_(q0.size(), 0),
-      last_force_step_(q0.size(), std::numeric_limits<long>::min() / 2) {}
+      eta_curr_(q0.size(), 0.0) {}
 
-double Stepper::displacement(std::span<const double> mode_shapes) const { return dot(mode_shapes, q_); }
+double Stepper::displacement(std::span<const double> mode_shapes) const {
+    return kernels::dot(mode_shapes.data(), q_.data(), q_.size());
+}
 
-double Stepper::velocity(std::span<const double> mode_shapes) const { return dot(mode_shapes, d_) / plan_.dt(); }
+double Stepper::velocity(std::span<const double> mode_shapes) const {
+    return kernels::dot(mode_shapes.data(), d_.data(), d_.size()) / plan_.dt();
+}
 
 double Stepper::energy() const {
     const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
@@ -39,76 +41,143 @@ double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() 
 
 void Stepper::step() {
     if (n_ == 0) {
-        // q^1 is the exact free motion of each mode; contact starts acting from step 1 on.
-        std::vector<double> q1(q_.size());
-        plan_.propagator().first_step(q_, v0_, q1, d_);
-        const std::vector<double>& g = plan_.obstacle();
-        const PenaltyContact& law = plan_.contact();
-        plan_.basis().to_grid(q_, grid_);
-        for (std::size_t i : plan_.obstacle_points()) psi_prev_ += law.potential(g[i] - grid_[i]);
-        q_ = std::move(q1);
-        plan_.basis().to_grid(q_, grid_);
-        for (std::size_t i : plan_.obstacle_points()) psi_curr_ += law.potential(g[i] - grid_[i]);
-        n_ = 1;
+        first_step();
         return;
     }
-    if (screen_.window_over(n_)) begin_window();
+    wake_due_points();
     solve_contacts();
     apply_impulse();
     advance_modes();
+    if (screening_) {
+        scheduler_.end_step();
+        if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
+            scheduler_.update_speed(q_, d_);  // the motion from here on is a new free motion
+            next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
+        }
+        put_points_to_sleep();
+    }
     ++n_;
 }
 
-void Stepper::begin_window() {
-    if (stats_.windows > 0 && n_ > window_start_)
-        screen_.finish_window(window_candidate_steps_ / static_cast<double>(n_ - window_start_));
-    ++stats_.windows;
-    window_start_ = n_;
-    window_candidate_steps_ = 0.0;
-
-    recent_contacts_.clear();
-    for (const auto& [i, f] : forces_) recent_contacts_.push_back(i);
-    for (std::size_t i : plan_.obstacle_points())
-        if (last_force_step_[i] >= n_ - 2 && !std::count(recent_contacts_.begin(), recent_contacts_.end(), i))
-            recent_contacts_.push_back(i);
-
-    for (std::size_t i : screen_.candidates()) tracked_[i] = 2;  // stale unless still a candidate
-    plan_.basis().to_grid(q_, grid_);
-    screen_.begin(n_, q_, d_, grid_, recent_contacts_);
+long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
+                          std::vector<double>& u, std::vector<double>* v) {
+    const long steps = flight.steps();
+    if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
+    const ModalPropagator& prop = plan_.propagator();
+    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
+    const double energy_before = scale * prop.scaled_modal_energy(q_, d_);
+    const std::size_t n = q_.size();
+    const std::size_t width = probes.size();
+    scheduler_.set_head_modes(head);
+    const double tail = scheduler_.tail_bound();
     const std::vector<double>& g = plan_.obstacle();
-    for (std::size_t i : screen_.candidates()) {
-        if (tracked_[i] == 0) {
-            eta_curr_[i] = g[i] - grid_[i];
-            track(i);
+    u.resize(static_cast<std::size_t>(steps) * width);
+    if (v != nullptr) v->resize(u.size());
+    long flown = 0;
+    bool interrupted = false;
+    while (flown < steps && !interrupted) {
+        due_.clear();
+        scheduler_.pop_due(due_);
+        stats_.points_checked += static_cast<double>(due_.size());
+        for (std::size_t i : due_) {
+            if (interrupted || !scheduler_.sleep(i, kernels::dot(plan_.basis().row(i).data(), q_.data(), head) - tail - g[i])) {
+                interrupted = true;  // a closer look is needed: leave it to a full step
+                scheduler_.wake_now(i);
+            }
         }
-        tracked_[i] = 1;
+        if (interrupted) break;
+        kernels::advance(prop.decay().data(), prop.beta().data(), nullptr, nullptr, q_.data(), d_.data(), head);
+        for (std::size_t p = 0; p < width; ++p) {
+            const std::size_t at = static_cast<std::size_t>(flown) * width + p;
+            u[at] = kernels::dot(probes[p].data(), q_.data(), head);
+            if (v != nullptr) (*v)[at] = kernels::dot(probes[p].data(), d_.data(), head) / plan_.dt();
+        }
+        scheduler_.end_step();
+        ++flown;
     }
-    for (unsigned char& flag : tracked_)
-        if (flag == 2) flag = 0;
+    if (flown == steps)
+        flight.jump(q_, d_, head);
+    else if (flown > 0)
+        FreeFlight(prop, flown, head).jump(q_, d_, head);
+    scheduler_.set_head_modes(0);
+    if (flown == 0) return 0;
+    dissipated_ += energy_before - scale * prop.scaled_modal_energy(q_, d_);
+    forces_.clear();
+    n_ += flown;
+    stats_.free_flight_steps += flown;
+    if (n_ >= next_speed_refresh_) {
+        scheduler_.update_speed(q_, d_);
+        next_speed_refresh_ = n_ + kSpeedRefreshSteps;
+    }
+    (void)n;
+    return flown;
 }
 
-void Stepper::track(std::size_t i) {
-    // eta^{n-1} from q^{n-1} = q^n - d^n; eta^n is set by the caller.
-    const std::span<const double> row = plan_.basis().row(i);
-    double u_prev = 0.0;
-    for (std::size_t j = 0; j < row.size(); ++j) u_prev += row[j] * (q_[j] - d_[j]);
-    eta_prev_[i] = plan_.obstacle()[i] - u_prev;
+void Stepper::first_step() {
+    // q^1 is the exact free motion of each mode; contact acts from step 1 on.
+    std::vector<double> u0(q_.size()), q1(q_.size());
+    plan_.propagator().first_step(q_, v0_, q1, d_);
+    plan_.basis().to_grid(q_, u0);
+    q_ = std::move(q1);
+    plan_.basis().to_grid(q_, grid_);
+    const std::vector<double>& g = plan_.obstacle();
+    const PenaltyContact& law = plan_.contact();
+    if (screening_) scheduler_.update_speed(q_, d_);
+    for (std::size_t i : plan_.obstacle_points()) {
+        psi_prev_ += law.potential(g[i] - u0[i]);
+        psi_curr_ += law.potential(g[i] - grid_[i]);
+        const bool apart = g[i] - u0[i] <= 0.0 && g[i] - grid_[i] <= 0.0;
+        if (!screening_ || !apart || !scheduler_.sleep(i, grid_[i] - g[i])) activate(i, grid_[i], u0[i]);
+    }
+    next_speed_refresh_ = 1 + kSpeedRefreshSteps;
+    n_ = 1;
+}
+
+void Stepper::activate(std::size_t i, double u_now, double u_before) {
+    eta_curr_[i] = plan_.obstacle()[i] - u_now;
+    eta_prev_[i] = plan_.obstacle()[i] - u_before;
+    active_.push_back(i);
+}
+
+void Stepper::wake_due_points() {
+    if (!screening_) return;
+    due_.clear();
+    scheduler_.pop_due(due_);
+    if (due_.empty()) return;
+    stats_.points_checked += static_cast<double>(due_.size());
+    const std::vector<double>& g = plan_.obstacle();
+    const std::size_t n = q_.size();
+    const bool use_transform = due_.size() > plan_.transform_threshold();
+    if (use_transform) plan_.basis().to_grid(q_, grid_);
+    const std::size_t head = scheduler_.head_modes();
+    const double tail = scheduler_.tail_bound();
+    for (std::size_t i : due_) {
+        const std::span<const double> row = plan_.basis().row(i);
+        // Cheapest first: the low modes and a bound on the rest, then the exact height.
+        double u_now = 0.0, u_before = 0.0;
+        if (use_transform) {
+            u_now = grid_[i];
+        } else {
+            if (head < n && scheduler_.sleep(i, kernels::dot(row.data(), q_.data(), head) - tail - g[i])) continue;
+            u_now = kernels::dot(row.data(), q_.data(), n);
+        }
+        if (scheduler_.sleep(i, u_now - g[i])) continue;
+        kernels::dot_current_previous(row.data(), q_.data(), d_.data(), n, u_now, u_before);
+        activate(i, u_now, u_before);
+    }
 }
 
 void Stepper::solve_contacts() {
     forces_.clear();
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
-    const std::span<const std::size_t> candidates = screen_.candidates();
-    window_candidate_steps_ += static_cast<double>(candidates.size());
-    stats_.candidate_point_steps += static_cast<double>(candidates.size());
-    if (candidates.empty()) return;
+    stats_.points_solved += static_cast<double>(active_.size());
+    if (active_.empty()) return;
 
     const ModalPropagator& prop = plan_.propagator();
-    const auto e = prop.decay();
-    const auto beta = prop.beta();
-    for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] + (e[j] * d_[j] - beta[j] * q_[j]);
-    const bool use_transform = candidates.size() > plan_.transform_threshold();
+    const std::size_t n = q_.size();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+    const bool use_transform = active_.size() > plan_.transform_threshold();
     if (use_transform) {
         plan_.basis().to_grid(predicted_, grid_);
         ++stats_.transform_steps;
@@ -116,8 +185,8 @@ void Stepper::solve_contacts() {
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    for (std::size_t i : candidates) {
-        const double w = use_transform ? grid_[i] : dot(plan_.basis().row(i), predicted_);
+    for (std::size_t i : active_) {
+        const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
         const double a = eta_prev_[i];
         const ContactSolution s = law.solve(a, g[i] - w - a, k);
         const double eta_next = a + s.increment;
@@ -125,10 +194,7 @@ void Stepper::solve_contacts() {
         eta_curr_[i] = eta_next;
         psi_curr_ += law.potential(eta_next);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, s.iterations);
-        if (s.force != 0.0) {
-            forces_.emplace_back(i, s.force);
-            last_force_step_[i] = n_;
-        }
+        if (s.force != 0.0) forces_.emplace_back(i, s.force);
     }
     if (!forces_.empty()) ++stats_.contact_steps;
 }
@@ -144,44 +210,25 @@ void Stepper::apply_impulse() {
     } else {
         std::fill(impulse_.begin(), impulse_.end(), 0.0);
         const double dx = plan_.basis().grid_step();
-        for (const auto& [i, f] : forces_) {
-            const std::span<const double> row = plan_.basis().row(i);
-            const double c = k * dx * f;
-            for (std::size_t j = 0; j < row.size(); ++j) impulse_[j] += c * row[j];
-        }
+        for (const auto& [i, f] : forces_)
+            kernels::axpy(k * dx * f, plan_.basis().row(i).data(), impulse_.data(), impulse_.size());
     }
 }
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
-    const auto e = prop.decay();
-    const auto beta = prop.beta();
-    const auto loss = prop.loss();
-    const std::size_t n = q_.size();
-    const bool pushed = !forces_.empty();
-    double losses = 0.0;
-    for (std::size_t j = 0; j < n; ++j) {
-        const double next = e[j] * d_[j] - beta[j] * q_[j] + (pushed ? impulse_[j] : 0.0);
-        const double span = next + d_[j];  // q^{n+1} - q^{n-1}
-        losses += loss[j] * span * span;
-        q_[j] += next;
-        d_[j] = next;
-    }
+    const double losses =
+        kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
+                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), q_.size());
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
+}
 
-    if (pushed) {
-        // Points the impulse may now bring into reach: track them from the new state.
-        const std::size_t before = screen_.candidates().size();
-        const std::size_t added = screen_.widen(impulse_);
-        const std::span<const std::size_t> candidates = screen_.candidates();
-        for (std::size_t c = before; c < before + added; ++c) {
-            const std::size_t i = candidates[c];
-            if (tracked_[i] == 1) continue;
-            eta_curr_[i] = plan_.obstacle()[i] - dot(plan_.basis().row(i), q_);
-            track(i);
-            tracked_[i] = 1;
-        }
-    }
+void Stepper::put_points_to_sleep() {
+    // A point out of contact over both recent levels, and far enough from the obstacle,
+    // leaves the active set until the scheduler says it could be back.
+    std::erase_if(active_, [this](std::size_t i) {
+        return eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0 && scheduler_.sleep(i, -eta_curr_[i]);
+    });
 }
 
 }  // namespace fretbuzz

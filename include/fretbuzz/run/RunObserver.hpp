@@ -38,6 +38,7 @@ struct RunSummary {
     long contact_steps = 0;
     int max_newton_iterations = 0;
     double mean_points_solved = 0.0;  // contact solves per step
+    double free_flight_fraction = 0.0;  // share of steps jumped over (no contact possible)
     double first_contact_s = -1.0;
     double last_contact_s = -1.0;
     bool lossless = false;
@@ -56,6 +57,9 @@ public:
     // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
     virtual bool wants_every_step() const { return false; }
     virtual bool wants_velocity() const { return false; }
+    // Per-step signals may be band-limited to the modes below this frequency during
+    // stretches where no contact is possible (lets the run jump over them); 0: never.
+    virtual double every_step_band_hz() const { return 0.0; }
     virtual void every_step(std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
     // Every step with a non-zero contact force: (grid index, force per length in N/m).
     virtual void contacts(double /*t*/, std::span<const std::pair<std::size_t, double>> /*forces*/) {}

@@ -37,13 +37,11 @@ public:
     // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the modal energy times 2 dt^2 / mu.
     double scaled_modal_energy(std::span<const double> q, std::span<const double> d) const;
 
-    // |q_j(t) - q_j(t_n)| <= deviation_j(tau) for t in [t_n, t_n + tau] while the mode moves
-    // freely from (q^n, d^n); +infinity where no bound is available (an aliased mode).
-    double free_deviation(std::size_t j, double q, double d, double tau) const;
-    // Largest |q_j(t)|, t >= t_n, of the free motion from (q^n, d^n).
+    // Largest |q_j(t)|, t >= t_n, of the free motion from (q^n, d^n); +infinity where two
+    // samples do not determine it (a mode aliased onto a multiple of the Nyquist frequency).
     double free_amplitude(std::size_t j, double q, double d) const;
-    // Largest |change| of mode j over [t_n, t_n + tau] caused by adding delta to q^{n+1}, per |delta|.
-    double impulse_gain(std::size_t j, double tau) const;
+    // Largest |dq_j/dt|, t >= t_n, of a free motion of amplitude free_amplitude(j, ...).
+    double free_speed(std::size_t j, double amplitude) const;
 
 private:
     struct FreeMotionCoefficients {

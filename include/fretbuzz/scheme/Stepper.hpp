@@ -3,15 +3,16 @@
 // in modal coordinates:
 //     q^{n+1} = C q^n - C~ q^{n-1} + (dt^2/mu) dx S^T f^n,
 // where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
-// scalar solve at each grid point that can touch (ContactScreen says which). It also keeps
+// scalar solve at each grid point that can touch (ContactScheduler says which). It also keeps
 // the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
-// H + dissipated is constant to round-off. Nothing here allocates or does I/O per step.
+// H + dissipated is constant to round-off. Nothing here does I/O.
 #include <cstddef>
 #include <span>
 #include <utility>
 #include <vector>
 
-#include "fretbuzz/scheme/ContactScreen.hpp"
+#include "fretbuzz/scheme/ContactScheduler.hpp"
+#include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 
 namespace fretbuzz {
@@ -19,9 +20,10 @@ namespace fretbuzz {
 struct StepStatistics {
     long contact_steps = 0;            // steps with a non-zero contact force somewhere
     int max_newton_iterations = 0;
-    double candidate_point_steps = 0;  // sum over steps of the points solved
-    long windows = 0;
+    double points_solved = 0;          // sum over steps of the points solved
+    double points_checked = 0;         // sleeping points woken and looked at
     long transform_steps = 0;          // steps that used the full sine transform
+    long free_flight_steps = 0;        // steps jumped over by FreeFlight
 };
 
 class Stepper {
@@ -31,6 +33,15 @@ public:
 
     // n -> n + 1. The first step is the exact free motion; the others are the scheme.
     void step();
+    // Free flight over the next M = flight.steps() steps while no point can touch: only the
+    // first `head` modes are stepped (the probes, mode shapes used up to `head`, are sampled
+    // at every step into `u`, and `v` for velocities if not null: one row of probes.size()
+    // values per step); the other modes jump in closed form at the end, and checks of
+    // sleeping points use the head modes plus a bound on the rest. Stops early if a point
+    // might touch (the state is then complete at that step). Returns the steps flown
+    // (0 if a flight cannot start). Energy and dissipation stay exact.
+    long free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
+                     std::vector<double>& u, std::vector<double>* v);
 
     long step_index() const { return n_; }
     double time() const { return static_cast<double>(n_) * plan_.dt(); }
@@ -48,32 +59,35 @@ public:
 
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
+    // Points solved in the last step (all obstacle points when screening is off).
+    std::span<const std::size_t> active_points() const { return active_; }
     const StepStatistics& statistics() const { return stats_; }
 
 private:
-    void begin_window();
-    void track(std::size_t i);
+    void first_step();
+    void wake_due_points();
+    void activate(std::size_t i, double u_now, double u_before);
     void solve_contacts();
     void apply_impulse();
     void advance_modes();
+    void put_points_to_sleep();
 
     const Plan& plan_;
-    ContactScreen screen_;
+    ContactScheduler scheduler_;
+    const bool screening_;
     long n_ = 0;
     std::vector<double> q_, d_;            // q^n and q^n - q^{n-1}
     std::vector<double> v0_;               // initial modal velocity (first step only)
     std::vector<double> predicted_;        // q^{n+1} without contact force
     std::vector<double> impulse_;          // contact contribution to q^{n+1}
     std::vector<double> grid_;             // scratch: a field on the grid
-    std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at tracked points
-    std::vector<unsigned char> tracked_;
-    std::vector<long> last_force_step_;
-    std::vector<std::size_t> recent_contacts_;
+    std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at active points
+    std::vector<std::size_t> active_;      // points solved every step
+    std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
-    double window_candidate_steps_ = 0.0;
-    long window_start_ = 0;
+    long next_speed_refresh_ = 0;
     StepStatistics stats_;
 };
 

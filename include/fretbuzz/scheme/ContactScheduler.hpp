@@ -1,0 +1,65 @@
+#pragma once
+// Decides, with a proof rather than a guess, when each grid point must next be looked at,
+// so that the contact solve runs only where contact is possible. The scheme's results are
+// unchanged: a point left out is one where the exact answer is "no force".
+//
+// While no contact force acts, every mode moves freely, and the string's speed is bounded
+// at every point by W = sqrt(2/L) sum_j omega_j R_j (R_j: amplitude of mode j's exact free
+// motion, |dq_j/dt| <= omega_j R_j). A point found at height gap above the obstacle cannot
+// reach it before the string has "travelled" gap, i.e. before the reach budget
+// Phi(t) = integral of W dt has grown by gap since the check. Each sleeping point waits in a
+// priority queue keyed by the budget at which it must wake; W is recomputed after every
+// contact impulse (the motion changed) and from time to time as the modes decay. Point
+// positions do not jump at an impulse (S delta is local to the forced points), so the
+// budget carries over.
+#include <cstddef>
+#include <functional>
+#include <queue>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "fretbuzz/scheme/Plan.hpp"
+
+namespace fretbuzz {
+
+class ContactScheduler {
+public:
+    explicit ContactScheduler(const Plan& plan);
+
+    // Recomputes the speed bound from the free motion of the state (q^n, d^n).
+    void update_speed(std::span<const double> q, std::span<const double> d);
+    double speed() const { return speed_; }
+    // A cheap look at a point uses only the first head_modes() modes: the others move it by
+    // at most tail_bound() (sqrt(2/L) times the sum of their free amplitudes).
+    std::size_t head_modes() const { return head_; }
+    void set_head_modes(std::size_t head);
+    double tail_bound() const { return tail_; }
+    // Appends to `out` the sleeping points that might touch by the end of the coming step.
+    void pop_due(std::vector<std::size_t>& out);
+    // Puts point i to sleep given its current gap u - g; false if it is too close to sleep.
+    bool sleep(std::size_t i, double gap);
+    // Makes point i due at once (it will be popped by the next pop_due).
+    void wake_now(std::size_t i) { queue_.emplace(budget_, i); }
+    // Spends one step of budget (call once per step, before any update_speed for the new state).
+    void end_step() { end_steps(1); }
+    void end_steps(long steps);
+    // True if no sleeping point can touch during the next `steps` steps.
+    bool quiet_for(long steps) const;
+    std::size_t sleeping() const { return queue_.size(); }
+
+private:
+    using Entry = std::pair<double, std::size_t>;  // (budget at which to wake, point)
+
+    const Plan& plan_;
+    double norm_;            // sqrt(2/L) >= |phi_j(x)|
+    double speed_ = 0.0;     // W
+    double slack_ = 0.0;     // absolute allowance for round-off in u
+    double budget_ = 0.0;    // Phi(t_n)
+    std::size_t head_;
+    double tail_ = 0.0;
+    std::vector<double> tail_sums_;  // sum_{k >= j} R_k at the last update_speed
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
+};
+
+}  // namespace fretbuzz

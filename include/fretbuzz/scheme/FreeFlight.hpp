@@ -1,0 +1,28 @@
+#pragma once
+// The exact M-step map of every free mode, [q; d]^{n+M} = P_j^M [q; d]^n, with
+// P_j = [[1 - beta_j, e_j], [-beta_j, e_j]] the one-step map in difference form. When no
+// point can touch the obstacle for M steps, the string jumps over them in O(N) instead of
+// O(N M): the result is the same free motion, to round-off.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/scheme/ModalPropagator.hpp"
+
+namespace fretbuzz {
+
+class FreeFlight {
+public:
+    // Maps for modes [first, N) (the others are left to the caller).
+    FreeFlight(const ModalPropagator& propagator, long steps, std::size_t first = 0);
+
+    long steps() const { return steps_; }
+    // Applies the M-step map to modes [first, end) of (q, d).
+    void jump(std::span<double> q, std::span<double> d, std::size_t first) const;
+
+private:
+    long steps_;
+    std::vector<double> qq_, qd_, dq_, dd_;  // P_j^M - I
+};
+
+}  // namespace fretbuzz

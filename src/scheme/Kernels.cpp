@@ -1,0 +1,114 @@
+#include "fretbuzz/scheme/Kernels.hpp"
+
+// Both variants compute the same sums in the same order (no fused multiply-add
+// contraction in ISO C++ mode), so results do not depend on the machine.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FRETBUZZ_MULTIVERSION __attribute__((target_clones("default", "arch=x86-64-v3")))
+#else
+#define FRETBUZZ_MULTIVERSION
+#endif
+
+namespace fretbuzz::kernels {
+
+namespace {
+constexpr std::size_t kLanes = 8;  // independent partial sums: enough to fill two AVX2 adders
+}
+
+FRETBUZZ_MULTIVERSION double dot(const double* a, const double* b, std::size_t n) {
+    double partial[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += a[j + l] * b[j + l];
+    double sum = 0.0;
+    for (; j < n; ++j) sum += a[j] * b[j];
+    for (double p : partial) sum += p;
+    return sum;
+}
+
+FRETBUZZ_MULTIVERSION void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
+                                                double& current, double& previous) {
+    double now[kLanes] = {}, before[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            now[l] += row[j + l] * q[j + l];
+            before[l] += row[j + l] * (q[j + l] - d[j + l]);
+        }
+    double c = 0.0, p = 0.0;
+    for (; j < n; ++j) {
+        c += row[j] * q[j];
+        p += row[j] * (q[j] - d[j]);
+    }
+    for (std::size_t l = 0; l < kLanes; ++l) {
+        c += now[l];
+        p += before[l];
+    }
+    current = c;
+    previous = p;
+}
+
+FRETBUZZ_MULTIVERSION void predict(const double* e, const double* beta, const double* q, const double* d, double* p,
+                                   std::size_t n) {
+    for (std::size_t j = 0; j < n; ++j) p[j] = q[j] + (e[j] * d[j] - beta[j] * q[j]);
+}
+
+namespace {
+// One variant per case so each loop is branch-free and vectorises.
+template <bool Pushed, bool Lossy>
+inline double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
+                              const double* __restrict impulse, double* __restrict q, double* __restrict d,
+                              std::size_t n) {
+    double partial[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            const std::size_t k = j + l;
+            double next = e[k] * d[k] - beta[k] * q[k];
+            if constexpr (Pushed) next += impulse[k];
+            if constexpr (Lossy) {
+                const double span = next + d[k];  // q^{n+1} - q^{n-1}
+                partial[l] += loss[k] * span * span;
+            }
+            q[k] += next;
+            d[k] = next;
+        }
+    double sum = 0.0;
+    for (; j < n; ++j) {
+        double next = e[j] * d[j] - beta[j] * q[j];
+        if constexpr (Pushed) next += impulse[j];
+        if constexpr (Lossy) sum += loss[j] * (next + d[j]) * (next + d[j]);
+        q[j] += next;
+        d[j] = next;
+    }
+    for (double p : partial) sum += p;
+    return sum;
+}
+}  // namespace
+
+FRETBUZZ_MULTIVERSION double advance(const double* e, const double* beta, const double* loss, const double* impulse,
+                                     double* q, double* d, std::size_t n) {
+    if (impulse != nullptr)
+        return loss != nullptr ? advance_variant<true, true>(e, beta, loss, impulse, q, d, n)
+                               : advance_variant<true, false>(e, beta, loss, impulse, q, d, n);
+    return loss != nullptr ? advance_variant<false, true>(e, beta, loss, impulse, q, d, n)
+                           : advance_variant<false, false>(e, beta, loss, impulse, q, d, n);
+}
+
+FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
+                                           std::size_t n) {
+    double partial[kLanes] = {};
+    std::size_t j = 0;
+    auto term = [&](std::size_t k) { return 0.5 * (1.0 + e[k]) * d[k] * d[k] + beta[k] * q[k] * (q[k] - d[k]); };
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += term(j + l);
+    double sum = 0.0;
+    for (; j < n; ++j) sum += term(j);
+    for (double p : partial) sum += p;
+    return sum;
+}
+
+FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_t n) {
+    for (std::size_t j = 0; j < n; ++j) y[j] += c * x[j];
+}
+
+}  // namespace fretbuzz::kernels
