@@ -2,7 +2,9 @@
 // Each subcommand of `fretbuzz` lives in its own file under cli/commands/ and registers
 // itself on the application; the command runs through the returned callback.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
+#include <string>
 
 namespace fretbuzz::cli {
 
@@ -11,5 +13,16 @@ using Action = std::function<int()>;
 // Each adds its subcommand to app and sets `action` to run when it is chosen.
 void add_run_command(CLI::App& app, Action& action);
 void add_cases_commands(CLI::App& app, Action& action);  // cases, show
+void add_convergence_command(CLI::App& app, Action& action);
+void add_cross_check_command(CLI::App& app, Action& action);  // modal vs finite differences
+void add_modes_command(CLI::App& app, Action& action);
+void add_plot_command(CLI::App& app, Action& action);
+void add_report_command(CLI::App& app, Action& action);
+
+// The PNG plots (and the animation: "gif", "mp4" or "none") of a run's output directory;
+// throws InputError naming DIR if it holds no results.h5.
+void make_plots(const std::filesystem::path& dir, const std::string& animation, bool quiet);
+// The plots, then report.html; returns the exit status.
+int make_report(const std::filesystem::path& dir, bool quiet);
 
 }  // namespace fretbuzz::cli

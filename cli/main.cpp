@@ -13,6 +13,11 @@ int main(int argc, char** argv) {
     cli::Action action;
     cli::add_run_command(app, action);
     cli::add_cases_commands(app, action);
+    cli::add_convergence_command(app, action);
+    cli::add_cross_check_command(app, action);
+    cli::add_modes_command(app, action);
+    cli::add_plot_command(app, action);
+    cli::add_report_command(app, action);
 
     CLI11_PARSE(app, argc, argv);
     try {

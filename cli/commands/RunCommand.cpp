@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/CsvWriters.hpp"
+#include "fretbuzz/io/Hdf5Writer.hpp"
 #include "fretbuzz/io/OutputDirectory.hpp"
 #include "fretbuzz/io/SummaryWriter.hpp"
 #include "fretbuzz/run/Simulation.hpp"
@@ -27,6 +29,10 @@ struct RunArguments {
     bool lossless = false;
     std::vector<double> observe;
     std::optional<std::string> output_rate;
+    std::optional<double> audio_rate;
+    bool velocity_audio = false;
+    double snapshot_rate_hz = 0.0;
+    bool report = false;
     std::string out = "fretbuzz-out";
     bool no_screen = false;
     bool quiet = false;
@@ -47,6 +53,7 @@ void apply_overrides(const RunArguments& a, Case& c) {
     if (a.duration) c.run.duration_s = *a.duration;
     if (a.stiffness) c.contact.stiffness = *a.stiffness;
     if (a.exponent) c.contact.exponent = *a.exponent;
+    if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
     if (a.lossless) c.make_lossless();
     c.observation_points_m.insert(c.observation_points_m.end(), a.observe.begin(), a.observe.end());
     if (a.output_rate) {
@@ -55,6 +62,12 @@ void apply_overrides(const RunArguments& a, Case& c) {
         else
             c.run.output_rate_hz = parse_rate(*a.output_rate);
     }
+}
+
+std::vector<std::filesystem::path> staged_audio_paths(OutputDirectory& out, AudioSignal signal, const Case& c) {
+    std::vector<std::filesystem::path> paths;
+    for (const std::string& name : audio_file_names(signal, c.observation_points_m)) paths.push_back(out.staged(name));
+    return paths;
 }
 
 void print_progress(const Progress& p) {
@@ -67,17 +80,24 @@ int run_command(const RunArguments& a) {
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
     c.validate();  // before anything is created on disk
+    if (!(a.snapshot_rate_hz >= 0.0 && a.snapshot_rate_hz <= c.run.sample_rate_hz))
+        throw InputError(out_of_range_message("--snapshots (Hz)", a.snapshot_rate_hz,
+                                              "must be in [0, fs] (0 for none)"));
 
     OutputDirectory out(a.out);
     ObservationCsvWriter observation(out.staged("observation.csv"));
     EnergyCsvWriter energy(out.staged("energy.csv"));
-    AudioWriter audio(out.staged("audio.wav"), c.run.audio_rate_hz);
+    AudioWriter audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz);
+    std::optional<AudioWriter> velocity_audio;
+    if (a.velocity_audio)
+        velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz, AudioSignal::velocity);
+    Hdf5Writer results(out.staged("results.h5"), {.snapshot_rate_hz = a.snapshot_rate_hz});
     SummaryWriter summary_writer(out.staged("summary.json"));
-    std::vector<RunObserver*> observers{&observation, &energy, &audio, &summary_writer};
+    std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer};
+    if (velocity_audio) observers.push_back(&*velocity_audio);
 
     RunOptions options;
     options.plan.screen_contacts = !a.no_screen;
-    options.plan.measure_transform = c.run.sample_rate_hz * c.run.duration_s > 1e6;
     const bool show_progress = !a.quiet && ::isatty(STDERR_FILENO);
     if (show_progress) options.progress = print_progress;
     if (!a.quiet)
@@ -92,6 +112,9 @@ int run_command(const RunArguments& a) {
                   << " steps with contact; energy " << s.energy_initial_j << " J -> " << s.energy_final_j
                   << " J; outputs in " << out.path().string() << "\n";
     }
+    if (a.report) return make_report(out.path(), a.quiet);
+    if (!a.quiet)
+        std::cerr << "fretbuzz: plots and an HTML report: fretbuzz report " << out.path().string() << "\n";
     return 0;
 }
 
@@ -109,6 +132,12 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_flag("--lossless", args->lossless, "Remove all damping (sigma_j = 0)");
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
+    cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");
+    cmd->add_flag("--velocity-audio", args->velocity_audio,
+                  "Also write the velocity (what a magnetic pickup senses) as velocity*.wav");
+    cmd->add_option("--snapshots", args->snapshot_rate_hz, "Store string shapes in results.h5 at this rate in Hz")
+        ->capture_default_str();
+    cmd->add_flag("--report", args->report, "Then make the plots and report.html in the output directory");
     cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
     cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");

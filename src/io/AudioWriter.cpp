@@ -5,52 +5,86 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
+#include <utility>
+
+#include "fretbuzz/io/CsvWriters.hpp"
 
 namespace fretbuzz {
 
 namespace {
-constexpr std::size_t kBlock = 1 << 14;
+constexpr std::size_t kBlockFrames = 1 << 14;
 soxr_t as_soxr(void* p) { return static_cast<soxr_t>(p); }
 }  // namespace
 
-AudioWriter::AudioWriter(const std::filesystem::path& path, double audio_rate_hz) : path_(path), rate_(audio_rate_hz) {}
+std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m) {
+    const std::string stem = signal == AudioSignal::velocity ? "velocity" : "audio";
+    std::vector<std::string> names;
+    std::set<std::string> taken;
+    for (std::size_t p = 0; p < points_m.size(); ++p) {
+        std::string name = stem;
+        if (p > 0) {
+            name += '_';
+            append_number(name, points_m[p]);
+            name += 'm';
+        }
+        // The same point observed twice still gets a file of its own.
+        if (taken.contains(name)) name.append("_").append(std::to_string(p + 1));
+        taken.insert(name);
+        names.push_back(name + ".wav");
+    }
+    return names;
+}
+
+AudioWriter::AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz, AudioSignal signal)
+    : paths_(std::move(paths)), rate_(audio_rate_hz), signal_(signal) {}
 
 AudioWriter::~AudioWriter() {
     if (resampler_ != nullptr) soxr_delete(as_soxr(resampler_));
 }
 
 void AudioWriter::begin(const RunLayout& layout) {
+    const std::size_t points = layout.observation_points_m.size();
+    if (paths_.size() != points)
+        throw std::logic_error("AudioWriter: " + std::to_string(paths_.size()) + " file paths for " +
+                               std::to_string(points) + " observation points");
     const double input_rate = 1.0 / layout.dt;
     soxr_error_t error = nullptr;
     const soxr_io_spec_t io = soxr_io_spec(SOXR_FLOAT64_I, SOXR_FLOAT64_I);
     // Very high quality: 28-bit precision, linear phase; its anti-aliasing filter is the band limit.
     const soxr_quality_spec_t quality = soxr_quality_spec(SOXR_VHQ, 0);
-    resampler_ = soxr_create(input_rate, rate_, 1, &error, &io, &quality, nullptr);
+    resampler_ = soxr_create(input_rate, rate_, static_cast<unsigned>(points), &error, &io, &quality, nullptr);
     if (error != nullptr) throw std::runtime_error(std::string("libsoxr: ") + error);
-    input_.reserve(kBlock);
-    block_.resize(kBlock);
-    output_.reserve(static_cast<std::size_t>(static_cast<double>(layout.steps) * layout.dt * rate_) + 16);
+    input_.reserve(kBlockFrames * points);
+    block_.resize(kBlockFrames * points);
+    channels_.assign(points, {});
+    const auto expected = static_cast<std::size_t>(static_cast<double>(layout.steps) * layout.dt * rate_) + 16;
+    for (auto& channel : channels_) channel.reserve(expected);
 }
 
-void AudioWriter::every_step(std::span<const double> u, std::span<const double>) {
-    input_.push_back(u.front());
-    if (input_.size() == kBlock) drain(false);
+void AudioWriter::every_step(std::span<const double> u, std::span<const double> velocity) {
+    const std::span<const double> frame = signal_ == AudioSignal::velocity ? velocity : u;
+    input_.insert(input_.end(), frame.begin(), frame.end());
+    if (input_.size() >= kBlockFrames * channels_.size()) drain(false);
 }
 
 void AudioWriter::drain(bool flush) {
-    auto process = [this](const double* in, std::size_t length, std::size_t& consumed) {
+    const std::size_t width = channels_.size();
+    auto process = [&](const double* in, std::size_t frames, std::size_t& consumed) {
         std::size_t produced = 0;
         const soxr_error_t error =
-            soxr_process(as_soxr(resampler_), in, length, &consumed, block_.data(), block_.size(), &produced);
+            soxr_process(as_soxr(resampler_), in, frames, &consumed, block_.data(), kBlockFrames, &produced);
         if (error != nullptr) throw std::runtime_error(std::string("libsoxr: ") + error);
-        output_.insert(output_.end(), block_.begin(), block_.begin() + static_cast<std::ptrdiff_t>(produced));
+        for (std::size_t f = 0; f < produced; ++f)
+            for (std::size_t p = 0; p < width; ++p) channels_[p].push_back(block_[f * width + p]);
         return produced;
     };
+    const std::size_t frames = input_.size() / width;
     std::size_t offset = 0;
-    while (offset < input_.size()) {
+    while (offset < frames) {
         std::size_t consumed = 0;
-        process(input_.data() + offset, input_.size() - offset, consumed);
+        process(input_.data() + offset * width, frames - offset, consumed);
         offset += consumed;
     }
     input_.clear();
@@ -64,22 +98,29 @@ void AudioWriter::drain(bool flush) {
 void AudioWriter::finish(const RunSummary& summary) {
     drain(true);
     const std::size_t expected = static_cast<std::size_t>(std::llround(summary.duration_s * rate_)) + 1;
-    if (output_.size() > expected) output_.resize(expected);
+    for (auto& channel : channels_)
+        if (channel.size() > expected) channel.resize(expected);
+    for (std::size_t p = 0; p < channels_.size(); ++p) write_channel(p);
+}
+
+void AudioWriter::write_channel(std::size_t point) const {
+    const std::vector<double>& signal = channels_[point];
+    const std::filesystem::path& path = paths_[point];
     double peak = 0.0;
-    for (double v : output_) peak = std::max(peak, std::abs(v));
+    for (double v : signal) peak = std::max(peak, std::abs(v));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
-    std::vector<double> normalised(output_.size());
-    std::transform(output_.begin(), output_.end(), normalised.begin(), [gain](double v) { return gain * v; });
+    std::vector<double> normalised(signal.size());
+    std::transform(signal.begin(), signal.end(), normalised.begin(), [gain](double v) { return gain * v; });
 
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(rate_));
     info.channels = 1;
     info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_24;
-    SNDFILE* file = sf_open(path_.c_str(), SFM_WRITE, &info);
-    if (file == nullptr) throw std::runtime_error("cannot write " + path_.string() + ": " + sf_strerror(nullptr));
+    SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+    if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     const sf_count_t written = sf_write_double(file, normalised.data(), static_cast<sf_count_t>(normalised.size()));
     sf_close(file);
-    if (written != static_cast<sf_count_t>(normalised.size())) throw std::runtime_error("writing " + path_.string() + " failed");
+    if (written != static_cast<sf_count_t>(normalised.size())) throw std::runtime_error("writing " + path.string() + " failed");
 }
 
 }  // namespace fretbuzz

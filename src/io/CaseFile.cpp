@@ -6,6 +6,7 @@
 #include "CaseSections.hpp"
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/SimpleObstacles.hpp"
 #include "fretbuzz/io/BuiltinFiles.hpp"
 
 namespace fretbuzz {
@@ -30,6 +31,9 @@ std::string DataSource::read(const std::string& relative_path, const std::string
     const std::filesystem::path given(relative_path);
     const std::filesystem::path path = given.is_absolute() ? given : dir_ / given;
     std::ifstream in(path, std::ios::binary);
+    // A case copied out with `fretbuzz show` still finds the built-in data it names.
+    if (!in && !given.is_absolute() && !std::filesystem::exists(path))
+        if (auto text = find_builtin_file(relative_path)) return std::string(*text);
     if (!in) throw InputError(key + " = \"" + relative_path + "\": cannot read " + path.string());
     std::ostringstream text;
     text << in.rdbuf();
@@ -50,36 +54,23 @@ toml::table parse_toml(std::string_view text, const std::string& source) {
     }
 }
 
-void read_string_section(TomlSection s, Case& c, std::size_t& mode_count) {
-    c.string.length_m = s.number("L");
-    c.string.tension_n = s.number("T");
-    c.string.linear_density = s.number("mu");
-    require_positive(s.key_path("L"), c.string.length_m);
-    require_positive(s.key_path("T"), c.string.tension_n);
-    require_positive(s.key_path("mu"), c.string.linear_density);
-    const double modes = s.number("modes");
-    if (!(modes >= 1.0 && modes <= 100000.0 && modes == static_cast<double>(static_cast<long>(modes))))
-        throw InputError(out_of_range_message(s.key_path("modes"), modes, "must be an integer in [1, 100000]"));
-    mode_count = static_cast<std::size_t>(modes);
-    s.finish();
-}
-
 void read_contact_section(TomlSection s, Case& c) {
-    c.contact.stiffness = s.number("K");
+    c.contact.stiffness = s.positive("K");
     c.contact.exponent = s.number("alpha");
+    require_at_least(s.key_path("alpha"), c.contact.exponent, 1.0);
     s.finish();
 }
 
 void read_run_section(TomlSection s, Case& c) {
-    c.run.sample_rate_hz = s.number("fs");
-    c.run.duration_s = s.number("duration");
+    c.run.sample_rate_hz = s.positive("fs");
+    c.run.duration_s = s.positive("duration");
     if (const toml::node* rate = s.node("output_rate")) {
         if (const auto* word = rate->as_string()) {
             if (word->get() != "native")
                 throw InputError(s.key_path("output_rate") + " = \"" + word->get() + "\": must be a rate in Hz or \"native\"");
             c.run.output_rate_hz.reset();
         } else {
-            c.run.output_rate_hz = s.number("output_rate");
+            c.run.output_rate_hz = s.positive("output_rate");
         }
     }
     s.finish();
@@ -87,11 +78,18 @@ void read_run_section(TomlSection s, Case& c) {
 
 void read_observe_section(TomlSection s, Case& c) {
     c.observation_points_m = s.numbers("x");
+    for (std::size_t k = 0; k < c.observation_points_m.size(); ++k) {
+        const double x = c.observation_points_m[k];
+        if (!(x > 0.0 && x < c.string.length_m))
+            throw InputError(out_of_range_message(s.key_path("x") + "[" + std::to_string(k) + "]", x,
+                                                  "must lie inside the string, in (0, L) = (0, " +
+                                                      std::to_string(c.string.length_m) + ") m"));
+    }
     s.finish();
 }
 
 void read_audio_section(TomlSection s, Case& c) {
-    c.run.audio_rate_hz = s.number_or("rate", c.run.audio_rate_hz);
+    c.run.audio_rate_hz = s.optional_positive("rate").value_or(c.run.audio_rate_hz);
     s.finish();
 }
 
@@ -104,18 +102,25 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     c.source_text = std::string(toml_text);
     c.name = top.text("name");
     c.description = top.optional_text("description").value_or("");
-    std::size_t mode_count = 0;
-    read_string_section(top.section("string"), c, mode_count);
+    StringDescription string;
+    {
+        TomlSection section = top.section("string");
+        string = read_string_section(section, c);
+        section.finish();
+    }
     {
         TomlSection modes = top.section("modes");
-        read_modes_section(modes, data, mode_count, c);
+        read_modes_section(modes, data, string, c);
         modes.finish();
     }
-    {
-        TomlSection obstacle = top.section("obstacle");
-        read_obstacle_section(obstacle, data, c);
+    // One obstacle, or several ([[obstacle]]) that the string meets wherever each is highest.
+    std::vector<std::vector<double>> obstacles;
+    for (TomlSection& obstacle : top.sections("obstacle")) {
+        obstacles.push_back(read_obstacle_section(obstacle, data, c));
         obstacle.finish();
     }
+    if (obstacles.empty()) throw InputError("obstacle: the list of obstacles is empty; use type = \"none\" for none");
+    c.obstacle_height_m = highest_of(obstacles);
     {
         TomlSection excitation = top.section("excitation");
         read_excitation_section(excitation, data, c);

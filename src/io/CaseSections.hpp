@@ -1,19 +1,38 @@
 #pragma once
 // Readers of the individual tables of a case file, one file each (src/io/*Section.cpp).
 #include <cstddef>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "TomlSection.hpp"
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/CsvTable.hpp"
 
 namespace fretbuzz {
 
+// What [string] says beyond c.string: the mode count and the optional properties the
+// frequency and damping models use.
+struct StringDescription {
+    std::size_t mode_count = 0;
+    std::optional<double> diameter_m;              // d (outer)
+    std::optional<double> core_diameter_m;         // d_core
+    std::optional<double> core_bending_stiffness;  // E_core I_core, N m^2 (given, or E_core pi d_core^4 / 64)
+    std::optional<double> inharmonicity;           // B
+};
+
+// [string]: fills c.string.
+StringDescription read_string_section(TomlSection& section, Case& c);
 // [modes]: fills c.modes for c.string and the requested mode count.
-void read_modes_section(TomlSection& section, const DataSource& data, std::size_t mode_count, Case& c);
-// [obstacle]: heights on the grid of c.
-void read_obstacle_section(TomlSection& section, const DataSource& data, Case& c);
+void read_modes_section(TomlSection& section, const DataSource& data, const StringDescription& string, Case& c);
+// [obstacle] (or one entry of [[obstacle]]): heights on the grid of c.
+std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c);
 // [excitation]: initial modal displacement and velocity on the modes of c.
 void read_excitation_section(TomlSection& section, const DataSource& data, Case& c);
+
+// The CSV file named by section.key; any error in it names the key.
+CsvTable read_section_table(TomlSection& section, std::string_view key, const DataSource& data,
+                            std::size_t min_columns);
 
 }  // namespace fretbuzz

@@ -7,7 +7,7 @@
 
 namespace fretbuzz {
 
-void SummaryWriter::finish(const RunSummary& s) {
+std::string summary_json(const RunSummary& s, const std::vector<double>& observation_points_m) {
     const nlohmann::ordered_json json = {
         {"case", s.case_name},
         {"fs", s.sample_rate_hz},
@@ -29,9 +29,15 @@ void SummaryWriter::finish(const RunSummary& s) {
         {"last_contact_s", s.last_contact_s},
         {"max_newton_iterations", s.max_newton_iterations},
         {"mean_points_solved_per_step", s.mean_points_solved},
+        {"free_flight_fraction", s.free_flight_fraction},
+        {"observation_points_m", observation_points_m},
     };
+    return json.dump(2);
+}
+
+void SummaryWriter::finish(const RunSummary& s) {
     std::ofstream out(path_, std::ios::trunc);
-    out << json.dump(2) << '\n';
+    out << summary_json(s, observation_points_m_) << '\n';
     if (!out) throw std::runtime_error("cannot write " + path_.string());
 }
 

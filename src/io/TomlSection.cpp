@@ -1,5 +1,6 @@
 #include "TomlSection.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
@@ -14,9 +15,33 @@ std::string TomlSection::key_path(std::string_view key) const {
 
 bool TomlSection::has(std::string_view key) const { return table_->contains(key); }
 
+namespace {
+// Edit distance between two short keys, to point at a likely typo.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = row[j];
+            row[j] = next;
+        }
+    }
+    return row[b.size()];
+}
+}  // namespace
+
 const toml::node& TomlSection::required(std::string_view key) {
     const toml::node* n = table_->get(key);
-    if (n == nullptr) throw InputError(key_path(key) + " is missing (required)");
+    if (n == nullptr) {
+        std::string hint;
+        for (const auto& [present, value] : *table_)
+            if (!used_.contains(present.str()) && edit_distance(present.str(), key) <= 2)
+                hint = "; found " + key_path(present.str()) + " instead: a typo?";
+        throw InputError(key_path(key) + " is missing (required)" + hint);
+    }
     used_.emplace(key);
     return *n;
 }
@@ -78,6 +103,59 @@ std::vector<double> TomlSection::numbers(std::string_view key) {
         values.push_back(to_number(n, key));
     }
     return values;
+}
+
+double TomlSection::positive(std::string_view key) {
+    const double value = number(key);
+    require_positive(key_path(key), value);
+    return value;
+}
+
+double TomlSection::non_negative(std::string_view key) {
+    const double value = number(key);
+    require_non_negative(key_path(key), value);
+    return value;
+}
+
+std::optional<double> TomlSection::optional_positive(std::string_view key) {
+    if (!has(key)) return std::nullopt;
+    return positive(key);
+}
+
+std::optional<double> TomlSection::optional_non_negative(std::string_view key) {
+    if (!has(key)) return std::nullopt;
+    return non_negative(key);
+}
+
+std::size_t TomlSection::count(std::string_view key, std::size_t minimum, std::size_t maximum) {
+    const double value = number(key);
+    const bool whole = value == std::floor(value);
+    if (!whole || value < static_cast<double>(minimum) || value > static_cast<double>(maximum))
+        throw InputError(out_of_range_message(key_path(key), value,
+                                              "must be a whole number in [" + std::to_string(minimum) + ", " +
+                                                  std::to_string(maximum) + "]"));
+    return static_cast<std::size_t>(value);
+}
+
+std::optional<std::size_t> TomlSection::optional_count(std::string_view key, std::size_t minimum,
+                                                       std::size_t maximum) {
+    if (!has(key)) return std::nullopt;
+    return count(key, minimum, maximum);
+}
+
+std::vector<std::array<double, 2>> TomlSection::number_pairs(std::string_view key) {
+    const toml::node& n = required(key);
+    const auto* array = n.as_array();
+    const std::string expected = " must be an array of [a, b] number pairs, e.g. [[0.1, 2e-4], [0.3, 5e-4]]";
+    if (array == nullptr) throw InputError(key_path(key) + expected);
+    std::vector<std::array<double, 2>> pairs;
+    for (std::size_t k = 0; k < array->size(); ++k) {
+        const std::string item = std::string(key) + "[" + std::to_string(k) + "]";
+        const auto* pair = array->get(k)->as_array();
+        if (pair == nullptr || pair->size() != 2) throw InputError(key_path(item) + expected);
+        pairs.push_back({to_number(*pair->get(0), item + "[0]"), to_number(*pair->get(1), item + "[1]")});
+    }
+    return pairs;
 }
 
 TomlSection TomlSection::section(std::string_view key) {

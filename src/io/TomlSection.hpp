@@ -2,6 +2,8 @@
 // Strict reading of one table of a case file: every value is checked for type and
 // finiteness, and finish() rejects any key nobody asked for, so a typo is an error
 // that names the key instead of a silent fall-back to a default.
+#include <array>
+#include <cstddef>
 #include <optional>
 #include <set>
 #include <string>
@@ -27,6 +29,16 @@ public:
     std::optional<std::string> optional_text(std::string_view key);
     std::vector<double> numbers(std::string_view key);  // a number or an array of numbers
     std::optional<bool> optional_flag(std::string_view key);
+    // Numbers checked against a range; the InputError names the key path and the range.
+    double positive(std::string_view key);
+    double non_negative(std::string_view key);
+    std::optional<double> optional_positive(std::string_view key);
+    std::optional<double> optional_non_negative(std::string_view key);
+    // A whole number in [minimum, maximum] (e.g. a mode or fret count).
+    std::size_t count(std::string_view key, std::size_t minimum, std::size_t maximum);
+    std::optional<std::size_t> optional_count(std::string_view key, std::size_t minimum, std::size_t maximum);
+    // An array of [a, b] number pairs (e.g. a curve given point by point).
+    std::vector<std::array<double, 2>> number_pairs(std::string_view key);
     TomlSection section(std::string_view key);
     std::optional<TomlSection> optional_section(std::string_view key);
     // Arrays of tables ([[obstacle.points]] etc.).

@@ -45,6 +45,12 @@ double PenaltyContact::slope_of_quotient(double a, double r, double quotient) co
 
 ContactSolution PenaltyContact::solve(double a, double b, double k) const {
     ContactSolution s;
+    if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(k)) {
+        std::ostringstream msg;
+        msg << "contact solve received a non-finite state (eta^{n-1} = " << a << ", b = " << b << ", dt^2/mu = " << k
+            << "): the simulation has diverged";
+        throw SolverError(msg.str());
+    }
     if (a <= 0.0 && a + b <= 0.0) {  // stays out of contact over both steps: no force
         s.increment = b;
         return s;

@@ -1,5 +1,5 @@
 #pragma once
-// Initial string shapes u(x, 0) on the grid.
+// Initial string shapes u(x, 0) and velocity fields du/dt(x, 0) on the grid.
 #include <vector>
 
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
@@ -8,5 +8,16 @@ namespace fretbuzz {
 
 // A pluck: straight lines from the ends to (position, amplitude).
 std::vector<double> triangle_shape(const Grid& grid, double position, double amplitude);
+
+// A pluck by a finger or a wire of finite width (the "rounded triangle" of Issanchou et
+// al. 2017): a triangle whose corner at `position` is replaced, over [position - width/2,
+// position + width/2], by the parabola tangent to both sides. Scaled so that its maximum
+// is `amplitude`. Needs 0 < position - width/2 and position + width/2 < L.
+std::vector<double> rounded_triangle_shape(const Grid& grid, double position, double width, double amplitude);
+
+// A strike (a hammer or a slap): a raised-cosine velocity distribution
+// v(x) = v_peak (1 + cos(2 pi (x - position) / width)) / 2 for |x - position| < width/2,
+// zero elsewhere.
+std::vector<double> raised_cosine_velocity(const Grid& grid, double position, double width, double peak_velocity);
 
 }  // namespace fretbuzz

@@ -1,36 +1,58 @@
 #pragma once
-// audio.wav: the first observation signal, taken at every time step, band-limited and
-// resampled to the audio rate by libsoxr (streaming, so a long run never holds its
-// full-rate signal), peak-normalised and written as 24-bit PCM WAV by libsndfile.
+// Audio files, one mono WAV per observation point: the signal taken at every time step,
+// band-limited and resampled to the audio rate by libsoxr (streaming, so a long run never
+// holds its full-rate signal), peak-normalised per file and written as 24-bit PCM WAV by
+// libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
+// what a magnetic pickup senses.
 #include <filesystem>
-#include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
 
+enum class AudioSignal { displacement, velocity };
+
+// The file names for the observation points, in order: "audio.wav" (or "velocity.wav")
+// for the first point, then "audio_<x>m.wav" with x in metres for the others.
+std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
+
 class AudioWriter : public RunObserver {
 public:
-    AudioWriter(const std::filesystem::path& path, double audio_rate_hz);
+    // One path per observation point, in the order of the case's points.
+    AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz,
+                AudioSignal signal = AudioSignal::displacement);
     ~AudioWriter() override;
+    AudioWriter(const AudioWriter&) = delete;
+    AudioWriter& operator=(const AudioWriter&) = delete;
+
     void begin(const RunLayout& layout) override;
     bool wants_every_step() const override { return true; }
+    // Modes above 0.6 x the audio rate lie in the resampler's stopband: leaving them out of
+    // the input while no contact is possible changes the output by less than the filter
+    // lets through anyway, and lets the run skip them.
+    double every_step_band_hz() const override { return 0.6 * rate_; }
+    bool wants_velocity() const override { return signal_ == AudioSignal::velocity; }
     void every_step(std::span<const double> u, std::span<const double> velocity) override;
     void finish(const RunSummary&) override;
 
-    // The resampled signal before normalisation (available after finish()).
-    const std::vector<double>& samples() const { return output_; }
+    // The resampled signal of one point before normalisation (available after finish()).
+    const std::vector<double>& samples(std::size_t point = 0) const { return channels_.at(point); }
+    double rate_hz() const { return rate_; }
 
 private:
     void drain(bool flush);
+    void write_channel(std::size_t point) const;
 
-    std::filesystem::path path_;
+    std::vector<std::filesystem::path> paths_;
     double rate_;
+    AudioSignal signal_;
     void* resampler_ = nullptr;
-    std::vector<double> input_;
-    std::vector<double> block_;
-    std::vector<double> output_;
+    std::vector<double> input_;   // interleaved, one frame per time step
+    std::vector<double> block_;   // interleaved resampler output
+    std::vector<std::vector<double>> channels_;
 };
 
 }  // namespace fretbuzz

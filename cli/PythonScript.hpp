@@ -1,0 +1,16 @@
+#pragma once
+// Runs a Python script carried inside the binary: it is written to a private temporary
+// file and run by Debian's interpreter (/usr/bin/python3, which has numpy, matplotlib and
+// h5py), or by the one named in $FRETBUZZ_PYTHON.
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fretbuzz::cli {
+
+std::string_view plot_script();  // python/fretbuzz_plots.py, embedded at build time
+
+// The script's exit status; throws std::runtime_error if the interpreter cannot be started.
+int run_python_script(std::string_view script, const std::vector<std::string>& arguments);
+
+}  // namespace fretbuzz::cli

@@ -1,0 +1,64 @@
+#pragma once
+// results.h5: everything a run produced, in one HDF5 file, streamed to disk as the run
+// goes (chunked, extendible datasets; no signal is ever held whole in memory).
+//
+//   /                       attributes: format, format_version, case, fs_hz, dt_s, steps,
+//                           output_rate_hz, output_stride, modes, length_m
+//   /case/text              the case file text (UTF-8); attributes name, description
+//   /time                   output times t_k (s), from 0
+//   /observation/points_m   observation points x (m)
+//   /observation/displacement   u(x_p, t_k), rows = /time, columns = points (m)
+//   /energy/{time,total,contact,dissipated}   H^{n-1/2}, its contact part and the
+//                           cumulative dissipated energy (J), at t = (n - 1/2) dt
+//   /grid/x_m, /grid/obstacle_height_m        interior grid points and g(x_i) (-inf: none)
+//   /contact/time           end of each contact-map interval (s)
+//   /contact/max_force      largest contact force per unit length (N/m) over each interval,
+//                           rows = /contact/time, columns = grid points (float32, compressed)
+//   /contact/{first_s,last_s,steps,peak_force}   per grid point (NaN: never touched)
+//   /snapshots/{time,displacement}   string shapes on the grid, if requested
+//   /summary                the run summary as JSON text (same as summary.json)
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "fretbuzz/run/RunObserver.hpp"
+
+namespace fretbuzz {
+
+struct Hdf5WriterOptions {
+    double snapshot_rate_hz = 0.0;  // 0: no snapshots
+    // Contact-map rows follow the output rate, but never more often than this: at the
+    // native output rate a dense map of every step would dwarf the rest of the file.
+    double max_contact_map_rate_hz = 50000.0;
+};
+
+class Hdf5Writer : public RunObserver {
+public:
+    explicit Hdf5Writer(const std::filesystem::path& path, Hdf5WriterOptions options = {});
+    ~Hdf5Writer() override;
+    Hdf5Writer(const Hdf5Writer&) = delete;
+    Hdf5Writer& operator=(const Hdf5Writer&) = delete;
+
+    void begin(const RunLayout& layout) override;
+    void observation(double t, std::span<const double> u) override;
+    void energy(double t, double h, double contact, double dissipated) override;
+    void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
+    double snapshot_rate_hz() const override { return options_.snapshot_rate_hz; }
+    void snapshot(double t, std::span<const double> x, std::span<const double> u) override;
+    void finish(const RunSummary& summary) override;
+
+private:
+    struct File;  // the open file and its datasets (keeps hdf5.h out of this header)
+    std::filesystem::path path_;
+    Hdf5WriterOptions options_;
+    std::unique_ptr<File> file_;
+};
+
+}  // namespace fretbuzz
+
+namespace fretbuzz {
+
+// The case file text stored in a results.h5 (throws std::runtime_error if unreadable).
+std::string read_case_text(const std::filesystem::path& results_h5);
+
+}  // namespace fretbuzz

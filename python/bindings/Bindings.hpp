@@ -1,0 +1,11 @@
+#pragma once
+// The pieces of the `fretbuzz` Python module, each defined in its own file.
+#include <pybind11/pybind11.h>
+
+namespace fretbuzz::python {
+
+void bind_case(pybind11::module_& m);     // Case, load_case, cases
+void bind_results(pybind11::module_& m);  // Results
+void bind_run(pybind11::module_& m);      // run
+
+}  // namespace fretbuzz::python

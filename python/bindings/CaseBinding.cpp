@@ -1,0 +1,155 @@
+// fretbuzz.Case: a loaded case whose fields read and write both as attributes (c.fs) and
+// as dictionary items (c["fs"]), named as in the case files; fretbuzz.load_case, cases.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Bindings.hpp"
+#include "Conversions.hpp"
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+
+namespace fretbuzz::python {
+
+namespace py = pybind11;
+
+namespace {
+
+struct Field {
+    const char* key;
+    const char* doc;
+    std::function<py::object(const Case&)> get;
+    std::function<void(Case&, py::handle)> set;
+};
+
+template <typename Group>
+Field scalar(const char* key, const char* doc, Group Case::*group, double Group::*member) {
+    return {key, doc, [=](const Case& c) { return py::object(py::float_(c.*group.*member)); },
+            [=](Case& c, py::handle v) { c.*group.*member = v.cast<double>(); }};
+}
+
+Field array(const char* key, const char* doc, std::vector<double> Case::*member) {
+    return {key, doc, [=](const Case& c) { return py::object(to_numpy(c.*member)); },
+            [=](Case& c, py::handle v) { c.*member = to_vector(v, key); }};
+}
+
+void set_mode_column(Case& c, std::vector<double> ModeTable::*column, py::handle v, const char* key) {
+    c.modes.*column = to_vector(v, key);
+    // New modes (if the table grew) are modelled, not measured.
+    c.modes.source.resize(c.modes.frequency_hz.size(), ModeSource::model);
+}
+
+const std::vector<Field>& fields() {
+    static const std::vector<Field> table = {
+        {"name", "case name", [](const Case& c) { return py::object(py::str(c.name)); },
+         [](Case& c, py::handle v) { c.name = v.cast<std::string>(); }},
+        {"description", "one-line description", [](const Case& c) { return py::object(py::str(c.description)); },
+         [](Case& c, py::handle v) { c.description = v.cast<std::string>(); }},
+        scalar("L", "vibrating length (m)", &Case::string, &StringProperties::length_m),
+        scalar("T", "tension (N)", &Case::string, &StringProperties::tension_n),
+        scalar("mu", "linear density (kg/m)", &Case::string, &StringProperties::linear_density),
+        {"frequencies", "modal frequencies nu_j (Hz)", [](const Case& c) { return py::object(to_numpy(c.modes.frequency_hz)); },
+         [](Case& c, py::handle v) { set_mode_column(c, &ModeTable::frequency_hz, v, "frequencies"); }},
+        {"sigma", "modal damping sigma_j (1/s)", [](const Case& c) { return py::object(to_numpy(c.modes.sigma_per_s)); },
+         [](Case& c, py::handle v) { set_mode_column(c, &ModeTable::sigma_per_s, v, "sigma"); }},
+        array("obstacle_height", "obstacle height g at the grid points (m; -inf: none)", &Case::obstacle_height_m),
+        array("initial_displacement", "modal displacement q_j(0)", &Case::initial_displacement),
+        array("initial_velocity", "modal velocity dq_j/dt(0)", &Case::initial_velocity),
+        scalar("K", "penalty stiffness", &Case::contact, &ContactLaw::stiffness),
+        scalar("alpha", "penalty exponent (>= 1)", &Case::contact, &ContactLaw::exponent),
+        scalar("fs", "sampling rate (Hz)", &Case::run, &RunSettings::sample_rate_hz),
+        scalar("duration", "simulated duration (s)", &Case::run, &RunSettings::duration_s),
+        {"output_rate", "rows per second of the outputs (Hz), None for every step",
+         [](const Case& c) { return c.run.output_rate_hz ? py::object(py::float_(*c.run.output_rate_hz)) : py::object(py::none()); },
+         [](Case& c, py::handle v) {
+             if (v.is_none()) c.run.output_rate_hz.reset();
+             else c.run.output_rate_hz = v.cast<double>();
+         }},
+        scalar("audio_rate", "sample rate of audio files (Hz)", &Case::run, &RunSettings::audio_rate_hz),
+        {"observe", "observation points x (m)", [](const Case& c) { return py::object(py::cast(c.observation_points_m)); },
+         [](Case& c, py::handle v) { c.observation_points_m = to_vector(v, "observe"); }},
+    };
+    return table;
+}
+
+const Field& field(const std::string& key) {
+    for (const Field& f : fields())
+        if (key == f.key) return f;
+    std::string known;
+    for (const Field& f : fields()) known += std::string(known.empty() ? "" : ", ") + f.key;
+    throw py::key_error("no case field '" + key + "'; the fields are: " + known);
+}
+
+std::string describe(const Case& c) {
+    std::ostringstream out;
+    out << "<fretbuzz.Case '" << c.name << "': " << c.mode_count() << " modes, fs = " << c.run.sample_rate_hz
+        << " Hz, duration = " << c.run.duration_s << " s>";
+    return out.str();
+}
+
+}  // namespace
+
+void bind_case(py::module_& m) {
+    py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+    py::register_exception<SolverError>(m, "SolverError", PyExc_RuntimeError);
+
+    py::class_<Case> cls(m, "Case",
+                         "A simulation case. Fields read and write as attributes or items, named as in case files:\n"
+                         "c.fs = 400000; c['observe'] = [0.854, 0.5]. keys() lists them, to_dict() copies them.");
+    for (const Field& f : fields()) {
+        cls.def_property(
+            f.key, [get = f.get](const Case& c) { return get(c); }, [set = f.set](Case& c, py::handle v) { set(c, v); },
+            f.doc);
+    }
+    cls.def_property_readonly("modes", &Case::mode_count, "number of modes (= interior grid points)")
+        .def_property_readonly(
+            "grid_x",
+            [](const Case& c) {
+                std::vector<double> x(c.mode_count());
+                for (std::size_t i = 0; i < x.size(); ++i) x[i] = c.grid_point(i);
+                return to_numpy(x);
+            },
+            "interior grid points x_i (m)")
+        .def_readonly("source_text", &Case::source_text, "the case file text this case was read from")
+        .def("__getitem__", [](const Case& c, const std::string& key) { return field(key).get(c); })
+        .def("__setitem__", [](Case& c, const std::string& key, py::handle v) { field(key).set(c, v); })
+        .def("__contains__", [](const Case&, const std::string& key) {
+            for (const Field& f : fields())
+                if (key == f.key) return true;
+            return false;
+        })
+        .def("keys", [](const Case&) {
+            py::list keys;
+            for (const Field& f : fields()) keys.append(f.key);
+            return keys;
+        })
+        .def("to_dict", [](const Case& c) {
+            py::dict d;
+            for (const Field& f : fields()) d[f.key] = f.get(c);
+            return d;
+        })
+        .def("update", [](Case& c, const py::dict& values) {
+            for (const auto& [key, value] : values) field(key.cast<std::string>()).set(c, value);
+        }, "Sets several fields from a dict.")
+        .def("make_lossless", &Case::make_lossless, "Removes all damping (sigma_j = 0).")
+        .def("validate", &Case::validate, "Raises InputError (a ValueError) naming the first bad field.")
+        .def("copy", [](const Case& c) { return Case(c); })
+        .def("__copy__", [](const Case& c) { return Case(c); })
+        .def("__deepcopy__", [](const Case& c, py::dict) { return Case(c); })
+        .def("__repr__", &describe);
+
+    m.def("load_case", &load_case, py::arg("name_or_path"),
+          "A built-in case by name (see cases()) or a .toml case file, as an editable Case.");
+    m.def("cases", [] {
+        py::dict d;
+        for (const BuiltinCaseInfo& info : builtin_cases()) d[py::str(info.name)] = info.description;
+        return d;
+    }, "The built-in cases: {name: description}.");
+}
+
+}  // namespace fretbuzz::python

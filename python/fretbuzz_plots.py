@@ -1,0 +1,344 @@
+#!/usr/bin/python3
+"""Figures of one fretbuzz run, drawn from the results.h5 in its output directory.
+
+Usage: fretbuzz_plots.py DIR [--animation gif|mp4|none] [--quiet]
+
+Writes into DIR:
+  signal.png             displacement at the first observation point, zoomed windows, energy
+                         (the layout of Figure 2 in Issanchou et al. 2017)
+  signal_all_points.png  every observation point (only when there are several)
+  spectrogram.png        0-10 kHz spectrogram of the first observation point (Figure 3)
+  energy.png             energy, contact energy, dissipated energy and the balance error
+  contactogram.png       x against t, coloured by the contact force
+  snapshots.png          string shapes over the obstacle     (when the run stored snapshots)
+  animation.gif / .mp4   the string moving over the obstacle (when the run stored snapshots)
+
+`fretbuzz plot DIR` runs this script with Debian's /usr/bin/python3 (numpy, matplotlib, h5py).
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import sys
+
+ZOOM_WINDOWS = 3
+MAX_CONTACTOGRAM_COLUMNS = 700  # about one pixel per column, so short contacts stay visible
+MAX_ANIMATION_FRAMES = 100
+SNAPSHOT_PANELS = 6
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(description="Figures of a fretbuzz run")
+    parser.add_argument("dir", help="output directory of `fretbuzz run` (holding results.h5)")
+    parser.add_argument("--animation", choices=["gif", "mp4", "none"], default="gif")
+    parser.add_argument("--quiet", action="store_true")
+    return parser.parse_args(argv)
+
+
+class Results:
+    """The arrays of results.h5 that the figures need, in SI units."""
+
+    def __init__(self, path, h5py, np):
+        with h5py.File(path, "r") as f:
+            self.case = str(f.attrs.get("case", ""))
+            self.length = float(f.attrs["length_m"])
+            self.time = f["time"][()]
+            self.points = f["observation/points_m"][()]
+            self.displacement = f["observation/displacement"][()]
+            self.energy_time = f["energy/time"][()]
+            self.energy = f["energy/total"][()]
+            self.contact_energy = f["energy/contact"][()]
+            self.dissipated = f["energy/dissipated"][()]
+            self.grid_x = f["grid/x_m"][()]
+            self.obstacle = f["grid/obstacle_height_m"][()]
+            self.map_time = f["contact/time"][()]
+            self.map_force = f["contact/max_force"]
+            self.map_force = self._reduced_map(self.map_force, np)
+            self.snapshot_time = f["snapshots/time"][()] if "snapshots" in f else np.empty(0)
+            self.snapshots = f["snapshots/displacement"][()] if "snapshots" in f else np.empty((0, 0))
+            self.summary = json.loads(f["summary"][()]) if "summary" in f else {}
+
+    def _reduced_map(self, dataset, np):
+        # Long runs: fold groups of rows by their maximum so the image stays a few
+        # thousand columns wide, reading the dataset one block at a time.
+        rows = dataset.shape[0]
+        group = max(1, math.ceil(rows / MAX_CONTACTOGRAM_COLUMNS))
+        if group == 1:
+            return dataset[()]
+        out = np.zeros((math.ceil(rows / group), dataset.shape[1]), dtype=np.float32)
+        block = group * 256
+        for start in range(0, rows, block):
+            part = dataset[start:start + block]
+            pad = (-part.shape[0]) % group
+            if pad:
+                part = np.vstack([part, np.zeros((pad, part.shape[1]), dtype=part.dtype)])
+            out[start // group:start // group + part.shape[0] // group] = part.reshape(-1, group, part.shape[1]).max(axis=1)
+        self.map_time = self.map_time[group - 1::group] if rows % group == 0 else \
+            np.append(self.map_time[group - 1::group], self.map_time[-1])
+        return out
+
+
+def save(fig, directory, name, written):
+    path = os.path.join(directory, name)
+    fig.savefig(path, dpi=110)
+    written.append(path)
+
+
+def zoom_windows(duration, first_contact):
+    """Start times of the zoomed windows: the first contacts, the middle, the end."""
+    width = duration / 25.0
+    starts = [max(0.0, first_contact if first_contact >= 0 else 0.02 * duration), 0.45 * duration, 0.9 * duration]
+    return [(min(s, duration - width), min(s, duration - width) + width) for s in starts[:ZOOM_WINDOWS]]
+
+
+def plot_signal(r, plt, np, directory, written):
+    t, u = r.time, r.displacement[:, 0] * 1e3
+    fig = plt.figure(figsize=(10, 7.5), layout="constrained")
+    grid = fig.add_gridspec(3, ZOOM_WINDOWS, height_ratios=[1.2, 1, 1])
+    top = fig.add_subplot(grid[0, :])
+    top.plot(t, u, lw=0.6, color="C0")
+    top.set_ylabel("u (mm)")
+    top.set_title(f"{r.case}: displacement at x = {r.points[0]:g} m")
+    duration = t[-1] if len(t) else 0.0
+    windows = zoom_windows(duration, float(r.summary.get("first_contact_s", -1.0)))
+    for k, (a, b) in enumerate(windows):
+        letter = "abc"[k]
+        top.axvspan(a, b, color="C1", alpha=0.25)
+        top.annotate(f"({letter})", (0.5 * (a + b), 0.98), xycoords=("data", "axes fraction"), ha="center", va="top")
+        zoom = fig.add_subplot(grid[1, k])
+        inside = (t >= a) & (t <= b)
+        zoom.plot(t[inside] * 1e3, u[inside], lw=0.8, color="C0")
+        zoom.set_title(f"({letter}) {a * 1e3:.1f}-{b * 1e3:.1f} ms", fontsize=9)
+        zoom.set_xlabel("t (ms)")
+        if k == 0:
+            zoom.set_ylabel("u (mm)")
+    top.set_xlim(0, duration)
+    bottom = fig.add_subplot(grid[2, :], sharex=top)
+    bottom.plot(r.energy_time, r.energy, color="C2", lw=1.0)
+    bottom.set_ylabel("energy H (J)")
+    bottom.set_xlabel("t (s)")
+    save(fig, directory, "signal.png", written)
+    plt.close(fig)
+
+
+def plot_all_points(r, plt, directory, written):
+    count = len(r.points)
+    fig, axes = plt.subplots(count, 1, figsize=(10, 1.8 * count + 1), sharex=True, layout="constrained", squeeze=False)
+    for p, ax in enumerate(axes[:, 0]):
+        ax.plot(r.time, r.displacement[:, p] * 1e3, lw=0.6, color=f"C{p % 10}")
+        ax.set_ylabel(f"u (mm)\nx = {r.points[p]:g} m")
+    axes[-1, 0].set_xlabel("t (s)")
+    save(fig, directory, "signal_all_points.png", written)
+    plt.close(fig)
+
+
+def plot_spectrogram(r, plt, np, directory, written):
+    t, u = r.time, r.displacement[:, 0]
+    rate = 1.0 / (t[1] - t[0]) if len(t) > 1 else 1.0
+    nfft = 2 ** round(math.log2(max(64.0, 0.04 * rate)))  # about 40 ms windows
+    while nfft > 64 and nfft > len(u) // 4:
+        nfft //= 2
+    fig, ax = plt.subplots(figsize=(10, 5), layout="constrained")
+    if len(u) < 2 * nfft:
+        ax.text(0.5, 0.5, "run too short for a spectrogram", ha="center", transform=ax.transAxes)
+    else:
+        with np.errstate(divide="ignore"):  # silent bins are -inf dB, clipped by the colour limits
+            spectrum, frequencies, times, image = ax.specgram(
+                u - np.mean(u), NFFT=nfft, Fs=rate, noverlap=nfft * 7 // 8, window=np.hanning(nfft),
+                scale="dB", mode="psd", cmap="magma")
+        db = 10 * np.log10(np.maximum(spectrum, 1e-300))
+        top = db[frequencies <= 10000].max()
+        image.set_clim(top - 100, top)
+        fig.colorbar(image, ax=ax, label="power spectral density (dB)")
+    ax.set_ylim(0, min(10000, rate / 2))
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title(f"{r.case}: spectrogram at x = {r.points[0]:g} m")
+    save(fig, directory, "spectrogram.png", written)
+    plt.close(fig)
+
+
+def plot_energy(r, plt, np, directory, written):
+    fig, (ax, err) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, layout="constrained",
+                                  gridspec_kw={"height_ratios": [2, 1]})
+    ax.plot(r.energy_time, r.energy, label="energy H", color="C2")
+    ax.plot(r.energy_time, r.dissipated, label="dissipated so far", color="C3")
+    ax.plot(r.energy_time, r.energy + r.dissipated, label="H + dissipated", color="k", ls="--", lw=0.8)
+    ax.plot(r.energy_time, r.contact_energy, label="contact energy", color="C1")
+    ax.set_ylabel("energy (J)")
+    ax.legend(loc="center right")
+    ax.set_title(f"{r.case}: energy balance")
+    if len(r.energy):
+        # The first energy row is one output interval in; the balance refers to H^{1/2}.
+        initial = float(r.summary.get("energy_initial_J", r.energy[0] + r.dissipated[0]))
+        balance = np.abs(r.energy + r.dissipated - initial) / (initial if initial > 0 else 1.0)
+        err.semilogy(r.energy_time, np.maximum(balance, 1e-18), color="k", lw=0.8)
+    err.set_ylabel("|H + D - H(1/2)| / H(1/2)")
+    err.set_xlabel("t (s)")
+    save(fig, directory, "energy.png", written)
+    plt.close(fig)
+
+
+def plot_contactogram(r, plt, np, directory, written):
+    from matplotlib.colors import LogNorm
+
+    fig, ax = plt.subplots(figsize=(10, 5), layout="constrained")
+    rows, points = np.nonzero(r.map_force > 0.0)
+    if len(rows) == 0:
+        ax.text(0.5, 0.5, "no contact", ha="center", transform=ax.transAxes)
+        ax.set_xlim(0, r.time[-1] if len(r.time) else 1.0)
+    else:
+        # One marker per (interval, grid point) in contact: contacts at single frets stay
+        # visible whatever the resolution; the strongest are drawn last, on top.
+        force = r.map_force[rows, points]
+        order = np.argsort(force)
+        image = ax.scatter(r.map_time[rows[order]], r.grid_x[points[order]], c=force[order], s=6, marker="s",
+                           linewidths=0, cmap="viridis", norm=LogNorm(vmin=max(force.min(), force.max() * 1e-6),
+                                                                      vmax=force.max()))
+        fig.colorbar(image, ax=ax, label="largest contact force per interval (N/m)")
+        margin = 0.02 * r.length
+        ax.set_ylim(max(0.0, r.grid_x[points].min() - margin), min(r.length, r.grid_x[points].max() + margin))
+        ax.set_xlim(0, r.map_time[-1])
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("x (m)")
+    ax.set_title(f"{r.case}: contactogram")
+    save(fig, directory, "contactogram.png", written)
+    plt.close(fig)
+
+
+def draw_obstacle(ax, r, np, floor):
+    """The obstacle as a grey region from its height g(x) down to `floor` (mm)."""
+    finite = np.isfinite(r.obstacle)
+    if not finite.any():
+        return
+    g = np.where(finite, r.obstacle, np.nan) * 1e3
+    ax.fill_between(r.grid_x, floor, g, where=finite, color="0.75", step="mid", lw=0)
+    if finite.sum() < 20:  # isolated points (a single fret): make them visible
+        ax.plot(r.grid_x[finite], g[finite], "v", color="0.4", ms=5)
+
+
+def string_curve(r, u, np):
+    """The shape with the fixed ends added, in mm."""
+    return np.concatenate([[0.0], r.grid_x, [r.length]]), np.concatenate([[0.0], u, [0.0]]) * 1e3
+
+
+def shape_limits(r, np):
+    """Vertical range (mm): the string's motion, and the obstacle only where it is near."""
+    low, high = min(r.snapshots.min(), 0.0) * 1e3, max(r.snapshots.max(), 0.0) * 1e3
+    span = high - low if high > low else 1.0
+    finite = r.obstacle[np.isfinite(r.obstacle)] * 1e3
+    if finite.size:
+        low = max(min(low, finite.min()), low - 0.5 * span)
+    pad = 0.08 * (high - low)
+    return low - pad, high + pad
+
+
+def plot_snapshots(r, plt, np, directory, written):
+    count = min(SNAPSHOT_PANELS, len(r.snapshot_time))
+    chosen = np.unique(np.linspace(0, len(r.snapshot_time) - 1, count).round().astype(int))
+    fig, axes = plt.subplots(len(chosen), 1, figsize=(10, 1.5 * len(chosen) + 1), sharex=True, sharey=True,
+                             layout="constrained", squeeze=False)
+    limits = shape_limits(r, np)
+    for ax, k in zip(axes[:, 0], chosen):
+        draw_obstacle(ax, r, np, limits[0])
+        ax.plot(*string_curve(r, r.snapshots[k], np), color="C0", lw=1.0)
+        ax.set_ylim(*limits)
+        ax.text(0.01, 0.85, f"t = {r.snapshot_time[k] * 1e3:.3f} ms", transform=ax.transAxes, fontsize=9)
+        ax.set_ylabel("u (mm)")
+    axes[0, 0].set_title(f"{r.case}: string shapes")
+    axes[-1, 0].set_xlabel("x (m)")
+    axes[-1, 0].set_xlim(0, r.length)
+    save(fig, directory, "snapshots.png", written)
+    plt.close(fig)
+
+
+def animate(r, plt, np, directory, written, form):
+    from matplotlib import animation
+
+    frames = np.unique(np.linspace(0, len(r.snapshot_time) - 1, min(MAX_ANIMATION_FRAMES, len(r.snapshot_time)))
+                       .round().astype(int))
+    fig, ax = plt.subplots(figsize=(8, 3), layout="constrained")
+    limits = shape_limits(r, np)
+    draw_obstacle(ax, r, np, limits[0])
+    line, = ax.plot(*string_curve(r, r.snapshots[frames[0]], np), color="C0", lw=1.2)
+    label = ax.text(0.01, 0.9, "", transform=ax.transAxes)
+    ax.set_xlim(0, r.length)
+    ax.set_ylim(*limits)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("u (mm)")
+    ax.set_title(r.case)
+
+    def draw(k):
+        line.set_ydata(string_curve(r, r.snapshots[k], np)[1])
+        label.set_text(f"t = {r.snapshot_time[k] * 1e3:.3f} ms")
+        return line, label
+
+    movie = animation.FuncAnimation(fig, draw, frames=frames, blit=True)
+    if form == "mp4":
+        if shutil.which("ffmpeg") is None:
+            print("fretbuzz plot: ffmpeg not found (apt-get install ffmpeg); no animation.mp4", file=sys.stderr)
+            plt.close(fig)
+            return
+        writer, name = animation.FFMpegWriter(fps=20, codec="libx264", extra_args=["-pix_fmt", "yuv420p"]), \
+            "animation.mp4"
+    else:
+        writer, name = animation.PillowWriter(fps=15), "animation.gif"
+    path = os.path.join(directory, name)
+    movie.save(path, writer=writer, dpi=72)
+    written.append(path)
+    plt.close(fig)
+
+
+def remove_stale(directory, names):
+    """Figures an earlier run in the same directory may have left but this one cannot make."""
+    for name in names:
+        path = os.path.join(directory, name)
+        if os.path.isfile(path):
+            os.remove(path)
+
+
+def main(argv):
+    args = parse_arguments(argv)
+    try:
+        import h5py
+        import matplotlib
+        import numpy as np
+    except ImportError as error:
+        print(f"fretbuzz plot: {error}; this needs numpy, matplotlib and h5py "
+              "(Debian: apt-get install python3-numpy python3-matplotlib python3-h5py)", file=sys.stderr)
+        return 1
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = os.path.join(args.dir, "results.h5")
+    if not os.path.isfile(path):
+        print(f"fretbuzz plot: DIR {args.dir}: holds no results.h5", file=sys.stderr)
+        return 2
+    r = Results(path, h5py, np)
+    written = []
+    plot_signal(r, plt, np, args.dir, written)
+    if len(r.points) > 1:
+        plot_all_points(r, plt, args.dir, written)
+    else:
+        remove_stale(args.dir, ["signal_all_points.png"])
+    plot_spectrogram(r, plt, np, args.dir, written)
+    plot_energy(r, plt, np, args.dir, written)
+    plot_contactogram(r, plt, np, args.dir, written)
+    stale_animations = ["animation.gif", "animation.mp4"]
+    if len(r.snapshot_time):
+        plot_snapshots(r, plt, np, args.dir, written)
+        if args.animation != "none":
+            stale_animations.remove(f"animation.{args.animation}")
+            animate(r, plt, np, args.dir, written, args.animation)
+    else:
+        remove_stale(args.dir, ["snapshots.png"])
+    remove_stale(args.dir, stale_animations)
+    if not args.quiet:
+        for name in written:
+            print(f"fretbuzz plot: wrote {name}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

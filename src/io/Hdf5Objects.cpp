@@ -1,0 +1,179 @@
+#include "Hdf5Objects.hpp"
+
+#include <stdexcept>
+#include <utility>
+
+namespace fretbuzz::hdf5 {
+
+namespace {
+
+hid_t check(hid_t id, const std::string& what) {
+    if (id < 0) throw std::runtime_error("HDF5: cannot " + what);
+    return id;
+}
+
+void check_status(herr_t status, const std::string& what) {
+    if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
+}
+
+Handle simple_space(std::span<const hsize_t> dims, std::span<const hsize_t> max_dims = {}) {
+    return Handle(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.empty() ? nullptr : max_dims.data()),
+                  H5Sclose, "create a dataspace");
+}
+
+Handle scalar_space() { return Handle(H5Screate(H5S_SCALAR), H5Sclose, "create a scalar dataspace"); }
+
+Handle utf8_string_type() {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy the string type");
+    check_status(H5Tset_size(type.get(), H5T_VARIABLE), "make a variable-length string type");
+    check_status(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set the UTF-8 character set");
+    return type;
+}
+
+void write_attribute_raw(hid_t object, const std::string& name, hid_t type, const void* value) {
+    const Handle space = scalar_space();
+    const Handle attribute(H5Acreate2(object, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                           "create attribute " + name);
+    check_status(H5Awrite(attribute.get(), type, value), "write attribute " + name);
+}
+
+}  // namespace
+
+Handle::Handle(hid_t id, Closer closer, const std::string& what) : id_(check(id, what)), closer_(closer) {}
+
+Handle& Handle::operator=(Handle&& other) noexcept {
+    if (this != &other) {
+        reset();
+        id_ = std::exchange(other.id_, -1);
+        closer_ = other.closer_;
+    }
+    return *this;
+}
+
+void Handle::reset() {
+    if (id_ >= 0 && closer_ != nullptr) closer_(id_);
+    id_ = -1;
+}
+
+void silence_error_printing() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+Handle create_file(const std::string& path) {
+    return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path);
+}
+
+Handle create_group(hid_t parent, const std::string& name) {
+    return Handle(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                  "create group " + name);
+}
+
+void write_array(hid_t parent, const std::string& name, std::span<const double> values) {
+    const hsize_t dims[] = {values.size()};
+    const Handle space = simple_space(dims);
+    const Handle dataset(H5Dcreate2(parent, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Dclose, "create dataset " + name);
+    check_status(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+                 "write dataset " + name);
+}
+
+void write_array(hid_t parent, const std::string& name, std::span<const long long> values) {
+    const hsize_t dims[] = {values.size()};
+    const Handle space = simple_space(dims);
+    const Handle dataset(H5Dcreate2(parent, name.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Dclose, "create dataset " + name);
+    check_status(H5Dwrite(dataset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+                 "write dataset " + name);
+}
+
+void write_string(hid_t parent, const std::string& name, const std::string& text) {
+    const Handle type = utf8_string_type();
+    const Handle space = scalar_space();
+    const Handle dataset(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Dclose, "create dataset " + name);
+    const char* data = text.c_str();
+    check_status(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &data), "write dataset " + name);
+}
+
+void write_attribute(hid_t object, const std::string& name, double value) {
+    write_attribute_raw(object, name, H5T_NATIVE_DOUBLE, &value);
+}
+
+void write_attribute(hid_t object, const std::string& name, long long value) {
+    write_attribute_raw(object, name, H5T_NATIVE_LLONG, &value);
+}
+
+void write_attribute(hid_t object, const std::string& name, const std::string& value) {
+    const Handle type = utf8_string_type();
+    const char* data = value.c_str();
+    write_attribute_raw(object, name, type.get(), &data);
+}
+
+GrowingDataset::GrowingDataset(hid_t parent, const std::string& name, std::size_t width, std::size_t chunk_rows,
+                               Storage storage, bool compress)
+    : width_(width), row_width_(width == 0 ? 1 : width), chunk_rows_(chunk_rows) {
+    const int rank = width == 0 ? 1 : 2;
+    const hsize_t dims[] = {0, width};
+    const hsize_t max_dims[] = {H5S_UNLIMITED, width};
+    const hsize_t chunk[] = {chunk_rows, width};
+    const Handle space = simple_space(std::span(dims, static_cast<std::size_t>(rank)),
+                                      std::span(max_dims, static_cast<std::size_t>(rank)));
+    const Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties");
+    check_status(H5Pset_chunk(properties.get(), rank, chunk), "set the chunk size of " + name);
+    if (compress && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+        // Shuffle first: sparse maps of mostly zero floats then compress to almost nothing.
+        check_status(H5Pset_shuffle(properties.get()), "enable shuffling for " + name);
+        check_status(H5Pset_deflate(properties.get(), 4), "enable compression for " + name);
+    }
+    const hid_t file_type = storage == Storage::float32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+    dataset_ = Handle(H5Dcreate2(parent, name.c_str(), file_type, space.get(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
+                      H5Dclose, "create dataset " + name);
+    buffer_.reserve(chunk_rows_ * row_width_);
+}
+
+void GrowingDataset::append(std::span<const double> row) {
+    if (row.size() != row_width_) throw std::logic_error("GrowingDataset: row of the wrong width");
+    buffer_.insert(buffer_.end(), row.begin(), row.end());
+    if (pending_rows() == chunk_rows_) flush();
+}
+
+void GrowingDataset::flush() {
+    const std::size_t rows = pending_rows();
+    if (rows == 0) return;
+    const int rank = width_ == 0 ? 1 : 2;
+    const auto rank_size = static_cast<std::size_t>(rank);
+    const hsize_t new_dims[] = {written_ + rows, width_};
+    check_status(H5Dset_extent(dataset_.get(), new_dims), "extend a dataset");
+    const Handle file_space(H5Dget_space(dataset_.get()), H5Sclose, "get a dataset's space");
+    const hsize_t start[] = {written_, 0};
+    const hsize_t count[] = {rows, width_};
+    check_status(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+                 "select rows of a dataset");
+    const Handle memory_space = simple_space(std::span(count, rank_size));
+    check_status(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), H5P_DEFAULT,
+                          buffer_.data()),
+                 "write rows of a dataset");
+    written_ += rows;
+    buffer_.clear();
+}
+
+Handle open_file_for_reading(const std::string& path) {
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
+}
+
+std::string read_string(hid_t parent, const std::string& name) {
+    const Handle dataset(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset " + name);
+    const Handle type(H5Dget_type(dataset.get()), H5Tclose, "get the type of " + name);
+    if (H5Tget_class(type.get()) != H5T_STRING) throw std::runtime_error("HDF5: " + name + " is not a string");
+    if (H5Tis_variable_str(type.get()) > 0) {
+        const Handle memory_type = utf8_string_type();
+        char* data = nullptr;
+        check_status(H5Dread(dataset.get(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &data), "read " + name);
+        std::string text = data != nullptr ? data : "";
+        H5free_memory(data);
+        return text;
+    }
+    std::string text(H5Tget_size(type.get()), '\0');
+    check_status(H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), "read " + name);
+    return text.substr(0, text.find('\0'));
+}
+
+}  // namespace fretbuzz::hdf5

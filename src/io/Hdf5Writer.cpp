@@ -1,0 +1,154 @@
+#include "fretbuzz/io/Hdf5Writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "ContactMapRows.hpp"
+#include "Hdf5Objects.hpp"
+#include "fretbuzz/io/SummaryWriter.hpp"
+
+namespace fretbuzz {
+
+namespace {
+constexpr long long kFormatVersion = 1;
+constexpr std::size_t kSignalChunkRows = 4096;
+constexpr std::size_t kMapChunkRows = 64;
+constexpr std::size_t kSnapshotChunkRows = 16;
+
+long contact_interval_steps(const RunLayout& layout, double max_rate_hz) {
+    const double fs = 1.0 / layout.dt;
+    const auto fastest = static_cast<long>(std::ceil(fs / max_rate_hz - 1e-9));
+    return std::max(layout.output_stride, std::max(1L, fastest));
+}
+}  // namespace
+
+struct Hdf5Writer::File {
+    hdf5::Handle file, case_group, observation, energy, grid, contact, snapshots;
+    hdf5::GrowingDataset time, displacement;
+    hdf5::GrowingDataset energy_time, energy_total, energy_contact, energy_dissipated;
+    hdf5::GrowingDataset map_time, map_force;
+    hdf5::GrowingDataset snapshot_time, snapshot_shape;
+    std::optional<ContactMapRows> map;
+    double dt = 0.0;
+    std::vector<double> observation_points;
+};
+
+Hdf5Writer::Hdf5Writer(const std::filesystem::path& path, Hdf5WriterOptions options) : path_(path), options_(options) {}
+
+Hdf5Writer::~Hdf5Writer() = default;
+
+void Hdf5Writer::begin(const RunLayout& layout) {
+    using namespace hdf5;
+    silence_error_printing();
+    const Case& c = *layout.source;
+    const std::size_t points = layout.observation_points_m.size();
+    const std::size_t grid_size = c.mode_count();
+    file_ = std::make_unique<File>();
+    File& f = *file_;
+    f.dt = layout.dt;
+    f.observation_points = layout.observation_points_m;
+    f.file = create_file(path_.string());
+    const hid_t root = f.file.get();
+    write_attribute(root, "format", std::string("fretbuzz results"));
+    write_attribute(root, "format_version", kFormatVersion);
+    write_attribute(root, "case", c.name);
+    write_attribute(root, "fs_hz", c.run.sample_rate_hz);
+    write_attribute(root, "dt_s", layout.dt);
+    write_attribute(root, "steps", static_cast<long long>(layout.steps));
+    write_attribute(root, "output_rate_hz", layout.output_rate_hz);
+    write_attribute(root, "output_stride", static_cast<long long>(layout.output_stride));
+    write_attribute(root, "modes", static_cast<long long>(grid_size));
+    write_attribute(root, "length_m", c.string.length_m);
+
+    f.case_group = create_group(root, "case");
+    write_string(f.case_group.get(), "text", c.source_text);
+    write_attribute(f.case_group.get(), "name", c.name);
+    write_attribute(f.case_group.get(), "description", c.description);
+
+    f.time = GrowingDataset(root, "time", 0, kSignalChunkRows);
+    f.observation = create_group(root, "observation");
+    write_array(f.observation.get(), "points_m", layout.observation_points_m);
+    f.displacement = GrowingDataset(f.observation.get(), "displacement", points, kSignalChunkRows);
+
+    f.energy = create_group(root, "energy");
+    f.energy_time = GrowingDataset(f.energy.get(), "time", 0, kSignalChunkRows);
+    f.energy_total = GrowingDataset(f.energy.get(), "total", 0, kSignalChunkRows);
+    f.energy_contact = GrowingDataset(f.energy.get(), "contact", 0, kSignalChunkRows);
+    f.energy_dissipated = GrowingDataset(f.energy.get(), "dissipated", 0, kSignalChunkRows);
+
+    f.grid = create_group(root, "grid");
+    std::vector<double> grid_x(grid_size);
+    for (std::size_t i = 0; i < grid_size; ++i) grid_x[i] = c.grid_point(i);
+    write_array(f.grid.get(), "x_m", grid_x);
+    write_array(f.grid.get(), "obstacle_height_m", c.obstacle_height_m);
+
+    f.contact = create_group(root, "contact");
+    const long interval = contact_interval_steps(layout, options_.max_contact_map_rate_hz);
+    write_attribute(f.contact.get(), "interval_steps", static_cast<long long>(interval));
+    f.map_time = GrowingDataset(f.contact.get(), "time", 0, kSignalChunkRows);
+    f.map_force = GrowingDataset(f.contact.get(), "max_force", grid_size, kMapChunkRows, Storage::float32, true);
+    f.map.emplace(grid_size, interval, layout.steps, layout.dt, [&f](double t, std::span<const double> row) {
+        f.map_time.append(t);
+        f.map_force.append(row);
+    });
+
+    if (options_.snapshot_rate_hz > 0.0) {
+        f.snapshots = create_group(root, "snapshots");
+        write_attribute(f.snapshots.get(), "rate_hz", options_.snapshot_rate_hz);
+        f.snapshot_time = GrowingDataset(f.snapshots.get(), "time", 0, kSnapshotChunkRows);
+        f.snapshot_shape = GrowingDataset(f.snapshots.get(), "displacement", grid_size, kSnapshotChunkRows);
+    }
+}
+
+void Hdf5Writer::observation(double t, std::span<const double> u) {
+    file_->time.append(t);
+    file_->displacement.append(u);
+}
+
+void Hdf5Writer::energy(double t, double h, double contact, double dissipated) {
+    File& f = *file_;
+    f.energy_time.append(t);
+    f.energy_total.append(h);
+    f.energy_contact.append(contact);
+    f.energy_dissipated.append(dissipated);
+}
+
+void Hdf5Writer::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
+    file_->map->add(std::lround(t / file_->dt), forces);
+}
+
+void Hdf5Writer::snapshot(double t, std::span<const double>, std::span<const double> u) {
+    file_->snapshot_time.append(t);
+    file_->snapshot_shape.append(u);
+}
+
+void Hdf5Writer::finish(const RunSummary& summary) {
+    using namespace hdf5;
+    File& f = *file_;
+    f.map->finish();
+    for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
+                              &f.energy_dissipated, &f.map_time, &f.map_force, &f.snapshot_time, &f.snapshot_shape})
+        if (d->id() >= 0) d->flush();
+    const hid_t contact = f.contact.get();
+    write_array(contact, "first_s", f.map->first_contact_s());
+    write_array(contact, "last_s", f.map->last_contact_s());
+    write_array(contact, "steps", f.map->contact_steps());
+    write_array(contact, "peak_force", f.map->peak_force());
+    write_string(f.file.get(), "summary", summary_json(summary, f.observation_points));
+    // Close the file now: it is complete before the output directory is committed.
+    file_.reset();
+}
+
+}  // namespace fretbuzz
+
+namespace fretbuzz {
+
+std::string read_case_text(const std::filesystem::path& results_h5) {
+    hdf5::silence_error_printing();
+    const hdf5::Handle file = hdf5::open_file_for_reading(results_h5.string());
+    return hdf5::read_string(file.get(), "case/text");
+}
+
+}  // namespace fretbuzz

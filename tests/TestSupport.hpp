@@ -1,0 +1,51 @@
+#pragma once
+// Helpers shared by the tests: running the fretbuzz program, scratch directories,
+// and small synthetic cases built in code.
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+
+namespace fretbuzz::testing {
+
+struct CommandResult {
+    int exit_code = 0;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
+inline CommandResult run_cli(const std::string& arguments) {
+    const std::string command = std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1";
+    CommandResult result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) return {-1, "popen failed"};
+    char buffer[4096];
+    while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) result.output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+// A fresh, empty directory removed when the object goes away.
+class ScratchDir {
+public:
+    explicit ScratchDir(const std::string& tag) {
+        std::random_device rd;
+        path_ = std::filesystem::temp_directory_path() / ("fretbuzz-test-" + tag + "-" + std::to_string(rd()));
+        std::filesystem::create_directories(path_);
+    }
+    ~ScratchDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    const std::filesystem::path& path() const { return path_; }
+    std::string str() const { return path_.string(); }
+
+private:
+    std::filesystem::path path_;
+};
+
+}  // namespace fretbuzz::testing

@@ -1,0 +1,124 @@
+// Skipping points that provably cannot touch, and jumping over stretches where nothing can,
+// must not change the results: the fast path and the straightforward path (every point
+// solved at every step) agree to round-off, on the paper's case and on random cases.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "fretbuzz/geometry/InitialShape.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/ModalBasis.hpp"
+
+namespace fretbuzz {
+namespace {
+
+class Recorder : public RunObserver {
+public:
+    void observation(double, std::span<const double> u) override { signal.insert(signal.end(), u.begin(), u.end()); }
+    void energy(double, double h, double, double d) override { balance.push_back(h + d); }
+    std::vector<double> signal, balance;
+};
+
+struct Outcome {
+    std::vector<double> signal, balance;
+    RunSummary summary;
+};
+
+Outcome simulate_with(const Case& c, bool screen) {
+    Recorder recorder;
+    RunObserver* observers[] = {&recorder};
+    RunOptions options;
+    options.plan.screen_contacts = screen;
+    Outcome o;
+    o.summary = simulate(c, observers, options);
+    o.signal = std::move(recorder.signal);
+    o.balance = std::move(recorder.balance);
+    return o;
+}
+
+double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+    double num = 0.0, den = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        num += (a[k] - b[k]) * (a[k] - b[k]);
+        den += b[k] * b[k];
+    }
+    return std::sqrt(num / den);
+}
+
+void expect_same_results(const Case& c) {
+    const Outcome fast = simulate_with(c, true);
+    const Outcome plain = simulate_with(c, false);
+    ASSERT_EQ(fast.signal.size(), plain.signal.size());
+    EXPECT_GT(plain.summary.contact_steps, 0) << c.name << ": the case must exercise contact";
+    EXPECT_EQ(fast.summary.contact_steps, plain.summary.contact_steps) << c.name;
+    EXPECT_LT(relative_l2(fast.signal, plain.signal), 1e-9) << c.name;
+    for (std::size_t k = 0; k < fast.balance.size(); ++k)
+        ASSERT_NEAR(fast.balance[k], plain.balance[k], 1e-10 * plain.balance.front()) << c.name << " row " << k;
+    // And the fast path really skipped work.
+    EXPECT_LT(fast.summary.mean_points_solved, 0.5 * plain.summary.mean_points_solved) << c.name;
+}
+
+TEST(ContactScheduling, BassPopUnchangedByScreeningAndFreeFlight) {
+    Case c = load_case("bass-pop");
+    c.run.sample_rate_hz = 400000.0;
+    c.run.duration_s = 0.03;
+    c.run.output_rate_hz = 20000.0;
+    expect_same_results(c);
+}
+
+// A random stiff, damped string over a random profile of bumps and points, plucked so
+// that it hits some of them.
+Case random_case(std::mt19937& rng) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Case c;
+    c.name = "random";
+    const std::size_t modes = 40 + static_cast<std::size_t>(160 * unit(rng));
+    c.string = {0.5 + 0.5 * unit(rng), 50.0 + 200.0 * unit(rng), 1e-3 + 5e-3 * unit(rng)};
+    const double f0 = std::sqrt(c.string.tension_n / c.string.linear_density) / (2.0 * c.string.length_m);
+    const double inharmonicity = 1e-5 * unit(rng);
+    for (std::size_t j = 1; j <= modes; ++j) {
+        const double jj = static_cast<double>(j);
+        c.modes.frequency_hz.push_back(f0 * jj * std::sqrt(1.0 + inharmonicity * jj * jj));
+        c.modes.sigma_per_s.push_back(unit(rng) < 0.2 ? 0.0 : 0.5 + 1e-3 * jj * jj * unit(rng));
+        c.modes.source.push_back(ModeSource::model);
+    }
+    const Grid grid{c.string.length_m, modes};
+    const double amplitude = 1e-3 + 3e-3 * unit(rng);
+    const std::vector<double> shape = triangle_shape(grid, (0.2 + 0.6 * unit(rng)) * c.string.length_m, amplitude);
+    c.obstacle_height_m.assign(modes, -std::numeric_limits<double>::infinity());
+    for (int bump = 0; bump < 6; ++bump) {
+        const double centre = unit(rng) * c.string.length_m, width = 0.05 * unit(rng) * c.string.length_m;
+        const double top = -amplitude * (0.2 + 0.7 * unit(rng));
+        for (std::size_t i = 0; i < modes; ++i) {
+            const double x = grid.x(i);
+            if (std::abs(x - centre) <= width) c.obstacle_height_m[i] = std::max(c.obstacle_height_m[i], top);
+        }
+    }
+    for (std::size_t i = 0; i < modes; ++i)  // a floor far below, and no penetration at rest
+        c.obstacle_height_m[i] = std::min(std::max(c.obstacle_height_m[i], -0.02), shape[i]);
+    const ModalBasis basis(c.string.length_m, modes);
+    c.initial_displacement.resize(modes);
+    basis.to_modes(shape, c.initial_displacement);
+    c.initial_velocity.assign(modes, 0.0);
+    c.contact = {std::pow(10.0, 6.0 + 8.0 * unit(rng)), 1.0 + 1.5 * unit(rng)};
+    c.run.sample_rate_hz = std::round(20.0 * c.modes.frequency_hz.back() * (0.05 + unit(rng)));
+    c.run.duration_s = 6.0 / f0;
+    c.run.output_rate_hz = c.run.sample_rate_hz / 17.0;
+    c.observation_points_m = {0.37 * c.string.length_m, 0.9 * c.string.length_m};
+    return c;
+}
+
+TEST(ContactScheduling, RandomCasesUnchangedByScreeningAndFreeFlight) {
+    std::mt19937 rng(20171);
+    for (int trial = 0; trial < 12; ++trial) {
+        Case c = random_case(rng);
+        c.name = "random case " + std::to_string(trial);
+        expect_same_results(c);
+    }
+}
+
+}  // namespace
+}  // namespace fretbuzz

@@ -1,0 +1,98 @@
+// The scalar contact solve against an independent bisection in long double, over the
+// whole range the product supports: K from 1 to 1e15, alpha from 1 to 3, states deep in
+// contact, grazing, leaving, and increments down to round-off.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+
+namespace fretbuzz {
+namespace {
+
+using Real = long double;
+
+// (Psi(a + r) - Psi(a)) / r in long double, by the series where r is tiny against a.
+Real quotient_reference(Real k_stiff, Real alpha, Real a, Real r) {
+    auto psi = [&](Real eta) { return eta > 0 ? k_stiff / (alpha + 1) * std::pow(eta, alpha + 1) : Real(0); };
+    if (a > 0 && std::abs(r) < 1e-7L * a) {
+        const Real d1 = k_stiff * std::pow(a, alpha), d2 = k_stiff * alpha * std::pow(a, alpha - 1),
+                   d3 = k_stiff * alpha * (alpha - 1) * std::pow(a, alpha - 2);
+        return d1 + d2 * r / 2 + d3 * r * r / 6;
+    }
+    if (r == 0) return a > 0 ? k_stiff * std::pow(a, alpha) : 0;
+    return (psi(a + r) - psi(a)) / r;
+}
+
+// Root of r + k F(r) = b by plain bisection on [b - k F(b), b] (F non-decreasing).
+Real bisection_root(Real k_stiff, Real alpha, Real a, Real b, Real k) {
+    Real hi = b, lo = b - k * quotient_reference(k_stiff, alpha, a, b);
+    for (int it = 0; it < 400 && hi > lo; ++it) {
+        const Real mid = lo + (hi - lo) / 2;
+        if (mid == lo || mid == hi) break;
+        (mid + k * quotient_reference(k_stiff, alpha, a, mid) - b > 0 ? hi : lo) = mid;
+    }
+    return (lo + hi) / 2;
+}
+
+TEST(PenaltyContact, MatchesBisectionOverExtremeParameters) {
+    int cases = 0, contacts = 0;
+    for (double stiffness : {1.0, 1e6, 1e13, 1e15}) {
+        for (double alpha : {1.0, 1.01, 1.5, 2.0, 3.0}) {
+            const PenaltyContact law(stiffness, alpha);
+            for (double k : {1e-14, 9.3e-12, 1e-8, 1e-3}) {  // dt^2/mu: 4 MHz bass is 9.3e-12
+                for (double a : {-1e-3, -1e-9, 0.0, 1e-15, 1e-9, 1e-6, 1e-4}) {
+                    for (double b : {-2e-3, -1e-7, -1e-12, -1e-18, 0.0, 1e-18, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3}) {
+                        const ContactSolution s = law.solve(a, b, k);
+                        const Real reference = bisection_root(stiffness, alpha, a, b, k);
+                        const Real scale = std::abs(reference) + std::abs(b) + std::abs(a) + 1e-300L;
+                        ASSERT_LE(std::abs(s.increment - reference), 1e-12L * scale)
+                            << "K=" << stiffness << " alpha=" << alpha << " k=" << k << " a=" << a << " b=" << b;
+                        // The force is the difference quotient at the solution, and non-negative.
+                        const Real f_ref = quotient_reference(stiffness, alpha, a, s.increment);
+                        ASSERT_GE(s.force, 0.0);
+                        ASSERT_LE(std::abs(s.force - f_ref), 1e-10L * f_ref + 1e-300L);
+                        ASSERT_LE(s.iterations, 100);
+                        ++cases;
+                        if (s.force > 0.0) ++contacts;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(contacts, cases / 3);  // the grid really exercises contact, not only free flight
+}
+
+TEST(PenaltyContact, NoForceWhenOutOfContactOnBothSides) {
+    const PenaltyContact law(1e13, 1.5);
+    const ContactSolution s = law.solve(-1e-4, -2e-5, 1e-11);
+    EXPECT_EQ(s.force, 0.0);
+    EXPECT_EQ(s.increment, -2e-5);
+}
+
+TEST(PenaltyContact, DifferenceQuotientIsAccurateForTinyIncrements) {
+    // Where (Psi(a+r) - Psi(a))/r cancels catastrophically, the quotient must still be exact.
+    const PenaltyContact law(1e13, 1.5);
+    for (double a : {1e-9, 1e-6}) {
+        for (double ratio : {1e-16, 1e-12, 1e-8, 1e-4}) {
+            const double r = ratio * a;
+            const Real reference = quotient_reference(1e13L, 1.5L, a, r);
+            EXPECT_LE(std::abs(law.difference_quotient(a, r) - reference), 1e-14L * reference) << a << " " << r;
+        }
+    }
+}
+
+TEST(PenaltyContact, RejectsBadLawsAndBadStates) {
+    EXPECT_THROW(PenaltyContact(0.0, 1.5), InputError);
+    EXPECT_THROW(PenaltyContact(-1.0, 1.5), InputError);
+    EXPECT_THROW(PenaltyContact(1e13, 0.99), InputError);
+    EXPECT_THROW(PenaltyContact(std::nan(""), 1.5), InputError);
+    const PenaltyContact law(1e13, 1.5);
+    EXPECT_THROW(law.solve(std::nan(""), 1e-6, 1e-11), SolverError);
+    EXPECT_THROW(law.solve(1e-6, std::numeric_limits<double>::infinity(), 1e-11), SolverError);
+}
+
+}  // namespace
+}  // namespace fretbuzz
