@@ -325,15 +325,12 @@ def main(argv):
     plot_spectrogram(r, plt, np, args.dir, written)
     plot_energy(r, plt, np, args.dir, written)
     plot_contactogram(r, plt, np, args.dir, written)
-    stale_animations = ["animation.gif", "animation.mp4"]
     if len(r.snapshot_time):
         plot_snapshots(r, plt, np, args.dir, written)
         if args.animation != "none":
-            stale_animations.remove(f"animation.{args.animation}")
             animate(r, plt, np, args.dir, written, args.animation)
     else:
-        remove_stale(args.dir, ["snapshots.png"])
-    remove_stale(args.dir, stale_animations)
+        remove_stale(args.dir, ["snapshots.png", "animation.gif", "animation.mp4"])
     if not args.quiet:
         for name in written:
             print(f"fretbuzz plot: wrote {name}", file=sys.stderr)
