@@ -35,6 +35,7 @@ struct RunArguments {
     bool report = false;
     std::string out = "fretbuzz-out";
     bool no_screen = false;
+    bool no_free_flight = false;
     bool quiet = false;
 };
 
@@ -98,6 +99,7 @@ int run_command(const RunArguments& a) {
 
     RunOptions options;
     options.plan.screen_contacts = !a.no_screen;
+    options.free_flight = !a.no_free_flight;
     const bool show_progress = !a.quiet && ::isatty(STDERR_FILENO);
     if (show_progress) options.progress = print_progress;
     if (!a.quiet)
@@ -140,6 +142,8 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_flag("--report", args->report, "Then make the plots and report.html in the output directory");
     cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
     cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");
+    cmd->add_flag("--no-free-flight", args->no_free_flight,
+                  "Step every mode every step even when no contact is possible (audio exact to round-off, slower)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     cmd->callback([args, &action] { action = [args] { return run_command(*args); }; });
 }

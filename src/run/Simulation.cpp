@@ -116,7 +116,7 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     // Per-step observers then get the signal band-limited to the modes below their band.
     double band_hz = std::numeric_limits<double>::infinity();
     for (RunObserver* o : per_step) band_hz = std::min(band_hz, o->every_step_band_hz());
-    const bool may_fly = options.plan.screen_contacts && layout.output_stride > 1 && band_hz > 0.0;
+    const bool may_fly = options.free_flight && options.plan.screen_contacts && layout.output_stride > 1 && band_hz > 0.0;
     std::size_t head = 0;
     if (per_step.empty()) band_hz = 0.0;
     while (head < c.mode_count() && c.modes.frequency_hz[head] < band_hz) ++head;

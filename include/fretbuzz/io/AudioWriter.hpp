@@ -30,9 +30,10 @@ public:
 
     void begin(const RunLayout& layout) override;
     bool wants_every_step() const override { return true; }
-    // Modes above 0.6 x the audio rate lie in the resampler's stopband: leaving them out of
-    // the input while no contact is possible changes the output by less than the filter
-    // lets through anyway, and lets the run skip them.
+    // While no contact is possible the run may feed only the modes below 0.6 x the audio
+    // rate (the resampler removes the others anyway). Switching the out-of-band modes off
+    // and on at the edges of those stretches leaves a trace of about -110 dB relative to
+    // the signal (tests/test_long_run.cpp); `fretbuzz run --no-free-flight` avoids it.
     double every_step_band_hz() const override { return 0.6 * rate_; }
     bool wants_velocity() const override { return signal_ == AudioSignal::velocity; }
     void every_step(std::span<const double> u, std::span<const double> velocity) override;

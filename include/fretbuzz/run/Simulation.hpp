@@ -18,6 +18,8 @@ struct Progress {
 
 struct RunOptions {
     PlanOptions plan;
+    // Jump over output intervals where no contact is possible (see Stepper::free_flight).
+    bool free_flight = true;
     // Called about twice a second of wall time, if set.
     std::function<void(const Progress&)> progress;
 };
