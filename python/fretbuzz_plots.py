@@ -199,7 +199,9 @@ def plot_contactogram(r, plt, np, directory, written):
         fig.colorbar(image, ax=ax, label="largest contact force per interval (N/m)")
         margin = 0.02 * r.length
         ax.set_ylim(max(0.0, r.grid_x[points].min() - margin), min(r.length, r.grid_x[points].max() + margin))
-        ax.set_xlim(0, r.map_time[-1])
+        # Contacts often last a fraction of the run (the pop: 80 ms of 3 s): show their span.
+        last = r.map_time[rows].max()
+        ax.set_xlim(0, min(r.map_time[-1], 1.1 * last + (r.map_time[1] - r.map_time[0] if len(r.map_time) > 1 else 0.0)))
     ax.set_xlabel("t (s)")
     ax.set_ylabel("x (m)")
     ax.set_title(f"{r.case}: contactogram")

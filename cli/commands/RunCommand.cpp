@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,6 +33,7 @@ struct RunArguments {
     std::optional<double> audio_rate;
     bool velocity_audio = false;
     double snapshot_rate_hz = 0.0;
+    std::optional<double> snapshot_until_s;
     bool report = false;
     std::string out = "fretbuzz-out";
     bool no_screen = false;
@@ -84,6 +86,7 @@ int run_command(const RunArguments& a) {
     if (!(a.snapshot_rate_hz >= 0.0 && a.snapshot_rate_hz <= c.run.sample_rate_hz))
         throw InputError(out_of_range_message("--snapshots (Hz)", a.snapshot_rate_hz,
                                               "must be in [0, fs] (0 for none)"));
+    if (a.snapshot_until_s) require_positive("--snapshot-until (s)", *a.snapshot_until_s);
 
     OutputDirectory out(a.out);
     ObservationCsvWriter observation(out.staged("observation.csv"));
@@ -92,7 +95,9 @@ int run_command(const RunArguments& a) {
     std::optional<AudioWriter> velocity_audio;
     if (a.velocity_audio)
         velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz, AudioSignal::velocity);
-    Hdf5Writer results(out.staged("results.h5"), {.snapshot_rate_hz = a.snapshot_rate_hz});
+    Hdf5Writer results(out.staged("results.h5"),
+                       {.snapshot_rate_hz = a.snapshot_rate_hz,
+                        .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity())});
     SummaryWriter summary_writer(out.staged("summary.json"));
     std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer};
     if (velocity_audio) observers.push_back(&*velocity_audio);
@@ -139,6 +144,8 @@ void add_run_command(CLI::App& app, Action& action) {
                   "Also write the velocity (what a magnetic pickup senses) as velocity*.wav");
     cmd->add_option("--snapshots", args->snapshot_rate_hz, "Store string shapes in results.h5 at this rate in Hz")
         ->capture_default_str();
+    cmd->add_option("--snapshot-until", args->snapshot_until_s,
+                    "Store string shapes only up to this time in s (e.g. the contacts of a pop)");
     cmd->add_flag("--report", args->report, "Then make the plots and report.html in the output directory");
     cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
     cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");

@@ -64,14 +64,18 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     struct SnapshotTap {
         RunObserver* observer;
         long stride;
+        long last_step;  // no snapshots after this step
     };
     std::vector<SnapshotTap> snapshot_taps;
     for (RunObserver* o : observers) {
         o->begin(layout);
         if (o->wants_every_step()) per_step.push_back(o);
         velocity_wanted = velocity_wanted || o->wants_velocity();
-        if (const double rate = o->snapshot_rate_hz(); rate > 0.0)
-            snapshot_taps.push_back({o, std::max(1L, std::lround(c.run.sample_rate_hz / rate))});
+        if (const double rate = o->snapshot_rate_hz(); rate > 0.0) {
+            const double until = std::min(o->snapshot_until_s(), c.run.duration_s);
+            snapshot_taps.push_back({o, std::max(1L, std::lround(c.run.sample_rate_hz / rate)),
+                                     static_cast<long>(std::floor(until * c.run.sample_rate_hz))});
+        }
     }
     std::vector<double> grid_x(c.mode_count()), grid_u(c.mode_count());
     for (std::size_t i = 0; i < grid_x.size(); ++i) grid_x[i] = plan.basis().grid_point(i);
@@ -102,7 +106,7 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     auto report_snapshots = [&](long n) {
         bool shaped = false;
         for (const SnapshotTap& tap : snapshot_taps) {
-            if (n % tap.stride != 0) continue;
+            if (n % tap.stride != 0 || n > tap.last_step) continue;
             if (!shaped) plan.basis().to_grid(stepper.modal_displacement(), grid_u);
             shaped = true;
             tap.observer->snapshot(stepper.time(), grid_x, grid_u);
@@ -125,8 +129,10 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     if (may_fly) flight.emplace(plan.propagator(), layout.output_stride);
     std::vector<double> flight_u, flight_v;
     auto no_snapshot_within = [&](long n, long steps) {
-        for (const SnapshotTap& tap : snapshot_taps)
-            if ((n / tap.stride + 1) * tap.stride < n + steps) return false;
+        for (const SnapshotTap& tap : snapshot_taps) {
+            const long next = (n / tap.stride + 1) * tap.stride;
+            if (next < n + steps && next <= tap.last_step) return false;
+        }
         return true;
     };
 

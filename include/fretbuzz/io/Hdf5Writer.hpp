@@ -18,6 +18,7 @@
 //   /snapshots/{time,displacement}   string shapes on the grid, if requested
 //   /summary                the run summary as JSON text (same as summary.json)
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -27,6 +28,7 @@ namespace fretbuzz {
 
 struct Hdf5WriterOptions {
     double snapshot_rate_hz = 0.0;  // 0: no snapshots
+    double snapshot_until_s = std::numeric_limits<double>::infinity();  // stop storing shapes after this time
     // Contact-map rows follow the output rate, but never more often than this: at the
     // native output rate a dense map of every step would dwarf the rest of the file.
     double max_contact_map_rate_hz = 50000.0;
@@ -44,6 +46,7 @@ public:
     void energy(double t, double h, double contact, double dissipated) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     double snapshot_rate_hz() const override { return options_.snapshot_rate_hz; }
+    double snapshot_until_s() const override { return options_.snapshot_until_s; }
     void snapshot(double t, std::span<const double> x, std::span<const double> u) override;
     void finish(const RunSummary& summary) override;
 

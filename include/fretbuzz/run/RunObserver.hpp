@@ -3,6 +3,7 @@
 // output rate, the energy terms, and (if they ask) the first observation signal at every
 // time step. Writers are observers; they know nothing of the physics.
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <utility>
 #include <string>
@@ -63,8 +64,9 @@ public:
     virtual void every_step(std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
     // Every step with a non-zero contact force: (grid index, force per length in N/m).
     virtual void contacts(double /*t*/, std::span<const std::pair<std::size_t, double>> /*forces*/) {}
-    // String shapes on the grid at this rate (Hz), from t = 0; 0 for none.
+    // String shapes on the grid at this rate (Hz), from t = 0 up to snapshot_until_s(); 0 for none.
     virtual double snapshot_rate_hz() const { return 0.0; }
+    virtual double snapshot_until_s() const { return std::numeric_limits<double>::infinity(); }
     virtual void snapshot(double /*t*/, std::span<const double> /*x*/, std::span<const double> /*u*/) {}
     virtual void finish(const RunSummary&) {}
 };
