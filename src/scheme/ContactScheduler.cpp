@@ -20,13 +20,13 @@ ContactScheduler::ContactScheduler(const Plan& plan)
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {
     const ModalPropagator& prop = plan_.propagator();
+    amplitude_.resize(q.size());
+    prop.free_amplitudes(q, d, amplitude_);
     tail_sums_.assign(q.size() + 1, 0.0);
+    for (std::size_t j = q.size(); j-- > 0;) tail_sums_[j] = tail_sums_[j + 1] + amplitude_[j];
+    const auto factor = prop.speed_factor();
     double speed = 0.0;
-    for (std::size_t j = q.size(); j-- > 0;) {
-        const double amplitude = prop.free_amplitude(j, q[j], d[j]);
-        tail_sums_[j] = tail_sums_[j + 1] + amplitude;
-        speed += prop.free_speed(j, amplitude);
-    }
+    for (std::size_t j = 0; j < q.size(); ++j) speed += factor[j] * amplitude_[j];
     const double reach = tail_sums_[0];
     set_head_modes(head_);
     speed_ = std::isfinite(speed) ? norm_ * speed * (1.0 + kSlack) : std::numeric_limits<double>::infinity();

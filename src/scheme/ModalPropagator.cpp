@@ -53,6 +53,27 @@ ModalPropagator::ModalPropagator(const ModeTable& modes, double dt) : dt_(dt) {
             beta_[j] = std::expm1(-w * w / (s + g) * dt) * std::expm1(-(s + g) * dt);
         }
     }
+    amplitude_q_.assign(n, 0.0);
+    amplitude_d_.assign(n, 0.0);
+    speed_factor_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        speed_factor_[j] = underdamped_[j] ? omega_[j] : sigma_[j] + rate_[j];
+        if (!underdamped_[j] || std::abs(sin_step_[j]) < kAliasingLimit) {
+            special_modes_.push_back(j);
+            continue;
+        }
+        amplitude_q_[j] = (-versine_step_[j] - expm1_half_[j]) / sin_step_[j];
+        amplitude_d_[j] = half_decay_[j] / sin_step_[j];
+    }
+}
+
+void ModalPropagator::free_amplitudes(std::span<const double> q, std::span<const double> d,
+                                      std::span<double> amplitude) const {
+    for (std::size_t j = 0; j < size(); ++j) {
+        const double c2 = amplitude_q_[j] * q[j] + amplitude_d_[j] * d[j];
+        amplitude[j] = std::sqrt(q[j] * q[j] + c2 * c2);
+    }
+    for (std::size_t j : special_modes_) amplitude[j] = free_amplitude(j, q[j], d[j]);
 }
 
 void ModalPropagator::first_step(std::span<const double> q0, std::span<const double> v0, std::span<double> q1,
@@ -96,13 +117,6 @@ double ModalPropagator::free_amplitude(std::size_t j, double q, double d) const 
     const double a_slow = std::exp((s - g) * dt_), a_fast = std::exp((s + g) * dt_);
     const double c_minus = ((q - d) - q * a_slow) / (a_fast - a_slow);
     return std::abs(q - c_minus) + std::abs(c_minus);
-}
-
-double ModalPropagator::free_speed(std::size_t j, double amplitude) const {
-    if (amplitude == 0.0) return 0.0;
-    // Underdamped: q = Re(c e^{z t}) with |z| = omega, so |dq/dt| <= omega |c|.
-    // Overdamped: each exponential decays at most at rate sigma + gamma.
-    return amplitude * (underdamped_[j] ? omega_[j] : sigma_[j] + rate_[j]);
 }
 
 }  // namespace fretbuzz

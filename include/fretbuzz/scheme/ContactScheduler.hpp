@@ -58,7 +58,8 @@ private:
     double budget_ = 0.0;    // Phi(t_n)
     std::size_t head_;
     double tail_ = 0.0;
-    std::vector<double> tail_sums_;  // sum_{k >= j} R_k at the last update_speed
+    std::vector<double> amplitude_;  // R_j at the last update_speed
+    std::vector<double> tail_sums_;  // sum_{k >= j} R_k
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
 };
 

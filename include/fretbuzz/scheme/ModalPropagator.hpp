@@ -40,8 +40,11 @@ public:
     // Largest |q_j(t)|, t >= t_n, of the free motion from (q^n, d^n); +infinity where two
     // samples do not determine it (a mode aliased onto a multiple of the Nyquist frequency).
     double free_amplitude(std::size_t j, double q, double d) const;
-    // Largest |dq_j/dt|, t >= t_n, of a free motion of amplitude free_amplitude(j, ...).
-    double free_speed(std::size_t j, double amplitude) const;
+    // free_amplitude for every mode at once (vectorised for the usual underdamped modes).
+    void free_amplitudes(std::span<const double> q, std::span<const double> d, std::span<double> amplitude) const;
+    // Per-mode factor turning an amplitude into the largest |dq_j/dt| of that free motion:
+    // omega_j when underdamped (q = Re(c e^{z t}), |z| = omega), sigma_j + gamma_j otherwise.
+    std::span<const double> speed_factor() const { return speed_factor_; }
 
 private:
     struct FreeMotionCoefficients {
@@ -57,6 +60,11 @@ private:
     std::vector<double> expm1_half_;      // e^{-sigma dt} - 1
     std::vector<double> sin_step_;        // sin(omega_d dt) or sinh(gamma dt)
     std::vector<double> versine_step_;    // 1 - cos(omega_d dt) = 2 sin^2(omega_d dt / 2), or cosh(gamma dt) - 1
+    // Underdamped amplitude R = sqrt(q^2 + ((a q + b d) / sin(omega_d dt))^2): a, b / sin(omega_d dt)
+    // (zero for the modes handled one by one: overdamped or aliased).
+    std::vector<double> amplitude_q_, amplitude_d_;
+    std::vector<std::size_t> special_modes_;
+    std::vector<double> speed_factor_;
 };
 
 }  // namespace fretbuzz
