@@ -83,7 +83,7 @@ RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, cons
     RunSummary summary;
     summary.case_name = c.name;
     summary.sample_rate_hz = c.run.sample_rate_hz;
-    summary.duration_s = static_cast<double>(layout.steps) * dt;
+    summary.duration_s = static_cast<double>(layout.steps) / c.run.sample_rate_hz;
     summary.steps = layout.steps;
     summary.modes = c.mode_count();
     summary.output_rate_hz = layout.output_rate_hz;
