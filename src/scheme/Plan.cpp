@@ -36,7 +36,7 @@ std::size_t Plan::default_transform_threshold(std::size_t modes) {
     largest = std::max(largest, rest);
     const double penalty = std::max(1.0, static_cast<double>(largest) / 8.0);
     const double rows = 6.0 * std::log2(static_cast<double>(modes) + 1.0) * penalty;
-    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, modes);
+    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, std::max<std::size_t>(16, modes / 2));
 }
 
 }  // namespace fretbuzz

@@ -1,0 +1,194 @@
+#include "RunLoop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fretbuzz {
+
+namespace {
+// Free flight checks sleeping points with the low modes plus a bound on the rest: at
+// least this many modes keep those checks sharp.
+constexpr std::size_t kMinimumFlightModes = 48;
+
+RunLayout layout_of(const Case& c) {
+    RunLayout layout;
+    layout.source = &c;
+    layout.dt = 1.0 / c.run.sample_rate_hz;
+    layout.steps = std::lround(c.run.duration_s * c.run.sample_rate_hz);
+    layout.output_stride = output_stride(c);
+    layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
+    layout.observation_points_m = c.observation_points_m;
+    return layout;
+}
+}  // namespace
+
+RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options)
+    : case_(c),
+      observers_(observers),
+      options_(options),
+      start_(Clock::now()),
+      last_progress_(start_),
+      plan_(c, 1.0 / c.run.sample_rate_hz, options.plan),
+      layout_(layout_of(c)),
+      stepper_(plan_, c.initial_displacement, c.initial_velocity) {
+    for (double x : c.observation_points_m) shapes_.push_back(plan_.basis().mode_shapes_at(x));
+    u_.resize(shapes_.size());
+    step_u_.resize(shapes_.size());
+    grid_x_.resize(c.mode_count());
+    grid_u_.resize(c.mode_count());
+    for (std::size_t i = 0; i < grid_x_.size(); ++i) grid_x_[i] = plan_.basis().grid_point(i);
+
+    summary_.case_name = c.name;
+    summary_.sample_rate_hz = c.run.sample_rate_hz;
+    summary_.duration_s = static_cast<double>(layout_.steps) / c.run.sample_rate_hz;
+    summary_.steps = layout_.steps;
+    summary_.modes = c.mode_count();
+    summary_.output_rate_hz = layout_.output_rate_hz;
+    summary_.lossless = plan_.propagator().lossless();
+    summary_.screened = options.plan.screen_contacts;
+}
+
+RunSummary RunLoop::run() {
+    connect_observers();
+    plan_free_flight();
+    report_observation();
+    if (!per_step_.empty()) report_step();
+    report_snapshots();
+    while (n_ < layout_.steps) {
+        if (const long flown = fly(); flown > 0) {
+            n_ += flown;
+            report_flight(flown);
+            continue;
+        }
+        stepper_.step();
+        ++n_;
+        after_step();
+    }
+    finish_summary();
+    for (RunObserver* o : observers_) o->finish(summary_);
+    return summary_;
+}
+
+void RunLoop::connect_observers() {
+    for (RunObserver* o : observers_) {
+        o->begin(layout_);
+        if (o->wants_every_step()) per_step_.push_back(o);
+        velocity_wanted_ = velocity_wanted_ || o->wants_velocity();
+        if (const double rate = o->snapshot_rate_hz(); rate > 0.0) {
+            const double until = std::min(o->snapshot_until_s(), case_.run.duration_s);
+            snapshot_taps_.push_back({o, std::max(1L, std::lround(case_.run.sample_rate_hz / rate)),
+                                      static_cast<long>(std::floor(until * case_.run.sample_rate_hz))});
+        }
+    }
+    step_v_.resize(velocity_wanted_ ? shapes_.size() : 0);
+}
+
+void RunLoop::plan_free_flight() {
+    // Free flight jumps whole output intervals, so it needs intervals longer than a step,
+    // and per-step observers that accept their signal band-limited meanwhile.
+    double band_hz = per_step_.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    bool allowed = options_.free_flight && options_.plan.screen_contacts && layout_.output_stride > 1;
+    for (RunObserver* o : per_step_) {
+        band_hz = std::min(band_hz, o->every_step_band_hz());
+        allowed = allowed && o->every_step_band_hz() > 0.0;
+    }
+    if (!allowed) return;
+    while (head_ < case_.mode_count() && case_.modes.frequency_hz[head_] < band_hz) ++head_;
+    head_ = std::max(head_, std::min(kMinimumFlightModes, case_.mode_count()));
+    flight_.emplace(plan_.propagator(), layout_.output_stride);
+}
+
+long RunLoop::fly() {
+    const long stride = layout_.output_stride;
+    if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
+    return stepper_.free_flight(*flight_, head_, shapes_, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
+}
+
+bool RunLoop::snapshot_due_within(long steps) const {
+    for (const SnapshotTap& tap : snapshot_taps_) {
+        const long next = (n_ / tap.stride + 1) * tap.stride;
+        if (next < n_ + steps && next <= tap.last_step) return true;
+    }
+    return false;
+}
+
+void RunLoop::after_step() {
+    if (!stepper_.forces().empty()) {
+        if (summary_.first_contact_s < 0.0) summary_.first_contact_s = stepper_.time();
+        summary_.last_contact_s = stepper_.time();
+        for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
+    }
+    if (!per_step_.empty()) report_step();
+    if (!snapshot_taps_.empty()) report_snapshots();
+    if (n_ % layout_.output_stride == 0 || n_ == 1) report_output();
+    if (options_.progress && (n_ & 0xfff) == 0) report_progress();
+}
+
+void RunLoop::report_observation() {
+    for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
+    for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
+}
+
+void RunLoop::report_step() {
+    for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
+    for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
+    for (RunObserver* o : per_step_) o->every_step(step_u_, step_v_);
+}
+
+void RunLoop::report_flight(long flown) {
+    const std::size_t width = shapes_.size();
+    for (long m = 0; m < flown; ++m) {
+        const auto row = static_cast<std::size_t>(m) * width;
+        const std::span<const double> row_u(flight_u_.data() + row, width);
+        const std::span<const double> row_v =
+            velocity_wanted_ ? std::span<const double>(flight_v_.data() + row, width) : std::span<const double>();
+        for (RunObserver* o : per_step_) o->every_step(row_u, row_v);
+    }
+    if (flown == layout_.output_stride) {  // a complete flight ends on an output step
+        report_snapshots();
+        report_output();
+    }
+    if (options_.progress) report_progress();
+}
+
+void RunLoop::report_snapshots() {
+    bool shaped = false;
+    for (const SnapshotTap& tap : snapshot_taps_) {
+        if (n_ % tap.stride != 0 || n_ > tap.last_step) continue;
+        if (!shaped) plan_.basis().to_grid(stepper_.modal_displacement(), grid_u_);
+        shaped = true;
+        tap.observer->snapshot(stepper_.time(), grid_x_, grid_u_);
+    }
+}
+
+void RunLoop::report_output() {
+    const double h = stepper_.energy();
+    audit_.record(h, stepper_.dissipated(), summary_);
+    if (n_ % layout_.output_stride != 0) return;
+    report_observation();
+    const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
+    for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
+}
+
+void RunLoop::report_progress() {
+    const auto now = Clock::now();
+    if (now - last_progress_ < std::chrono::milliseconds(500)) return;
+    last_progress_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double fraction = static_cast<double>(n_) / static_cast<double>(layout_.steps);
+    options_.progress({fraction, stepper_.time(), elapsed, elapsed * (1.0 - fraction) / fraction});
+}
+
+void RunLoop::finish_summary() {
+    const StepStatistics& stats = stepper_.statistics();
+    const double steps = static_cast<double>(layout_.steps);
+    summary_.contact_steps = stats.contact_steps;
+    summary_.max_newton_iterations = stats.max_newton_iterations;
+    summary_.mean_points_solved = layout_.steps > 0 ? stats.points_solved / steps : 0.0;
+    summary_.free_flight_fraction = layout_.steps > 0 ? static_cast<double>(stats.free_flight_steps) / steps : 0.0;
+    summary_.wall_seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    summary_.steps_per_second = summary_.wall_seconds > 0.0 ? steps / summary_.wall_seconds : 0.0;
+}
+
+}  // namespace fretbuzz

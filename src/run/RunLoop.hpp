@@ -1,0 +1,66 @@
+#pragma once
+// One run from start to finish: steps the string (or flies it freely over output
+// intervals where no contact is possible) and hands every signal its observers asked for
+// to them, at the steps they asked for. Used by simulate().
+#include <chrono>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "EnergyAudit.hpp"
+#include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/FreeFlight.hpp"
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz {
+
+class RunLoop {
+public:
+    RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options);
+    RunSummary run();
+
+private:
+    using Clock = std::chrono::steady_clock;
+    struct SnapshotTap {
+        RunObserver* observer;
+        long stride;
+        long last_step;  // no snapshots after this step
+    };
+
+    void connect_observers();
+    void plan_free_flight();
+    long fly();  // steps flown (0: none)
+    bool snapshot_due_within(long steps) const;
+    void after_step();
+    void report_observation();
+    void report_step();
+    void report_flight(long flown);
+    void report_snapshots();
+    void report_output();
+    void report_progress();
+    void finish_summary();
+
+    const Case& case_;
+    std::span<RunObserver* const> observers_;
+    const RunOptions& options_;
+    Clock::time_point start_, last_progress_;
+    Plan plan_;
+    RunLayout layout_;
+    Stepper stepper_;
+    long n_ = 0;
+
+    std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
+    std::vector<RunObserver*> per_step_;
+    bool velocity_wanted_ = false;
+    std::vector<SnapshotTap> snapshot_taps_;
+    std::vector<double> grid_x_, grid_u_;
+    std::vector<double> u_, step_u_, step_v_, flight_u_, flight_v_;
+
+    std::optional<FreeFlight> flight_;
+    std::size_t head_ = 0;  // modes stepped one by one during free flight
+
+    EnergyAudit audit_;
+    RunSummary summary_;
+};
+
+}  // namespace fretbuzz
