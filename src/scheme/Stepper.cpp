@@ -66,7 +66,6 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const ModalPropagator& prop = plan_.propagator();
     const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
     const double energy_before = scale * prop.scaled_modal_energy(q_, d_);
-    const std::size_t n = q_.size();
     const std::size_t width = probes.size();
     scheduler_.set_head_modes(head);
     const double tail = scheduler_.tail_bound();
@@ -109,7 +108,6 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
-    (void)n;
     return flown;
 }
 
