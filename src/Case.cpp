@@ -71,7 +71,8 @@ void Case::validate() const {
         require_positive("run.output_rate (Hz)", *run.output_rate_hz);
         if (*run.output_rate_hz > run.sample_rate_hz)
             throw InputError(out_of_range_message("run.output_rate (Hz)", *run.output_rate_hz,
-                                                  "must not exceed run.fs = " + std::to_string(run.sample_rate_hz)));
+                                                  "must not exceed run.fs = " + std::to_string(run.sample_rate_hz) +
+                                                      " Hz (set a lower output rate, or \"native\")"));
     }
     require_positive("audio.rate (Hz)", run.audio_rate_hz);
     if (run.audio_rate_hz < 8000.0 || run.audio_rate_hz > 384000.0)
