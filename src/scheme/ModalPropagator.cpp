@@ -90,15 +90,6 @@ void ModalPropagator::first_step(std::span<const double> q0, std::span<const dou
     }
 }
 
-double ModalPropagator::free_motion(std::size_t j, double q0, double v0, double t) const {
-    const double s = sigma_[j];
-    const double r = rate_[j];
-    const double envelope = std::exp(-s * t);
-    if (underdamped_[j]) return envelope * (q0 * std::cos(r * t) + (v0 + s * q0) * std::sin(r * t) / r);
-    const double sn = r > 0.0 ? std::sinh(r * t) / r : t;
-    return envelope * (q0 * std::cosh(r * t) + (v0 + s * q0) * sn);
-}
-
 double ModalPropagator::scaled_modal_energy(std::span<const double> q, std::span<const double> d) const {
     return kernels::modal_energy(decay_.data(), beta_.data(), q.data(), d.data(), size());
 }

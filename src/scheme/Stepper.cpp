@@ -77,7 +77,6 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     while (flown < steps && !interrupted) {
         due_.clear();
         scheduler_.pop_due(due_);
-        stats_.points_checked += static_cast<double>(due_.size());
         for (std::size_t i : due_) {
             if (interrupted || !scheduler_.sleep(i, kernels::dot(plan_.basis().row(i).data(), q_.data(), head) - tail - g[i])) {
                 interrupted = true;  // a closer look is needed: leave it to a full step
@@ -142,7 +141,6 @@ void Stepper::wake_due_points() {
     due_.clear();
     scheduler_.pop_due(due_);
     if (due_.empty()) return;
-    stats_.points_checked += static_cast<double>(due_.size());
     const std::vector<double>& g = plan_.obstacle();
     const std::size_t n = q_.size();
     const bool use_transform = due_.size() > plan_.transform_threshold();
@@ -176,10 +174,7 @@ void Stepper::solve_contacts() {
     const std::size_t n = q_.size();
     kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     const bool use_transform = active_.size() > plan_.transform_threshold();
-    if (use_transform) {
-        plan_.basis().to_grid(predicted_, grid_);
-        ++stats_.transform_steps;
-    }
+    if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();

@@ -46,7 +46,6 @@ public:
     void end_steps(long steps);
     // True if no sleeping point can touch during the next `steps` steps.
     bool quiet_for(long steps) const;
-    std::size_t sleeping() const { return queue_.size(); }
 
 private:
     using Entry = std::pair<double, std::size_t>;  // (budget at which to wake, point)

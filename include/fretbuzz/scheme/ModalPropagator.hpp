@@ -31,8 +31,6 @@ public:
     // q1 = q(dt), d1 = q1 - q0 (computed without cancellation).
     void first_step(std::span<const double> q0, std::span<const double> v0, std::span<double> q1,
                     std::span<double> d1) const;
-    // Exact free motion at time t from q(0), q'(0) (closed form, for checks).
-    double free_motion(std::size_t j, double q0, double v0, double t) const;
 
     // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the modal energy times 2 dt^2 / mu.
     double scaled_modal_energy(std::span<const double> q, std::span<const double> d) const;

@@ -21,8 +21,6 @@ struct StepStatistics {
     long contact_steps = 0;            // steps with a non-zero contact force somewhere
     int max_newton_iterations = 0;
     double points_solved = 0;          // sum over steps of the points solved
-    double points_checked = 0;         // sleeping points woken and looked at
-    long transform_steps = 0;          // steps that used the full sine transform
     long free_flight_steps = 0;        // steps jumped over by FreeFlight
 };
 
@@ -59,8 +57,6 @@ public:
 
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
-    // Points solved in the last step (all obstacle points when screening is off).
-    std::span<const std::size_t> active_points() const { return active_; }
     const StepStatistics& statistics() const { return stats_; }
 
 private:
