@@ -69,7 +69,6 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const std::size_t width = probes.size();
     scheduler_.set_head_modes(head);
     const double tail = scheduler_.tail_bound();
-    const std::vector<double>& g = plan_.obstacle();
     u.resize(static_cast<std::size_t>(steps) * width);
     if (v != nullptr) v->resize(u.size());
     long flown = 0;
@@ -78,7 +77,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         due_.clear();
         scheduler_.pop_due(due_);
         for (std::size_t i : due_) {
-            if (interrupted || !scheduler_.sleep(i, kernels::dot(plan_.basis().row(i).data(), q_.data(), head) - tail - g[i])) {
+            if (interrupted || !sleeps_on_low_modes(i, head, tail)) {
                 interrupted = true;  // a closer look is needed: leave it to a full step
                 scheduler_.wake_now(i);
             }
@@ -136,6 +135,12 @@ void Stepper::activate(std::size_t i, double u_now, double u_before) {
     active_.push_back(i);
 }
 
+bool Stepper::sleeps_on_low_modes(std::size_t i, std::size_t head, double tail) {
+    // u_i >= (first `head` modes of u_i) - tail: a lower bound on the gap, cheap to get.
+    const double low = kernels::dot(plan_.basis().row(i).data(), q_.data(), head);
+    return scheduler_.sleep(i, low - tail - plan_.obstacle()[i]);
+}
+
 void Stepper::wake_due_points() {
     if (!screening_) return;
     due_.clear();
@@ -154,7 +159,7 @@ void Stepper::wake_due_points() {
         if (use_transform) {
             u_now = grid_[i];
         } else {
-            if (head < n && scheduler_.sleep(i, kernels::dot(row.data(), q_.data(), head) - tail - g[i])) continue;
+            if (head < n && sleeps_on_low_modes(i, head, tail)) continue;
             u_now = kernels::dot(row.data(), q_.data(), n);
         }
         if (scheduler_.sleep(i, u_now - g[i])) continue;

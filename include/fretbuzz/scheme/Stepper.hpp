@@ -63,6 +63,7 @@ private:
     void first_step();
     void wake_due_points();
     void activate(std::size_t i, double u_now, double u_before);
+    bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
     void solve_contacts();
     void apply_impulse();
     void advance_modes();
