@@ -19,6 +19,14 @@ void add_modes_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
 
+// What `plot` and `report` take: a run's output directory and how to draw it.
+struct FigureArguments {
+    std::string dir;
+    std::string animation = "gif";
+    bool quiet = false;
+};
+void add_figure_options(CLI::App& command, FigureArguments& args);
+
 // The PNG plots (and the animation: "gif", "mp4" or "none") of a run's output directory;
 // throws InputError naming DIR if it holds no results.h5.
 void make_plots(const std::filesystem::path& dir, const std::string& animation, bool quiet);

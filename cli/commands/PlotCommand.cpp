@@ -25,11 +25,6 @@ void require_results(const fs::path& dir) {
                          dir.string() + "`)");
 }
 
-struct PlotArguments {
-    std::string dir;
-    std::string animation = "gif";
-    bool quiet = false;
-};
 
 }  // namespace
 
@@ -43,13 +38,17 @@ void make_plots(const fs::path& dir, const std::string& animation, bool quiet) {
     if (status != 0) throw std::runtime_error("the plotting script failed (exit status " + std::to_string(status) + ")");
 }
 
-void add_plot_command(CLI::App& app, Action& action) {
-    auto args = std::make_shared<PlotArguments>();
-    CLI::App* cmd = app.add_subcommand("plot", "Draw PNG plots (and an animation) of a run's output directory");
-    cmd->add_option("DIR", args->dir, "Output directory of `fretbuzz run` (holding results.h5)")->required();
-    cmd->add_option("--animation", args->animation, "Animation format when snapshots exist: gif, mp4 (ffmpeg) or none")
+void add_figure_options(CLI::App& command, FigureArguments& args) {
+    command.add_option("DIR", args.dir, "Output directory of `fretbuzz run` (holding results.h5)")->required();
+    command.add_option("--animation", args.animation, "Animation format when snapshots exist: gif, mp4 (ffmpeg) or none")
         ->capture_default_str();
-    cmd->add_flag("-q,--quiet", args->quiet, "Do not list the files written");
+    command.add_flag("-q,--quiet", args.quiet, "Do not list the files written");
+}
+
+void add_plot_command(CLI::App& app, Action& action) {
+    auto args = std::make_shared<FigureArguments>();
+    CLI::App* cmd = app.add_subcommand("plot", "Draw PNG plots (and an animation) of a run's output directory");
+    add_figure_options(*cmd, *args);
     cmd->callback([args, &action] {
         action = [args] {
             make_plots(args->dir, args->animation, args->quiet);

@@ -11,13 +11,8 @@ namespace fretbuzz::cli {
 
 namespace {
 
-struct ReportArguments {
-    std::string dir;
-    std::string animation = "gif";
-    bool quiet = false;
-};
 
-int report_command(const ReportArguments& a) {
+int report_command(const FigureArguments& a) {
     make_plots(a.dir, a.animation, a.quiet);
     const std::filesystem::path page = write_html_report(a.dir);
     if (!a.quiet) std::cerr << "fretbuzz: report: " << page.string() << "\n";
@@ -31,12 +26,9 @@ int make_report(const std::filesystem::path& dir, bool quiet) {
 }
 
 void add_report_command(CLI::App& app, Action& action) {
-    auto args = std::make_shared<ReportArguments>();
+    auto args = std::make_shared<FigureArguments>();
     CLI::App* cmd = app.add_subcommand("report", "Plots and a self-contained report.html for a run's output directory");
-    cmd->add_option("DIR", args->dir, "Output directory of `fretbuzz run` (holding results.h5)")->required();
-    cmd->add_option("--animation", args->animation, "Animation format when snapshots exist: gif, mp4 (ffmpeg) or none")
-        ->capture_default_str();
-    cmd->add_flag("-q,--quiet", args->quiet, "Do not list the files written");
+    add_figure_options(*cmd, *args);
     cmd->callback([args, &action] { action = [args] { return report_command(*args); }; });
 }
 
