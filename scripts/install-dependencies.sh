@@ -7,7 +7,15 @@ packages="build-essential cmake pkg-config
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libsndfile1-dev libsoxr-dev libhdf5-dev
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-h5py
-  ffmpeg chromium"
+  ffmpeg chromium
+  libeigen3-dev
+  python3-pandas python3-tqdm python3-dask python3-distributed
+  python3-pip python3-venv python3-setuptools python3-wheel
+  python3-nbclient python3-nbformat python3-ipykernel
+  doxygen help2man
+  clang libclang-rt-14-dev
+  lv2-dev liblilv-dev lilv-utils libsmf-dev
+  freepats"
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
