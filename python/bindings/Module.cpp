@@ -11,4 +11,5 @@ PYBIND11_MODULE(fretbuzz, m) {
     fretbuzz::python::bind_case(m);
     fretbuzz::python::bind_results(m);
     fretbuzz::python::bind_run(m);
+    fretbuzz::python::bind_estimate(m);
 }
