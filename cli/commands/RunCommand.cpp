@@ -19,6 +19,7 @@
 #include "fretbuzz/io/OutputDirectory.hpp"
 #include "fretbuzz/io/SummaryWriter.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::cli {
 
@@ -28,6 +29,7 @@ struct RunArguments {
     std::string case_name;
     std::optional<double> fs, duration, stiffness, exponent;
     bool lossless = false;
+    bool allow_aliasing = false;
     std::vector<double> observe;
     std::optional<std::string> output_rate;
     std::optional<double> audio_rate;
@@ -58,6 +60,7 @@ void apply_overrides(const RunArguments& a, Case& c) {
     if (a.exponent) c.contact.exponent = *a.exponent;
     if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
     if (a.lossless) c.make_lossless();
+    if (a.allow_aliasing) c.run.allow_aliasing = true;
     c.observation_points_m.insert(c.observation_points_m.end(), a.observe.begin(), a.observe.end());
     if (a.output_rate) {
         if (*a.output_rate == "native")
@@ -83,6 +86,12 @@ int run_command(const RunArguments& a) {
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
     c.validate();  // before anything is created on disk
+    // Refuses a sampling rate at which modes alias onto low frequencies (as planning does).
+    const SamplingReport sampling =
+        c.has_obstacle() ? require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing) : SamplingReport{};
+    std::vector<std::string> warnings = c.warnings;
+    warnings.insert(warnings.end(), sampling.warnings.begin(), sampling.warnings.end());
+    for (const std::string& w : warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     if (!(a.snapshot_rate_hz >= 0.0 && a.snapshot_rate_hz <= c.run.sample_rate_hz))
         throw InputError(out_of_range_message("--snapshots (Hz)", a.snapshot_rate_hz,
                                               "must be in [0, fs] (0 for none)"));
@@ -91,6 +100,7 @@ int run_command(const RunArguments& a) {
     OutputDirectory out(a.out);
     ObservationCsvWriter observation(out.staged("observation.csv"));
     EnergyCsvWriter energy(out.staged("energy.csv"));
+    BridgeForceCsvWriter bridge_force(out.staged("bridge_force.csv"));
     AudioWriter audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz);
     std::optional<AudioWriter> velocity_audio;
     if (a.velocity_audio)
@@ -99,7 +109,7 @@ int run_command(const RunArguments& a) {
                        {.snapshot_rate_hz = a.snapshot_rate_hz,
                         .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity())});
     SummaryWriter summary_writer(out.staged("summary.json"));
-    std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer};
+    std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer, &bridge_force};
     if (velocity_audio) observers.push_back(&*velocity_audio);
 
     RunOptions options;
@@ -137,6 +147,9 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_option("--K", args->stiffness, "Penalty stiffness K");
     cmd->add_option("--alpha", args->exponent, "Penalty exponent alpha (>= 1)");
     cmd->add_flag("--lossless", args->lossless, "Remove all damping (sigma_j = 0)");
+    cmd->add_flag("--allow-aliasing", args->allow_aliasing,
+                  "Run even when modes lie so close to a multiple of fs that contact results are wrong "
+                  "(as run.allow_aliasing = true)");
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
     cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");

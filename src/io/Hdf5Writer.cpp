@@ -30,6 +30,7 @@ struct Hdf5Writer::File {
     hdf5::GrowingDataset energy_time, energy_total, energy_contact, energy_dissipated;
     hdf5::GrowingDataset map_time, map_force;
     hdf5::GrowingDataset snapshot_time, snapshot_shape;
+    hdf5::GrowingDataset bridge_force;
     std::optional<ContactMapRows> map;
     double dt = 0.0;
     std::vector<double> observation_points;
@@ -71,6 +72,7 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     f.observation = create_group(root, "observation");
     write_array(f.observation.get(), "points_m", layout.observation_points_m);
     f.displacement = GrowingDataset(f.observation.get(), "displacement", points, kSignalChunkRows);
+    f.bridge_force = GrowingDataset(f.observation.get(), "bridge_force", 0, kSignalChunkRows);
 
     f.energy = create_group(root, "energy");
     f.energy_time = GrowingDataset(f.energy.get(), "time", 0, kSignalChunkRows);
@@ -107,6 +109,8 @@ void Hdf5Writer::observation(double t, std::span<const double> u) {
     file_->displacement.append(u);
 }
 
+void Hdf5Writer::bridge_force(double, double force) { file_->bridge_force.append(force); }
+
 void Hdf5Writer::energy(double t, double h, double contact, double dissipated) {
     File& f = *file_;
     f.energy_time.append(t);
@@ -129,7 +133,7 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     File& f = *file_;
     f.map->finish();
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
-                              &f.energy_dissipated, &f.map_time, &f.map_force, &f.snapshot_time, &f.snapshot_shape})
+                              &f.energy_dissipated, &f.map_time, &f.map_force, &f.snapshot_time, &f.snapshot_shape, &f.bridge_force})
         if (d->id() >= 0) d->flush();
     const hid_t contact = f.contact.get();
     write_array(contact, "first_s", f.map->first_contact_s());

@@ -8,6 +8,7 @@
 //   /time                   output times t_k (s), from 0
 //   /observation/points_m   observation points x (m)
 //   /observation/displacement   u(x_p, t_k), rows = /time, columns = points (m)
+//   /observation/bridge_force   force of the string on the bridge end x = L at t_k (N, along +u)
 //   /energy/{time,total,contact,dissipated}   H^{n-1/2}, its contact part and the
 //                           cumulative dissipated energy (J), at t = (n - 1/2) dt
 //   /grid/x_m, /grid/obstacle_height_m        interior grid points and g(x_i) (-inf: none)
@@ -43,6 +44,7 @@ public:
 
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
+    void bridge_force(double t, double force) override;
     void energy(double t, double h, double contact, double dissipated) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     double snapshot_rate_hz() const override { return options_.snapshot_rate_hz; }
