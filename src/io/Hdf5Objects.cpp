@@ -93,6 +93,19 @@ void write_string(hid_t parent, const std::string& name, const std::string& text
     check_status(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &data), "write dataset " + name);
 }
 
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& texts) {
+    const Handle type = utf8_string_type();
+    const hsize_t dims[] = {texts.size()};
+    const Handle space = simple_space(dims);
+    const Handle dataset(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Dclose, "create dataset " + name);
+    std::vector<const char*> data;
+    for (const std::string& text : texts) data.push_back(text.c_str());
+    if (!data.empty())
+        check_status(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+                     "write dataset " + name);
+}
+
 void write_attribute(hid_t object, const std::string& name, double value) {
     write_attribute_raw(object, name, H5T_NATIVE_DOUBLE, &value);
 }

@@ -39,6 +39,7 @@ Handle create_group(hid_t parent, const std::string& name);
 void write_array(hid_t parent, const std::string& name, std::span<const double> values);
 void write_array(hid_t parent, const std::string& name, std::span<const long long> values);
 void write_string(hid_t parent, const std::string& name, const std::string& text);  // UTF-8, variable length
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& texts);  // 1-D, the same
 void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
