@@ -136,7 +136,9 @@ GrowingDataset::GrowingDataset(hid_t parent, const std::string& name, std::size_
         check_status(H5Pset_shuffle(properties.get()), "enable shuffling for " + name);
         check_status(H5Pset_deflate(properties.get(), 4), "enable compression for " + name);
     }
-    const hid_t file_type = storage == Storage::float32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+    const hid_t file_type = storage == Storage::float32 ? H5T_IEEE_F32LE
+                            : storage == Storage::int64 ? H5T_STD_I64LE
+                                                        : H5T_IEEE_F64LE;
     dataset_ = Handle(H5Dcreate2(parent, name.c_str(), file_type, space.get(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
                       H5Dclose, "create dataset " + name);
     buffer_.reserve(chunk_rows_ * row_width_);

@@ -44,7 +44,8 @@ void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 
-enum class Storage { float64, float32 };
+// int64: whole numbers held as doubles in memory (exact below 2^53), stored as integers.
+enum class Storage { float64, float32, int64 };
 
 // A dataset of rows of `width` numbers (width 0: a 1-D dataset of scalars) that grows
 // one row at a time. Rows are buffered up to one chunk and written chunk by chunk.
@@ -57,6 +58,7 @@ public:
     void append(double value) { append(std::span<const double>(&value, 1)); }
     void flush();
     std::size_t rows() const { return written_ + pending_rows(); }
+    std::size_t width() const { return row_width_; }
     hid_t id() const { return dataset_.get(); }
 
 private:
