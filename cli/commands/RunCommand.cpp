@@ -40,6 +40,7 @@ struct RunArguments {
     std::string out = "fretbuzz-out";
     bool no_screen = false;
     bool no_free_flight = false;
+    bool dense_contact_map = false;
     bool quiet = false;
 };
 
@@ -62,6 +63,9 @@ void apply_overrides(const RunArguments& a, Case& c) {
     if (a.lossless) c.make_lossless();
     if (a.allow_aliasing) c.run.allow_aliasing = true;
     c.observation_points_m.insert(c.observation_points_m.end(), a.observe.begin(), a.observe.end());
+    // A case's default output rate above a lower --fs (say 48 kHz at --fs 44100) becomes fs.
+    if (a.fs && !a.output_rate && c.run.output_rate_hz && *c.run.output_rate_hz > c.run.sample_rate_hz)
+        c.run.output_rate_hz.reset();
     if (a.output_rate) {
         if (*a.output_rate == "native")
             c.run.output_rate_hz.reset();
@@ -107,7 +111,8 @@ int run_command(const RunArguments& a) {
         velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz, AudioSignal::velocity);
     Hdf5Writer results(out.staged("results.h5"),
                        {.snapshot_rate_hz = a.snapshot_rate_hz,
-                        .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity())});
+                        .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity()),
+                        .dense_contact_map = a.dense_contact_map});
     SummaryWriter summary_writer(out.staged("summary.json"));
     std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer, &bridge_force};
     if (velocity_audio) observers.push_back(&*velocity_audio);
@@ -164,6 +169,8 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");
     cmd->add_flag("--no-free-flight", args->no_free_flight,
                   "Step every mode every step even when no contact is possible (audio exact to round-off, slower)");
+    cmd->add_flag("--dense-contact-map", args->dense_contact_map,
+                  "Also store the contact map densely in results.h5 (/contact/max_force_dense), to check readers");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     cmd->callback([args, &action] { action = [args] { return run_command(*args); }; });
 }

@@ -46,16 +46,6 @@ namespace {
 
 constexpr std::string_view kCaseSuffix = ".toml";
 
-toml::table parse_toml(std::string_view text, const std::string& source) {
-    try {
-        return toml::parse(text, source);
-    } catch (const toml::parse_error& e) {
-        std::ostringstream msg;
-        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
-        throw InputError(msg.str());
-    }
-}
-
 void read_contact_section(TomlSection s, Case& c) {
     c.contact.stiffness = s.positive("K");
     c.contact.exponent = s.number("alpha");
@@ -126,7 +116,7 @@ void read_audio_section(TomlSection s, Case& c) {
 }  // namespace
 
 Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data) {
-    const toml::table root = parse_toml(toml_text, source_name);
+    const toml::table root = parse_toml_document(toml_text, source_name);
     TomlSection top(root, "");
     Case c;
     c.source_text = std::string(toml_text);
@@ -171,7 +161,7 @@ std::vector<BuiltinCaseInfo> builtin_cases() {
     for (const EmbeddedFile& f : builtin_files()) {
         const std::string_view name = f.name;
         if (name.find('/') != std::string_view::npos || !name.ends_with(kCaseSuffix)) continue;
-        const toml::table root = parse_toml(f.text(), std::string(name));
+        const toml::table root = parse_toml_document(f.text(), std::string(name));
         cases.push_back({std::string(name.substr(0, name.size() - kCaseSuffix.size())),
                          root["description"].value_or(std::string())});
     }
@@ -190,19 +180,24 @@ std::string builtin_case_text(std::string_view name) {
                      ") or the path of a .toml case file");
 }
 
-Case load_case(const std::string& name_or_path) {
+CaseText read_case_text(const std::string& name_or_path) {
     if (is_builtin_case(name_or_path))
-        return parse_case(builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin());
+        return {builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin()};
     const std::filesystem::path path(name_or_path);
     if (path.extension() == kCaseSuffix) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError("case file " + path.string() + " cannot be read (missing or not readable)");
         std::ostringstream text;
         text << in.rdbuf();
-        return parse_case(text.str(), path.string(), DataSource::directory(path.parent_path()));
+        return {text.str(), path.string(), DataSource::directory(path.parent_path())};
     }
     builtin_case_text(name_or_path);  // throws the list of valid names
     return {};
+}
+
+Case load_case(const std::string& name_or_path) {
+    const CaseText source = read_case_text(name_or_path);
+    return parse_case(source.text, source.source_name, source.data);
 }
 
 }  // namespace fretbuzz

@@ -117,7 +117,10 @@ void RunLoop::plan_free_flight() {
 long RunLoop::fly() {
     const long stride = layout_.output_stride;
     if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
-    return stepper_.free_flight(*flight_, head_, shapes_, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
+    // Per-step probe signals only for the observers that read them.
+    const std::span<const std::vector<double>> probes =
+        per_step_.empty() ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes_);
+    return stepper_.free_flight(*flight_, head_, probes, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
 }
 
 bool RunLoop::snapshot_due_within(long steps) const {
