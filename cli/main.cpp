@@ -1,15 +1,17 @@
 // The fretbuzz command: a thin layer that parses arguments and calls the library.
 // Errors in the user's input exit with status 2, numerical failures with 3.
 #include <iostream>
+#include <string>
 
 #include "Commands.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/Version.hpp"
 
 int main(int argc, char** argv) {
     using namespace fretbuzz;
     CLI::App app{"fretbuzz: strings vibrating against obstacles (modal scheme, exact energy balance)"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "fretbuzz 0.1.0");
+    app.set_version_flag("--version", "fretbuzz " + std::string(version));
     cli::Action action;
     cli::add_run_command(app, action);
     cli::add_cases_commands(app, action);
@@ -18,6 +20,7 @@ int main(int argc, char** argv) {
     cli::add_modes_command(app, action);
     cli::add_plot_command(app, action);
     cli::add_report_command(app, action);
+    cli::add_sweep_command(app, action);
     cli::add_estimate_command(app, action);
 
     CLI11_PARSE(app, argc, argv);
