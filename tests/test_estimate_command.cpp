@@ -54,6 +54,8 @@ TEST(EstimateCommand, RunEstimateAndCaseRoundTrip) {
         EXPECT_NEAR(estimated.modes.sigma_per_s[j] / original.modes.sigma_per_s[j], 1.0, 0.05) << "mode " << j + 1;
     }
     EXPECT_NEAR(estimated.string.length_m, original.string.length_m, 1e-12);
+    EXPECT_EQ(estimated.modes.source.front(), ModeSource::measured);
+    EXPECT_EQ(estimated.modes.source.back(), ModeSource::model);  // mode 120 (11.8 kHz) lies above --band
 }
 
 }  // namespace

@@ -72,12 +72,14 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
             continue;
         }
         std::vector<double> row;
+        std::string label;
         bool numeric = true;
         for (std::string_view cell : split(line)) {
             double value = 0.0;
             if (!parse_number(cell, value)) {
                 // Text after the required numbers is a label (the `source` column of a mode table).
                 numeric = row.size() >= min_columns;
+                label = cell;
                 break;
             }
             if (!std::isfinite(value))
@@ -97,6 +99,7 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
             throw InputError(source + ":" + std::to_string(line_number) + ": expected at least " +
                              std::to_string(min_columns) + " columns, got " + std::to_string(row.size()));
         table.rows.push_back(std::move(row));
+        table.labels.push_back(std::move(label));
     }
     if (table.rows.empty()) throw InputError(source + ": no data rows");
     return table;

@@ -43,7 +43,12 @@ void read_full_table(TomlSection& section, const DataSource& data, std::size_t m
         }
         modes.frequency_hz.push_back(row[1]);
         modes.sigma_per_s.push_back(row[2]);
-        modes.source.push_back(ModeSource::measured);
+        // A `source` column (as `fretbuzz estimate` and `fretbuzz modes` write it) is kept.
+        const std::string& label = table.labels[j];
+        if (!label.empty() && label != "measured" && label != "model")
+            throw InputError(section.key_path("table") + " = \"" + file + "\": data row " + std::to_string(j + 1) +
+                             " has source '" + label + "'; it must be \"measured\" or \"model\"");
+        modes.source.push_back(label == "model" ? ModeSource::model : ModeSource::measured);
     }
     modes.validate();
 }
