@@ -18,6 +18,7 @@ void add_cross_check_command(CLI::App& app, Action& action);  // modal vs finite
 void add_modes_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
+void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
 
 // What `plot` and `report` take: a run's output directory and how to draw it.
 struct FigureArguments {

@@ -9,6 +9,10 @@
 
 namespace fretbuzz {
 
+bool Case::has_obstacle() const {
+    return std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+}
+
 void Case::make_lossless() { std::fill(modes.sigma_per_s.begin(), modes.sigma_per_s.end(), 0.0); }
 
 namespace {
@@ -28,14 +32,17 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     double scale = 0.0;
     for (double v : u0) scale = std::max(scale, std::abs(v));
     const double tolerance = 1e-12 * scale;
+    const double s = c.contact_orientation();
     for (std::size_t i = 0; i < u0.size(); ++i) {
         const double g = c.obstacle_height_m[i];
-        if (u0[i] < g - tolerance) {
+        if (!std::isfinite(g)) continue;  // nothing to touch here
+        if (s * u0[i] < s * g - tolerance) {
             std::ostringstream out;
             out.precision(6);
-            out << "initial shape penetrates the obstacle at x = " << c.grid_point(i) << " m: u = " << u0[i]
-                << " m is below the obstacle height " << g
-                << " m; the initial displacement must satisfy u(x, 0) >= g(x) everywhere";
+            out << "initial shape penetrates the obstacle at x = " << c.grid_point(i) << " m: u = " << u0[i] << " m is "
+                << (c.obstacle_above ? "above" : "below") << " the obstacle height " << g
+                << " m; the initial displacement must satisfy u(x, 0) " << (c.obstacle_above ? "<=" : ">=")
+                << " g(x) everywhere";
             throw InputError(out.str());
         }
     }

@@ -122,10 +122,10 @@ TEST(BadInput, UnwritableOutputDirectoryIsRefused) {
     ScratchDir scratch("unwritable");
     const std::filesystem::path file = scratch.path() / "a-file";
     std::ofstream(file) << "not a directory";
-    const auto result = run_cli("run bass-pop --duration 0.001 --fs 100000 --out " + (file / "out").string() + " -q");
+    const auto result = run_cli("run bass-pop --duration 0.001 --fs 100000 --allow-aliasing --out " + (file / "out").string() + " -q");
     EXPECT_EQ(result.exit_code, 2) << result.output;
     EXPECT_NE(result.output.find("--out"), std::string::npos) << result.output;
-    const auto inside_file = run_cli("run bass-pop --duration 0.001 --fs 100000 --out " + file.string() + " -q");
+    const auto inside_file = run_cli("run bass-pop --duration 0.001 --fs 100000 --allow-aliasing --out " + file.string() + " -q");
     EXPECT_EQ(inside_file.exit_code, 2) << inside_file.output;
     EXPECT_NE(inside_file.output.find("not a directory"), std::string::npos) << inside_file.output;
 }

@@ -75,6 +75,7 @@ TEST(Energy, StaysBoundedAtHugeTimeSteps) {
     // Unconditional stability: dt far above the highest mode's period and a stiff contact.
     Case c = load_case("bass-pop");
     c.make_lossless();
+    c.run.allow_aliasing = true;  // the energy stays bounded even where the contact result is wrong
     const EnergyTrace t = trace(c, 20000.0, 4000);  // dt = 50 us, 60 periods of the top mode
     EXPECT_GT(t.contact_steps, 10);
     EXPECT_LT(max_relative_drift(t), 1e-10);

@@ -50,19 +50,50 @@ TEST(StringModels, WaveSpeedAndHarmonicsOfTheBass) {
 
 TEST(StringModels, InharmonicityRaisesModeTenBy0175Percent) {
     // nu_10 = nu_0,10 (1 + B 10^2 / 2) = 980.49166 * (1 + 1.75e-3) = 982.20752 Hz
-    const FrequencyModel model(kBass, kBassB);
+    const FrequencyModel model(kBass, kBassB, {}, StiffnessFormula::first_order);
     EXPECT_NEAR(model.frequency_hz(10), 982.20752, 1e-5);
     // Without stiffness the series is harmonic.
     const FrequencyModel ideal(kBass, 0.0);
     EXPECT_NEAR(ideal.frequency_hz(10), 10.0 * ideal.frequency_hz(1), 1e-9);
 }
 
+TEST(StringModels, ExactStiffStringFrequenciesMatchTheClosedForm) {
+    // The sitar-like steel string of cases/sitar.toml: L = 0.88 m, T = 14.68 N,
+    // mu = 9.865e-4 kg/m, B = 2.2e-4. nu_j = j c / (2L) sqrt(1 + B j^2), written out here.
+    const TautString sitar{0.88, 14.68, 9.865e-4};
+    const double b = 2.2e-4;
+    const FrequencyModel exact(sitar, b);
+    const FrequencyModel first_order(sitar, b, {}, StiffnessFormula::first_order);
+    const double f1 = std::sqrt(14.68 / 9.865e-4) / (2.0 * 0.88);
+    for (std::size_t j : {1u, 10u, 100u, 439u, 475u}) {
+        const double order = static_cast<double>(j);
+        EXPECT_NEAR(exact.frequency_hz(j) / (order * f1 * std::sqrt(1.0 + b * order * order)), 1.0, 1e-14) << j;
+    }
+    // B j^2 = 49.6 at mode 475: the first-order formula (1 + B j^2 / 2 = 25.82) is 3.63 times
+    // the exact factor (sqrt(1 + B j^2) = 7.116); at mode 10 (B j^2 = 0.022) they agree to 6e-5.
+    EXPECT_NEAR(first_order.frequency_hz(475) / exact.frequency_hz(475), 25.81875 / 7.1160031, 1e-6);
+    EXPECT_NEAR(first_order.frequency_hz(10) / exact.frequency_hz(10), 1.0, 6.1e-5);
+    EXPECT_GT(first_order.frequency_hz(10) / exact.frequency_hz(10), 1.0 + 5e-5);
+    // The stiff-string dispersion relation mu w^2 = T k^2 + EI k^4, k = j pi / L, EI from B.
+    const double ei = sitar.bending_stiffness_for(b);
+    for (std::size_t j : {3u, 300u}) {
+        const double k = static_cast<double>(j) * std::numbers::pi / 0.88;
+        const double w = 2.0 * std::numbers::pi * exact.frequency_hz(j);
+        EXPECT_NEAR(9.865e-4 * w * w / (14.68 * k * k + ei * k * k * k * k), 1.0, 1e-13) << j;
+    }
+}
+
 TEST(StringModels, NutMobilityShiftsTheFrequencyByItsImaginaryPart) {
     // (mu c / (j pi)) Im Y_s = 6.69e-3 * 169.23286 / (10 pi) * 2e-4 = 7.20760e-6, so
     // nu_10 = 980.49166 * (1 + 1.75e-3 + 7.20760e-6) = 982.21458 Hz (+ 7.07 mHz).
-    const FrequencyModel model(kBass, kBassB, constant_nut());
+    const auto first_order = StiffnessFormula::first_order;
+    const FrequencyModel model(kBass, kBassB, constant_nut(), first_order);
     EXPECT_NEAR(model.frequency_hz(10), 982.21458, 1e-5);
-    EXPECT_NEAR(model.frequency_hz(10) - FrequencyModel(kBass, kBassB).frequency_hz(10), 7.0670e-3, 1e-6);
+    EXPECT_NEAR(model.frequency_hz(10) - FrequencyModel(kBass, kBassB, {}, first_order).frequency_hz(10), 7.0670e-3,
+                1e-6);
+    // The exact stiff-string formula gets the same nut shift.
+    EXPECT_NEAR(FrequencyModel(kBass, kBassB, constant_nut()).frequency_hz(10) - FrequencyModel(kBass, kBassB).frequency_hz(10),
+                7.0670e-3, 1e-6);
 }
 
 TEST(StringModels, EachDampingMechanismOfModeTen) {
@@ -147,7 +178,7 @@ TEST(StringModels, ReproduceThePublishedBassModesAboveTheMobilityBand) {
     p.viscoelastic_loss = 0.01;
     p.core_bending_stiffness = bass.bending_stiffness_for(kBassB);
     p.thermoelastic_inverse_q = 6e-6;
-    const FrequencyModel frequency(bass, kBassB);
+    const FrequencyModel frequency(bass, kBassB, {}, StiffnessFormula::first_order);  // the paper's formula
     const DampingModel damping(bass, p);
     const auto text = find_builtin_file("data/bass_fretted_modes.csv");
     ASSERT_TRUE(text.has_value());

@@ -15,6 +15,7 @@
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::cli {
 
@@ -24,6 +25,7 @@ struct RunArguments {
     std::string case_name;
     std::optional<double> fs, duration, stiffness, exponent;
     bool lossless = false;
+    bool allow_aliasing = false;
     std::vector<double> observe;
     std::optional<std::string> output_rate;
     std::optional<double> audio_rate;
@@ -34,6 +36,7 @@ struct RunArguments {
     std::string out = "fretbuzz-out";
     bool no_screen = false;
     bool no_free_flight = false;
+    bool dense_contact_map = false;
     bool quiet = false;
 };
 
@@ -54,7 +57,11 @@ void apply_overrides(const RunArguments& a, Case& c) {
     if (a.exponent) c.contact.exponent = *a.exponent;
     if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
     if (a.lossless) c.make_lossless();
+    if (a.allow_aliasing) c.run.allow_aliasing = true;
     c.observation_points_m.insert(c.observation_points_m.end(), a.observe.begin(), a.observe.end());
+    // A case's default output rate above a lower --fs (say 48 kHz at --fs 44100) becomes fs.
+    if (a.fs && !a.output_rate && c.run.output_rate_hz && *c.run.output_rate_hz > c.run.sample_rate_hz)
+        c.run.output_rate_hz.reset();
     if (a.output_rate) {
         if (*a.output_rate == "native")
             c.run.output_rate_hz.reset();
@@ -73,6 +80,12 @@ int run_command(const RunArguments& a) {
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
     c.validate();  // before anything is created on disk
+    // Refuses a sampling rate at which modes alias onto low frequencies (as planning does).
+    const SamplingReport sampling =
+        c.has_obstacle() ? require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing) : SamplingReport{};
+    std::vector<std::string> warnings = c.warnings;
+    warnings.insert(warnings.end(), sampling.warnings.begin(), sampling.warnings.end());
+    for (const std::string& w : warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     if (!(a.snapshot_rate_hz >= 0.0 && a.snapshot_rate_hz <= c.run.sample_rate_hz))
         throw InputError(out_of_range_message("--snapshots (Hz)", a.snapshot_rate_hz,
                                               "must be in [0, fs] (0 for none)"));
@@ -81,7 +94,8 @@ int run_command(const RunArguments& a) {
     RunOutputs outputs(a.out, c,
                        {.velocity_audio = a.velocity_audio,
                         .snapshot_rate_hz = a.snapshot_rate_hz,
-                        .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity())});
+                        .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity()),
+                        .dense_contact_map = a.dense_contact_map});
 
     RunOptions options;
     options.plan.screen_contacts = !a.no_screen;
@@ -118,6 +132,9 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_option("--K", args->stiffness, "Penalty stiffness K");
     cmd->add_option("--alpha", args->exponent, "Penalty exponent alpha (>= 1)");
     cmd->add_flag("--lossless", args->lossless, "Remove all damping (sigma_j = 0)");
+    cmd->add_flag("--allow-aliasing", args->allow_aliasing,
+                  "Run even when modes lie so close to a multiple of fs that contact results are wrong "
+                  "(as run.allow_aliasing = true)");
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
     cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");
@@ -132,6 +149,8 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_flag("--no-screen", args->no_screen, "Solve contact at every grid point every step (slow reference)");
     cmd->add_flag("--no-free-flight", args->no_free_flight,
                   "Step every mode every step even when no contact is possible (audio exact to round-off, slower)");
+    cmd->add_flag("--dense-contact-map", args->dense_contact_map,
+                  "Also store the contact map densely in results.h5 (/contact/max_force_dense), to check readers");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     cmd->callback([args, &action] { action = [args] { return run_command(*args); }; });
 }

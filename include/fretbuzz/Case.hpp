@@ -28,6 +28,8 @@ struct RunSettings {
     double duration_s = 0.0;
     std::optional<double> output_rate_hz;     // empty: one output row per time step ("native")
     double audio_rate_hz = 48000.0;
+    // Run even where modes alias onto low frequencies under contact (see SamplingCheck).
+    bool allow_aliasing = false;
 };
 
 struct Case {
@@ -38,6 +40,9 @@ struct Case {
     // Obstacle height g(x_i) at the interior grid points x_i = i L / (Nm + 1), i = 1..Nm.
     // -infinity where nothing can be touched.
     std::vector<double> obstacle_height_m;
+    // The obstacle lies above the string: contact where u > g, the force pushes down.
+    // The scheme runs the mirror image (u -> -u) and mirrors its outputs back.
+    bool obstacle_above = false;
     // Initial modal displacement q_j(0) and velocity dq_j/dt(0), j = 1..Nm.
     std::vector<double> initial_displacement;
     std::vector<double> initial_velocity;
@@ -46,10 +51,17 @@ struct Case {
     std::vector<double> observation_points_m;
     // The case file text this Case was built from (kept in the outputs).
     std::string source_text;
+    // What reading the case found doubtful but allowed (shown to the user, kept in summary.json).
+    std::vector<std::string> warnings;
 
     std::size_t mode_count() const { return modes.size(); }
     double grid_step() const { return string.length_m / static_cast<double>(mode_count() + 1); }
     double grid_point(std::size_t i) const { return static_cast<double>(i + 1) * grid_step(); }
+    // +1, or -1 when the obstacle is above: multiplies u to get the coordinate in which
+    // the contact solve sees an obstacle below.
+    double contact_orientation() const { return obstacle_above ? -1.0 : 1.0; }
+    // Whether any grid point has an obstacle to touch.
+    bool has_obstacle() const;
 
     // Removes all losses (sigma_j = 0), for energy-conservation studies.
     void make_lossless();

@@ -54,31 +54,33 @@ class Results:
             self.dissipated = f["energy/dissipated"][()]
             self.grid_x = f["grid/x_m"][()]
             self.obstacle = f["grid/obstacle_height_m"][()]
-            self.map_time = f["contact/time"][()]
-            self.map_force = f["contact/max_force"]
-            self.map_force = self._reduced_map(self.map_force, np)
+            self.map_time, self.map_force = reduced_contact_map(f, np, MAX_CONTACTOGRAM_COLUMNS)
             self.snapshot_time = f["snapshots/time"][()] if "snapshots" in f else np.empty(0)
             self.snapshots = f["snapshots/displacement"][()] if "snapshots" in f else np.empty((0, 0))
             self.summary = json.loads(f["summary"][()]) if "summary" in f else {}
 
-    def _reduced_map(self, dataset, np):
-        # Long runs: fold groups of rows by their maximum so the image stays a few
-        # thousand columns wide, reading the dataset one block at a time.
-        rows = dataset.shape[0]
-        group = max(1, math.ceil(rows / MAX_CONTACTOGRAM_COLUMNS))
-        if group == 1:
-            return dataset[()]
-        out = np.zeros((math.ceil(rows / group), dataset.shape[1]), dtype=np.float32)
-        block = group * 256
-        for start in range(0, rows, block):
-            part = dataset[start:start + block]
-            pad = (-part.shape[0]) % group
-            if pad:
-                part = np.vstack([part, np.zeros((pad, part.shape[1]), dtype=part.dtype)])
-            out[start // group:start // group + part.shape[0] // group] = part.reshape(-1, group, part.shape[1]).max(axis=1)
-        self.map_time = self.map_time[group - 1::group] if rows % group == 0 else \
-            np.append(self.map_time[group - 1::group], self.map_time[-1])
-        return out
+
+def contact_map_times(f, np):
+    """End time of every row of the contact map: row r ends at step min((r+1) interval, steps)."""
+    contact = f["contact"]
+    interval, rows = int(contact.attrs["interval_steps"]), int(contact.attrs["rows"])
+    end_steps = np.minimum((np.arange(rows, dtype=np.int64) + 1) * interval, int(f.attrs["steps"]))
+    return end_steps.astype(np.float64) * float(f.attrs["dt_s"])
+
+
+def reduced_contact_map(f, np, max_rows=None):
+    """The contact map as a dense float32 array (rows x grid points) rebuilt from its sparse
+    entries, with the row times. With max_rows, groups of consecutive rows are folded by
+    their maximum so that at most max_rows remain (time: the end of each group)."""
+    time = contact_map_times(f, np)
+    rows, points = len(time), len(f["grid/x_m"])
+    group = 1 if max_rows is None else max(1, math.ceil(rows / max_rows))
+    entry_rows = f["contact/row"][()] // group
+    dense = np.zeros((math.ceil(rows / group), points), dtype=np.float32)
+    np.maximum.at(dense, (entry_rows, f["contact/point"][()]), f["contact/max_force"][()])
+    if group > 1:
+        time = np.append(time[group - 1::group], time[-1]) if rows % group else time[group - 1::group]
+    return time, dense
 
 
 # The file formats each figure is saved in (plot_directory's `formats`); PDF and SVG are

@@ -142,7 +142,8 @@ class Files(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             r = fretbuzz.run("bass-pop", fs=FS, duration=0.004, out=os.path.join(tmp, "py"))
             names = sorted(os.listdir(os.path.join(tmp, "py")))
-            self.assertEqual(names, ["audio.wav", "energy.csv", "observation.csv", "results.h5", "summary.json"])
+            self.assertEqual(names, ["audio.wav", "bridge_force.csv", "energy.csv", "observation.csv", "results.h5",
+                                     "summary.json"])
             cli = os.environ.get("FRETBUZZ_CLI")
             if cli:
                 subprocess.run([cli, "run", "bass-pop", "--fs", str(FS), "--duration", "0.004", "--quiet",

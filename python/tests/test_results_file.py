@@ -12,6 +12,8 @@ import wave
 import h5py
 import numpy as np
 
+from fretbuzz.plots import contact_map_times, reduced_contact_map
+
 FS = 400000
 DURATION = 0.02
 SNAPSHOT_RATE = 5000
@@ -25,7 +27,7 @@ class ResultsFile(unittest.TestCase):
         cls.dir = cls.temp.name
         subprocess.run([os.environ["FRETBUZZ_CLI"], "run", "bass-pop", "--fs", str(FS), "--duration", str(DURATION),
                         "--observe", "0.3", "--snapshots", str(SNAPSHOT_RATE), "--audio-rate", str(AUDIO_RATE),
-                        "--velocity-audio", "-q", "--out", cls.dir], check=True)
+                        "--velocity-audio", "--dense-contact-map", "-q", "--out", cls.dir], check=True)
         cls.h5 = h5py.File(os.path.join(cls.dir, "results.h5"), "r")
 
     @classmethod
@@ -52,13 +54,31 @@ class ResultsFile(unittest.TestCase):
         self.assertEqual(self.h5.attrs["steps"], round(FS * DURATION))
         self.assertEqual(self.h5.attrs["format"], "fretbuzz results")
 
+    def test_sparse_contact_map_reads_back_to_the_dense_map_exactly(self):
+        dense = self.h5["contact/max_force_dense"][()]
+        time, rebuilt = reduced_contact_map(self.h5, np)
+        self.assertEqual(rebuilt.dtype, dense.dtype)
+        np.testing.assert_array_equal(rebuilt, dense)
+        self.assertGreater(np.count_nonzero(dense), 0)
+        # Only entries with a force are stored, each once.
+        self.assertEqual(len(self.h5["contact/max_force"]), np.count_nonzero(dense))
+        self.assertTrue(np.all(self.h5["contact/max_force"][()] > 0))
+        self.assertEqual(len(time), dense.shape[0])
+        # Folding rows by their maximum agrees with folding the dense map.
+        folded_time, folded = reduced_contact_map(self.h5, np, 7)
+        group = math.ceil(dense.shape[0] / 7)
+        for k in range(folded.shape[0]):
+            np.testing.assert_array_equal(folded[k], dense[k * group:(k + 1) * group].max(axis=0))
+            self.assertEqual(folded_time[k], time[min((k + 1) * group, len(time)) - 1])
+
     def test_contact_map_agrees_with_the_per_point_statistics(self):
-        force = self.h5["contact/max_force"][()]
+        time, force = reduced_contact_map(self.h5, np)
         steps = self.h5["contact/steps"][()]
         first, last = self.h5["contact/first_s"][()], self.h5["contact/last_s"][()]
         interval = int(self.h5["contact"].attrs["interval_steps"])
         self.assertEqual(force.shape, (math.ceil(round(FS * DURATION) / interval), len(self.h5["grid/x_m"])))
-        np.testing.assert_allclose(self.h5["contact/time"][()], np.arange(1, force.shape[0] + 1) * interval / FS, rtol=1e-12)
+        np.testing.assert_allclose(time, np.arange(1, force.shape[0] + 1) * interval / FS, rtol=1e-12)
+        np.testing.assert_array_equal(time, contact_map_times(self.h5, np))
         touched = steps > 0
         self.assertTrue(touched.any(), "bass-pop slaps on its frets")
         np.testing.assert_array_equal(touched, force.max(axis=0) > 0)

@@ -1,5 +1,7 @@
 #include "fretbuzz/io/CaseFile.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -44,16 +46,6 @@ namespace {
 
 constexpr std::string_view kCaseSuffix = ".toml";
 
-toml::table parse_toml(std::string_view text, const std::string& source) {
-    try {
-        return toml::parse(text, source);
-    } catch (const toml::parse_error& e) {
-        std::ostringstream msg;
-        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
-        throw InputError(msg.str());
-    }
-}
-
 void read_contact_section(TomlSection s, Case& c) {
     c.contact.stiffness = s.positive("K");
     c.contact.exponent = s.number("alpha");
@@ -73,7 +65,35 @@ void read_run_section(TomlSection s, Case& c) {
             c.run.output_rate_hz = s.positive("output_rate");
         }
     }
+    c.run.allow_aliasing = s.optional_flag("allow_aliasing").value_or(false);
+    if (s.optional_flag("lossless").value_or(false)) c.make_lossless();
     s.finish();
+}
+
+// Obstacles all lie on one side of the string: the contact solve takes one side per run.
+void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
+    std::vector<std::vector<double>> obstacles;
+    std::optional<ObstacleSide> side;
+    for (TomlSection& obstacle : sections) {
+        const ObstacleSide this_side = read_obstacle_side(obstacle);
+        if (side && this_side != *side)
+            throw InputError(obstacle.key_path("side") + " = \"" + to_string(this_side) + "\" but " +
+                             sections.front().key_path("side") + " is \"" + to_string(*side) +
+                             "\": all obstacles of a case must lie on the same side of the string");
+        side = this_side;
+        obstacles.push_back(read_obstacle_section(obstacle, data, c));
+        obstacle.finish();
+    }
+    if (obstacles.empty()) throw InputError("obstacle: the list of obstacles is empty; use type = \"none\" for none");
+    c.obstacle_above = side == ObstacleSide::above;
+    // Obstacles above combine by the lowest: mirror them, take the highest, mirror back.
+    const auto mirror = [](std::vector<double>& g) {
+        for (double& v : g)
+            if (std::isfinite(v)) v = -v;
+    };
+    if (c.obstacle_above) std::for_each(obstacles.begin(), obstacles.end(), mirror);
+    c.obstacle_height_m = highest_of(obstacles);
+    if (c.obstacle_above) mirror(c.obstacle_height_m);
 }
 
 void read_observe_section(TomlSection s, Case& c) {
@@ -96,7 +116,7 @@ void read_audio_section(TomlSection s, Case& c) {
 }  // namespace
 
 Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data) {
-    const toml::table root = parse_toml(toml_text, source_name);
+    const toml::table root = parse_toml_document(toml_text, source_name);
     TomlSection top(root, "");
     Case c;
     c.source_text = std::string(toml_text);
@@ -109,18 +129,20 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
         section.finish();
     }
     {
-        TomlSection modes = top.section("modes");
-        read_modes_section(modes, data, string, c);
-        modes.finish();
+        // An ideal string needs no [modes] table at all: its frequencies are j c / (2L).
+        std::optional<TomlSection> modes =
+            string.ideal ? top.optional_section("modes") : std::optional<TomlSection>(top.section("modes"));
+        const toml::table empty;
+        TomlSection none(empty, "modes");
+        // run.lossless is read with [run]; the mode table needs to know it now.
+        const auto* run = root["run"].as_table();
+        const bool lossless = run != nullptr && (*run)["lossless"].value_or(false);
+        read_modes_section(modes ? *modes : none, data, string, lossless, c);
+        if (modes) modes->finish();
     }
     // One obstacle, or several ([[obstacle]]) that the string meets wherever each is highest.
-    std::vector<std::vector<double>> obstacles;
-    for (TomlSection& obstacle : top.sections("obstacle")) {
-        obstacles.push_back(read_obstacle_section(obstacle, data, c));
-        obstacle.finish();
-    }
-    if (obstacles.empty()) throw InputError("obstacle: the list of obstacles is empty; use type = \"none\" for none");
-    c.obstacle_height_m = highest_of(obstacles);
+    std::vector<TomlSection> obstacle_sections = top.sections("obstacle");
+    combine_obstacles(obstacle_sections, data, c);
     {
         TomlSection excitation = top.section("excitation");
         read_excitation_section(excitation, data, c);
@@ -139,7 +161,7 @@ std::vector<BuiltinCaseInfo> builtin_cases() {
     for (const EmbeddedFile& f : builtin_files()) {
         const std::string_view name = f.name;
         if (name.find('/') != std::string_view::npos || !name.ends_with(kCaseSuffix)) continue;
-        const toml::table root = parse_toml(f.text(), std::string(name));
+        const toml::table root = parse_toml_document(f.text(), std::string(name));
         cases.push_back({std::string(name.substr(0, name.size() - kCaseSuffix.size())),
                          root["description"].value_or(std::string())});
     }
@@ -158,19 +180,24 @@ std::string builtin_case_text(std::string_view name) {
                      ") or the path of a .toml case file");
 }
 
-Case load_case(const std::string& name_or_path) {
+CaseText read_case_text(const std::string& name_or_path) {
     if (is_builtin_case(name_or_path))
-        return parse_case(builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin());
+        return {builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin()};
     const std::filesystem::path path(name_or_path);
     if (path.extension() == kCaseSuffix) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError("case file " + path.string() + " cannot be read (missing or not readable)");
         std::ostringstream text;
         text << in.rdbuf();
-        return parse_case(text.str(), path.string(), DataSource::directory(path.parent_path()));
+        return {text.str(), path.string(), DataSource::directory(path.parent_path())};
     }
     builtin_case_text(name_or_path);  // throws the list of valid names
     return {};
+}
+
+Case load_case(const std::string& name_or_path) {
+    const CaseText source = read_case_text(name_or_path);
+    return parse_case(source.text, source.source_name, source.data);
 }
 
 }  // namespace fretbuzz

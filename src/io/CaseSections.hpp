@@ -2,6 +2,7 @@
 // Readers of the individual tables of a case file, one file each (src/io/*Section.cpp).
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -20,12 +21,21 @@ struct StringDescription {
     std::optional<double> core_diameter_m;         // d_core
     std::optional<double> core_bending_stiffness;  // E_core I_core, N m^2 (given, or E_core pi d_core^4 / 64)
     std::optional<double> inharmonicity;           // B
+    bool ideal = false;                            // ideal = true: no stiffness, nu_j = j c / (2L)
 };
+
+// Which side of the string an obstacle lies on (obstacle.side).
+enum class ObstacleSide { below, above };
+std::string to_string(ObstacleSide side);
 
 // [string]: fills c.string.
 StringDescription read_string_section(TomlSection& section, Case& c);
-// [modes]: fills c.modes for c.string and the requested mode count.
-void read_modes_section(TomlSection& section, const DataSource& data, const StringDescription& string, Case& c);
+// [modes]: fills c.modes for c.string and the requested mode count. lossless: run.lossless
+// is set (a missing damping model is then no error).
+void read_modes_section(TomlSection& section, const DataSource& data, const StringDescription& string,
+                        bool lossless, Case& c);
+// obstacle.side: "below" (the default) or "above".
+ObstacleSide read_obstacle_side(TomlSection& section);
 // [obstacle] (or one entry of [[obstacle]]): heights on the grid of c.
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c);
 // [excitation]: initial modal displacement and velocity on the modes of c.

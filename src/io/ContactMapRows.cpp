@@ -19,20 +19,31 @@ ContactMapRows::ContactMapRows(std::size_t points, long interval_steps, long tot
       peak_(points, 0.0),
       steps_(points, 0) {}
 
-void ContactMapRows::emit_rows_before(long row) {
-    for (; current_row_ < std::min(row, total_rows_); ++current_row_) {
-        const long end_step = std::min((current_row_ + 1) * interval_, total_steps_);
-        sink_(static_cast<double>(end_step) * dt_, row_);
-        std::fill(row_.begin(), row_.end(), 0.0);
+void ContactMapRows::emit_current_row() {
+    if (touched_.empty()) return;
+    std::sort(touched_.begin(), touched_.end());
+    entries_.clear();
+    for (std::size_t i : touched_) {
+        entries_.emplace_back(i, row_[i]);
+        row_[i] = 0.0;
     }
+    touched_.clear();
+    sink_(current_row_, entries_);
 }
 
 void ContactMapRows::add(long step, std::span<const std::pair<std::size_t, double>> forces) {
     if (step < 1 || step > total_steps_) throw std::logic_error("ContactMapRows: step out of range");
-    emit_rows_before((step - 1) / interval_);
+    const long row = (step - 1) / interval_;
+    if (row < current_row_) throw std::logic_error("ContactMapRows: steps out of order");
+    if (row != current_row_) {
+        emit_current_row();
+        current_row_ = row;
+    }
     const double t = static_cast<double>(step) * dt_;
     for (const auto& [i, force] : forces) {
-        row_.at(i) = std::max(row_[i], force);
+        if (force <= 0.0) continue;  // only forces make entries (the law never gives f < 0)
+        if (row_.at(i) == 0.0) touched_.push_back(i);
+        row_[i] = std::max(row_[i], force);
         peak_[i] = std::max(peak_[i], force);
         if (steps_[i] == 0) first_[i] = t;
         last_[i] = t;
@@ -40,6 +51,6 @@ void ContactMapRows::add(long step, std::span<const std::pair<std::size_t, doubl
     }
 }
 
-void ContactMapRows::finish() { emit_rows_before(total_rows_); }
+void ContactMapRows::finish() { emit_current_row(); }
 
 }  // namespace fretbuzz

@@ -69,4 +69,22 @@ void EnergyCsvWriter::energy(double t, double h, double contact, double dissipat
 
 void EnergyCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
 
+BridgeForceCsvWriter::BridgeForceCsvWriter(const std::filesystem::path& path) : path_(path) {}
+
+void BridgeForceCsvWriter::begin(const RunLayout&) {
+    open_for_writing(out_, path_);
+    out_ << "t_s,bridge_force_N\n";
+}
+
+void BridgeForceCsvWriter::bridge_force(double t, double force) {
+    line_.clear();
+    append_number(line_, t);
+    line_ += ',';
+    append_number(line_, force);
+    line_ += '\n';
+    out_ << line_;
+}
+
+void BridgeForceCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+
 }  // namespace fretbuzz

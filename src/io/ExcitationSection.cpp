@@ -1,6 +1,6 @@
 // [excitation]: the initial state. Shapes given in space are projected on the modes with
 // the scheme's own discrete transform (q = dx S^T u), so u(x_i, 0) is reproduced exactly;
-// so are velocity fields.
+// so are velocity fields. "sine" and "modal" give the modal amplitudes themselves.
 #include <cmath>
 #include <sstream>
 
@@ -16,13 +16,37 @@ namespace {
 constexpr double kMaxDisplacement = 0.05;  // m
 constexpr double kMaxVelocity = 100.0;     // m/s
 
+// q_j(0) from a file of (mode, q_j) rows: rows in any order, each mode 1..n at most once;
+// modes not listed start at rest.
 std::vector<double> read_modal_column(TomlSection& section, const DataSource& data, std::size_t n) {
     const CsvTable table = read_section_table(section, "file", data, 2);
-    if (table.row_count() < n)
-        throw InputError(section.key_path("file") + " = \"" + section.text("file") + "\" lists " +
-                         std::to_string(table.row_count()) + " modes but the case has " + std::to_string(n));
-    std::vector<double> q(table.column(1));
-    q.resize(n);
+    const std::string where = section.key_path("file") + " = \"" + section.text("file") + "\"";
+    std::vector<double> q(n, 0.0);
+    std::vector<bool> seen(n, false);
+    for (std::size_t r = 0; r < table.row_count(); ++r) {
+        const double mode = table.rows[r][0];
+        const std::string at = where + " data row " + std::to_string(r + 1);
+        if (!(mode == std::floor(mode) && mode >= 1.0 && mode <= static_cast<double>(n)))
+            throw InputError(out_of_range_message(at + " mode", mode,
+                                                  "must be a whole number in [1, " + std::to_string(n) +
+                                                      "] (string.modes = " + std::to_string(n) + ")"));
+        const auto j = static_cast<std::size_t>(mode) - 1;
+        if (seen[j]) throw InputError(at + ": mode " + std::to_string(j + 1) + " is listed twice");
+        seen[j] = true;
+        q[j] = table.rows[r][1];
+        require_finite(at + " q", q[j]);
+    }
+    return q;
+}
+
+// u(x, 0) = amplitude sin(j pi x / L): mode j alone, q_j = amplitude sqrt(L/2).
+std::vector<double> read_sine(TomlSection& s, std::size_t n, double length) {
+    const std::size_t mode = s.count("mode", 1, n);
+    const double amplitude = s.number("amplitude");
+    if (!(std::abs(amplitude) <= kMaxDisplacement))
+        throw InputError(out_of_range_message(s.key_path("amplitude"), amplitude, "must be in [-0.05, 0.05] m"));
+    std::vector<double> q(n, 0.0);
+    q[mode - 1] = amplitude * std::sqrt(0.5 * length);
     return q;
 }
 
@@ -74,6 +98,8 @@ void read_excitation_section(TomlSection& section, const DataSource& data, Case&
     c.initial_velocity.assign(n, 0.0);
     if (type == "modal") {
         c.initial_displacement = read_modal_column(section, data, n);
+    } else if (type == "sine") {
+        c.initial_displacement = read_sine(section, n, length);
     } else if (type == "triangle") {
         const double position = position_inside(section, "position", length);
         const double amplitude = bounded(section, "amplitude", kMaxDisplacement, "m");
@@ -92,7 +118,7 @@ void read_excitation_section(TomlSection& section, const DataSource& data, Case&
         basis.to_modes(raised_cosine_velocity(grid, position, width, velocity), c.initial_velocity);
     } else {
         throw InputError(section.key_path("type") + " = \"" + type +
-                         "\": must be one of \"modal\", \"triangle\", \"rounded-triangle\", \"shape\", \"strike\"");
+                         "\": must be one of \"modal\", \"sine\", \"triangle\", \"rounded-triangle\", \"shape\", \"strike\"");
     }
 }
 

@@ -93,6 +93,19 @@ void write_string(hid_t parent, const std::string& name, const std::string& text
     check_status(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &data), "write dataset " + name);
 }
 
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& texts) {
+    const Handle type = utf8_string_type();
+    const hsize_t dims[] = {texts.size()};
+    const Handle space = simple_space(dims);
+    const Handle dataset(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Dclose, "create dataset " + name);
+    std::vector<const char*> data;
+    for (const std::string& text : texts) data.push_back(text.c_str());
+    if (!data.empty())
+        check_status(H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+                     "write dataset " + name);
+}
+
 void write_attribute(hid_t object, const std::string& name, double value) {
     write_attribute_raw(object, name, H5T_NATIVE_DOUBLE, &value);
 }
@@ -123,7 +136,9 @@ GrowingDataset::GrowingDataset(hid_t parent, const std::string& name, std::size_
         check_status(H5Pset_shuffle(properties.get()), "enable shuffling for " + name);
         check_status(H5Pset_deflate(properties.get(), 4), "enable compression for " + name);
     }
-    const hid_t file_type = storage == Storage::float32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+    const hid_t file_type = storage == Storage::float32 ? H5T_IEEE_F32LE
+                            : storage == Storage::int64 ? H5T_STD_I64LE
+                                                        : H5T_IEEE_F64LE;
     dataset_ = Handle(H5Dcreate2(parent, name.c_str(), file_type, space.get(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
                       H5Dclose, "create dataset " + name);
     buffer_.reserve(chunk_rows_ * row_width_);

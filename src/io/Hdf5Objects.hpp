@@ -39,11 +39,13 @@ Handle create_group(hid_t parent, const std::string& name);
 void write_array(hid_t parent, const std::string& name, std::span<const double> values);
 void write_array(hid_t parent, const std::string& name, std::span<const long long> values);
 void write_string(hid_t parent, const std::string& name, const std::string& text);  // UTF-8, variable length
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& texts);  // 1-D, the same
 void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 
-enum class Storage { float64, float32 };
+// int64: whole numbers held as doubles in memory (exact below 2^53), stored as integers.
+enum class Storage { float64, float32, int64 };
 
 // A dataset of rows of `width` numbers (width 0: a 1-D dataset of scalars) that grows
 // one row at a time. Rows are buffered up to one chunk and written chunk by chunk.
@@ -56,6 +58,7 @@ public:
     void append(double value) { append(std::span<const double>(&value, 1)); }
     void flush();
     std::size_t rows() const { return written_ + pending_rows(); }
+    std::size_t width() const { return row_width_; }
     hid_t id() const { return dataset_.get(); }
 
 private:

@@ -12,10 +12,18 @@
 namespace fretbuzz {
 
 namespace {
-constexpr long long kFormatVersion = 1;
+constexpr long long kFormatVersion = 2;  // 2: the contact map is stored sparsely
 constexpr std::size_t kSignalChunkRows = 4096;
 constexpr std::size_t kMapChunkRows = 64;
+constexpr std::size_t kMapChunkEntries = 4096;
 constexpr std::size_t kSnapshotChunkRows = 16;
+
+// Pads a dense map with zero rows until it has `rows` rows.
+void append_zero_rows(hdf5::GrowingDataset& dense, std::size_t rows) {
+    if (dense.rows() >= rows) return;
+    const std::vector<double> zero(dense.width(), 0.0);
+    while (dense.rows() < rows) dense.append(zero);
+}
 
 long contact_interval_steps(const RunLayout& layout, double max_rate_hz) {
     const double fs = 1.0 / layout.dt;
@@ -28,8 +36,9 @@ struct Hdf5Writer::File {
     hdf5::Handle file, case_group, observation, energy, grid, contact, snapshots;
     hdf5::GrowingDataset time, displacement;
     hdf5::GrowingDataset energy_time, energy_total, energy_contact, energy_dissipated;
-    hdf5::GrowingDataset map_time, map_force;
+    hdf5::GrowingDataset map_row, map_point, map_force, dense_map;
     hdf5::GrowingDataset snapshot_time, snapshot_shape;
+    hdf5::GrowingDataset bridge_force;
     std::optional<ContactMapRows> map;
     double dt = 0.0;
     std::vector<double> observation_points;
@@ -71,6 +80,7 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     f.observation = create_group(root, "observation");
     write_array(f.observation.get(), "points_m", layout.observation_points_m);
     f.displacement = GrowingDataset(f.observation.get(), "displacement", points, kSignalChunkRows);
+    f.bridge_force = GrowingDataset(f.observation.get(), "bridge_force", 0, kSignalChunkRows);
 
     f.energy = create_group(root, "energy");
     f.energy_time = GrowingDataset(f.energy.get(), "time", 0, kSignalChunkRows);
@@ -87,12 +97,28 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     f.contact = create_group(root, "contact");
     const long interval = contact_interval_steps(layout, options_.max_contact_map_rate_hz);
     write_attribute(f.contact.get(), "interval_steps", static_cast<long long>(interval));
-    f.map_time = GrowingDataset(f.contact.get(), "time", 0, kSignalChunkRows);
-    f.map_force = GrowingDataset(f.contact.get(), "max_force", grid_size, kMapChunkRows, Storage::float32, true);
-    f.map.emplace(grid_size, interval, layout.steps, layout.dt, [&f](double t, std::span<const double> row) {
-        f.map_time.append(t);
-        f.map_force.append(row);
-    });
+    // Sparse (coordinate list): one entry per interval and point with a force. The dense
+    // map is zero almost everywhere; deflating its rows cost more than the simulation.
+    f.map_row = GrowingDataset(f.contact.get(), "row", 0, kMapChunkEntries, Storage::int64, true);
+    f.map_point = GrowingDataset(f.contact.get(), "point", 0, kMapChunkEntries, Storage::int64, true);
+    f.map_force = GrowingDataset(f.contact.get(), "max_force", 0, kMapChunkEntries, Storage::float32, true);
+    if (options_.dense_contact_map)
+        f.dense_map = GrowingDataset(f.contact.get(), "max_force_dense", grid_size, kMapChunkRows, Storage::float32, true);
+    f.map.emplace(grid_size, interval, layout.steps, layout.dt,
+                  [&f](long row, std::span<const std::pair<std::size_t, double>> entries) {
+                      for (const auto& [i, force] : entries) {
+                          f.map_row.append(static_cast<double>(row));
+                          f.map_point.append(static_cast<double>(i));
+                          f.map_force.append(force);
+                      }
+                      if (f.dense_map.id() >= 0) {
+                          append_zero_rows(f.dense_map, static_cast<std::size_t>(row));
+                          std::vector<double> dense(f.dense_map.width(), 0.0);
+                          for (const auto& [i, force] : entries) dense[i] = force;
+                          f.dense_map.append(dense);
+                      }
+                  });
+    write_attribute(f.contact.get(), "rows", static_cast<long long>(f.map->total_rows()));
 
     if (options_.snapshot_rate_hz > 0.0) {
         f.snapshots = create_group(root, "snapshots");
@@ -106,6 +132,8 @@ void Hdf5Writer::observation(double t, std::span<const double> u) {
     file_->time.append(t);
     file_->displacement.append(u);
 }
+
+void Hdf5Writer::bridge_force(double, double force) { file_->bridge_force.append(force); }
 
 void Hdf5Writer::energy(double t, double h, double contact, double dissipated) {
     File& f = *file_;
@@ -128,8 +156,10 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     using namespace hdf5;
     File& f = *file_;
     f.map->finish();
+    if (f.dense_map.id() >= 0) append_zero_rows(f.dense_map, static_cast<std::size_t>(f.map->total_rows()));
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
-                              &f.energy_dissipated, &f.map_time, &f.map_force, &f.snapshot_time, &f.snapshot_shape})
+                              &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
+                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force})
         if (d->id() >= 0) d->flush();
     const hid_t contact = f.contact.get();
     write_array(contact, "first_s", f.map->first_contact_s());

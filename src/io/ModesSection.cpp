@@ -3,11 +3,14 @@
 // the frequency and damping models of [modes.frequency] and [modes.damping] for the rest.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "CaseSections.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/model/DampingModel.hpp"
 #include "fretbuzz/model/ModeTableAssembly.hpp"
+#include "fretbuzz/model/WavenumberDamping.hpp"
 
 namespace fretbuzz {
 
@@ -83,16 +86,42 @@ double inharmonicity(TomlSection& s, const StringDescription& string, const Taut
                      " = \"inharmonic\" needs string.B, string.E_core_I_core or string.E_core with string.d_core");
 }
 
+StiffnessFormula read_formula(TomlSection& s) {
+    const std::string formula = s.optional_text("formula").value_or("exact");
+    if (formula == "exact") return StiffnessFormula::exact;
+    if (formula == "first-order") return StiffnessFormula::first_order;
+    throw InputError(s.key_path("formula") + " = \"" + formula +
+                     "\": must be \"exact\" (nu_0j sqrt(1 + B j^2), the default) or \"first-order\" "
+                     "(nu_0j (1 + B j^2 / 2), the paper's formula, for B j^2 <= 0.1)");
+}
+
+// The first-order formula beyond its range is allowed (the paper's cases use it) but said.
+void warn_first_order_range(const TomlSection& s, const FrequencyModel& model, std::size_t mode_count, Case& c) {
+    const double b = model.inharmonicity();
+    const double top = b * static_cast<double>(mode_count) * static_cast<double>(mode_count);
+    if (model.formula() != StiffnessFormula::first_order || top <= FrequencyModel::kFirstOrderLimit) return;
+    const auto from = static_cast<std::size_t>(std::ceil(std::sqrt(FrequencyModel::kFirstOrderLimit / b)));
+    std::ostringstream msg;
+    msg.precision(4);
+    msg << s.key_path("formula") << " = \"first-order\" is used beyond its range: B j^2 > "
+        << FrequencyModel::kFirstOrderLimit << " from mode " << from << " on, and B j^2 = " << top << " at mode "
+        << mode_count << ", where nu_j is " << (1.0 + top / 2.0) / std::sqrt(1.0 + top)
+        << " times the exact stiff-string value (use formula = \"exact\")";
+    c.warnings.push_back(msg.str());
+}
+
 FrequencyModel read_frequency_model(TomlSection s, const StringDescription& string, const TautString& taut,
-                                    const NutMobility& nut) {
+                                    const NutMobility& nut, Case& c) {
     const std::string model = s.text("model");
     std::optional<FrequencyModel> result;
-    if (model == "harmonic")
+    if (model == "harmonic") {
         result.emplace(taut, 0.0);  // an ideal string: no stiffness, rigid ends
-    else if (model == "inharmonic")
-        result.emplace(taut, inharmonicity(s, string, taut), nut);
-    else
+    } else if (model == "inharmonic") {
+        result.emplace(taut, inharmonicity(s, string, taut), nut, read_formula(s));
+        warn_first_order_range(s, *result, string.mode_count, c);
+    } else {
         throw InputError(s.key_path("model") + " = \"" + model + "\": must be one of \"inharmonic\", \"harmonic\"");
+    }
     s.finish();
     return *result;
 }
@@ -105,15 +134,25 @@ double core_stiffness(TomlSection& s, const StringDescription& string, const Tau
                      " > 0 needs string.E_core_I_core, string.E_core with string.d_core, or string.B");
 }
 
-std::optional<DampingModel> read_damping_model(TomlSection s, const StringDescription& string,
-                                               const TautString& taut, const NutMobility& nut) {
+// sigma_j = eta0 + eta2 (j pi / L)^2.
+std::unique_ptr<ModalDamping> read_damping_law(TomlSection& s, const TautString& taut) {
+    const double eta0 = s.non_negative("eta0");
+    const double eta2 = s.non_negative("eta2");
+    s.finish();
+    return std::make_unique<WavenumberDamping>(taut.length_m, eta0, eta2);
+}
+
+std::unique_ptr<ModalDamping> read_damping_model(TomlSection s, const StringDescription& string,
+                                                 const TautString& taut, const NutMobility& nut) {
     const std::string model = s.text("model");
     if (model == "none") {
         s.finish();
-        return std::nullopt;
+        return nullptr;
     }
+    if (model == "law") return read_damping_law(s, taut);
     if (model != "physical")
-        throw InputError(s.key_path("model") + " = \"" + model + "\": must be one of \"physical\", \"none\"");
+        throw InputError(s.key_path("model") + " = \"" + model +
+                         "\": must be one of \"physical\", \"law\" (sigma_j = eta0 + eta2 (j pi / L)^2), \"none\"");
     DampingParameters p;
     p.air_viscosity = s.optional_positive("eta_air").value_or(p.air_viscosity);
     p.air_density = s.optional_positive("rho_air").value_or(p.air_density);
@@ -131,7 +170,7 @@ std::optional<DampingModel> read_damping_model(TomlSection s, const StringDescri
     if (p.thermoelastic_inverse_q > 1.0)
         throw InputError(out_of_range_message(s.key_path("Q_te_inv"), p.thermoelastic_inverse_q, "must be in [0, 1]"));
     s.finish();
-    return DampingModel(taut, p, nut);
+    return std::make_unique<DampingModel>(taut, p, nut);
 }
 
 bool every_mode_measured(const std::vector<MeasuredMode>& measured, std::size_t mode_count) {
@@ -143,8 +182,14 @@ bool every_mode_measured(const std::vector<MeasuredMode>& measured, std::size_t 
 
 }  // namespace
 
-void read_modes_section(TomlSection& section, const DataSource& data, const StringDescription& string, Case& c) {
+void read_modes_section(TomlSection& section, const DataSource& data, const StringDescription& string,
+                        bool lossless, Case& c) {
     const std::size_t mode_count = string.mode_count;
+    if (string.ideal)
+        for (std::string_view key : {"table", "frequency", "nut_mobility"})
+            if (section.has(key))
+                throw InputError(section.key_path(key) + " cannot be combined with string.ideal = true, which fixes "
+                                 "every frequency at nu_j = j c / (2L) (remove one of them)");
     if (section.has("table")) {
         read_full_table(section, data, mode_count, c);
         return;
@@ -157,8 +202,9 @@ void read_modes_section(TomlSection& section, const DataSource& data, const Stri
     const TautString taut{c.string.length_m, c.string.tension_n, c.string.linear_density};
 
     std::optional<FrequencyModel> frequency;
-    if (auto s = section.optional_section("frequency")) frequency = read_frequency_model(*s, string, taut, nut);
-    std::optional<DampingModel> damping;
+    if (string.ideal) frequency.emplace(taut, 0.0);
+    if (auto s = section.optional_section("frequency")) frequency = read_frequency_model(*s, string, taut, nut, c);
+    std::unique_ptr<ModalDamping> damping;
     const bool has_damping = section.has("damping");
     if (auto s = section.optional_section("damping")) damping = read_damping_model(*s, string, taut, nut);
 
@@ -167,11 +213,13 @@ void read_modes_section(TomlSection& section, const DataSource& data, const Stri
                                 " modes is in " + section.key_path("measured") + "; or give " +
                                 section.key_path("table") + ")";
         if (!frequency) throw InputError(section.key_path("frequency") + " is missing" + why);
-        if (!has_damping) throw InputError(section.key_path("damping") + " is missing" + why);
+        if (!has_damping && !lossless)
+            throw InputError(section.key_path("damping") + " is missing" + why +
+                             ": give model = \"physical\", \"law\" (eta0, eta2) or \"none\" (a lossless "
+                             "string), or set run.lossless = true");
     }
     try {
-        c.modes = assemble_mode_table(mode_count, measured, frequency ? &*frequency : nullptr,
-                                      damping ? &*damping : nullptr);
+        c.modes = assemble_mode_table(mode_count, measured, frequency ? &*frequency : nullptr, damping.get());
     } catch (const InputError& e) {
         throw InputError(section.path() + ": " + e.what());
     }

@@ -1,5 +1,7 @@
 // [obstacle]: the obstacle profile g(x) sampled on the interior grid. A case may list
-// several ([[obstacle]]); the caller combines them by their maximum.
+// several ([[obstacle]]); the caller combines them by their maximum (their minimum when
+// they lie above the string, side = "above"; heights are then where the string's top
+// meets them, and contact is where u > g).
 #include <cmath>
 
 #include "CaseSections.hpp"
@@ -87,6 +89,16 @@ std::vector<double> read_bridge(TomlSection& s, const Grid& grid) {
 }
 
 }  // namespace
+
+std::string to_string(ObstacleSide side) { return side == ObstacleSide::above ? "above" : "below"; }
+
+ObstacleSide read_obstacle_side(TomlSection& section) {
+    const std::string side = section.optional_text("side").value_or("below");
+    if (side == "below") return ObstacleSide::below;
+    if (side == "above") return ObstacleSide::above;
+    throw InputError(section.key_path("side") + " = \"" + side + "\": must be \"below\" (the default: contact where "
+                     "u < g) or \"above\" (contact where u > g)");
+}
 
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c) {
     const std::string type = section.text("type");

@@ -27,9 +27,12 @@ struct RunOutputs::Writers {
         : out(dir),
           observation(out.staged("observation.csv")),
           energy(out.staged("energy.csv")),
+          bridge_force(out.staged("bridge_force.csv")),
           audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz),
           results(out.staged("results.h5"),
-                  {.snapshot_rate_hz = o.snapshot_rate_hz, .snapshot_until_s = o.snapshot_until_s}),
+                  {.snapshot_rate_hz = o.snapshot_rate_hz,
+                   .snapshot_until_s = o.snapshot_until_s,
+                   .dense_contact_map = o.dense_contact_map}),
           summary(out.staged("summary.json")) {
         if (o.velocity_audio)
             velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz,
@@ -38,6 +41,7 @@ struct RunOutputs::Writers {
     OutputDirectory out;
     ObservationCsvWriter observation;
     EnergyCsvWriter energy;
+    BridgeForceCsvWriter bridge_force;
     AudioWriter audio;
     Hdf5Writer results;
     SummaryWriter summary;
@@ -47,7 +51,7 @@ struct RunOutputs::Writers {
 RunOutputs::RunOutputs(const std::filesystem::path& dir, const Case& c, const RunOutputOptions& options)
     : writers_(std::make_unique<Writers>(dir, c, options)) {
     Writers& w = *writers_;
-    observers_ = {&w.observation, &w.energy, &w.audio, &w.results, &w.summary};
+    observers_ = {&w.observation, &w.energy, &w.audio, &w.results, &w.summary, &w.bridge_force};
     if (w.velocity_audio) observers_.push_back(&*w.velocity_audio);
 }
 

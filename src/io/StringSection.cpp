@@ -1,5 +1,6 @@
 // [string]: the physical string. L, T, mu and the mode count are required; the diameters
-// and stiffness are only needed by the frequency and damping models.
+// and stiffness are only needed by the frequency and damping models. ideal = true: a
+// string without stiffness on rigid supports, nu_j = j c / (2L), no frequency model needed.
 #include <numbers>
 
 #include "CaseSections.hpp"
@@ -40,6 +41,11 @@ StringDescription read_string_section(TomlSection& s, Case& c) {
                                               "must not exceed string.d = " + std::to_string(*d.diameter_m)));
     d.core_bending_stiffness = core_bending_stiffness(s, d.core_diameter_m);
     d.inharmonicity = s.optional_non_negative("B");
+    d.ideal = s.optional_flag("ideal").value_or(false);
+    if (d.ideal && (d.inharmonicity || d.core_bending_stiffness))
+        throw InputError(s.key_path("ideal") + " = true means no bending stiffness: remove " +
+                         s.key_path(d.inharmonicity ? "B" : (s.has("E_core") ? "E_core" : "E_core_I_core")) +
+                         " (or set ideal = false)");
     if (d.inharmonicity && *d.inharmonicity > 0.1)
         throw InputError(out_of_range_message(s.key_path("B"), *d.inharmonicity,
                                               "must be in [0, 0.1] (musical strings have B of 1e-5 to 1e-3)"));

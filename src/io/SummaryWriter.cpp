@@ -31,6 +31,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"mean_points_solved_per_step", s.mean_points_solved},
         {"free_flight_fraction", s.free_flight_fraction},
         {"observation_points_m", observation_points_m},
+        {"warnings", s.warnings},
     };
     return json.dump(2);
 }

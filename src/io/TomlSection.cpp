@@ -2,10 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {
+
+toml::table parse_toml_document(std::string_view text, const std::string& source) {
+    try {
+        return toml::parse(text, source);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream msg;
+        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+        throw InputError(msg.str());
+    }
+}
 
 TomlSection::TomlSection(const toml::table& table, std::string path) : table_(&table), path_(std::move(path)) {}
 

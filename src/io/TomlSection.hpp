@@ -14,6 +14,9 @@
 
 namespace fretbuzz {
 
+// Parses TOML text; a syntax error becomes an InputError "source:line:column: what".
+toml::table parse_toml_document(std::string_view text, const std::string& source);
+
 class TomlSection {
 public:
     TomlSection(const toml::table& table, std::string path);

@@ -7,7 +7,7 @@
 namespace fretbuzz {
 
 ModeTable assemble_mode_table(std::size_t mode_count, const std::vector<MeasuredMode>& measured,
-                              const FrequencyModel* frequency, const DampingModel* damping) {
+                              const FrequencyModel* frequency, const ModalDamping* damping) {
     std::vector<std::optional<MeasuredMode>> by_mode(mode_count);
     for (const MeasuredMode& m : measured)
         if (m.mode >= 1 && m.mode <= mode_count) by_mode[m.mode - 1] = m;

@@ -145,6 +145,8 @@ ConvergenceReport run_convergence(const ConvergenceStudy& study) {
         base.observation_points_m.empty() ? 0.0 : base.observation_points_m.front());
     base.observation_points_m = {report.observation_point_m};
     base.run.duration_s = report.duration_s;
+    // A study of fs measures the error that coarse rates make, aliasing included: no level is refused.
+    base.run.allow_aliasing = true;
     report.fixed_sample_rate_hz = base.run.sample_rate_hz;
 
     std::vector<double> rates{base.run.sample_rate_hz};

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbuzz/scheme/BridgeForce.hpp"
+
 namespace fretbuzz {
 
 namespace {
@@ -21,6 +23,13 @@ RunLayout layout_of(const Case& c) {
     layout.observation_points_m = c.observation_points_m;
     return layout;
 }
+
+// The state in the coordinate the contact solve uses (mirrored when the obstacle is above).
+std::vector<double> oriented(const std::vector<double>& v, double orientation) {
+    std::vector<double> out(v);
+    for (double& x : out) x *= orientation;
+    return out;
+}
 }  // namespace
 
 RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options)
@@ -31,8 +40,12 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
       last_progress_(start_),
       plan_(c, 1.0 / c.run.sample_rate_hz, options.plan),
       layout_(layout_of(c)),
-      stepper_(plan_, c.initial_displacement, c.initial_velocity) {
-    for (double x : c.observation_points_m) shapes_.push_back(plan_.basis().mode_shapes_at(x));
+      stepper_(plan_, oriented(c.initial_displacement, c.contact_orientation()),
+               oriented(c.initial_velocity, c.contact_orientation())),
+      orientation_(c.contact_orientation()) {
+    // Signals are linear in q: mirroring their coefficients mirrors them back.
+    for (double x : c.observation_points_m) shapes_.push_back(oriented(plan_.basis().mode_shapes_at(x), orientation_));
+    bridge_ = oriented(bridge_force_coefficients(c), orientation_);
     u_.resize(shapes_.size());
     step_u_.resize(shapes_.size());
     grid_x_.resize(c.mode_count());
@@ -47,6 +60,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.output_rate_hz = layout_.output_rate_hz;
     summary_.lossless = plan_.propagator().lossless();
     summary_.screened = options.plan.screen_contacts;
+    summary_.warnings = c.warnings;
+    summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
 
 RunSummary RunLoop::run() {
@@ -102,7 +117,10 @@ void RunLoop::plan_free_flight() {
 long RunLoop::fly() {
     const long stride = layout_.output_stride;
     if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
-    return stepper_.free_flight(*flight_, head_, shapes_, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
+    // Per-step probe signals only for the observers that read them.
+    const std::span<const std::vector<double>> probes =
+        per_step_.empty() ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes_);
+    return stepper_.free_flight(*flight_, head_, probes, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
 }
 
 bool RunLoop::snapshot_due_within(long steps) const {
@@ -117,7 +135,13 @@ void RunLoop::after_step() {
     if (!stepper_.forces().empty()) {
         if (summary_.first_contact_s < 0.0) summary_.first_contact_s = stepper_.time();
         summary_.last_contact_s = stepper_.time();
-        for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
+        if (orientation_ > 0.0) {
+            for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
+        } else {
+            mirrored_forces_.assign(stepper_.forces().begin(), stepper_.forces().end());
+            for (auto& force : mirrored_forces_) force.second = -force.second;
+            for (RunObserver* o : observers_) o->contacts(stepper_.time(), mirrored_forces_);
+        }
     }
     if (!per_step_.empty()) report_step();
     if (!snapshot_taps_.empty()) report_snapshots();
@@ -128,6 +152,8 @@ void RunLoop::after_step() {
 void RunLoop::report_observation() {
     for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
+    const double force = stepper_.displacement(bridge_);
+    for (RunObserver* o : observers_) o->bridge_force(stepper_.time(), force);
 }
 
 void RunLoop::report_step() {
@@ -156,7 +182,10 @@ void RunLoop::report_snapshots() {
     bool shaped = false;
     for (const SnapshotTap& tap : snapshot_taps_) {
         if (n_ % tap.stride != 0 || n_ > tap.last_step) continue;
-        if (!shaped) plan_.basis().to_grid(stepper_.modal_displacement(), grid_u_);
+        if (!shaped) {
+            plan_.basis().to_grid(stepper_.modal_displacement(), grid_u_);
+            for (double& u : grid_u_) u *= orientation_;
+        }
         shaped = true;
         tap.observer->snapshot(stepper_.time(), grid_x_, grid_u_);
     }

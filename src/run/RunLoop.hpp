@@ -48,8 +48,11 @@ private:
     RunLayout layout_;
     Stepper stepper_;
     long n_ = 0;
+    double orientation_;  // -1: the obstacle is above and the stepper runs the mirror image
 
     std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
+    std::vector<double> bridge_;               // bridge force per unit q_j (see BridgeForce)
+    std::vector<std::pair<std::size_t, double>> mirrored_forces_;
     std::vector<RunObserver*> per_step_;
     bool velocity_wanted_ = false;
     std::vector<SnapshotTap> snapshot_taps_;

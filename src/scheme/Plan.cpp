@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
 
@@ -16,6 +17,12 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       obstacle_(c.obstacle_height_m),
       options_(options) {
     require_positive("time step dt (s)", dt);
+    // Without an obstacle the modal update is exact at any dt: nothing can alias.
+    if (c.has_obstacle()) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
+    // An obstacle above is solved as its mirror image below (u -> -u).
+    if (c.obstacle_above)
+        for (double& g : obstacle_)
+            if (std::isfinite(g)) g = -g;
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
     transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold

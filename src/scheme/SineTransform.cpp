@@ -8,16 +8,13 @@
 
 namespace fretbuzz {
 
-namespace {
-// FFTW's planner is not thread-safe; execution of distinct plans is.
-std::mutex& planner_mutex() {
+std::mutex& fftw_planner_mutex() {
     static std::mutex mutex;
     return mutex;
 }
-}  // namespace
 
 SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
-    std::lock_guard lock(planner_mutex());
+    std::lock_guard lock(fftw_planner_mutex());
     buffer_ = fftw_alloc_real(n);
     if (buffer_ == nullptr) throw std::bad_alloc();
     std::fill(buffer_, buffer_ + n, 0.0);
@@ -30,7 +27,7 @@ SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
 }
 
 SineTransform::~SineTransform() {
-    std::lock_guard lock(planner_mutex());
+    std::lock_guard lock(fftw_planner_mutex());
     fftw_destroy_plan(static_cast<fftw_plan>(plan_));
     fftw_free(buffer_);
 }

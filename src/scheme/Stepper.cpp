@@ -32,10 +32,16 @@ double Stepper::velocity(std::span<const double> mode_shapes) const {
     return kernels::dot(mode_shapes.data(), d_.data(), d_.size()) / plan_.dt();
 }
 
-double Stepper::energy() const {
-    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
-    return scale * plan_.propagator().scaled_modal_energy(q_, d_) + contact_energy();
+double Stepper::modal_energy() const {
+    if (energy_step_ != n_) {  // the state changes only with n: one evaluation per step at most
+        const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
+        modal_energy_ = scale * plan_.propagator().scaled_modal_energy(q_, d_);
+        energy_step_ = n_;
+    }
+    return modal_energy_;
 }
+
+double Stepper::energy() const { return modal_energy() + contact_energy(); }
 
 double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
 
@@ -64,8 +70,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const long steps = flight.steps();
     if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
     const ModalPropagator& prop = plan_.propagator();
-    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
-    const double energy_before = scale * prop.scaled_modal_energy(q_, d_);
+    const double energy_before = modal_energy();
     const std::size_t width = probes.size();
     scheduler_.set_head_modes(head);
     const double tail = scheduler_.tail_bound();
@@ -98,9 +103,9 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         FreeFlight(prop, flown, head).jump(q_, d_, head);
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
-    dissipated_ += energy_before - scale * prop.scaled_modal_energy(q_, d_);
     forces_.clear();
     n_ += flown;
+    dissipated_ += energy_before - modal_energy();
     stats_.free_flight_steps += flown;
     if (n_ >= next_speed_refresh_) {
         scheduler_.update_speed(q_, d_);

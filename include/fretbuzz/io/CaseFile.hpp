@@ -33,6 +33,16 @@ bool is_builtin_case(std::string_view name);
 std::string builtin_case_text(std::string_view name);
 
 Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data);
+
+// A case file's text with where it came from: what parse_case needs. Sweeps edit the
+// text's TOML document and parse it again, so every value is checked as in a case file.
+struct CaseText {
+    std::string text;
+    std::string source_name;
+    DataSource data;
+};
+// A built-in case name, or a path to a .toml file (InputError if neither).
+CaseText read_case_text(const std::string& name_or_path);
 // A built-in case name, or a path to a .toml file.
 Case load_case(const std::string& name_or_path);
 

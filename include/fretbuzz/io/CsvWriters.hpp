@@ -1,6 +1,6 @@
 #pragma once
 // Streaming CSV writers: observation.csv (t_s, one column per observation point) and
-// energy.csv (t_s, energy_J, contact_energy_J, dissipated_J). Rows go straight to disk;
+// energy.csv (t_s, energy_J, contact_energy_J, dissipated_J), bridge_force.csv. Rows go straight to disk;
 // numbers are written in shortest round-trip form, so nothing is lost.
 #include <filesystem>
 #include <fstream>
@@ -29,6 +29,20 @@ public:
     explicit EnergyCsvWriter(const std::filesystem::path& path);
     void begin(const RunLayout& layout) override;
     void energy(double t, double h, double contact, double dissipated) override;
+    void finish(const RunSummary&) override;
+
+private:
+    std::filesystem::path path_;
+    std::ofstream out_;
+    std::string line_;
+};
+
+// bridge_force.csv (t_s, bridge_force_N): the force of the string on its bridge end.
+class BridgeForceCsvWriter : public RunObserver {
+public:
+    explicit BridgeForceCsvWriter(const std::filesystem::path& path);
+    void begin(const RunLayout& layout) override;
+    void bridge_force(double t, double force) override;
     void finish(const RunSummary&) override;
 
 private:

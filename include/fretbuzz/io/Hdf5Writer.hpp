@@ -8,12 +8,14 @@
 //   /time                   output times t_k (s), from 0
 //   /observation/points_m   observation points x (m)
 //   /observation/displacement   u(x_p, t_k), rows = /time, columns = points (m)
+//   /observation/bridge_force   force of the string on the bridge end x = L at t_k (N, along +u)
 //   /energy/{time,total,contact,dissipated}   H^{n-1/2}, its contact part and the
 //                           cumulative dissipated energy (J), at t = (n - 1/2) dt
 //   /grid/x_m, /grid/obstacle_height_m        interior grid points and g(x_i) (-inf: none)
-//   /contact/time           end of each contact-map interval (s)
-//   /contact/max_force      largest contact force per unit length (N/m) over each interval,
-//                           rows = /contact/time, columns = grid points (float32, compressed)
+//   /contact/{row,point,max_force}   the contact map, sparse: one entry per interval
+//                           (row r ends at step min((r+1) interval_steps, steps)) and grid
+//                           point with a force, its largest force per unit length (N/m,
+//                           float32); zero elsewhere. Attributes interval_steps, rows.
 //   /contact/{first_s,last_s,steps,peak_force}   per grid point (NaN: never touched)
 //   /snapshots/{time,displacement}   string shapes on the grid, if requested
 //   /summary                the run summary as JSON text (same as summary.json)
@@ -32,6 +34,8 @@ struct Hdf5WriterOptions {
     // Contact-map rows follow the output rate, but never more often than this: at the
     // native output rate a dense map of every step would dwarf the rest of the file.
     double max_contact_map_rate_hz = 50000.0;
+    // Also store the dense map (/contact/max_force_dense, rows x points): for checking readers.
+    bool dense_contact_map = false;
 };
 
 class Hdf5Writer : public RunObserver {
@@ -43,6 +47,7 @@ public:
 
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
+    void bridge_force(double t, double force) override;
     void energy(double t, double h, double contact, double dissipated) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     double snapshot_rate_hz() const override { return options_.snapshot_rate_hz; }

@@ -1,6 +1,6 @@
 #pragma once
-// The files of a run in one output directory: observation.csv, energy.csv, the WAV files,
-// results.h5 and summary.json. The command line and the Python module both write through
+// The files of a run in one output directory: observation.csv, energy.csv,
+// bridge_force.csv, the WAV files, results.h5 and summary.json. The command line and the Python module both write through
 // this set, so they produce the same files. All-or-nothing: the files appear only on
 // commit(); a run that throws (bad input, a failure, an interruption) leaves none.
 #include <filesystem>
@@ -17,6 +17,7 @@ struct RunOutputOptions {
     bool velocity_audio = false;  // also velocity.wav (what a magnetic pickup senses)
     double snapshot_rate_hz = 0.0;  // string shapes in results.h5; 0: none
     double snapshot_until_s = std::numeric_limits<double>::infinity();
+    bool dense_contact_map = false;  // also the dense contact map in results.h5 (to check readers)
 };
 
 class RunOutputs {

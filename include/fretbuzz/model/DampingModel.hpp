@@ -10,6 +10,7 @@
 // printed formula repeats it by a typesetting slip).
 #include <cstddef>
 
+#include "fretbuzz/model/ModalDamping.hpp"
 #include "fretbuzz/model/NutMobility.hpp"
 #include "fretbuzz/model/TautString.hpp"
 
@@ -24,7 +25,7 @@ struct DampingParameters {
     double thermoelastic_inverse_q = 0.0;   // 1/Q_te
 };
 
-class DampingModel {
+class DampingModel : public ModalDamping {
 public:
     DampingModel(TautString string, DampingParameters parameters, NutMobility nut = {});
 
@@ -35,7 +36,7 @@ public:
     double nut_inverse_q(double frequency_hz) const;
     double inverse_q(std::size_t j, double frequency_hz) const;
     // sigma_j = pi nu_j / Q_j, 1/s.
-    double sigma_per_s(std::size_t j, double frequency_hz) const;
+    double sigma_per_s(std::size_t j, double frequency_hz) const override;
 
 private:
     TautString string_;

@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "fretbuzz/model/DampingModel.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
+#include "fretbuzz/model/ModalDamping.hpp"
 #include "fretbuzz/model/ModeTable.hpp"
 
 namespace fretbuzz {
@@ -23,6 +23,6 @@ struct MeasuredMode {
 // Measured modes above mode_count are ignored. Throws InputError if a mode is left
 // without a frequency.
 ModeTable assemble_mode_table(std::size_t mode_count, const std::vector<MeasuredMode>& measured,
-                              const FrequencyModel* frequency, const DampingModel* damping);
+                              const FrequencyModel* frequency, const ModalDamping* damping);
 
 }  // namespace fretbuzz

@@ -44,6 +44,8 @@ struct RunSummary {
     double last_contact_s = -1.0;
     bool lossless = false;
     bool screened = true;
+    // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
+    std::vector<std::string> warnings;
 };
 
 class RunObserver {
@@ -52,6 +54,9 @@ public:
     virtual void begin(const RunLayout&) {}
     // u at each observation point at t (output rate, from t = 0).
     virtual void observation(double, std::span<const double>) {}
+    // Force of the string on its bridge end (x = L) at t, N, positive in the direction of +u:
+    // what a bridge pickup senses (same times as observation()).
+    virtual void bridge_force(double, double) {}
     // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
     virtual void energy(double, double, double, double) {}
     // Observers that return true receive u at every observation point at every time step

@@ -1,9 +1,12 @@
 #pragma once
 // Everything that stays fixed during a run, computed and checked once (the FFTW idea
 // of planning before executing): the modal basis and its transform, the exact per-mode
-// propagator, the obstacle on the grid, the contact law and the step size.
+// propagator, the obstacle on the grid, the contact law and the step size. The obstacle
+// is held as the contact solve sees it: below the string (an obstacle above is mirrored).
+// Planning refuses a sampling rate at which modes alias onto low frequencies under contact.
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
@@ -40,6 +43,8 @@ public:
     static std::size_t default_transform_threshold(std::size_t modes);
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
+    // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
+    const std::vector<std::string>& warnings() const { return warnings_; }
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
 
@@ -53,6 +58,7 @@ private:
     std::vector<std::size_t> obstacle_points_;
     PlanOptions options_;
     std::size_t transform_threshold_;
+    std::vector<std::string> warnings_;
 };
 
 }  // namespace fretbuzz

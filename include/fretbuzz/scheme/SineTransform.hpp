@@ -3,9 +3,14 @@
 // shape on the grid and back (u = S q, q = dx S^T u). Like FFTW itself, the
 // costly planning happens once in the constructor; apply() is the cheap part.
 #include <cstddef>
+#include <mutex>
 #include <span>
 
 namespace fretbuzz {
+
+// FFTW's planner is not thread-safe (execution of distinct plans is): every plan made or
+// destroyed anywhere in fretbuzz holds this lock.
+std::mutex& fftw_planner_mutex();
 
 class SineTransform {
 public:

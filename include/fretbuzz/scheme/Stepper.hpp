@@ -60,6 +60,7 @@ public:
     const StepStatistics& statistics() const { return stats_; }
 
 private:
+    double modal_energy() const;  // H^{n-1/2} without the contact part, cached per step
     void first_step();
     void wake_due_points();
     void activate(std::size_t i, double u_now, double u_before);
@@ -85,6 +86,8 @@ private:
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
     long next_speed_refresh_ = 0;
+    mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
+    mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
 };
 

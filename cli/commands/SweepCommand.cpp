@@ -1,0 +1,94 @@
+// `fretbuzz sweep SPEC.toml`: run a case over lists or grids of case-file values, on the
+// threads of this machine or (--scheduler) on a Dask cluster through the Python driver,
+// into one table of parameters and buzz metrics.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <unistd.h>
+
+#include "../Commands.hpp"
+#include "../PythonScript.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/run/Sweep.hpp"
+
+namespace fretbuzz::cli {
+
+namespace {
+
+struct SweepArguments {
+    std::string spec;
+    std::string out;
+    unsigned jobs = 0;
+    bool resume = false;
+    std::string scheduler;
+    bool quiet = false;
+};
+
+std::string clock_text(double seconds) {
+    char text[32];
+    const long s = static_cast<long>(seconds + 0.5);
+    std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+    return text;
+}
+
+// The Dask driver lives in Python (fretbuzz_sweep.py); the build's module and the source
+// tree's python/ folder are searched before the installed package.
+int dask_sweep(const SweepArguments& a) {
+    const std::string script =
+        "import sys\n"
+        "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
+        "import fretbuzz_sweep\n"
+        "sys.exit(fretbuzz_sweep.main(sys.argv[1:]))\n";
+    std::string paths = FRETBUZZ_PYTHON_DIRS;
+    if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
+    std::vector<std::string> args{paths, a.spec, "--out", a.out, "--scheduler", a.scheduler};
+    if (a.resume) args.push_back("--resume");
+    if (a.quiet) args.push_back("--quiet");
+    return run_python_script(script, args);
+}
+
+int sweep_command(const SweepArguments& a) {
+    if (!a.scheduler.empty()) {
+        if (a.jobs != 0) throw InputError("--jobs: with --scheduler the cluster's workers set the parallelism");
+        return dask_sweep(a);
+    }
+    const SweepSpec spec = load_sweep(a.spec);
+    SweepOptions options;
+    options.jobs = a.jobs;
+    options.resume = a.resume;
+    const bool terminal = ::isatty(STDERR_FILENO) != 0;
+    if (!a.quiet)
+        options.progress = [terminal](const SweepProgress& p) {
+            std::cerr << (terminal ? "\r" : "") << "fretbuzz: sweep " << p.done << "/" << p.total << " runs";
+            if (p.failed) std::cerr << ", " << p.failed << " failed";
+            std::cerr << ", elapsed " << clock_text(p.elapsed_s) << ", ETA " << clock_text(p.remaining_s)
+                      << (terminal ? "   " : "\n") << std::flush;
+        };
+    const SweepOutcome outcome = run_sweep(spec, a.out, options);
+    if (!a.quiet && outcome.computed > 0 && terminal) std::cerr << "\n";
+    std::cerr << "fretbuzz: " << outcome.total << " runs (" << outcome.computed << " computed";
+    if (outcome.resumed) std::cerr << ", " << outcome.resumed << " from before";
+    std::cerr << ", " << outcome.failed << " failed) on " << outcome.jobs << " threads in " << outcome.wall_seconds
+              << " s; table in " << a.out << "/results.csv and results.h5\n";
+    return 0;
+}
+
+}  // namespace
+
+void add_sweep_command(CLI::App& app, Action& action) {
+    auto args = std::make_shared<SweepArguments>();
+    CLI::App* cmd = app.add_subcommand(
+        "sweep", "Run a case over lists or grids of case-file values; one table of parameters and buzz metrics");
+    cmd->add_option("spec", args->spec, "Sweep spec (.toml): [sweep] case = ..., [[parameter]] key = ..., values = [...]")
+        ->required();
+    cmd->add_option("--out", args->out, "Output directory (rows in runs/, the table in results.csv and results.h5)")
+        ->required();
+    cmd->add_option("--jobs", args->jobs, "Runs at a time on this machine (default: the hardware's threads)");
+    cmd->add_flag("--resume", args->resume, "Finish an interrupted sweep in --out: run only the missing rows");
+    cmd->add_option("--scheduler", args->scheduler, "Run on a Dask cluster: the scheduler's address, tcp://HOST:PORT");
+    cmd->add_flag("--quiet", args->quiet, "No progress lines");
+    cmd->callback([args, &action] { action = [args] { return sweep_command(*args); }; });
+}
+
+}  // namespace fretbuzz::cli

@@ -1,0 +1,131 @@
+#include "fretbuzz/run/BuzzMetrics.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "fretbuzz/scheme/SineTransform.hpp"
+
+namespace fretbuzz {
+
+std::vector<std::size_t> obstacle_features(std::span<const double> g) {
+    const std::size_t n = g.size();
+    std::vector<std::size_t> centre;  // grid index of each feature's plateau centre
+    for (std::size_t i = 1; i + 1 < n;) {
+        std::size_t j = i;
+        while (j + 1 < n && g[j + 1] == g[i]) ++j;  // the plateau [i, j]
+        if (std::isfinite(g[i]) && j + 1 < n && g[i - 1] < g[i] && g[j + 1] < g[i]) centre.push_back((i + j) / 2);
+        i = j + 1;
+    }
+    std::vector<std::size_t> feature(n, 0);
+    if (centre.empty()) return feature;
+    const auto distance = [](std::size_t a, std::size_t b) { return a > b ? a - b : b - a; };
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        while (k + 1 < centre.size() && distance(centre[k + 1], i) < distance(centre[k], i)) ++k;
+        feature[i] = k + 1;
+    }
+    return feature;
+}
+
+double high_frequency_energy(std::span<const double> signal, double rate_hz, double band_hz) {
+    const std::size_t n = signal.size();
+    if (n < 2 || !(band_hz < 0.5 * rate_hz)) return std::numeric_limits<double>::quiet_NaN();
+    double* in = fftw_alloc_real(n);
+    fftw_complex* out = fftw_alloc_complex(n / 2 + 1);
+    fftw_plan plan = nullptr;
+    {
+        std::lock_guard lock(fftw_planner_mutex());
+        plan = fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE);
+    }
+    // Hann window: the fundamental's leakage falls as 1/f^3 and stays far below the buzz.
+    for (std::size_t i = 0; i < n; ++i)
+        in[i] = signal[i] * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n)));
+    fftw_execute(plan);
+    double energy = 0.0;
+    const double bin_hz = rate_hz / static_cast<double>(n);
+    for (std::size_t k = 0; k <= n / 2; ++k) {
+        if (static_cast<double>(k) * bin_hz < band_hz) continue;
+        const double weight = (k == 0 || 2 * k == n) ? 1.0 : 2.0;  // one-sided spectrum
+        energy += weight * (out[k][0] * out[k][0] + out[k][1] * out[k][1]);
+    }
+    {
+        std::lock_guard lock(fftw_planner_mutex());
+        fftw_destroy_plan(plan);
+        fftw_free(in);
+        fftw_free(out);
+    }
+    return energy / static_cast<double>(n);  // Parseval: sum |u_i|^2 = (1/n) sum |U_k|^2
+}
+
+void BuzzMetrics::begin(const RunLayout& layout) {
+    dt_ = layout.dt;
+    output_rate_ = layout.output_rate_hz;
+    dx_ = layout.source->grid_step();
+    feature_of_point_ = obstacle_features(layout.source->obstacle_height_m);
+    const std::size_t features =
+        feature_of_point_.empty() ? 0 : *std::max_element(feature_of_point_.begin(), feature_of_point_.end());
+    feature_impulse_.assign(features + 1, 0.0);
+    touched_.assign(layout.source->mode_count(), 0);
+    signal_.clear();
+    report_ = {};
+}
+
+void BuzzMetrics::observation(double, std::span<const double> u) {
+    if (!u.empty()) signal_.push_back(u[0]);
+}
+
+void BuzzMetrics::energy(double, double, double, double dissipated) {
+    if (have_dissipated_ && contact_since_energy_) report_.energy_lost_in_contact_j += dissipated - last_dissipated_;
+    last_dissipated_ = dissipated;
+    have_dissipated_ = true;
+    contact_since_energy_ = false;
+}
+
+void BuzzMetrics::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
+    // A gap longer than episode_gap_s since the last contact step starts a new episode.
+    if (report_.contact_steps == 0 || t - last_contact_t_ > std::max(episode_gap_s_, 1.5 * dt_)) ++report_.episodes;
+    if (report_.contact_steps == 0) report_.first_contact_s = t;
+    report_.last_contact_s = t;
+    last_contact_t_ = t;
+    ++report_.contact_steps;
+    contact_since_energy_ = true;
+    double total = 0.0;
+    for (const auto& [i, f] : forces) {
+        total += f * dx_;
+        touched_[i] = 1;
+        feature_impulse_[feature_of_point_[i]] += f * dx_ * dt_;
+    }
+    report_.peak_force_n = std::max(report_.peak_force_n, total);
+    report_.impulse_n_s += total * dt_;
+}
+
+void BuzzMetrics::finish(const RunSummary&) {
+    report_.contact_time_s = static_cast<double>(report_.contact_steps) * dt_;
+    for (std::size_t i = 0; i < touched_.size(); ++i) {
+        if (!touched_[i]) continue;
+        const double x = static_cast<double>(i + 1) * dx_;
+        if (report_.touched_points == 0) report_.touched_x_min_m = x;
+        report_.touched_x_max_m = x;
+        ++report_.touched_points;
+        const std::size_t f = feature_of_point_[i];
+        if (f != 0 && (report_.touched_features.empty() || report_.touched_features.back() != f))
+            report_.touched_features.push_back(f);
+    }
+    double largest = 0.0;
+    for (std::size_t f = 1; f < feature_impulse_.size(); ++f)
+        if (feature_impulse_[f] > largest) {
+            largest = feature_impulse_[f];
+            report_.main_feature = f;
+        }
+    report_.high_frequency_energy = high_frequency_energy(signal_, output_rate_, band_hz_);
+}
+
+double buzz_level_db(double with_obstacle, double without_obstacle) {
+    if (!(with_obstacle > 0.0) || !(without_obstacle > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    return 10.0 * std::log10(with_obstacle / without_obstacle);
+}
+
+}  // namespace fretbuzz
