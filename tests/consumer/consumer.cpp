@@ -12,6 +12,7 @@ int main() {
     fretbuzz::Case c = fretbuzz::load_case("guitar-point");
     c.run.sample_rate_hz = 200000.0;
     c.run.duration_s = 0.005;
+    c.run.allow_aliasing = true;  // a coarse, fast rate: the energy balance holds even where modes alias
     fretbuzz::ResultRecorder recorder;
     fretbuzz::RunObserver* observers[] = {&recorder};
     const fretbuzz::RunSummary summary = fretbuzz::simulate(c, observers);
