@@ -22,6 +22,14 @@ from .results import Results
 __version__ = _core.__version__
 __all__ = ["Case", "InputError", "Progress", "Results", "SolverError", "cases", "load_case", "run", "__version__"]
 
+# Every other public function of the compiled part (each binding file in python/bindings/
+# adds its own, e.g. estimate) is part of the package too, except the internals run() wraps.
+_INTERNAL = {"simulate", "audio_file_names"}
+for _name in dir(_core):
+    if not _name.startswith("_") and _name not in globals() and _name not in _INTERNAL:
+        globals()[_name] = getattr(_core, _name)
+        __all__.append(_name)
+
 CaseLike = Union[str, "os.PathLike[str]", Case]
 
 

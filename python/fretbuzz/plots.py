@@ -349,7 +349,70 @@ def plot_directory(directory, animation="none", formats=("png",), quiet=True):
     return written
 
 
+def read_csv_columns(path, np):
+    """A numeric CSV written by fretbuzz (header line starting with '#'), as named columns."""
+    with open(path) as f:
+        names = f.readline().lstrip("#").strip().split(",")
+    data = np.atleast_2d(np.loadtxt(path, delimiter=",", comments="#", usecols=range(len(names))))
+    return {name: data[:, i] for i, name in enumerate(names)}
+
+
+def plot_estimate(directory, quiet):
+    """estimate.png of `fretbuzz estimate DIR`: the measured partials against the fitted
+    models, as deviation from harmonic in cents and as sigma and Q against frequency."""
+    try:
+        import matplotlib
+        import numpy as np
+    except ImportError as error:
+        print(f"fretbuzz estimate: {error}; the plot needs numpy and matplotlib", file=sys.stderr)
+        return 1
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    measured = read_csv_columns(os.path.join(directory, "partials.csv"), np)
+    model = read_csv_columns(os.path.join(directory, "model_curves.csv"), np)
+    with open(os.path.join(directory, "fit.json")) as f:
+        fit = json.load(f)
+    f0 = fit["frequency_model"]["f0_hz"]
+    top = measured["mode"].max()
+    shown = model["mode"] <= max(top * 1.5, top + 5)
+    reliable = measured["reliable"] > 0.5
+    harmonic = measured["mode"] * f0
+
+    fig, axes = plt.subplots(3, 1, figsize=(8, 10), sharex=True)
+    cents_model = 1200 * np.log2(model["frequency_hz"] / (model["mode"] * f0))
+    axes[0].plot(model["frequency_hz"][shown], cents_model[shown], "-", color="C0",
+                 label=f"inharmonicity law, B = {fit['frequency_model']['B']:.3g}")
+    for mask, style, label in ((reliable, "o", "measured (reliable)"), (~reliable, "x", "measured (weak)")):
+        axes[0].plot(measured["frequency_hz"][mask], 1200 * np.log2(measured["frequency_hz"][mask] / harmonic[mask]),
+                     style, color="C1", label=label)
+    axes[0].set_ylabel(f"deviation from j f0 (cents), f0 = {f0:.4g} Hz")
+    axes[0].legend()
+    damping = fit["damping_model"]
+    axes[1].semilogy(model["frequency_hz"][shown], model["sigma_per_s"][shown], "-", color="C0",
+                     label=f"damping model: delta_ve = {damping['delta_ve']:.3g}, 1/Q_te = {damping['Q_te_inv']:.3g}")
+    q_model = np.pi * model["frequency_hz"] / model["sigma_per_s"]
+    axes[2].semilogy(model["frequency_hz"][shown], q_model[shown], "-", color="C0", label="damping model")
+    for mask, style in ((reliable, "o"), (~reliable, "x")):
+        axes[1].semilogy(measured["frequency_hz"][mask], measured["sigma_per_s"][mask], style, color="C1")
+        axes[2].semilogy(measured["frequency_hz"][mask], measured["quality_factor"][mask], style, color="C1")
+    axes[1].set_ylabel("sigma (1/s)")
+    axes[1].legend()
+    axes[2].set_ylabel("Q = pi nu / sigma")
+    axes[2].set_xlabel("frequency (Hz)")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    written = []
+    save(fig, directory, "estimate.png", written)
+    if not quiet:
+        print(f"fretbuzz estimate: wrote {written[0]}", file=sys.stderr)
+    return 0
+
+
 def main(argv):
+    if argv[:1] == ["--estimate"]:
+        return plot_estimate(argv[1], "--quiet" in argv[2:])
     args = parse_arguments(argv)
     try:
         import h5py  # noqa: F401

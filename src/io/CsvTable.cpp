@@ -76,7 +76,8 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
         for (std::string_view cell : split(line)) {
             double value = 0.0;
             if (!parse_number(cell, value)) {
-                numeric = false;
+                // Text after the required numbers is a label (the `source` column of a mode table).
+                numeric = row.size() >= min_columns;
                 break;
             }
             if (!std::isfinite(value))

@@ -1,7 +1,8 @@
 #pragma once
 // Numeric CSV tables (mode tables, obstacle profiles, initial shapes): comma-separated
 // numbers, one row per line; lines starting with '#' and a first line of column names
-// are headers. Every error names the file, the line and what was expected.
+// are headers. Text columns after the required numbers (a mode table's `source`) are
+// labels and are skipped. Every error names the file, the line and what was expected.
 #include <cstddef>
 #include <string>
 #include <string_view>

@@ -1,0 +1,220 @@
+#include "fretbuzz/analysis/ModalEstimation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/analysis/Esprit.hpp"
+#include "fretbuzz/analysis/ModelFit.hpp"
+#include "fretbuzz/analysis/SubbandFilter.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+using std::numbers::pi;
+
+std::string format(double value) {
+    std::ostringstream s;
+    s << value;
+    return s.str();
+}
+
+// Runs of 3 or more equal samples at the peak: a clipped recording.
+std::size_t clipped_runs(std::span<const double> x, double peak) {
+    std::size_t runs = 0, length = 0;
+    for (double v : x) {
+        length = std::abs(v) == peak ? length + 1 : 0;
+        if (length == 3) ++runs;
+    }
+    return runs;
+}
+
+void check_signal(std::span<const double> x, double rate_hz, const EstimationOptions& o, double& peak) {
+    if (!(std::isfinite(rate_hz) && rate_hz >= 1000.0))
+        throw InputError(out_of_range_message("recording sample rate (Hz)", rate_hz, "must be at least 1000"));
+    peak = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!std::isfinite(x[i]))
+            throw InputError("recording: sample " + std::to_string(i) + " is not a finite number");
+        peak = std::max(peak, std::abs(x[i]));
+    }
+    const double silence = o.full_scale ? *o.full_scale * 1e-5 : 0.0;  // -100 dB full scale
+    if (!(peak > silence))
+        throw InputError("recording: silent (peak " + format(peak) + "; a decay above " + format(silence) +
+                         " is needed)");
+    if (clipped_runs(x, peak) >= 2 && (!o.full_scale || peak >= 0.99 * *o.full_scale))
+        throw InputError("recording: clipped (runs of equal samples at the peak " + format(peak) +
+                         "); record with headroom: every sample must stay below full scale");
+}
+
+// f0 by harmonic summation on the spectrum: the candidate whose first ten multiples sit
+// highest above the noise floor (levels in dB, clipped at the floor, so one huge partial
+// cannot win alone and half the true f0 scores lower, its odd multiples being noise).
+double find_f0(const SubbandFilter& filter, double low_hz, double high_hz) {
+    const auto& spectrum = filter.spectrum();
+    const double df = filter.rate_hz() / static_cast<double>(filter.size());
+    std::vector<double> level(spectrum.size());
+    for (std::size_t k = 0; k < spectrum.size(); ++k) level[k] = 10.0 * std::log10(std::norm(spectrum[k]) + 1e-300);
+    std::vector<double> sorted(level.begin() + 1, level.end());
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double floor = sorted[sorted.size() / 2];
+    const auto peak_near = [&](double f) {
+        const double half = std::max(2.0 * df, 0.01 * f);
+        const auto a = static_cast<std::size_t>(std::max(1.0, (f - half) / df));
+        const auto b = std::min(spectrum.size() - 1, static_cast<std::size_t>((f + half) / df));
+        double best = floor;
+        for (std::size_t k = a; k <= b; ++k) best = std::max(best, level[k]);
+        return best - floor;
+    };
+    double best_f0 = 0.0, best_score = -1.0;
+    for (double f0 = std::max(low_hz, 4.0 * df); f0 <= high_hz; f0 *= 1.002) {
+        double score = 0.0;
+        for (int k = 1; k <= 10 && k * f0 < 0.5 * filter.rate_hz(); ++k) score += peak_near(k * f0);
+        if (score > best_score) {
+            best_score = score;
+            best_f0 = f0;
+        }
+    }
+    if (best_score <= 0.0)
+        throw InputError("recording: no partials above the noise floor between " + format(low_hz) + " and " +
+                         format(high_hz) + " Hz (give --f0 if the note is known)");
+    return best_f0;
+}
+
+struct Candidate {
+    double frequency_hz, sigma, amplitude, phase, snr_db, energy;
+};
+
+}  // namespace
+
+ModalEstimation::ModalEstimation(EstimationOptions options) : options_(std::move(options)) {}
+
+ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double rate_hz) const {
+    const EstimationOptions& o = options_;
+    double peak = 0.0;
+    check_signal(signal, rate_hz, o, peak);
+
+    ModalEstimate result;
+    result.rate_hz = rate_hz;
+    result.band_low_hz = o.band_low_hz;
+    result.band_high_hz = o.band_high_hz.value_or(std::min(0.45 * rate_hz, 20000.0));
+    if (!(o.band_low_hz >= 0.0 && result.band_high_hz > o.band_low_hz && result.band_high_hz <= 0.5 * rate_hz))
+        throw InputError("--band " + format(o.band_low_hz) + " " + format(result.band_high_hz) +
+                         ": must satisfy 0 <= low < high <= fs/2 = " + format(0.5 * rate_hz) + " Hz");
+    if (o.f0_hz && !(*o.f0_hz >= result.band_low_hz && *o.f0_hz <= result.band_high_hz))
+        throw InputError(out_of_range_message("--f0 (Hz)", *o.f0_hz,
+                                              "must lie in the analysed band [" + format(result.band_low_hz) + ", " +
+                                                  format(result.band_high_hz) + "] Hz"));
+
+    // The free decay: from just after the attack peak to the end.
+    const auto peak_at = static_cast<std::size_t>(
+        std::max_element(signal.begin(), signal.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }) -
+        signal.begin());
+    const std::size_t start = std::min(signal.size(), peak_at + static_cast<std::size_t>(0.005 * rate_hz));
+    result.start_s = static_cast<double>(start) / rate_hz;
+    result.duration_s = static_cast<double>(signal.size() - start) / rate_hz;
+    if (result.duration_s < kMinDecaySeconds)
+        throw InputError("recording: " + format(result.duration_s) + " s of decay after the attack peak at " +
+                         format(result.start_s) + " s; at least " + format(kMinDecaySeconds) + " s are needed");
+
+    const SubbandFilter filter(signal.subspan(start), rate_hz);
+    FrequencyLaw law;
+    law.f0_hz = o.f0_hz ? *o.f0_hz
+                        : find_f0(filter, std::max(o.band_low_hz, 20.0), std::min(2000.0, 0.5 * result.band_high_hz));
+
+    std::map<std::size_t, EstimatedPartial> found;
+    std::size_t empty_bands = 0;
+    for (std::size_t j1 = 1; j1 <= o.max_partials; j1 += o.partials_per_band) {
+        const std::size_t j2 = std::min(o.max_partials, j1 + o.partials_per_band - 1);
+        const double below = j1 > 1 ? law.frequency_hz(j1) - law.frequency_hz(j1 - 1) : law.frequency_hz(1);
+        const double above = law.frequency_hz(j2 + 1) - law.frequency_hz(j2);
+        const double keep_low = law.frequency_hz(j1) - 0.5 * below;
+        const double keep_high = law.frequency_hz(j2) + 0.5 * above;
+        if (keep_low >= result.band_high_hz) break;
+        if (keep_high <= result.band_low_hz) continue;
+        const FrequencyBand band{keep_low - below, keep_high + above, 0.5 * std::min(below, above)};
+        const BasebandSignal baseband = filter.extract(band, o.whiten ? 3.0 * above : 0.0);
+        // Skip the filter's ringing at both ends of the decay.
+        const auto guard = static_cast<std::size_t>(std::ceil(std::max(0.02, 4.0 / band.taper_hz) * baseband.rate_hz));
+        if (baseband.samples.size() < 2 * guard + 48) break;
+        const std::span<const std::complex<double>> y(baseband.samples.data() + guard,
+                                                      baseband.samples.size() - 2 * guard);
+        const Esprit esprit(y, std::min<std::size_t>(y.size() / 3, 160));
+        const std::size_t order = esprit.choose_order(std::min(esprit.max_order(), 2 * (j2 - j1 + 3) + 10));
+        const auto components = esprit.components(order);
+        const double noise = esprit.residual_variance(components);
+        const double guard_s = static_cast<double>(guard) / baseband.rate_hz;
+
+        std::vector<Candidate> candidates;
+        for (const ExponentialComponent& c : components) {
+            const double fd = baseband.center_hz + std::arg(c.pole) * baseband.rate_hz / (2.0 * pi);
+            if (fd < keep_low || fd >= keep_high || fd < result.band_low_hz || fd > result.band_high_hz) continue;
+            ++result.poles;
+            const double sigma = -std::log(std::abs(c.pole)) * baseband.rate_hz;
+            const double snr_db = 10.0 * std::log10(c.energy / std::max(noise, 1e-300));
+            if (!(sigma > 0.0 && pi * fd / sigma >= o.min_quality_factor && snr_db >= o.min_snr_db)) {
+                ++result.rejected_poles;
+                continue;
+            }
+            // Back to the start of the decay: undo the guard's delay, the mixer and the whitening.
+            const double amplitude = std::abs(c.amplitude) * baseband.gain_at(fd) * std::exp(sigma * guard_s);
+            const double phase = std::remainder(
+                std::arg(c.amplitude) + 2.0 * pi * (baseband.center_hz - fd) * guard_s, 2.0 * pi);
+            candidates.push_back({std::hypot(fd, sigma / (2.0 * pi)), sigma, amplitude, phase, snr_db, c.energy});
+        }
+        // Mode numbers from the law; a mode claimed twice keeps its stronger pole.
+        std::map<std::size_t, Candidate> assigned;
+        for (const Candidate& c : candidates) {
+            std::size_t best = 0;
+            double distance = 0.0;
+            for (std::size_t j = j1 > 1 ? j1 - 1 : 1; j <= j2 + 1; ++j) {
+                const double d = std::abs(c.frequency_hz - law.frequency_hz(j));
+                if (best == 0 || d < distance) best = j, distance = d;
+            }
+            const double spacing = law.frequency_hz(best + 1) - law.frequency_hz(best);
+            auto it = assigned.find(best);
+            if (distance > 0.25 * spacing || found.count(best) || (it != assigned.end() && it->second.energy >= c.energy)) {
+                ++result.rejected_poles;
+                continue;
+            }
+            if (it != assigned.end()) ++result.rejected_poles;
+            assigned[best] = c;
+        }
+        for (const auto& [j, c] : assigned)
+            found[j] = {j, c.frequency_hz, c.sigma, c.amplitude, c.phase, c.snr_db, result.bands,
+                        c.snr_db >= o.reliable_snr_db};
+        ++result.bands;
+        empty_bands = assigned.empty() ? empty_bands + 1 : 0;
+        if (empty_bands >= 3) break;  // into the noise: nothing more to find above
+
+        std::vector<std::size_t> band_modes;
+        std::vector<double> band_frequencies;
+        for (const auto& [j, p] : found) {
+            band_modes.push_back(j);
+            band_frequencies.push_back(p.frequency_hz);
+        }
+        if (!band_modes.empty()) law = fit_frequency_law(band_modes, band_frequencies);
+    }
+    if (found.empty())
+        throw InputError("recording: no partial of f0 = " + format(law.f0_hz) + " Hz found in the band [" +
+                         format(result.band_low_hz) + ", " + format(result.band_high_hz) +
+                         "] Hz (check --f0 and --band)");
+    std::vector<std::size_t> modes;
+    std::vector<double> frequencies;
+    for (auto& [j, p] : found) {
+        result.partials.push_back(p);
+        modes.push_back(j);
+        frequencies.push_back(p.frequency_hz);
+    }
+    law = fit_frequency_law(modes, frequencies);
+    result.f0_hz = law.f0_hz;
+    result.inharmonicity = law.inharmonicity;
+    return result;
+}
+
+}  // namespace fretbuzz
