@@ -8,7 +8,7 @@
 
 namespace fretbuzz::cli {
 
-std::string_view plot_script();  // python/fretbuzz_plots.py, embedded at build time
+std::string_view plot_script();  // python/fretbuzz/plots.py, embedded at build time
 
 // The script's exit status; throws std::runtime_error if the interpreter cannot be started.
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments);

@@ -12,12 +12,8 @@
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvWriters.hpp"
-#include "fretbuzz/io/Hdf5Writer.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
-#include "fretbuzz/io/SummaryWriter.hpp"
+#include "fretbuzz/io/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
@@ -74,12 +70,6 @@ void apply_overrides(const RunArguments& a, Case& c) {
     }
 }
 
-std::vector<std::filesystem::path> staged_audio_paths(OutputDirectory& out, AudioSignal signal, const Case& c) {
-    std::vector<std::filesystem::path> paths;
-    for (const std::string& name : audio_file_names(signal, c.observation_points_m)) paths.push_back(out.staged(name));
-    return paths;
-}
-
 void print_progress(const Progress& p) {
     std::fprintf(stderr, "\r  %5.1f%%  t = %.4f s  elapsed %.1f s  ETA %.1f s   ", 100.0 * p.fraction, p.simulated_s,
                  p.elapsed_s, p.remaining_s);
@@ -101,21 +91,11 @@ int run_command(const RunArguments& a) {
                                               "must be in [0, fs] (0 for none)"));
     if (a.snapshot_until_s) require_positive("--snapshot-until (s)", *a.snapshot_until_s);
 
-    OutputDirectory out(a.out);
-    ObservationCsvWriter observation(out.staged("observation.csv"));
-    EnergyCsvWriter energy(out.staged("energy.csv"));
-    BridgeForceCsvWriter bridge_force(out.staged("bridge_force.csv"));
-    AudioWriter audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz);
-    std::optional<AudioWriter> velocity_audio;
-    if (a.velocity_audio)
-        velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz, AudioSignal::velocity);
-    Hdf5Writer results(out.staged("results.h5"),
-                       {.snapshot_rate_hz = a.snapshot_rate_hz,
+    RunOutputs outputs(a.out, c,
+                       {.velocity_audio = a.velocity_audio,
+                        .snapshot_rate_hz = a.snapshot_rate_hz,
                         .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity()),
                         .dense_contact_map = a.dense_contact_map});
-    SummaryWriter summary_writer(out.staged("summary.json"));
-    std::vector<RunObserver*> observers{&observation, &energy, &audio, &results, &summary_writer, &bridge_force};
-    if (velocity_audio) observers.push_back(&*velocity_audio);
 
     RunOptions options;
     options.plan.screen_contacts = !a.no_screen;
@@ -125,18 +105,18 @@ int run_command(const RunArguments& a) {
     if (!a.quiet)
         std::cerr << "fretbuzz: " << c.name << ": " << c.mode_count() << " modes, fs = " << c.run.sample_rate_hz
                   << " Hz, " << c.run.duration_s << " s\n";
-    const RunSummary s = simulate(c, observers, options);
-    out.commit();
+    const RunSummary s = simulate(c, outputs.observers(), options);
+    outputs.commit();
     if (show_progress) std::fputs("\r\033[K", stderr);
     if (!a.quiet) {
         std::cerr << "fretbuzz: " << s.steps << " steps in " << s.wall_seconds << " s ("
                   << s.wall_seconds / s.duration_s << " s per simulated second); " << s.contact_steps
                   << " steps with contact; energy " << s.energy_initial_j << " J -> " << s.energy_final_j
-                  << " J; outputs in " << out.path().string() << "\n";
+                  << " J; outputs in " << outputs.path().string() << "\n";
     }
-    if (a.report) return make_report(out.path(), a.quiet);
+    if (a.report) return make_report(outputs.path(), a.quiet);
     if (!a.quiet)
-        std::cerr << "fretbuzz: plots and an HTML report: fretbuzz report " << out.path().string() << "\n";
+        std::cerr << "fretbuzz: plots and an HTML report: fretbuzz report " << outputs.path().string() << "\n";
     return 0;
 }
 

@@ -5,8 +5,8 @@
 namespace fretbuzz::python {
 
 void bind_case(pybind11::module_& m);     // Case, load_case, cases
-void bind_results(pybind11::module_& m);  // Results
-void bind_run(pybind11::module_& m);      // run
+void bind_results(pybind11::module_& m);  // RecordedRun (wrapped by fretbuzz.Results)
+void bind_run(pybind11::module_& m);      // simulate, Progress
 void bind_estimate(pybind11::module_& m);  // estimate
 
 }  // namespace fretbuzz::python

@@ -1,5 +1,7 @@
-// fretbuzz.Case: a loaded case whose fields read and write both as attributes (c.fs) and
-// as dictionary items (c["fs"]), named as in the case files; fretbuzz.load_case, cases.
+// fretbuzz.Case: a case whose fields read and write both as attributes (c.fs) and as
+// dictionary items (c["fs"]), named as in the case files; fretbuzz.load_case, cases.
+// Every edit is checked whole: the values are set on a copy, the copy is validated, and
+// only then does it replace the case, so a failed edit changes nothing.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -30,11 +32,11 @@ struct Field {
 template <typename Group>
 Field scalar(const char* key, const char* doc, Group Case::*group, double Group::*member) {
     return {key, doc, [=](const Case& c) { return py::object(py::float_(c.*group.*member)); },
-            [=](Case& c, py::handle v) { c.*group.*member = v.cast<double>(); }};
+            [=](Case& c, py::handle v) { c.*group.*member = to_number(v, key); }};
 }
 
 Field array(const char* key, const char* doc, std::vector<double> Case::*member) {
-    return {key, doc, [=](const Case& c) { return py::object(to_numpy(c.*member)); },
+    return {key, doc, [=](const Case& c) { return py::object(to_read_only_numpy(c.*member)); },
             [=](Case& c, py::handle v) { c.*member = to_vector(v, key); }};
 }
 
@@ -47,15 +49,15 @@ void set_mode_column(Case& c, std::vector<double> ModeTable::*column, py::handle
 const std::vector<Field>& fields() {
     static const std::vector<Field> table = {
         {"name", "case name", [](const Case& c) { return py::object(py::str(c.name)); },
-         [](Case& c, py::handle v) { c.name = v.cast<std::string>(); }},
+         [](Case& c, py::handle v) { c.name = to_text(v, "name"); }},
         {"description", "one-line description", [](const Case& c) { return py::object(py::str(c.description)); },
-         [](Case& c, py::handle v) { c.description = v.cast<std::string>(); }},
+         [](Case& c, py::handle v) { c.description = to_text(v, "description"); }},
         scalar("L", "vibrating length (m)", &Case::string, &StringProperties::length_m),
         scalar("T", "tension (N)", &Case::string, &StringProperties::tension_n),
         scalar("mu", "linear density (kg/m)", &Case::string, &StringProperties::linear_density),
-        {"frequencies", "modal frequencies nu_j (Hz)", [](const Case& c) { return py::object(to_numpy(c.modes.frequency_hz)); },
+        {"frequencies", "modal frequencies nu_j (Hz)", [](const Case& c) { return py::object(to_read_only_numpy(c.modes.frequency_hz)); },
          [](Case& c, py::handle v) { set_mode_column(c, &ModeTable::frequency_hz, v, "frequencies"); }},
-        {"sigma", "modal damping sigma_j (1/s)", [](const Case& c) { return py::object(to_numpy(c.modes.sigma_per_s)); },
+        {"sigma", "modal damping sigma_j (1/s)", [](const Case& c) { return py::object(to_read_only_numpy(c.modes.sigma_per_s)); },
          [](Case& c, py::handle v) { set_mode_column(c, &ModeTable::sigma_per_s, v, "sigma"); }},
         array("obstacle_height", "obstacle height g at the grid points (m; -inf: none)", &Case::obstacle_height_m),
         array("initial_displacement", "modal displacement q_j(0)", &Case::initial_displacement),
@@ -64,11 +66,16 @@ const std::vector<Field>& fields() {
         scalar("alpha", "penalty exponent (>= 1)", &Case::contact, &ContactLaw::exponent),
         scalar("fs", "sampling rate (Hz)", &Case::run, &RunSettings::sample_rate_hz),
         scalar("duration", "simulated duration (s)", &Case::run, &RunSettings::duration_s),
-        {"output_rate", "rows per second of the outputs (Hz), None for every step",
+        {"output_rate", "rows per second of the outputs (Hz), None (or 'native') for every step",
          [](const Case& c) { return c.run.output_rate_hz ? py::object(py::float_(*c.run.output_rate_hz)) : py::object(py::none()); },
          [](Case& c, py::handle v) {
-             if (v.is_none()) c.run.output_rate_hz.reset();
-             else c.run.output_rate_hz = v.cast<double>();
+             if (v.is_none() || (py::isinstance<py::str>(v) && v.cast<std::string>() == "native"))
+                 c.run.output_rate_hz.reset();
+             else if (py::isinstance<py::str>(v))
+                 throw py::type_error("output_rate: expected a number (float), None or 'native', got '" +
+                                      v.cast<std::string>() + "'");
+             else
+                 c.run.output_rate_hz = to_number(v, "output_rate");
          }},
         scalar("audio_rate", "sample rate of audio files (Hz)", &Case::run, &RunSettings::audio_rate_hz),
         {"observe", "observation points x (m)", [](const Case& c) { return py::object(py::cast(c.observation_points_m)); },
@@ -85,6 +92,44 @@ const Field& field(const std::string& key) {
     throw py::key_error("no case field '" + key + "'; the fields are: " + known);
 }
 
+// Sets several fields at once, all or nothing: on a copy, validated, then swapped in.
+void set_fields(Case& c, const py::dict& values) {
+    Case edited = c;
+    for (const auto& [key, value] : values) {
+        if (!py::isinstance<py::str>(key)) throw py::type_error("case field names are str, got " + type_name(key));
+        field(key.cast<std::string>()).set(edited, value);
+    }
+    edited.validate();
+    c = std::move(edited);
+}
+
+void set_field(Case& c, const std::string& key, py::handle value) {
+    py::dict one;
+    one[py::str(key)] = value;
+    set_fields(c, one);
+}
+
+// Pickle state: every field, then what the fields do not show (mode sources, case text).
+py::tuple state(const Case& c) {
+    py::dict values;
+    for (const Field& f : fields()) values[f.key] = f.get(c);
+    py::list sources;
+    for (ModeSource s : c.modes.source) sources.append(to_string(s));
+    return py::make_tuple(values, sources, c.source_text);
+}
+
+Case from_state(const py::tuple& t) {
+    if (t.size() != 3) throw py::value_error("Case: not a pickled Case");
+    Case c;
+    for (const auto& [key, value] : t[0].cast<py::dict>()) field(key.cast<std::string>()).set(c, value);
+    c.modes.source.clear();
+    for (const auto& s : t[1].cast<py::list>())
+        c.modes.source.push_back(s.cast<std::string>() == to_string(ModeSource::measured) ? ModeSource::measured
+                                                                                          : ModeSource::model);
+    c.source_text = t[2].cast<std::string>();
+    return c;
+}
+
 std::string describe(const Case& c) {
     std::ostringstream out;
     out << "<fretbuzz.Case '" << c.name << "': " << c.mode_count() << " modes, fs = " << c.run.sample_rate_hz
@@ -99,13 +144,39 @@ void bind_case(py::module_& m) {
     py::register_exception<SolverError>(m, "SolverError", PyExc_RuntimeError);
 
     py::class_<Case> cls(m, "Case",
+                         "Case(**fields)\n\n"
                          "A simulation case. Fields read and write as attributes or items, named as in case files:\n"
-                         "c.fs = 400000; c['observe'] = [0.854, 0.5]. keys() lists them, to_dict() copies them.");
+                         "c.fs = 400000; c['observe'] = [0.854, 0.5]. keys() lists them, to_dict() copies them.\n"
+                         "Every edit is validated; a failed edit raises and leaves the case as it was. Arrays are\n"
+                         "assigned whole (c.frequencies = new_array); the arrays you read are copies.\n\n"
+                         "Case(**fields) builds a case from all its fields (L, T, mu, frequencies, sigma,\n"
+                         "obstacle_height, initial_displacement, initial_velocity, fs, duration, observe, ...);\n"
+                         "Case.from_toml(text) reads case-file text; load_case(name_or_path) a built-in or a file.");
+    cls.def(py::init([](const py::kwargs& values) {
+                Case c;
+                c.name = "custom";
+                set_fields(c, values);
+                return c;
+            }),
+            "Case(**fields) -> Case\n\nA case from keyword fields, validated as a whole.");
+    cls.def_static(
+        "from_toml",
+        [](const std::string& text, const py::object& data_dir) {
+            if (data_dir.is_none()) return parse_case(text, "<string>", DataSource::builtin());
+            const auto dir = py::str(py::module_::import("os").attr("fspath")(data_dir)).cast<std::string>();
+            return parse_case(text, "<string>", DataSource::directory(dir));
+        },
+        py::arg("text"), py::arg("data_dir") = py::none(),
+        "from_toml(text: str, data_dir: str | os.PathLike | None = None) -> Case\n\n"
+        "A case from case-file (TOML) text. Data files it names are read from data_dir, or from\n"
+        "the built-in cases' data when data_dir is None.");
     for (const Field& f : fields()) {
+        const std::string key = f.key;
         cls.def_property(
-            f.key, [get = f.get](const Case& c) { return get(c); }, [set = f.set](Case& c, py::handle v) { set(c, v); },
-            f.doc);
+            f.key, [get = f.get](const Case& c) { return get(c); },
+            [key](Case& c, py::handle v) { set_field(c, key, v); }, f.doc);
     }
+    cls.def(py::pickle([](const Case& c) { return state(c); }, [](const py::tuple& t) { return from_state(t); }));
     cls.def_property_readonly("modes", &Case::mode_count, "number of modes (= interior grid points)")
         .def_property_readonly(
             "grid_x",
@@ -117,7 +188,7 @@ void bind_case(py::module_& m) {
             "interior grid points x_i (m)")
         .def_readonly("source_text", &Case::source_text, "the case file text this case was read from")
         .def("__getitem__", [](const Case& c, const std::string& key) { return field(key).get(c); })
-        .def("__setitem__", [](Case& c, const std::string& key, py::handle v) { field(key).set(c, v); })
+        .def("__setitem__", [](Case& c, const std::string& key, py::handle v) { set_field(c, key, v); })
         .def("__contains__", [](const Case&, const std::string& key) {
             for (const Field& f : fields())
                 if (key == f.key) return true;
@@ -133,9 +204,8 @@ void bind_case(py::module_& m) {
             for (const Field& f : fields()) d[f.key] = f.get(c);
             return d;
         })
-        .def("update", [](Case& c, const py::dict& values) {
-            for (const auto& [key, value] : values) field(key.cast<std::string>()).set(c, value);
-        }, "Sets several fields from a dict.")
+        .def("update", &set_fields, py::arg("values"),
+             "update(values: dict) -> None\n\nSets several fields at once, validated together: all or nothing.")
         .def("make_lossless", &Case::make_lossless, "Removes all damping (sigma_j = 0).")
         .def("validate", &Case::validate, "Raises InputError (a ValueError) naming the first bad field.")
         .def("copy", [](const Case& c) { return Case(c); })

@@ -1,5 +1,7 @@
 #pragma once
-// Vectors to NumPy arrays (copies) and back, for the bindings.
+// Python values to C++ and back, for the bindings. Conversions are strict and name the
+// field: a string, a list or a bool where a number belongs is a TypeError, never a
+// silent 1.0 (True) or a dropped value.
 #include <pybind11/numpy.h>
 
 #include <string>
@@ -11,11 +13,51 @@ inline pybind11::array_t<double> to_numpy(const std::vector<double>& v) {
     return pybind11::array_t<double>(static_cast<pybind11::ssize_t>(v.size()), v.data());
 }
 
-// Any 1-D sequence of numbers; `name` is the field named in the error.
+// A read-only copy: `case.frequencies[0] = 1.0` raises instead of changing a copy nobody
+// sees; arrays are assigned whole (`case.frequencies = edited`).
+inline pybind11::array_t<double> to_read_only_numpy(const std::vector<double>& v) {
+    auto array = to_numpy(v);
+    array.attr("setflags")(pybind11::arg("write") = false);
+    return array;
+}
+
+inline std::string type_name(pybind11::handle value) {
+    return pybind11::str(pybind11::type::handle_of(value).attr("__name__")).cast<std::string>();
+}
+
+// A real number (int, float, NumPy scalar), not a bool.
+inline double to_number(pybind11::handle value, const std::string& name) {
+    namespace py = pybind11;
+    const bool real = py::isinstance(value, py::module_::import("numbers").attr("Real"));
+    if (!real || py::isinstance<py::bool_>(value))
+        throw py::type_error(name + ": expected a number (float), got " + type_name(value));
+    return value.cast<double>();
+}
+
+inline std::string to_text(pybind11::handle value, const std::string& name) {
+    if (!pybind11::isinstance<pybind11::str>(value))
+        throw pybind11::type_error(name + ": expected a str, got " + type_name(value));
+    return value.cast<std::string>();
+}
+
+// Any 1-D sequence of real numbers, taken whole.
 inline std::vector<double> to_vector(pybind11::handle values, const std::string& name) {
-    const auto array = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>::ensure(values);
-    if (!array || array.ndim() != 1) throw pybind11::value_error(name + ": expected a 1-D sequence of numbers");
-    return {array.data(), array.data() + array.size()};
+    namespace py = pybind11;
+    const std::string expected = name + ": expected a 1-D sequence of numbers";
+    if (py::isinstance<py::str>(values) || py::isinstance<py::bytes>(values) || py::isinstance<py::dict>(values))
+        throw py::type_error(expected + ", got " + type_name(values));
+    py::array array;
+    try {
+        array = py::module_::import("numpy").attr("asarray")(values);
+    } catch (const py::error_already_set&) {
+        throw py::type_error(expected + " (not a ragged or nested one)");
+    }
+    const char kind = array.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u')
+        throw py::type_error(expected + ", got elements of dtype " + py::str(array.dtype()).cast<std::string>());
+    if (array.ndim() != 1) throw py::type_error(expected + ", got " + std::to_string(array.ndim()) + " dimensions");
+    const auto doubles = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+    return {doubles.data(), doubles.data() + doubles.size()};
 }
 
 }  // namespace fretbuzz::python

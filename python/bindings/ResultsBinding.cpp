@@ -1,5 +1,6 @@
-// fretbuzz.Results: a finished run. Its arrays are read-only NumPy views of the recorded
-// data (no copies), kept alive by the Results object they come from.
+// fretbuzz._core.RecordedRun: a finished run. Its arrays are read-only NumPy views of the
+// recorded data (no copies), kept alive by the object they come from. fretbuzz.Results
+// (python/fretbuzz/results.py) wraps it and takes every array property defined here.
 #include <pybind11/numpy.h>
 
 #include <string>
@@ -51,7 +52,7 @@ void table_property(py::class_<RecordedRun>& cls, const char* name, Member membe
 }  // namespace
 
 void bind_results(py::module_& m) {
-    py::class_<RecordedRun> cls(m, "Results", "The outputs of a run, as read-only NumPy arrays (SI units).");
+    py::class_<RecordedRun> cls(m, "RecordedRun", "The outputs of a run, as read-only NumPy arrays (SI units).");
     vector_property(cls, "time", &RecordedRun::time, "output times from t = 0 (s)");
     table_property(cls, "observation", &RecordedRun::observation, &RecordedRun::point_count,
                    "displacement u (m), samples x observation points");
@@ -75,7 +76,7 @@ void bind_results(py::module_& m) {
         },
         "the run summary (as in summary.json), a dict");
     cls.def("__repr__", [](const RecordedRun& r) {
-        return "<fretbuzz.Results '" + r.summary.case_name + "': " + std::to_string(r.time.size()) + " samples x " +
+        return "<fretbuzz.RecordedRun '" + r.summary.case_name + "': " + std::to_string(r.time.size()) + " samples x " +
                std::to_string(r.point_count()) + " points>";
     });
 }

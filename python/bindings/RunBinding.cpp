@@ -1,7 +1,14 @@
-// fretbuzz.run: simulate a case (a name, a .toml path or a Case) with optional overrides,
-// the interpreter lock released while the scheme runs.
+// fretbuzz._core.simulate: runs a validated Case, the interpreter lock released while the
+// scheme runs. Optionally writes the command line's output files (through the library's
+// RunOutputs, as `fretbuzz run --out` does) and reports progress. Ctrl-C is checked at
+// each progress report (about twice a second): it raises KeyboardInterrupt, and an output
+// directory then receives no files. The Python-level run() (python/fretbuzz/__init__.py)
+// resolves names and overrides, then calls this.
+#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,7 +16,8 @@
 #include "Bindings.hpp"
 #include "Conversions.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/AudioWriter.hpp"
+#include "fretbuzz/io/RunOutputs.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
@@ -19,61 +27,69 @@ namespace py = pybind11;
 
 namespace {
 
-Case case_from(const py::handle& source) {
-    if (py::isinstance<Case>(source)) return source.cast<Case>();  // a copy: the caller's case is left as it is
-    if (py::isinstance<py::str>(source) || py::hasattr(source, "__fspath__"))
-        return load_case(py::str(py::module_::import("os").attr("fspath")(source)).cast<std::string>());
-    throw py::type_error("case: expected a built-in case name, a path to a .toml file or a fretbuzz.Case");
-}
-
-void set_output_rate(Case& c, const py::handle& rate) {
-    if (rate.is_none()) return;
-    if (py::isinstance<py::str>(rate)) {
-        if (rate.cast<std::string>() != "native") throw InputError("output_rate: must be a rate in Hz or 'native'");
-        c.run.output_rate_hz.reset();
-    } else {
-        c.run.output_rate_hz = rate.cast<double>();
-    }
-}
-
-RecordedRun run(const py::handle& source, std::optional<double> fs, std::optional<double> duration,
-                const py::handle& observe, const py::handle& output_rate, bool lossless, std::optional<double> stiffness,
-                std::optional<double> exponent, double snapshots, bool screen) {
-    Case c = case_from(source);
-    if (fs) c.run.sample_rate_hz = *fs;
-    if (duration) c.run.duration_s = *duration;
-    if (stiffness) c.contact.stiffness = *stiffness;
-    if (exponent) c.contact.exponent = *exponent;
-    if (lossless) c.make_lossless();
-    if (!observe.is_none()) c.observation_points_m = to_vector(observe, "observe");
-    set_output_rate(c, output_rate);
+RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool screen, bool free_flight, const py::object& out,
+                          bool velocity_audio, const py::object& snapshot_until, const py::object& progress) {
     c.validate();
-    if (!(snapshots >= 0.0 && snapshots <= c.run.sample_rate_hz))
-        throw InputError(out_of_range_message("snapshots (Hz)", snapshots, "must be in [0, fs] (0 for none)"));
+    const double snapshot_rate = to_number(snapshots, "snapshots");
+    if (!(snapshot_rate >= 0.0 && snapshot_rate <= c.run.sample_rate_hz))
+        throw InputError(out_of_range_message("snapshots (Hz)", snapshot_rate, "must be in [0, fs] (0 for none)"));
+    const double until =
+        snapshot_until.is_none() ? std::numeric_limits<double>::infinity() : to_number(snapshot_until, "snapshot_until");
+    if (!snapshot_until.is_none()) require_positive("snapshot_until (s)", until);
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+        throw py::type_error("progress: expected a callable taking a fretbuzz.Progress, got " + type_name(progress));
 
-    ResultRecorder recorder(snapshots);
-    RunObserver* observers[] = {&recorder};
+    std::optional<RunOutputs> outputs;
+    if (!out.is_none())
+        outputs.emplace(py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>(), c,
+                        RunOutputOptions{.velocity_audio = velocity_audio,
+                                         .snapshot_rate_hz = snapshot_rate,
+                                         .snapshot_until_s = until});
+    ResultRecorder recorder(snapshot_rate);
+    std::vector<RunObserver*> observers{&recorder};
+    if (outputs) observers.insert(observers.end(), outputs->observers().begin(), outputs->observers().end());
+
     RunOptions options;
     options.plan.screen_contacts = screen;
+    options.free_flight = free_flight;
+    // Runs with the lock released; takes it back to look for Ctrl-C and to call `progress`.
+    // A Python exception (KeyboardInterrupt, or one the callback raises) unwinds the run.
+    options.progress = [&progress](const Progress& p) {
+        py::gil_scoped_acquire locked;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        if (!progress.is_none()) progress(p);
+    };
     {
         py::gil_scoped_release unlocked;
         simulate(c, observers, options);
     }
+    if (outputs) outputs->commit();
     return recorder.take();
 }
 
 }  // namespace
 
 void bind_run(py::module_& m) {
-    m.def("run", &run, py::arg("case"), py::kw_only(), py::arg("fs") = py::none(), py::arg("duration") = py::none(),
-          py::arg("observe") = py::none(), py::arg("output_rate") = py::none(), py::arg("lossless") = false,
-          py::arg("K") = py::none(), py::arg("alpha") = py::none(), py::arg("snapshots") = 0.0,
-          py::arg("screen") = true,
-          "Runs a case and returns its Results.\n\n"
-          "case: built-in name, path to a .toml file, or a Case (not modified).\n"
-          "fs, duration, K, alpha: override the case's values. observe: replace the observation points (m).\n"
-          "output_rate: rows per second, or 'native' for every step. lossless: remove all damping.\n"
-          "snapshots: also record the string shape at this rate (Hz). screen: skip points that cannot touch.");
+    py::class_<Progress>(m, "Progress", "How far a run has gone, as passed to run(..., progress=callback).")
+        .def_readonly("fraction", &Progress::fraction, "share of the run done, 0..1")
+        .def_readonly("simulated_s", &Progress::simulated_s, "simulated time reached (s)")
+        .def_readonly("elapsed_s", &Progress::elapsed_s, "wall time so far (s)")
+        .def_readonly("remaining_s", &Progress::remaining_s, "estimated wall time left (s)")
+        .def("__repr__", [](const Progress& p) {
+            return "<fretbuzz.Progress " + std::to_string(100.0 * p.fraction) + "%>";
+        });
+    m.def(
+        "audio_file_names",
+        [](bool velocity, const std::vector<double>& points) {
+            return audio_file_names(velocity ? AudioSignal::velocity : AudioSignal::displacement, points);
+        },
+        py::arg("velocity"), py::arg("points"), "The WAV file names a run writes for these observation points.");
+    m.def("simulate", &simulate_case, py::arg("case"), py::kw_only(), py::arg("snapshots") = 0.0,
+          py::arg("screen") = true, py::arg("free_flight") = true, py::arg("out") = py::none(),
+          py::arg("velocity_audio") = false, py::arg("snapshot_until") = py::none(), py::arg("progress") = py::none(),
+          "simulate(case: Case, *, snapshots=0.0, screen=True, free_flight=True, out=None, velocity_audio=False,\n"
+          "         snapshot_until=None, progress=None) -> RecordedRun\n\n"
+          "The compiled run behind fretbuzz.run(); see there.");
 }
 
 }  // namespace fretbuzz::python

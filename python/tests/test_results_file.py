@@ -9,13 +9,10 @@ import tempfile
 import unittest
 import wave
 
-import sys
-
 import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir))
-from fretbuzz_plots import contact_map_times, reduced_contact_map  # noqa: E402
+from fretbuzz.plots import contact_map_times, reduced_contact_map
 
 FS = 400000
 DURATION = 0.02

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Figures of one fretbuzz run, drawn from the results.h5 in its output directory.
 
-Usage: fretbuzz_plots.py DIR [--animation gif|mp4|none] [--quiet]
+Usage: python3 -m fretbuzz.plots DIR (or `fretbuzz plot DIR`) [--animation gif|mp4|none] [--quiet]
 
 Writes into DIR:
   signal.png             displacement at the first observation point, zoomed windows, energy
@@ -33,6 +33,8 @@ def parse_arguments(argv):
     parser.add_argument("dir", help="output directory of `fretbuzz run` (holding results.h5)")
     parser.add_argument("--animation", choices=["gif", "mp4", "none"], default="gif")
     parser.add_argument("--quiet", action="store_true")
+    parser.add_argument("--format", dest="formats", action="append", choices=["png", "pdf", "svg"],
+                        help="file format of the figures (repeatable; default png)")
     return parser.parse_args(argv)
 
 
@@ -81,10 +83,17 @@ def reduced_contact_map(f, np, max_rows=None):
     return time, dense
 
 
+# The file formats each figure is saved in (plot_directory's `formats`); PDF and SVG are
+# vector formats for papers.
+FORMATS = ["png"]
+
+
 def save(fig, directory, name, written):
-    path = os.path.join(directory, name)
-    fig.savefig(path, dpi=110)
-    written.append(path)
+    stem = os.path.splitext(name)[0]
+    for form in FORMATS:
+        path = os.path.join(directory, f"{stem}.{form}")
+        fig.savefig(path, dpi=110)
+        written.append(path)
 
 
 def zoom_windows(duration, first_contact):
@@ -302,6 +311,44 @@ def remove_stale(directory, names):
             os.remove(path)
 
 
+def plot_directory(directory, animation="none", formats=("png",), quiet=True):
+    """Draws every figure of the run in `directory` (holding results.h5); returns the paths written.
+
+    Keeps the current Matplotlib backend (inline figures in notebooks are closed after saving).
+    """
+    import h5py
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    unknown = set(formats) - {"png", "pdf", "svg"}
+    if unknown or not formats:
+        raise ValueError(f"formats: must be some of png, pdf, svg, got {sorted(unknown) or 'none'}")
+    FORMATS[:] = list(formats)
+    path = os.path.join(directory, "results.h5")
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"DIR {directory}: holds no results.h5")
+    r = Results(path, h5py, np)
+    written = []
+    plot_signal(r, plt, np, directory, written)
+    if len(r.points) > 1:
+        plot_all_points(r, plt, directory, written)
+    else:
+        remove_stale(directory, ["signal_all_points.png"])
+    plot_spectrogram(r, plt, np, directory, written)
+    plot_energy(r, plt, np, directory, written)
+    plot_contactogram(r, plt, np, directory, written)
+    if len(r.snapshot_time):
+        plot_snapshots(r, plt, np, directory, written)
+        if animation != "none":
+            animate(r, plt, np, directory, written, animation)
+    else:
+        remove_stale(directory, ["snapshots.png", "animation.gif", "animation.mp4"])
+    if not quiet:
+        for name in written:
+            print(f"fretbuzz plot: wrote {name}", file=sys.stderr)
+    return written
+
+
 def read_csv_columns(path, np):
     """A numeric CSV written by fretbuzz (header line starting with '#'), as named columns."""
     with open(path) as f:
@@ -368,39 +415,18 @@ def main(argv):
         return plot_estimate(argv[1], "--quiet" in argv[2:])
     args = parse_arguments(argv)
     try:
-        import h5py
+        import h5py  # noqa: F401
         import matplotlib
-        import numpy as np
+        import numpy  # noqa: F401
     except ImportError as error:
         print(f"fretbuzz plot: {error}; this needs numpy, matplotlib and h5py "
               "(Debian: apt-get install python3-numpy python3-matplotlib python3-h5py)", file=sys.stderr)
         return 1
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    path = os.path.join(args.dir, "results.h5")
-    if not os.path.isfile(path):
+    if not os.path.isfile(os.path.join(args.dir, "results.h5")):
         print(f"fretbuzz plot: DIR {args.dir}: holds no results.h5", file=sys.stderr)
         return 2
-    r = Results(path, h5py, np)
-    written = []
-    plot_signal(r, plt, np, args.dir, written)
-    if len(r.points) > 1:
-        plot_all_points(r, plt, args.dir, written)
-    else:
-        remove_stale(args.dir, ["signal_all_points.png"])
-    plot_spectrogram(r, plt, np, args.dir, written)
-    plot_energy(r, plt, np, args.dir, written)
-    plot_contactogram(r, plt, np, args.dir, written)
-    if len(r.snapshot_time):
-        plot_snapshots(r, plt, np, args.dir, written)
-        if args.animation != "none":
-            animate(r, plt, np, args.dir, written, args.animation)
-    else:
-        remove_stale(args.dir, ["snapshots.png", "animation.gif", "animation.mp4"])
-    if not args.quiet:
-        for name in written:
-            print(f"fretbuzz plot: wrote {name}", file=sys.stderr)
+    plot_directory(args.dir, animation=args.animation, formats=args.formats or ["png"], quiet=args.quiet)
     return 0
 
 

@@ -1,0 +1,224 @@
+"""The fretbuzz Python package as users meet it: building cases, all-or-nothing edits, strict
+field types, pickling (also across processes), files like the command line's, progress,
+Ctrl-C, saving, plotting and audio.
+
+Run by ctest with PYTHONPATH set to the built package; run from a fresh virtual environment
+by the pip-install test (FRETBUZZ_CLI, when set, is the program to compare files with).
+"""
+import concurrent.futures
+import filecmp
+import os
+import pickle
+import signal
+import subprocess
+import tempfile
+import threading
+import time
+import unittest
+
+import numpy as np
+
+import fretbuzz
+
+FS = 400000.0
+
+
+def short_run(case):
+    return fretbuzz.run(case, fs=FS, duration=0.004)
+
+
+class Editing(unittest.TestCase):
+    def test_a_failed_update_changes_nothing(self):
+        c = fretbuzz.load_case("bass-pop")
+        before = c.to_dict()
+        with self.assertRaises(KeyError):
+            c.update({"K": 2e12, "nonsense": 1})
+        with self.assertRaisesRegex(ValueError, "alpha"):
+            c.update({"K": 2e12, "alpha": 0.5})
+        self.assertEqual(c.K, before["K"])
+        self.assertEqual(c.alpha, before["alpha"])
+        c.update({"K": 2e12, "alpha": 2.0})
+        self.assertEqual((c.K, c.alpha), (2e12, 2.0))
+
+    def test_a_bad_single_value_is_rejected_and_leaves_the_field(self):
+        c = fretbuzz.load_case("bass-pop")
+        with self.assertRaisesRegex(ValueError, "fs"):
+            c.fs = -1.0
+        with self.assertRaisesRegex(ValueError, "observation point"):
+            c["observe"] = [0.2, 5.0]
+        self.assertEqual(c.fs, 4e6)
+        self.assertEqual(len(c.observe), 1)
+
+    def test_field_types_are_checked_and_named(self):
+        c = fretbuzz.load_case("bass-pop")
+        for key, value, expected in [("fs", "x", "fs: expected a number"),
+                                     ("fs", True, "fs: expected a number .* got bool"),
+                                     ("output_rate", [1], "output_rate: expected a number"),
+                                     ("output_rate", "fast", "output_rate: expected a number"),
+                                     ("K", None, "K: expected a number"),
+                                     ("frequencies", "abc", "frequencies: expected a 1-D sequence"),
+                                     ("sigma", np.zeros((2, 2)), "sigma: expected a 1-D sequence"),
+                                     ("observe", [0.1, "a"], "observe: expected a 1-D sequence"),
+                                     ("name", 3, "name: expected a str")]:
+            with self.subTest(key=key, value=value):
+                with self.assertRaisesRegex(TypeError, expected):
+                    c[key] = value
+        with self.assertRaisesRegex(TypeError, "fs: expected a number .* got bool"):
+            fretbuzz.run("bass-pop", fs=True)
+        with self.assertRaisesRegex(TypeError, "lossless: expected a bool"):
+            fretbuzz.run("bass-pop", lossless=1)
+        c.fs = np.float32(400000)  # NumPy scalars are numbers
+        c.output_rate = "native"
+        self.assertIsNone(c.output_rate)
+
+    def test_arrays_are_assigned_whole_never_lost(self):
+        c = fretbuzz.load_case("bass-pop")
+        with self.assertRaises(ValueError):  # read-only: the edit cannot vanish silently
+            c.frequencies[0] = 1.0
+        edited = c.frequencies.copy()
+        edited[0] *= 1.01
+        c.frequencies = edited
+        self.assertEqual(c.frequencies[0], edited[0])
+        with self.assertRaisesRegex(ValueError, "modes: frequency, damping"):
+            c.frequencies = edited[:-1]  # the other per-mode arrays do not follow
+        self.assertEqual(len(c.frequencies), len(edited))
+
+    def test_keyword_constructor_builds_a_runnable_case(self):
+        pop = fretbuzz.load_case("bass-pop")
+        fields = {key: pop[key] for key in pop.keys() if key not in ("name", "description")}
+        c = fretbuzz.Case(**fields)
+        self.assertEqual(c.name, "custom")
+        self.assertEqual(c.modes, pop.modes)
+        a, b = short_run(c), short_run(pop)
+        np.testing.assert_array_equal(a.observation, b.observation)
+        with self.assertRaisesRegex(ValueError, "string.L"):
+            fretbuzz.Case(fs=FS)
+        with self.assertRaisesRegex(KeyError, "no case field 'Tension'"):
+            fretbuzz.Case(Tension=1.0)
+
+    def test_case_from_toml_text(self):
+        text = subprocess_free_case_text("bass-pop")
+        c = fretbuzz.Case.from_toml(text.replace("duration = 3.0", "duration = 0.5"))
+        self.assertEqual(c.duration, 0.5)
+        self.assertEqual(c.modes, fretbuzz.load_case("bass-pop").modes)
+        with self.assertRaisesRegex(ValueError, "nonsense"):
+            fretbuzz.Case.from_toml(text + "\n[nonsense]\nx = 1\n")
+
+
+def subprocess_free_case_text(name):
+    return fretbuzz.load_case(name).source_text
+
+
+def run_in_child(case):
+    return short_run(case)
+
+
+class Pickling(unittest.TestCase):
+    def test_case_round_trip_keeps_every_field(self):
+        c = fretbuzz.load_case("guitar-point")
+        c.K = 3e12
+        back = pickle.loads(pickle.dumps(c))
+        for key in c.keys():
+            np.testing.assert_array_equal(np.asarray(back[key], dtype=object), np.asarray(c[key], dtype=object))
+        self.assertEqual(back.source_text, c.source_text)
+
+    def test_results_round_trip(self):
+        r = short_run("bass-pop")
+        back = pickle.loads(pickle.dumps(r))
+        np.testing.assert_array_equal(back.observation, r.observation)
+        np.testing.assert_array_equal(back.energy, r.energy)
+        self.assertEqual(back.summary, r.summary)
+        self.assertFalse(back.observation.flags.writeable)
+
+    def test_cases_and_results_cross_process_boundaries(self):
+        c = fretbuzz.load_case("bass-pop")
+        with concurrent.futures.ProcessPoolExecutor(max_workers=1) as pool:
+            remote = pool.submit(run_in_child, c).result()
+        np.testing.assert_array_equal(remote.observation, short_run(c).observation)
+
+
+class Files(unittest.TestCase):
+    def test_out_writes_the_command_lines_files(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            r = fretbuzz.run("bass-pop", fs=FS, duration=0.004, out=os.path.join(tmp, "py"))
+            names = sorted(os.listdir(os.path.join(tmp, "py")))
+            self.assertEqual(names, ["audio.wav", "bridge_force.csv", "energy.csv", "observation.csv", "results.h5",
+                                     "summary.json"])
+            cli = os.environ.get("FRETBUZZ_CLI")
+            if cli:
+                subprocess.run([cli, "run", "bass-pop", "--fs", str(FS), "--duration", "0.004", "--quiet",
+                                "--out", os.path.join(tmp, "cli")], check=True)
+                self.assertEqual(sorted(os.listdir(os.path.join(tmp, "cli"))), names)
+                for name in ("observation.csv", "energy.csv", "audio.wav"):
+                    self.assertTrue(filecmp.cmp(os.path.join(tmp, "py", name), os.path.join(tmp, "cli", name),
+                                                shallow=False), name)
+            saved = r.save(os.path.join(tmp, "copy"))
+            self.assertTrue(filecmp.cmp(os.path.join(tmp, "py", "observation.csv"),
+                                        os.path.join(saved, "observation.csv"), shallow=False))
+
+    def test_save_without_files_runs_again_and_matches_the_files(self):
+        r = short_run("bass-pop")
+        before = r.observation
+        with tempfile.TemporaryDirectory() as tmp:
+            r.save(tmp)
+            np.testing.assert_allclose(r.observation, before, rtol=1e-12, atol=0.0)
+            import h5py
+            with h5py.File(os.path.join(tmp, "results.h5")) as f:  # full precision: the very same run
+                np.testing.assert_array_equal(f["observation/displacement"][()], r.observation)
+            paths = r.plot(formats=("png", "svg", "pdf"))
+            for stem in ("signal", "spectrogram", "energy", "contactogram"):
+                for form in ("png", "svg", "pdf"):
+                    self.assertIn(os.path.join(tmp, f"{stem}.{form}"), paths)
+                    self.assertGreater(os.path.getsize(os.path.join(tmp, f"{stem}.{form}")), 1000)
+
+    def test_audio_plays_the_run(self):
+        try:
+            import IPython.display  # noqa: F401
+        except ImportError:
+            self.skipTest("IPython is not installed")
+        r = fretbuzz.run("bass-pop", fs=FS, duration=0.004, output_rate=48000)
+        self.assertIn(b"RIFF", r.audio().data[:4])
+        native = fretbuzz.run("bass-pop", fs=FS, duration=0.004, output_rate="native")
+        with self.assertRaisesRegex(ValueError, "cannot be played"):
+            native.audio()
+
+
+class Progress(unittest.TestCase):
+    def test_callback_sees_the_run_advance(self):
+        seen = []
+
+        def record(p):
+            seen.append((p.fraction, p.simulated_s))
+            if len(seen) == 1:
+                time.sleep(0.6)  # the next report is then due at once
+        # Stepping every mode: over a second of computing, reported every half second.
+        fretbuzz.run("bass-pop", fs=4e6, duration=0.5, free_flight=False, progress=record)
+        self.assertGreater(len(seen), 1)
+        self.assertTrue(all(0.0 < f <= 1.0 for f, _ in seen))
+        self.assertEqual(seen, sorted(seen))
+
+    def test_an_exception_in_the_callback_stops_the_run_and_writes_nothing(self):
+        def stop(p):
+            raise RuntimeError("enough")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "run")
+            with self.assertRaisesRegex(RuntimeError, "enough"):
+                fretbuzz.run("bass-pop", fs=4e6, duration=3.0, out=out, progress=stop)
+            self.assertFalse(os.path.exists(out))
+
+    def test_ctrl_c_stops_the_run_cleanly(self):
+        timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "run")
+            start = time.monotonic()
+            timer.start()
+            with self.assertRaises(KeyboardInterrupt):
+                fretbuzz.run("bass-pop", fs=4e6, duration=3.0, out=out)  # about 4 s uninterrupted
+            timer.join()
+            self.assertLess(time.monotonic() - start, 2.0)
+            self.assertFalse(os.path.exists(out))
+        self.assertEqual(short_run("bass-pop").summary["case"], "bass-pop")  # usable afterwards
+
+
+if __name__ == "__main__":
+    unittest.main()
