@@ -32,20 +32,13 @@ std::string clock_text(double seconds) {
     return text;
 }
 
-// The Dask driver lives in Python (fretbuzz_sweep.py); the build's module and the source
-// tree's python/ folder are searched before the installed package.
+// The Dask driver lives in the Python package (fretbuzz.sweeps, the same compiled library
+// on every worker).
 int dask_sweep(const SweepArguments& a) {
-    const std::string script =
-        "import sys\n"
-        "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
-        "import fretbuzz_sweep\n"
-        "sys.exit(fretbuzz_sweep.main(sys.argv[1:]))\n";
-    std::string paths = FRETBUZZ_PYTHON_DIRS;
-    if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
-    std::vector<std::string> args{paths, a.spec, "--out", a.out, "--scheduler", a.scheduler};
+    std::vector<std::string> args{a.spec, "--out", a.out, "--scheduler", a.scheduler};
     if (a.resume) args.push_back("--resume");
     if (a.quiet) args.push_back("--quiet");
-    return run_python_script(script, args);
+    return run_package_main("sweeps", args);
 }
 
 int sweep_command(const SweepArguments& a) {

@@ -6,6 +6,7 @@
     c = fretbuzz.load_case("bass-pop"); c["K"] = 1e12
     r = fretbuzz.run(c, fs=400000, duration=0.05, out="out/pop")   # the CLI's files too
     r.plot(); r.audio(); r.save("elsewhere")
+    table = fretbuzz.sweep("study.toml", out="out/study", progress=True)  # pandas DataFrame
 
 The compiled part (fretbuzz._core) is the same C++ library as the `fretbuzz` program.
 """
@@ -24,11 +25,15 @@ __all__ = ["Case", "InputError", "Progress", "Results", "SolverError", "cases", 
 
 # Every other public function of the compiled part (each binding file in python/bindings/
 # adds its own, e.g. estimate) is part of the package too, except the internals run() wraps.
-_INTERNAL = {"simulate", "audio_file_names"}
+_INTERNAL = {"simulate", "audio_file_names", "run_sweep_local"}
 for _name in dir(_core):
     if not _name.startswith("_") and _name not in globals() and _name not in _INTERNAL:
         globals()[_name] = getattr(_core, _name)
         __all__.append(_name)
+
+from .sweeps import read_table, sweep  # noqa: E402  (after the compiled names it uses)
+
+__all__ += ["sweep", "read_table"]
 
 CaseLike = Union[str, "os.PathLike[str]", Case]
 

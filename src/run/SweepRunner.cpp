@@ -154,6 +154,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
     std::exception_ptr failure;
     auto worker = [&] {
         for (std::size_t k = next++; k < todo.size(); k = next++) {
+            if (options.stop && options.stop()) {
+                std::lock_guard lock(mutex);
+                outcome.interrupted = true;
+                next = todo.size();
+                break;
+            }
             try {
                 const std::size_t index = todo[k];
                 const SweepRow row = run_sweep_point(spec, index, spec.audio ? store.audio_dir(index) : std::filesystem::path{});
@@ -184,6 +190,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
         for (unsigned t = 0; t < outcome.jobs; ++t) workers.emplace_back(worker);
     }
     if (failure) std::rethrow_exception(failure);
+    if (outcome.interrupted) return outcome;
     store.write_table();
     outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return outcome;
