@@ -1,7 +1,7 @@
 """Buzz maps: a fretboard drawing with each note coloured by its buzz level, drawn from the
 table of a sweep whose runs are notes (a column giving each run's fret).
 
-    notes = notes_from_table(fretbuzz.read_table("out/study/sweep"), "fret", "sweep")
+    notes = notes_from_table(fretbuzz.read_table("out/study/sweep"), "fret", "out/study/sweep", "out/study")
     write("out/study", notes, {"relief (mm)": 0.3}, scale_length=0.863, fret_count=20)
 
 writes buzz_map.csv (one row per note) and buzz_map.html (the drawing, the fret each note
@@ -35,10 +35,12 @@ def _number(value) -> float:
     return v
 
 
-def notes_from_table(table, fret_column: str, sweep_dir: str, features_from_the_note: bool = False) -> List[dict]:
+def notes_from_table(table, fret_column: str, sweep_dir: str, page_dir: str = ".",
+                     features_from_the_note: bool = False) -> List[dict]:
     """One note per run of a sweep table (pandas DataFrame). fret_column: the column of the
-    fret each run plays. features_from_the_note: the obstacle's features are numbered from
-    the stopped fret (the stand-in stopped note) rather than from the nut."""
+    fret each run plays; sweep_dir: the sweep's directory (its runs/NNNNNN/ audio is linked
+    relative to page_dir, where the map goes). features_from_the_note: the obstacle's
+    features are numbered from the stopped fret (the stand-in stopped note), not the nut."""
     if fret_column not in table.columns:
         raise KeyError(f"the sweep table has no column {fret_column!r} (the fret of each run)")
     notes = []
@@ -52,7 +54,7 @@ def notes_from_table(table, fret_column: str, sweep_dir: str, features_from_the_
         if os.path.isdir(folder):
             wavs = sorted(n for n in os.listdir(folder) if n.endswith(".wav"))
             if wavs:
-                audio = f"{sweep_dir}/runs/{int(row['run']):06d}/{wavs[0]}"
+                audio = os.path.relpath(os.path.join(folder, wavs[0]), page_dir).replace(os.sep, "/")
         notes.append({
             "fret": fret,
             "strength_m": _number(row.get("excitation.amplitude", math.nan)),
@@ -98,12 +100,20 @@ def changed_notes(notes: Sequence[dict], other: Sequence[dict]) -> Dict[tuple, s
     return changed
 
 
-def _colour(db: float) -> str:
-    """0 dB (as loud in the buzz band as without the frets) green, 20 dB and more red."""
+# The colour scale of the buzz level (dB of contact-generated high-frequency energy
+# relative to the note's own): green at QUIET_DB and below, red at LOUD_DB and above.
+QUIET_DB, LOUD_DB = -40.0, 0.0
+
+
+def _colour(note: dict) -> str:
+    """A failed run grey; no contact pale green; then green to red with the buzz level."""
+    if note["status"] != "ok":
+        return "#999999"
+    db = note["buzz_dB"]
     if not math.isfinite(db):
-        return "#bbbbbb"
-    s = min(max(db / 20.0, 0.0), 1.0)
-    return f"hsl({120 * (1 - s):.0f}, 75%, 45%)"
+        return "#b5e3b5"
+    s = min(max((db - QUIET_DB) / (LOUD_DB - QUIET_DB), 0.0), 1.0)
+    return f"hsl({120 * (1 - s):.0f}, 75%, 42%)"
 
 
 def _fmt(v, digits=3) -> str:
@@ -142,12 +152,13 @@ def _svg(notes: Sequence[dict], scale_length: float, fret_count: int, changed: D
             k = note["fret"]
             x = left - 14 if k == 0 else 0.5 * (x_of(scale_length * (1 - 2 ** (-k / 12))) +
                                                  x_of(scale_length * (1 - 2 ** (-(k - 1) / 12))))
-            title = (f"fret {k}, strength {_fmt(note['strength_m'])} m: buzz {_fmt(note['buzz_dB'])} dB"
-                     f"{', against fret ' + str(note['buzz_fret']) if note['buzz_fret'] != '' else ', no contact'}")
+            title = (f"fret {k}, strength {_fmt(note['strength_m'])} m: " +
+                     (f"buzz {_fmt(note['buzz_dB'])} dB against fret {note['buzz_fret']}" if note["buzz_fret"] != ""
+                      else "no contact" if note["status"] == "ok" else note["status"]))
             if _key(note) in changed:
                 title += f" (changed: {changed[_key(note)]})"
                 parts.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="14" fill="none" stroke="#1040ff" stroke-width="3"/>')
-            parts.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="10" fill="{_colour(note["buzz_dB"])}" stroke="#222">'
+            parts.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="10" fill="{_colour(note)}" stroke="#222">'
                          f'<title>{html.escape(title)}</title></circle>')
             parts.append(f'<text x="{x:.1f}" y="{y + 4:.1f}" text-anchor="middle" fill="white">'
                          f'{note["buzz_fret"]}</text>')
@@ -155,17 +166,16 @@ def _svg(notes: Sequence[dict], scale_length: float, fret_count: int, changed: D
     return "\n".join(parts)
 
 
-def _table(notes: Sequence[dict], changed: Dict[tuple, str], base: str) -> str:
+def _table(notes: Sequence[dict], changed: Dict[tuple, str]) -> str:
     head = ("<tr><th>fret</th><th>strength (m)</th><th>buzz (dB)</th><th>buzzes against</th><th>frets touched</th>"
             "<th>first contact (s)</th><th>contact episodes</th><th>time in contact (s)</th>"
             "<th>peak force (N)</th><th>audio</th><th>changed</th></tr>")
     rows = []
     for n in notes:
-        audio = (f'<audio controls preload="none" src="{html.escape(os.path.join(base, n["audio"]))}"></audio>'
-                 if n["audio"] else "")
+        audio = f'<audio controls preload="none" src="{html.escape(n["audio"])}"></audio>' if n["audio"] else ""
         status = "" if n["status"] == "ok" else f' title="{html.escape(n["status"])}" class="failed"'
         rows.append(f'<tr{status}><td>{n["fret"]}</td><td>{_fmt(n["strength_m"])}</td>'
-                    f'<td style="background:{_colour(n["buzz_dB"])};color:white">{_fmt(n["buzz_dB"])}</td>'
+                    f'<td style="background:{_colour(n)};color:white">{_fmt(n["buzz_dB"])}</td>'
                     f'<td>{n["buzz_fret"]}</td><td>{html.escape(n["frets_touched"])}</td>'
                     f'<td>{_fmt(n["first_contact_s"])}</td><td>{_fmt(n["contact_episodes"])}</td>'
                     f'<td>{_fmt(n["contact_time_s"])}</td><td>{_fmt(n["peak_contact_force_N"])}</td>'
@@ -197,10 +207,11 @@ def write(out: str, notes: Sequence[dict], parameters: Dict[str, object], scale_
              ".maps{display:flex;gap:2em;flex-wrap:wrap}")
     body = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Buzz map</title><style>{style}</style></head><body>",
             "<h1>Buzz map</h1>",
-            "<p>Each note is drawn where it is fretted (the open string left of the nut), coloured by its buzz "
-            "level: the energy of the signal above the buzz band's edge relative to the same note without the "
-            "neck, in dB (green 0 dB: no buzz; red: 20 dB or more). The number in a note is the fret it buzzes "
-            "against most (largest contact impulse). One line per plucking strength.</p>",
+            f"<p>Each note is drawn where it is fretted (the open string left of the nut), coloured by its buzz "
+            f"level: the high-frequency energy the contacts add to the signal, relative to that of the same note "
+            f"without the neck, in dB (pale green: no contact; green {QUIET_DB:g} dB and below; red {LOUD_DB:g} dB "
+            f"and above; grey: the run failed). The number in a note is the fret it buzzes against most (largest "
+            f"contact impulse). One line per plucking strength.</p>",
             "<div class='maps'>"]
     body.append(f"<div><h2>This set-up</h2>{_svg(notes, scale_length, fret_count, changed)}"
                 f"<h3>Set-up</h3>{_parameters(parameters)}</div>")
@@ -219,7 +230,7 @@ def write(out: str, notes: Sequence[dict], parameters: Dict[str, object], scale_
                     f"{CHANGE_DB:g} dB or more or it buzzes against another fret; ringed in blue on both maps.</p>")
         body.append("<ul>" + "".join(f"<li>fret {k[0]}, strength {_fmt(k[1])} m: {html.escape(why)}</li>"
                                      for k, why in changed.items()) + "</ul>")
-    body.append("<h2>Notes</h2>" + _table(notes, changed, ""))
+    body.append("<h2>Notes</h2>" + _table(notes, changed))
     body.append("</body></html>")
     tmp = os.path.join(out, "buzz_map.html.tmp")
     with open(tmp, "w", encoding="utf-8") as f:

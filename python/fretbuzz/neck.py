@@ -260,7 +260,8 @@ def main(argv=None) -> int:
         if progress is not None and sys.stderr.isatty():
             print(file=sys.stderr)
         table = sweeps.read_table(os.path.join(a.out, "sweep"))
-        notes = buzzmap.notes_from_table(table, "fret", "sweep", features_from_the_note=True)
+        notes = buzzmap.notes_from_table(table, "fret", os.path.join(a.out, "sweep"), a.out,
+                                         features_from_the_note=True)
         buzzmap.write(a.out, notes, neck.parameters(), neck.S, neck.N, compare=a.compare)
     except InputError as e:
         print(f"fretbuzz: {e}", file=sys.stderr)

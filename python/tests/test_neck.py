@@ -70,7 +70,7 @@ class StandInGeometryTest(unittest.TestCase):
 
 def read_map(folder):
     with open(os.path.join(folder, "buzz_map.csv"), newline="") as f:
-        return {int(r["fret"]): r for r in csv.DictReader(f)}
+        return {(int(r["fret"]), float(r["strength_m"])): r for r in csv.DictReader(f)}
 
 
 @unittest.skipUnless(CLI, "FRETBUZZ_CLI (the fretbuzz program) is not set")
@@ -84,10 +84,10 @@ class SetupCommandTest(unittest.TestCase):
         with open(self.case, "w") as f:
             f.write(text)
 
-    def setup(self, out, *options):
-        return subprocess.run([CLI, "setup", self.case, "--out", os.path.join(self.folder, out), "--frets", "4-8",
-                               "--fs", "400000", "--duration", "0.05", "--quiet", *options],
-                              capture_output=True, text=True, timeout=600)
+    def setup(self, out, *options, frets="6-10"):
+        return subprocess.run([CLI, "setup", self.case, "--out", os.path.join(self.folder, out), "--frets", frets,
+                               "--strength", "1e-3,2e-3", "--fs", "400000", "--duration", "0.05", "--quiet",
+                               *options], capture_output=True, text=True, timeout=600)
 
     def test_a_raised_fret_makes_the_notes_below_it_buzz_more(self):
         r = self.setup("nominal")
@@ -95,26 +95,34 @@ class SetupCommandTest(unittest.TestCase):
         r = self.setup("raised", "--raise", "9:0.05e-3", "--compare", os.path.join(self.folder, "nominal"))
         self.assertEqual(r.returncode, 0, r.stderr)
         nominal, raised = read_map(os.path.join(self.folder, "nominal")), read_map(os.path.join(self.folder, "raised"))
-        self.assertEqual(sorted(nominal), [4, 5, 6, 7, 8])
-        # The note just below the raised fret now hits it, and buzzes louder than before.
-        self.assertEqual(raised[8]["buzz_fret"], "9")
-        self.assertGreater(float(raised[8]["buzz_dB"]), float(nominal[8]["buzz_dB"]) + 3.0)
-        self.assertGreater(float(raised[8]["contact_time_s"]), float(nominal[8]["contact_time_s"]))
-        # The map marks it as changed, and has an audio player per note.
+        self.assertEqual(sorted(nominal), [(k, a) for k in range(6, 11) for a in (1e-3, 2e-3)])
+        # Fret 9 0.05 mm high: the note just below it, which cleared it plucked gently, now
+        # buzzes against it, and buzzes louder plucked harder.
+        self.assertEqual(nominal[8, 1e-3]["buzz_fret"], "")
+        self.assertEqual(nominal[8, 1e-3]["buzz_dB"], "")
+        self.assertEqual(raised[8, 1e-3]["buzz_fret"], "9")
+        self.assertTrue(math.isfinite(float(raised[8, 1e-3]["buzz_dB"])))
+        self.assertGreater(float(raised[8, 2e-3]["buzz_dB"]), float(nominal[8, 2e-3]["buzz_dB"]) + 1.0)
+        self.assertGreater(float(raised[8, 2e-3]["contact_time_s"]), float(nominal[8, 2e-3]["contact_time_s"]))
+        # A note stopped above the raised fret never sees it: the same row exactly.
+        for a in (1e-3, 2e-3):
+            self.assertEqual(raised[10, a], nominal[10, a])
+        # The map marks what changed, and has an audio player per note.
         with open(os.path.join(self.folder, "raised", "buzz_map.html")) as f:
             page = f.read()
         self.assertIn("Notes that changed", page)
-        self.assertIn("<li>fret 8,", page)
-        self.assertEqual(page.count("<audio"), 5)
+        self.assertIn("<li>fret 8, strength 0.001 m: buzzes against fret none -&gt; 9</li>", page)
+        self.assertNotIn("<li>fret 10,", page)
+        self.assertEqual(page.count("<audio"), 10)
         for row in raised.values():
             self.assertTrue(os.path.exists(os.path.join(self.folder, "raised", row["audio"])), row["audio"])
             self.assertEqual(row["status"], "ok")
-            self.assertFalse(math.isnan(float(row["buzz_dB"])))
 
     def test_bad_options_are_refused_and_nothing_is_written(self):
-        for options, named in ((["--raise", "40:1e-4"], "--raise"), (["--frets", "0-25"], "--frets"),
-                               (["--relief", "0.5"], "--relief"), (["--strength", "-1"], "--strength")):
-            r = self.setup("bad", *options)
+        for options, frets, named in ((["--raise", "40:1e-4"], "6-10", "--raise"), ([], "0-25", "--frets"),
+                                      (["--relief", "0.5"], "6-10", "--relief"),
+                                      (["--compare", "nowhere"], "6-10", "--compare")):
+            r = self.setup("bad", *options, frets=frets)
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(named, r.stderr)
             self.assertFalse(os.path.exists(os.path.join(self.folder, "bad")))
@@ -122,6 +130,7 @@ class SetupCommandTest(unittest.TestCase):
                            capture_output=True, text=True, timeout=120)
         self.assertEqual(r.returncode, 2, r.stderr)
         self.assertIn("fretboard", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.folder, "bad")))
 
 
 if __name__ == "__main__":
