@@ -18,35 +18,16 @@ import fretbuzz
 CLI = os.environ.get("FRETBUZZ_CLI")
 MODULE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(fretbuzz.__file__)))
 
-# An ideal string plucked against a point obstacle: cheap, with contact in every run.
-NOTE = """name = "sweep-note"
-[string]
-L = 0.65
-T = 70.0
-mu = 5e-4
-modes = 199
-[modes.frequency]
-model = "harmonic"
-[modes.damping]
-model = "none"
-[obstacle]
-type = "points"
-x = [0.6]
-height = -0.05e-3
-[excitation]
-type = "triangle"
-position = 0.5
-amplitude = 1e-3
-[contact]
-K = 1e10
-alpha = 1.5
-[run]
-fs = 400000
-duration = {duration}
-output_rate = 40000
-[observe]
-x = [0.55]
-"""
+# The C++ sweep tests' case (tests/SweepTestCases.hpp), an ideal string plucked against
+# a point obstacle: cheap, with contact in every run.
+def note_case(duration):
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "SweepTestCases.hpp")
+    with open(header) as f:
+        text = f.read()
+    text = text[text.index('R"(') + 3:text.index(')";')]
+    assert "duration = 0.01\n" in text
+    return text.replace("duration = 0.01\n", f"duration = {duration}\n")
+
 
 SPEC = """[sweep]
 case = "note.toml"
@@ -61,7 +42,7 @@ values = {amplitudes}
 
 def write_study(folder, duration, amplitudes):
     with open(os.path.join(folder, "note.toml"), "w") as f:
-        f.write(NOTE.format(duration=duration))
+        f.write(note_case(duration))
     path = os.path.join(folder, "spec.toml")
     with open(path, "w") as f:
         f.write(SPEC.format(amplitudes=amplitudes))
