@@ -151,6 +151,31 @@ TEST(Sweep, ResumeRunsOnlyTheMissingRowsAndGivesTheSameTable) {
     EXPECT_THROW(run_sweep(other, dir, options), InputError);
 }
 
+// Asked to stop (Ctrl-C from Python), a sweep finishes the runs under way, keeps their
+// rows, writes no table, and a resumed sweep completes it with the same table.
+TEST(Sweep, AStoppedSweepKeepsItsRowsAndResumes) {
+    SweepFixture f;
+    const SweepSpec spec = f.spec("[[parameter]]\nkey = \"contact.K\"\nvalues = [1e8, 1e9, 1e10, 1e11]\n");
+    const ScratchDir out("sweep-stop");
+    run_sweep(spec, out.path() / "whole");
+    SweepOptions options;
+    options.jobs = 1;
+    std::size_t finished = 0;
+    options.progress = [&](const SweepProgress&) { ++finished; };
+    options.stop = [&] { return finished >= 2; };
+    const SweepOutcome stopped = run_sweep(spec, out.path() / "s", options);
+    EXPECT_TRUE(stopped.interrupted);
+    EXPECT_EQ(stopped.computed, 2u);
+    EXPECT_FALSE(std::filesystem::exists(out.path() / "s" / "results.csv"));
+    SweepOptions resume;
+    resume.resume = true;
+    const SweepOutcome rest = run_sweep(spec, out.path() / "s", resume);
+    EXPECT_FALSE(rest.interrupted);
+    EXPECT_EQ(rest.computed, 2u);
+    EXPECT_EQ(rest.resumed, 2u);
+    EXPECT_EQ(read_text(out.path() / "s" / "results.csv"), read_text(out.path() / "whole" / "results.csv"));
+}
+
 TEST(Sweep, AFailedRunStaysInTheTableWithItsError) {
     SweepFixture f;
     const SweepSpec spec = f.spec("[[parameter]]\nkey = \"contact.K\"\nvalues = [1e9, 1e10]\n");
