@@ -57,7 +57,7 @@ def _line_printer(stream=sys.stderr) -> Callable[[SweepProgress], None]:
     return show
 
 
-def _progress_handler(progress: ProgressLike):
+def _progress_handler(progress: ProgressLike, total: int):
     """(callback, closer): None, the caller's callable, or a bar (tqdm where installed, else a line)."""
     if progress is None or progress is False:
         return None, lambda: None
@@ -70,7 +70,7 @@ def _progress_handler(progress: ProgressLike):
     except ImportError:
         show = _line_printer()
         return show, lambda: print(file=sys.stderr) if sys.stderr.isatty() else None
-    bar = tqdm(desc="fretbuzz sweep", unit="run")
+    bar = tqdm(desc="fretbuzz sweep", unit="run", total=total)
 
     def update(p: SweepProgress) -> None:
         bar.total = p.total
@@ -148,7 +148,7 @@ def run_sweep(spec: SpecLike, out: Union[str, "os.PathLike[str]"], *, jobs: Opti
     """Runs the missing rows of a sweep into `out` and writes its table; returns counts
     (total, computed, resumed, failed, wall_seconds, jobs). See sweep()."""
     s = _load(spec)
-    callback, close = _progress_handler(progress)
+    callback, close = _progress_handler(progress, len(s))
     try:
         if scheduler is not None:
             if jobs is not None:

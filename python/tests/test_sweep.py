@@ -248,9 +248,10 @@ class SweepTest(unittest.TestCase):
         out = os.path.join(self.folder, "nowhere")
         address = f"tcp://127.0.0.1:{free_port()}"  # nothing listens there
         start = time.monotonic()
-        r = self.cli(spec, "--out", out, "--scheduler", address, timeout=120)
+        r = self.cli(spec, "--out", out, "--scheduler", address, "--scheduler-timeout", "3", timeout=120)
         self.assertEqual(r.returncode, 2, r.stderr)
         self.assertIn("--scheduler " + address, r.stderr)
+        self.assertIn("within 3 s", r.stderr)
         self.assertLess(time.monotonic() - start, 60)
         self.assertFalse(os.path.exists(out))
 
