@@ -247,13 +247,9 @@ def main(argv=None) -> int:
         fixed = {k: v for k, v in (("run.fs", a.fs), ("run.duration", a.duration)) if v is not None}
         if a.compare is not None and not os.path.exists(os.path.join(a.compare, "buzz_map.csv")):
             raise InputError(f"--compare {a.compare}: holds no buzz_map.csv (the --out of an earlier `fretbuzz setup`)")
-        spec_path = os.path.join(a.out, "study.toml")
         spec_text = study_spec(neck, case, frets, strengths, fixed)
-        spec = _core.SweepSpec.parse(spec_text, spec_path, os.path.dirname(os.path.abspath(spec_path)))
+        spec = _core.SweepSpec.parse(spec_text, os.path.join(a.out, "sweep", "sweep.toml"), os.path.abspath(a.out))
         spec.check()  # every note's case, before anything is written
-        os.makedirs(a.out, exist_ok=True)
-        with open(spec_path, "w", encoding="utf-8") as f:
-            f.write(spec_text)
         progress = None if a.quiet else sweeps._line_printer()
         outcome = sweeps.run_sweep(spec, os.path.join(a.out, "sweep"), jobs=a.jobs, resume=a.resume,
                                    scheduler=a.scheduler, progress=progress)
