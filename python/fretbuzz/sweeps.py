@@ -120,7 +120,7 @@ def _run_on_dask(spec: SweepSpec, out: str, scheduler: str, resume: bool,
                    "interrupted": False}
         token = uuid.uuid4().hex
         start = time.monotonic()
-        futures = [client.submit(_run_row, spec, i, store.audio_dir(i) if spec.audio else "",
+        futures = [client.submit(_run_row, spec, i, os.path.abspath(store.audio_dir(i)) if spec.audio else "",
                                  key=f"fretbuzz-sweep-{token}-{i}", pure=False) for i in todo]
         for future in as_completed(futures, loop=client.loop):
             row = future.result()

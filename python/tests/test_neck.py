@@ -118,6 +118,20 @@ class SetupCommandTest(unittest.TestCase):
             self.assertTrue(os.path.exists(os.path.join(self.folder, "raised", row["audio"])), row["audio"])
             self.assertEqual(row["status"], "ok")
 
+    def test_a_study_on_dask_draws_the_same_map(self):
+        from test_sweep import DaskProcesses
+        r = self.setup("local", frets="7-8")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        cluster = DaskProcesses(self.folder)
+        self.addCleanup(cluster.close)
+        r = self.setup("dask", "--scheduler", cluster.address, frets="7-8")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.folder, "local", "buzz_map.csv")) as a, \
+                open(os.path.join(self.folder, "dask", "buzz_map.csv")) as b:
+            self.assertEqual(a.read(), b.read())
+        for row in read_map(os.path.join(self.folder, "dask")).values():
+            self.assertTrue(os.path.exists(os.path.join(self.folder, "dask", row["audio"])), row["audio"])
+
     def test_bad_options_are_refused_and_nothing_is_written(self):
         for options, frets, named in ((["--raise", "40:1e-4"], "6-10", "--raise"), ([], "0-25", "--frets"),
                                       (["--relief", "0.5"], "6-10", "--relief"),
