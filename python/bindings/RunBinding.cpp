@@ -27,6 +27,13 @@ namespace py = pybind11;
 
 namespace {
 
+// The Python program that asked for the run, for the outputs' provenance.
+std::string python_command_line() {
+    std::string line = "python";
+    for (const py::handle arg : py::module_::import("sys").attr("argv")) line += " " + py::str(arg).cast<std::string>();
+    return line + " (fretbuzz.run)";
+}
+
 RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool screen, bool free_flight, const py::object& out,
                           bool velocity_audio, const py::object& snapshot_until, const py::object& progress) {
     c.validate();
@@ -44,7 +51,8 @@ RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool scree
         outputs.emplace(py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>(), c,
                         RunOutputOptions{.velocity_audio = velocity_audio,
                                          .snapshot_rate_hz = snapshot_rate,
-                                         .snapshot_until_s = until});
+                                         .snapshot_until_s = until,
+                                         .command_line = python_command_line()});
     ResultRecorder recorder(snapshot_rate);
     std::vector<RunObserver*> observers{&recorder};
     if (outputs) observers.insert(observers.end(), outputs->observers().begin(), outputs->observers().end());
