@@ -30,8 +30,12 @@ namespace {
 // The Python program that asked for the run, for the outputs' provenance.
 std::string python_command_line() {
     std::string line = "python";
-    for (const py::handle arg : py::module_::import("sys").attr("argv")) line += " " + py::str(arg).cast<std::string>();
-    return line + " (fretbuzz.run)";
+    for (const py::handle arg : py::module_::import("sys").attr("argv")) {
+        line.push_back(' ');
+        line.append(py::str(arg).cast<std::string>());
+    }
+    line.append(" (fretbuzz.run)");
+    return line;
 }
 
 RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool screen, bool free_flight, const py::object& out,
