@@ -1,5 +1,5 @@
-// A case written as TOML text in the program: an ideal lossless string (f1 = 223.6 Hz)
-// plucked 2 mm against a flat barrier 1 mm below it. Runs 20 ms and prints when the
+// A case written as TOML text in the program: an ideal lossless string (f1 = 217.6 Hz)
+// plucked 1.5 mm against a flat barrier 0.5 mm below it. Runs 20 ms and prints when the
 // string first touches, how much of the energy the contact holds at most, and the
 // discrete energy balance, which the scheme keeps to round-off through every contact.
 #include <algorithm>
@@ -13,27 +13,27 @@
 int main() {
     const char* text = R"(name = "barrier"
 [string]
-L = 1.0
-T = 200.0
+L = 0.65
+T = 80.0
 mu = 1e-3
-modes = 300
+modes = 300       # the top mode, 65 kHz, below fs/2
 ideal = true
 [obstacle]
 type = "flat"
-height = -1e-3
+height = -0.5e-3
 [excitation]
 type = "triangle"
-position = 0.3
-amplitude = 2e-3
+position = 0.2
+amplitude = 1.5e-3
 [contact]
-K = 1e12
+K = 1e11
 alpha = 1.5
 [run]
 fs = 176400
 duration = 0.02
 lossless = true
 [observe]
-x = [0.7]
+x = [0.45]
 )";
     const fretbuzz::Case c = fretbuzz::parse_case(text, "barrier.toml", fretbuzz::DataSource::builtin());
     fretbuzz::ResultRecorder recorder;
