@@ -7,8 +7,16 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/Version.hpp"
 
+namespace fretbuzz::cli {
+namespace {
+std::string invocation;
+}
+const std::string& command_line() { return invocation; }
+}  // namespace fretbuzz::cli
+
 int main(int argc, char** argv) {
     using namespace fretbuzz;
+    for (int k = 0; k < argc; ++k) cli::invocation.append(k > 0 ? " " : "").append(argv[k]);
     CLI::App app{"fretbuzz: strings vibrating against obstacles (modal scheme, exact energy balance)"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "fretbuzz " + std::string(version));

@@ -82,7 +82,8 @@ def audio_file_names(velocity: bool, points: Sequence[float]) -> List[str]: ...
 def simulate(case: Case, *, snapshots: Number = 0.0, screen: bool = True, free_flight: bool = True,
              out: Union[str, os.PathLike[str], None] = None, velocity_audio: bool = False,
              snapshot_until: Optional[Number] = None,
-             progress: Optional[Callable[[Progress], Any]] = None) -> RecordedRun: ...
+             progress: Optional[Callable[[Progress], Any]] = None, fade_in: Optional[Number] = None,
+             fade_out: Optional[Number] = None) -> RecordedRun: ...
 
 class SweepProgress:
     """How far a sweep has gone (sweep(..., progress=callback))."""

@@ -55,6 +55,12 @@ void Handle::reset() {
     id_ = -1;
 }
 
+void write_attribute_at(hid_t parent, const std::string& path, const std::string& name, const std::string& value) {
+    if (H5Lexists(parent, path.c_str(), H5P_DEFAULT) <= 0) return;
+    const Handle object(H5Oopen(parent, path.c_str(), H5P_DEFAULT), H5Oclose, "open " + path);
+    write_attribute(object.get(), name, value);
+}
+
 void silence_error_printing() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 Handle create_file(const std::string& path) {
