@@ -13,7 +13,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       mu_(c.string.linear_density),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
-      contact_(c.contact.stiffness, c.contact.exponent),
+      contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       obstacle_(c.obstacle_height_m),
       options_(options) {
     require_positive("time step dt (s)", dt);

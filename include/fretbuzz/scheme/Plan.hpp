@@ -24,6 +24,9 @@ struct PlanOptions {
     std::size_t transform_threshold = 0;  // 0: chosen from the grid size
     // Let FFTW time its candidate algorithms when planning (worth it for long runs).
     bool measure_transform = false;
+    // Closed-form contact quotients for alpha = 1, 3/2, 2, 3; false: pow/expm1/log1p for
+    // every exponent (the reference they are tested against).
+    bool closed_form_contact = true;
 };
 
 class Plan {
