@@ -29,6 +29,25 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
                                                             : default_transform_threshold(mode_count());
 }
 
+ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly) {
+    // Few points: solving each costs one row product, about what one update of the speed
+    // bound costs, so skipping a few cannot pay for the bookkeeping.
+    constexpr std::size_t kFewPoints = 16;
+    if (!options.screen_contacts) return {false, "off (asked for)"};
+    std::size_t points = 0;
+    bool rests_on_it = false;  // the rest position touches it: no free flight, ever
+    for (double h : c.obstacle_height_m) {
+        if (!std::isfinite(h)) continue;
+        ++points;
+        rests_on_it = rests_on_it || c.contact_orientation() * h >= 0.0;
+    }
+    if (!options.choose_screening) return {true, "on (asked for)"};
+    if (points <= kFewPoints && (rests_on_it || !can_fly))
+        return {false, "off (automatic: obstacle grid points: " + std::to_string(points) + ", " +
+                           (rests_on_it ? "the string rests on the obstacle" : "no free flight") + ")"};
+    return {true, "on (automatic: obstacle grid points: " + std::to_string(points) + ")"};
+}
+
 std::size_t Plan::default_transform_threshold(std::size_t modes) {
     // A sine transform of length N runs through a real DFT of length 2(N+1): with N+1 made of
     // small primes it costs about 6 log2(N) products of a row of S with a vector; a large
