@@ -120,5 +120,32 @@ TEST(ContactScheduling, RandomCasesUnchangedByScreeningAndFreeFlight) {
     }
 }
 
+TEST(ContactScheduling, ChosenWithoutScreeningWhereTheStringRestsOnAFewPoints) {
+    // The sitar's bridge (12 grid points within a micrometre of the rest line) and the
+    // tanpura's point: screening is turned off automatically, said so in the summary, and
+    // the result is the screened one to round-off.
+    for (const char* name : {"sitar", "tanpura"}) {
+        Case c = load_case(name);
+        c.run.duration_s = 0.02;
+        Recorder automatic, forced;
+        RunObserver* a[] = {&automatic};
+        RunObserver* f[] = {&forced};
+        const RunSummary chosen = simulate(c, a);
+        RunOptions on;
+        on.plan.choose_screening = false;
+        const RunSummary screened = simulate(c, f, on);
+        EXPECT_FALSE(chosen.screened) << name;
+        EXPECT_NE(chosen.screening.find("automatic"), std::string::npos) << chosen.screening;
+        EXPECT_TRUE(screened.screened) << name;
+        EXPECT_GT(chosen.contact_steps, 100) << name;
+        EXPECT_EQ(chosen.contact_steps, screened.contact_steps) << name;
+        EXPECT_LT(relative_l2(forced.signal, automatic.signal), 1e-9) << name;
+    }
+    // Many points (the bass frets): screening stays on.
+    Case bass = load_case("bass-pop");
+    bass.run.duration_s = 1e-4;
+    EXPECT_TRUE(simulate(bass, {}).screened);
+}
+
 }  // namespace
 }  // namespace fretbuzz

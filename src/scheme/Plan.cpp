@@ -35,11 +35,14 @@ ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool
     constexpr std::size_t kFewPoints = 16;
     if (!options.screen_contacts) return {false, "off (asked for)"};
     std::size_t points = 0;
-    bool rests_on_it = false;  // the rest position touches it: no free flight, ever
+    // Within a micrometre of the rest line (a bridge's curve between grid points), the
+    // string keeps touching it while it sounds: free flight comes rarely, if ever.
+    constexpr double kRestingGap = 1e-6;
+    bool rests_on_it = false;
     for (double h : c.obstacle_height_m) {
         if (!std::isfinite(h)) continue;
         ++points;
-        rests_on_it = rests_on_it || c.contact_orientation() * h >= 0.0;
+        rests_on_it = rests_on_it || c.contact_orientation() * h >= -kRestingGap;
     }
     if (!options.choose_screening) return {true, "on (asked for)"};
     if (points <= kFewPoints && (rests_on_it || !can_fly))
