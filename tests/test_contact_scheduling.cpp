@@ -11,6 +11,7 @@
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -145,6 +146,18 @@ TEST(ContactScheduling, ChosenWithoutScreeningWhereTheStringRestsOnAFewPoints) {
     Case bass = load_case("bass-pop");
     bass.run.duration_s = 1e-4;
     EXPECT_TRUE(simulate(bass, {}).screened);
+}
+
+TEST(ContactScheduling, TransformThresholdFollowsThePlannedCost) {
+    // N = 862 (N + 1 prime) plans a much costlier transform than N = 863 (864 = 2^5 3^3):
+    // rows of S stay the cheaper way to many more points there.
+    Case c = load_case("tanpura");
+    auto threshold = [&](std::size_t modes) {
+        const ModalBasis basis(c.string.length_m, modes);
+        return Plan::default_transform_threshold(modes, basis.transform_flops());
+    };
+    EXPECT_GT(threshold(862), 3 * threshold(863));
+    EXPECT_GT(threshold(1600), 2 * threshold(1599));  // 1601 prime, 1600 = 2^6 5^2
 }
 
 }  // namespace

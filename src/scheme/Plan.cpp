@@ -26,7 +26,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
     transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold
-                                                            : default_transform_threshold(mode_count());
+                                                            : default_transform_threshold(mode_count(), basis_.transform_flops());
 }
 
 ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly) {
@@ -51,21 +51,16 @@ ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool
     return {true, "on (automatic: obstacle grid points: " + std::to_string(points) + ")"};
 }
 
-std::size_t Plan::default_transform_threshold(std::size_t modes) {
-    // A sine transform of length N runs through a real DFT of length 2(N+1): with N+1 made of
-    // small primes it costs about 6 log2(N) products of a row of S with a vector; a large
-    // prime factor p slows FFTW roughly by p/8 (measured: N = 999, 7 us; N = 862, N+1 prime,
-    // 75 us; one row product, 0.1 us). A fixed rule, not a timing, so runs are reproducible.
-    std::size_t rest = modes + 1, largest = 1;
-    for (std::size_t f = 2; f * f <= rest; ++f)
-        while (rest % f == 0) {
-            largest = f;
-            rest /= f;
-        }
-    largest = std::max(largest, rest);
-    const double penalty = std::max(1.0, static_cast<double>(largest) / 8.0);
-    const double rows = 6.0 * std::log2(static_cast<double>(modes) + 1.0) * penalty;
-    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, std::max<std::size_t>(16, modes / 2));
+std::size_t Plan::default_transform_threshold(std::size_t modes, double transform_flops) {
+    // One row product is N multiply-adds at about 8 a cycle (8 partial sums, AVX2); FFTW
+    // runs about 4x fewer operations a cycle, whatever the factors of N + 1 (measured: N =
+    // 999, 3.4e4 planned operations, 7-12 us; N = 862, N + 1 prime, 2.0e5, 75-100 us;
+    // N = 1600, 2.3e5, 110 us; one row of 1000, 0.1 us). So a transform costs about
+    // 2 x planned operations / N rows. FFTW's estimate, not a timing: runs stay reproducible.
+    const double rows = 2.0 * transform_flops / static_cast<double>(modes);
+    const std::size_t most = std::max<std::size_t>(16, modes / 2);
+    if (!std::isfinite(rows)) return most;
+    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, most);
 }
 
 }  // namespace fretbuzz

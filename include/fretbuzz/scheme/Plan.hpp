@@ -55,8 +55,9 @@ public:
     const std::vector<double>& obstacle() const { return obstacle_; }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
-    // Points beyond which one sine transform is cheaper than rows of S, for N modes.
-    static std::size_t default_transform_threshold(std::size_t modes);
+    // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
+    // transform FFTW plans at `transform_flops` operations.
+    static std::size_t default_transform_threshold(std::size_t modes, double transform_flops);
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
