@@ -5,18 +5,27 @@
 //   Straightforward  the modal scheme solving every point every step (sine transforms);
 //   Dense            eq. (4) with D and D~ as full N x N matrices (two matrix-vector
 //                    products per step), compiled with the same flags.
+//   Window           the product's stepping over the same contact window as the two above;
+//   Outputs/None     a 3 s bass-pop with every output file (CSV, WAV, HDF5 with the contact
+//                    map) against the same run with no observer at all.
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
+// `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
+// the sampling rate and the extent of the obstacle, with fitted exponents.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -60,6 +69,28 @@ void fast(benchmark::State& state, BenchCase b) {
                                                        benchmark::Counter::kIsIterationInvariantRate |
                                                            benchmark::Counter::kInvert);
     state.counters["steps"] = static_cast<double>(steps);
+}
+
+// A whole 3 s bass-pop at 4 MHz, with every output file or with none.
+void whole_run(benchmark::State& state, bool outputs) {
+    Case c = load_case("bass-pop");
+    c.run.duration_s = 3.0;
+    const long steps = std::lround(c.run.sample_rate_hz * c.run.duration_s);
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "fretbuzz-bench-outputs";
+    for (auto _ : state) {
+        std::filesystem::remove_all(dir);
+        if (outputs) {
+            RunOutputs files(dir, c);
+            benchmark::DoNotOptimize(simulate(c, files.observers()).energy_final_j);
+            files.commit();
+        } else {
+            benchmark::DoNotOptimize(simulate(c, {}).energy_final_j);
+        }
+    }
+    std::filesystem::remove_all(dir);
+    state.counters["us_per_step"] = benchmark::Counter(static_cast<double>(steps) * 1e-6,
+                                                       benchmark::Counter::kIsIterationInvariantRate |
+                                                           benchmark::Counter::kInvert);
 }
 
 // Per-step timings of the reference paths over a window that includes contacts.
@@ -108,17 +139,112 @@ public:
                 return it == median_us_.end() ? std::nan("") : it->second;
             };
             const double fast_us = get("Fast"), plain_us = get("Straightforward"), dense_us = get("Dense");
+            const double window_us = get("Window");
             const double wall_per_sim_s = fast_us * 1e-6 * b.fs;
             std::printf("  %-14s fs = %.0f Hz: fast %.4f us/step (%.3f s wall per simulated second, %.2f simulated s per wall s)\n",
                         b.name, b.fs, fast_us, wall_per_sim_s, 1.0 / wall_per_sim_s);
             std::printf("  %-14s straightforward %.2f us/step, dense %.1f us/step; fast is %.0fx faster than dense, %.0fx than straightforward\n",
                         "", plain_us, dense_us, dense_us / fast_us, plain_us / fast_us);
+            std::printf("  %-14s contact window: fast %.2f us/step, %.0fx faster than dense, %.1fx than straightforward\n",
+                        "", window_us, dense_us / window_us, plain_us / window_us);
         }
+        const auto outputs = median_us_.find("Outputs/bass-pop-3s"), none = median_us_.find("None/bass-pop-3s");
+        if (outputs != median_us_.end() && none != median_us_.end())
+            std::printf("  bass-pop 3 s at 4 MHz: every output %.2f s, no output %.2f s (%.2fx)\n",
+                        outputs->second * 12.0, none->second * 12.0, outputs->second / none->second);
     }
 
 private:
     std::map<std::string, double> median_us_;
 };
+
+// --- Scaling table ---------------------------------------------------------------------
+// A tanpura-like string (model modes, so N can be anything) plucked against an obstacle of
+// three extents: one point, 20 fret-like points, and a flat obstacle along the whole string.
+// Whole runs of 20 ms (several contacts) through the product's path with no observer.
+std::string scaling_case_text(std::size_t modes, double fs, const std::string& extent) {
+    std::string text = builtin_case_text("tanpura");
+    auto replace_section = [&](const std::string& header, const std::string& body) {
+        const std::size_t at = text.find(header);
+        const std::size_t end = text.find("\n[", at + 1);
+        text.replace(at, end - at, header + "\n" + body);
+    };
+    const std::size_t key = text.find("modes = 400");
+    text.replace(key, 11, "modes = " + std::to_string(modes));
+    if (extent == "frets") {
+        std::string x = "x = [", h = "height = -0.0003";
+        for (int k = 1; k <= 20; ++k) x += std::to_string(0.04 * k) + (k < 20 ? ", " : "]");
+        replace_section("[obstacle]", "type = \"points\"\n" + x + "\n" + h + "\n");
+    } else if (extent == "flat") {
+        replace_section("[obstacle]", "type = \"flat\"\nheight = -0.0003\n");
+    }
+    replace_section("[run]", "fs = " + std::to_string(fs) + "\nduration = 0.02\nallow_aliasing = true\n");
+    return text;
+}
+
+double median_us_per_step(std::size_t modes, double fs, const std::string& extent, int repetitions) {
+    const Case c = parse_case(scaling_case_text(modes, fs, extent), "scaling", DataSource::builtin());
+    const double steps = std::round(c.run.duration_s * fs);
+    std::vector<double> us;
+    for (int r = 0; r < repetitions; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        benchmark::DoNotOptimize(simulate(c, {}).energy_final_j);
+        us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() / steps);
+    }
+    std::sort(us.begin(), us.end());
+    return us[us.size() / 2];
+}
+
+// Least-squares slope of log(cost) against log(x).
+double fitted_exponent(const std::vector<double>& x, const std::vector<double>& cost) {
+    double mx = 0.0, my = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        mx += std::log(x[k]) / static_cast<double>(x.size());
+        my += std::log(cost[k]) / static_cast<double>(x.size());
+    }
+    double sxy = 0.0, sxx = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        sxy += (std::log(x[k]) - mx) * (std::log(cost[k]) - my);
+        sxx += (std::log(x[k]) - mx) * (std::log(x[k]) - mx);
+    }
+    return sxy / sxx;
+}
+
+int print_scaling_table() {
+    const std::vector<std::string> extents = {"point", "frets", "flat"};
+    const int repetitions = 3;
+    const std::vector<double> modes = {100, 200, 400, 800, 1600, 3200};
+    std::printf("Per-step cost, us (median of %d whole 20 ms runs, no output), fs = 400 kHz\n", repetitions);
+    std::printf("| N | point | frets | flat |\n|---|---|---|---|\n");
+    std::map<std::string, std::vector<double>> by_n;
+    for (double n : modes) {
+        std::printf("| %.0f |", n);
+        for (const std::string& e : extents) {
+            by_n[e].push_back(median_us_per_step(static_cast<std::size_t>(n), 4e5, e, repetitions));
+            std::printf(" %.3f |", by_n[e].back());
+            std::fflush(stdout);
+        }
+        std::printf("\n");
+    }
+    std::printf("| exponent in N |");
+    for (const std::string& e : extents) std::printf(" %.2f |", fitted_exponent(modes, by_n[e]));
+    const std::vector<double> rates = {48e3, 96e3, 192e3, 384e3, 768e3, 1536e3};
+    std::printf("\n\nPer-step cost, us, N = 400\n| fs (kHz) | point | frets | flat |\n|---|---|---|---|\n");
+    std::map<std::string, std::vector<double>> by_fs;
+    for (double fs : rates) {
+        std::printf("| %.0f |", fs / 1e3);
+        for (const std::string& e : extents) {
+            by_fs[e].push_back(median_us_per_step(400, fs, e, repetitions));
+            std::printf(" %.3f |", by_fs[e].back());
+            std::fflush(stdout);
+        }
+        std::printf("\n");
+    }
+    std::printf("| exponent in fs |");
+    for (const std::string& e : extents) std::printf(" %.2f |", fitted_exponent(rates, by_fs[e]));
+    std::printf("\n");
+    return 0;
+}
 
 }  // namespace
 
@@ -135,11 +261,22 @@ int main(int argc, char** argv) {
             ->Unit(benchmark::kMillisecond)
             ->Iterations(2)
             ->UseRealTime();
+        benchmark::RegisterBenchmark(("Window" + suffix).c_str(), per_step<Stepper>, b, warmup, 2000L, true)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(2)
+            ->UseRealTime();
         benchmark::RegisterBenchmark(("Dense" + suffix).c_str(), per_step<DenseMatrixScheme>, b, warmup, 200L, false)
             ->Unit(benchmark::kMillisecond)
             ->Iterations(2)
             ->UseRealTime();
     }
+    for (bool outputs : {true, false})
+        benchmark::RegisterBenchmark(outputs ? "Outputs/bass-pop-3s" : "None/bass-pop-3s", whole_run, outputs)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1)
+            ->UseRealTime();
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--scaling") return print_scaling_table();
     std::vector<char*> args(argv, argv + argc);
     std::string repetitions = "--benchmark_repetitions=5";
     bool has_repetitions = false;

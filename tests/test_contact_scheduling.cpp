@@ -11,6 +11,7 @@
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -118,6 +119,45 @@ TEST(ContactScheduling, RandomCasesUnchangedByScreeningAndFreeFlight) {
         c.name = "random case " + std::to_string(trial);
         expect_same_results(c);
     }
+}
+
+TEST(ContactScheduling, ChosenWithoutScreeningWhereTheStringRestsOnAFewPoints) {
+    // The sitar's bridge (12 grid points within a micrometre of the rest line) and the
+    // tanpura's point: screening is turned off automatically, said so in the summary, and
+    // the result is the screened one to round-off.
+    for (const char* name : {"sitar", "tanpura"}) {
+        Case c = load_case(name);
+        c.run.duration_s = 0.02;
+        Recorder automatic, forced;
+        RunObserver* a[] = {&automatic};
+        RunObserver* f[] = {&forced};
+        const RunSummary chosen = simulate(c, a);
+        RunOptions on;
+        on.plan.choose_screening = false;
+        const RunSummary screened = simulate(c, f, on);
+        EXPECT_FALSE(chosen.screened) << name;
+        EXPECT_NE(chosen.screening.find("automatic"), std::string::npos) << chosen.screening;
+        EXPECT_TRUE(screened.screened) << name;
+        EXPECT_GT(chosen.contact_steps, 100) << name;
+        EXPECT_EQ(chosen.contact_steps, screened.contact_steps) << name;
+        EXPECT_LT(relative_l2(forced.signal, automatic.signal), 1e-9) << name;
+    }
+    // Many points (the bass frets): screening stays on.
+    Case bass = load_case("bass-pop");
+    bass.run.duration_s = 1e-4;
+    EXPECT_TRUE(simulate(bass, {}).screened);
+}
+
+TEST(ContactScheduling, TransformThresholdFollowsThePlannedCost) {
+    // N = 862 (N + 1 prime) plans a much costlier transform than N = 863 (864 = 2^5 3^3):
+    // rows of S stay the cheaper way to many more points there.
+    Case c = load_case("tanpura");
+    auto threshold = [&](std::size_t modes) {
+        const ModalBasis basis(c.string.length_m, modes);
+        return Plan::default_transform_threshold(modes, basis.transform_flops());
+    };
+    EXPECT_GT(threshold(862), 3 * threshold(863));
+    EXPECT_GT(threshold(1600), 2 * threshold(1599));  // 1601 prime, 1600 = 2^6 5^2
 }
 
 }  // namespace

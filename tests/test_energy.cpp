@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -14,21 +15,24 @@ namespace fretbuzz {
 namespace {
 
 struct EnergyTrace {
-    std::vector<double> energy, dissipated;
+    std::vector<double> energy, dissipated, displacement;
     long contact_steps = 0;
     std::size_t most_points_in_contact = 0;
 };
 
-EnergyTrace trace(const Case& c, double fs, long steps, bool screen = true) {
+EnergyTrace trace(const Case& c, double fs, long steps, bool screen = true, bool closed_form = true) {
     PlanOptions options;
     options.screen_contacts = screen;
+    options.closed_form_contact = closed_form;
     const Plan plan(c, 1.0 / fs, options);
+    const std::vector<double> probe = plan.basis().mode_shapes_at(0.37 * c.string.length_m);
     Stepper stepper(plan, c.initial_displacement, c.initial_velocity);
     EnergyTrace t;
     for (long n = 1; n <= steps; ++n) {
         stepper.step();
         t.energy.push_back(stepper.energy());
         t.dissipated.push_back(stepper.dissipated());
+        t.displacement.push_back(stepper.displacement(probe));
         t.most_points_in_contact = std::max(t.most_points_in_contact, stepper.forces().size());
     }
     t.contact_steps = stepper.statistics().contact_steps;
@@ -79,6 +83,29 @@ TEST(Energy, StaysBoundedAtHugeTimeSteps) {
     const EnergyTrace t = trace(c, 20000.0, 4000);  // dt = 50 us, 60 periods of the top mode
     EXPECT_GT(t.contact_steps, 10);
     EXPECT_LT(max_relative_drift(t), 1e-10);
+}
+
+TEST(Energy, ClosedFormContactLawsConserveEnergyAndMatchTheGeneralLaw) {
+    // alpha = 1, 3/2, 2, 3 use closed-form quotients: the energy must still be conserved to
+    // round-off up to K = 1e15, and the motion be that of the pow/expm1/log1p law.
+    Case c = load_case("bass-pop");
+    c.make_lossless();
+    for (double alpha : {1.0, 1.5, 2.0, 3.0}) {
+        for (double stiffness : {1e9, 1e13, 1e15}) {
+            c.contact.exponent = alpha;
+            c.contact.stiffness = stiffness;
+            const EnergyTrace fast = trace(c, 400000.0, 6000);  // 15 ms: the first slaps on the frets
+            const EnergyTrace general = trace(c, 400000.0, 6000, true, false);
+            EXPECT_GT(fast.contact_steps, 10) << "alpha=" << alpha << " K=" << stiffness;
+            EXPECT_LT(max_relative_drift(fast), 1e-10) << "alpha=" << alpha << " K=" << stiffness;
+            double diff = 0.0, norm = 0.0;
+            for (std::size_t n = 0; n < fast.displacement.size(); ++n) {
+                diff += std::pow(fast.displacement[n] - general.displacement[n], 2);
+                norm += std::pow(general.displacement[n], 2);
+            }
+            EXPECT_LE(std::sqrt(diff / norm), 1e-12) << "alpha=" << alpha << " K=" << stiffness;
+        }
+    }
 }
 
 }  // namespace

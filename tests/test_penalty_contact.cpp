@@ -94,5 +94,36 @@ TEST(PenaltyContact, RejectsBadLawsAndBadStates) {
     EXPECT_THROW(law.solve(1e-6, std::numeric_limits<double>::infinity(), 1e-11), SolverError);
 }
 
+TEST(PenaltyContact, ClosedFormsMatchTheGeneralLawEverywhere) {
+    // alpha = 1, 3/2, 2, 3 skip pow/expm1/log1p: quotients and roots must be those of the
+    // general formulas (and of the long double reference), across contact, grazing and leaving.
+    for (double alpha : {1.0, 1.5, 2.0, 3.0}) {
+        for (double stiffness : {1.0, 1e6, 1e13, 1e15}) {
+            const PenaltyContact fast(stiffness, alpha), general(stiffness, alpha, false);
+            for (double a : {-1e-4, -1e-9, 0.0, 1e-15, 1e-9, 1e-6, 1e-4}) {
+                EXPECT_LE(std::abs(fast.potential(a) - general.potential(a)), 4e-16 * general.potential(a));
+                EXPECT_LE(std::abs(fast.force(a) - general.force(a)), 4e-16 * general.force(a));
+                for (double ratio : {-0.999, -0.5, -1e-6, -1e-12, -1e-16, 0.0, 1e-16, 1e-12, 1e-6, 0.5, 10.0}) {
+                    const double r = a != 0.0 ? ratio * std::abs(a) : ratio * 1e-6;
+                    // The long double reference itself cancels near |r/a| = 1e-6: 1e-12 there.
+                    const Real reference = quotient_reference(stiffness, alpha, a, r);
+                    const double q = fast.difference_quotient(a, r), g = general.difference_quotient(a, r);
+                    EXPECT_LE(std::abs(q - reference), 1e-12L * reference + 1e-300L)
+                        << "alpha=" << alpha << " a=" << a << " r=" << r;
+                    EXPECT_LE(std::abs(q - g), 1e-14 * g + 1e-300) << "alpha=" << alpha << " a=" << a << " r=" << r;
+                }
+                for (double k : {1e-14, 9.3e-12, 1e-8, 1e-3})
+                    for (double b : {-1e-7, -1e-12, 0.0, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3}) {
+                        const ContactSolution s = fast.solve(a, b, k), t = general.solve(a, b, k);
+                        const double scale = std::abs(t.increment) + std::abs(a) + std::abs(b);
+                        ASSERT_LE(std::abs(s.increment - t.increment), 1e-14 * scale)
+                            << "alpha=" << alpha << " K=" << stiffness << " a=" << a << " b=" << b << " k=" << k;
+                        ASSERT_LE(std::abs(s.force - t.force), 1e-12 * t.force + 1e-300);
+                    }
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace fretbuzz

@@ -21,6 +21,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"steps_per_second", s.steps_per_second},
         {"lossless", s.lossless},
         {"contact_screening", s.screened},
+        {"contact_screening_choice", s.screening},
         {"energy_initial_J", s.energy_initial_j},
         {"energy_final_J", s.energy_final_j},
         {"dissipated_J", s.dissipated_j},

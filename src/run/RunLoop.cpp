@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
 
 namespace fretbuzz {
@@ -24,6 +25,11 @@ RunLayout layout_of(const Case& c) {
     return layout;
 }
 
+PlanOptions with_screening(PlanOptions options, bool screen) {
+    options.screen_contacts = screen;
+    return options;
+}
+
 // The state in the coordinate the contact solve uses (mirrored when the obstacle is above).
 std::vector<double> oriented(const std::vector<double>& v, double orientation) {
     std::vector<double> out(v);
@@ -38,7 +44,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
       options_(options),
       start_(Clock::now()),
       last_progress_(start_),
-      plan_(c, 1.0 / c.run.sample_rate_hz, options.plan),
+      screening_(choose_screening(c, options.plan, options.free_flight && output_stride(c) > 1)),
+      plan_(c, 1.0 / c.run.sample_rate_hz, with_screening(options.plan, screening_.screen)),
       layout_(layout_of(c)),
       stepper_(plan_, oriented(c.initial_displacement, c.contact_orientation()),
                oriented(c.initial_velocity, c.contact_orientation())),
@@ -59,7 +66,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.modes = c.mode_count();
     summary_.output_rate_hz = layout_.output_rate_hz;
     summary_.lossless = plan_.propagator().lossless();
-    summary_.screened = options.plan.screen_contacts;
+    summary_.screened = screening_.screen;
+    summary_.screening = screening_.reason;
     summary_.warnings = c.warnings;
     summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
@@ -103,7 +111,7 @@ void RunLoop::plan_free_flight() {
     // Free flight jumps whole output intervals, so it needs intervals longer than a step,
     // and per-step observers that accept their signal band-limited meanwhile.
     double band_hz = per_step_.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-    bool allowed = options_.free_flight && options_.plan.screen_contacts && layout_.output_stride > 1;
+    bool allowed = options_.free_flight && plan_.options().screen_contacts && layout_.output_stride > 1;
     for (RunObserver* o : per_step_) {
         band_hz = std::min(band_hz, o->every_step_band_hz());
         allowed = allowed && o->every_step_band_hz() > 0.0;

@@ -44,6 +44,7 @@ private:
     std::span<RunObserver* const> observers_;
     const RunOptions& options_;
     Clock::time_point start_, last_progress_;
+    ScreeningChoice screening_;
     Plan plan_;
     RunLayout layout_;
     Stepper stepper_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbuzz/scheme/Kernels.hpp"
+
 namespace fretbuzz {
 
 namespace {
@@ -20,22 +22,31 @@ ContactScheduler::ContactScheduler(const Plan& plan)
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {
     const ModalPropagator& prop = plan_.propagator();
-    amplitude_.resize(q.size());
+    const std::size_t n = q.size();
+    amplitude_.resize(n);
     prop.free_amplitudes(q, d, amplitude_);
-    tail_sums_.assign(q.size() + 1, 0.0);
-    for (std::size_t j = q.size(); j-- > 0;) tail_sums_[j] = tail_sums_[j + 1] + amplitude_[j];
-    const auto factor = prop.speed_factor();
-    double speed = 0.0;
-    for (std::size_t j = 0; j < q.size(); ++j) speed += factor[j] * amplitude_[j];
-    const double reach = tail_sums_[0];
+    // One pass each, vectorised; the tail beyond the head modes is summed when the head is set.
+    const double speed = kernels::dot(prop.speed_factor().data(), amplitude_.data(), n);
+    const double reach = kernels::sum(amplitude_.data(), n);
+    stale_ = false;
     set_head_modes(head_);
     speed_ = std::isfinite(speed) ? norm_ * speed * (1.0 + kSlack) : std::numeric_limits<double>::infinity();
     slack_ = std::isfinite(reach) ? kSlack * norm_ * reach : std::numeric_limits<double>::infinity();
 }
 
+void ContactScheduler::motion_changed(std::span<const double> q, std::span<const double> d) {
+    // Asleep points are keyed by budget, which grows with the speed: it must hold from now on.
+    if (queue_.empty())
+        stale_ = true;
+    else
+        update_speed(q, d);
+}
+
 void ContactScheduler::set_head_modes(std::size_t head) {
     head_ = std::min(head == 0 ? kHeadModes : head, plan_.mode_count());
-    tail_ = head_ < tail_sums_.size() ? norm_ * tail_sums_[head_] * (1.0 + kSlack) : 0.0;
+    tail_ = head_ < amplitude_.size()
+                ? norm_ * kernels::sum(amplitude_.data() + head_, amplitude_.size() - head_) * (1.0 + kSlack)
+                : 0.0;
 }
 
 void ContactScheduler::pop_due(std::vector<std::size_t>& out) {

@@ -107,6 +107,26 @@ FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, c
     return sum;
 }
 
+FRETBUZZ_MULTIVERSION void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d,
+                                           double* a, std::size_t n) {
+    // The argument is never negative: __builtin_sqrt lets the loop vectorise (no errno path).
+    for (std::size_t j = 0; j < n; ++j) {
+        const double c = aq[j] * q[j] + ad[j] * d[j];
+        a[j] = __builtin_sqrt(q[j] * q[j] + c * c);
+    }
+}
+
+FRETBUZZ_MULTIVERSION double sum(const double* x, std::size_t n) {
+    double partial[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += x[j + l];
+    double total = 0.0;
+    for (; j < n; ++j) total += x[j];
+    for (double p : partial) total += p;
+    return total;
+}
+
 FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_t n) {
     for (std::size_t j = 0; j < n; ++j) y[j] += c * x[j];
 }

@@ -57,4 +57,6 @@ std::vector<double> ModalBasis::displacement_at_grid(std::span<const double> q) 
     return u;
 }
 
+double ModalBasis::transform_flops() const { return transform_->planned_flops(); }
+
 }  // namespace fretbuzz

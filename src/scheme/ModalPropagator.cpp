@@ -69,10 +69,7 @@ ModalPropagator::ModalPropagator(const ModeTable& modes, double dt) : dt_(dt) {
 
 void ModalPropagator::free_amplitudes(std::span<const double> q, std::span<const double> d,
                                       std::span<double> amplitude) const {
-    for (std::size_t j = 0; j < size(); ++j) {
-        const double c2 = amplitude_q_[j] * q[j] + amplitude_d_[j] * d[j];
-        amplitude[j] = std::sqrt(q[j] * q[j] + c2 * c2);
-    }
+    kernels::free_amplitudes(amplitude_q_.data(), amplitude_d_.data(), q.data(), d.data(), amplitude.data(), size());
     for (std::size_t j : special_modes_) amplitude[j] = free_amplitude(j, q[j], d[j]);
 }
 

@@ -13,34 +13,97 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr int kMaxIterations = 200;
 }  // namespace
 
-PenaltyContact::PenaltyContact(double stiffness, double exponent) : k_(stiffness), alpha_(exponent) {
+PenaltyContact::PenaltyContact(double stiffness, double exponent, bool specialise)
+    : k_(stiffness), alpha_(exponent) {
     require_positive("contact.K (penalty stiffness)", stiffness);
     require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
+    if (!specialise) return;
+    if (exponent == 1.0) law_ = Law::linear;
+    if (exponent == 1.5) law_ = Law::three_halves;
+    if (exponent == 2.0) law_ = Law::quadratic;
+    if (exponent == 3.0) law_ = Law::cubic;
+}
+
+double PenaltyContact::power(double eta) const {
+    switch (law_) {
+        case Law::linear: return eta;
+        case Law::three_halves: return eta * std::sqrt(eta);
+        case Law::quadratic: return eta * eta;
+        case Law::cubic: return eta * eta * eta;
+        case Law::general: break;
+    }
+    return std::pow(eta, alpha_);
 }
 
 double PenaltyContact::potential(double eta) const {
-    return eta > 0.0 ? k_ / (alpha_ + 1.0) * std::pow(eta, alpha_ + 1.0) : 0.0;
+    if (!(eta > 0.0)) return 0.0;
+    return law_ == Law::general ? k_ / (alpha_ + 1.0) * std::pow(eta, alpha_ + 1.0)
+                                : k_ / (alpha_ + 1.0) * (power(eta) * eta);
 }
 
-double PenaltyContact::force(double eta) const { return eta > 0.0 ? k_ * std::pow(eta, alpha_) : 0.0; }
+double PenaltyContact::force(double eta) const { return eta > 0.0 ? k_ * power(eta) : 0.0; }
 
-double PenaltyContact::difference_quotient(double a, double r) const {
-    if (r == 0.0) return force(a);
-    if (a > 0.0 && a + r > 0.0) {
-        // K/(alpha+1) a^(alpha+1) [(1 + r/a)^(alpha+1) - 1] / r, accurate for tiny r/a.
-        const double growth = std::expm1((alpha_ + 1.0) * std::log1p(r / a));
-        return k_ / (alpha_ + 1.0) * std::pow(a, alpha_ + 1.0) * growth / r;
+double PenaltyContact::anchor(double a) const {
+    // What every quotient of one solve shares: sqrt(a) or a^(alpha+1), computed once.
+    if (!(a > 0.0)) return 0.0;
+    if (law_ == Law::three_halves) return std::sqrt(a);
+    return law_ == Law::general ? std::pow(a, alpha_ + 1.0) : 0.0;
+}
+
+double PenaltyContact::quotient_inside(double a, double r, double anchor_a) const {
+    // ((a + r)^(alpha+1) - a^(alpha+1)) / r factored so that every term is positive.
+    switch (law_) {
+        case Law::linear: return k_ * (a + 0.5 * r);
+        case Law::quadratic: return k_ * (a * (a + r) + r * r / 3.0);
+        case Law::cubic: {
+            const double e = a + r;
+            return 0.25 * k_ * (a + e) * (a * a + e * e);
+        }
+        case Law::three_halves: {  // s^5 - t^5 over s^2 - t^2, s = sqrt(a + r), t = sqrt(a)
+            const double s = std::sqrt(a + r), t = anchor_a;
+            const double t2 = t * t;
+            const double numerator = t2 * t2 + s * (t2 * t + s * (t2 + s * (t + s)));
+            return 0.4 * k_ * numerator / (s + t);
+        }
+        case Law::general: break;
     }
+    // K/(alpha+1) a^(alpha+1) [(1 + r/a)^(alpha+1) - 1] / r, accurate for tiny r/a.
+    const double growth = std::expm1((alpha_ + 1.0) * std::log1p(r / a));
+    return k_ / (alpha_ + 1.0) * anchor_a * growth / r;
+}
+
+double PenaltyContact::quotient(double a, double r, double anchor_a) const {
+    if (r == 0.0) return force(a);
+    if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a);
     // At most one of the two potentials is non-zero here: no cancellation.
     return (potential(a + r) - potential(a)) / r;
 }
 
-double PenaltyContact::slope_of_quotient(double a, double r, double quotient) const {
-    // d/dr of the difference quotient: (Psi'(a+r) - quotient) / r, with its limit
-    // Psi''(a + r/2) / 2 when r is too small against a for the difference to be accurate.
+double PenaltyContact::difference_quotient(double a, double r) const { return quotient(a, r, anchor(a)); }
+
+double PenaltyContact::slope_of_quotient(double a, double r, double quotient_value) const {
+    // d/dr of the difference quotient. The closed forms differentiate exactly; otherwise
+    // (Psi'(a+r) - quotient) / r, with its limit Psi''(a + r/2) / 2 when r is too small
+    // against a for the difference to be accurate.
+    if (a > 0.0 && a + r > 0.0) {
+        switch (law_) {
+            case Law::linear: return 0.5 * k_;
+            case Law::quadratic: return k_ * (a + r * (2.0 / 3.0));
+            case Law::cubic: {
+                const double e = a + r;
+                return 0.25 * k_ * (a * a + 2.0 * a * e + 3.0 * e * e);
+            }
+            case Law::three_halves: {
+                const double s = std::sqrt(a + r), t = std::sqrt(a);
+                const double sum = s + t;
+                return 0.2 * k_ * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
+            }
+            case Law::general: break;
+        }
+    }
     if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
     if (r == 0.0) return 0.0;
-    return (force(a + r) - quotient) / r;
+    return (force(a + r) - quotient_value) / r;
 }
 
 ContactSolution PenaltyContact::solve(double a, double b, double k) const {
@@ -57,8 +120,9 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
     }
     // phi(r) = r + k F(r) - b is increasing and convex. phi(b) = k F(b) >= 0 and, F being
     // non-decreasing, phi(b - k F(b)) <= 0: the root lies in [b - k F(b), b].
+    const double anchor_a = anchor(a);
     double hi = b;
-    double f_hi = difference_quotient(a, hi);
+    double f_hi = quotient(a, hi, anchor_a);
     double lo = b - k * f_hi;
     if (a <= 0.0) lo = std::max(lo, -a);  // no force while a + r <= 0, so phi < 0 there
     double r = hi;
@@ -76,7 +140,7 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
         double next = r - residual / slope;
         // Keep inside the bracket; bisect when Newton would leave it or stalls.
         if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);
-        const double f_next = difference_quotient(a, next);
+        const double f_next = quotient(a, next, anchor_a);
         const double residual_next = next + k * f_next - b;
         if (residual_next > 0.0)
             hi = next;
@@ -91,7 +155,7 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
         // If Newton crawls (a strongly curved law from far away), halve the bracket too.
         if (hi - lo > 0.0 && std::abs(residual_next) > 0.5 * std::abs(residual) && it % 4 == 0) {
             const double mid = 0.5 * (lo + hi);
-            const double f_mid = difference_quotient(a, mid);
+            const double f_mid = quotient(a, mid, anchor_a);
             const double residual_mid = mid + k * f_mid - b;
             (residual_mid > 0.0 ? hi : lo) = mid;
             if (std::abs(residual_mid) < std::abs(residual_next)) {

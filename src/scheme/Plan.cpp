@@ -13,7 +13,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       mu_(c.string.linear_density),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
-      contact_(c.contact.stiffness, c.contact.exponent),
+      contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       obstacle_(c.obstacle_height_m),
       options_(options) {
     require_positive("time step dt (s)", dt);
@@ -26,24 +26,41 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
     transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold
-                                                            : default_transform_threshold(mode_count());
+                                                            : default_transform_threshold(mode_count(), basis_.transform_flops());
 }
 
-std::size_t Plan::default_transform_threshold(std::size_t modes) {
-    // A sine transform of length N runs through a real DFT of length 2(N+1): with N+1 made of
-    // small primes it costs about 6 log2(N) products of a row of S with a vector; a large
-    // prime factor p slows FFTW roughly by p/8 (measured: N = 999, 7 us; N = 862, N+1 prime,
-    // 75 us; one row product, 0.1 us). A fixed rule, not a timing, so runs are reproducible.
-    std::size_t rest = modes + 1, largest = 1;
-    for (std::size_t f = 2; f * f <= rest; ++f)
-        while (rest % f == 0) {
-            largest = f;
-            rest /= f;
-        }
-    largest = std::max(largest, rest);
-    const double penalty = std::max(1.0, static_cast<double>(largest) / 8.0);
-    const double rows = 6.0 * std::log2(static_cast<double>(modes) + 1.0) * penalty;
-    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, std::max<std::size_t>(16, modes / 2));
+ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly) {
+    // Few points: solving each costs one row product, about what one update of the speed
+    // bound costs, so skipping a few cannot pay for the bookkeeping.
+    constexpr std::size_t kFewPoints = 16;
+    if (!options.screen_contacts) return {false, "off (asked for)"};
+    std::size_t points = 0;
+    // Within a micrometre of the rest line (a bridge's curve between grid points), the
+    // string keeps touching it while it sounds: free flight comes rarely, if ever.
+    constexpr double kRestingGap = 1e-6;
+    bool rests_on_it = false;
+    for (double h : c.obstacle_height_m) {
+        if (!std::isfinite(h)) continue;
+        ++points;
+        rests_on_it = rests_on_it || c.contact_orientation() * h >= -kRestingGap;
+    }
+    if (!options.choose_screening) return {true, "on (asked for)"};
+    if (points <= kFewPoints && (rests_on_it || !can_fly))
+        return {false, "off (automatic: obstacle grid points: " + std::to_string(points) + ", " +
+                           (rests_on_it ? "the string rests on the obstacle" : "no free flight") + ")"};
+    return {true, "on (automatic: obstacle grid points: " + std::to_string(points) + ")"};
+}
+
+std::size_t Plan::default_transform_threshold(std::size_t modes, double transform_flops) {
+    // One row product is N multiply-adds at about 8 a cycle (8 partial sums, AVX2); FFTW
+    // runs about 4x fewer operations a cycle, whatever the factors of N + 1 (measured: N =
+    // 999, 3.4e4 planned operations, 7-12 us; N = 862, N + 1 prime, 2.0e5, 75-100 us;
+    // N = 1600, 2.3e5, 110 us; one row of 1000, 0.1 us). So a transform costs about
+    // 2 x planned operations / N rows. FFTW's estimate, not a timing: runs stay reproducible.
+    const double rows = 2.0 * transform_flops / static_cast<double>(modes);
+    const std::size_t most = std::max<std::size_t>(16, modes / 2);
+    if (!std::isfinite(rows)) return most;
+    return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, most);
 }
 
 }  // namespace fretbuzz

@@ -32,6 +32,11 @@ SineTransform::~SineTransform() {
     fftw_free(buffer_);
 }
 
+double SineTransform::planned_flops() const {
+    std::lock_guard lock(fftw_planner_mutex());
+    return fftw_estimate_cost(static_cast<fftw_plan>(plan_));
+}
+
 void SineTransform::apply(std::span<const double> input, std::span<double> output, double scale) const {
     std::copy(input.begin(), input.end(), buffer_);
     fftw_execute(static_cast<fftw_plan>(plan_));

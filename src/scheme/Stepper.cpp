@@ -57,7 +57,7 @@ void Stepper::step() {
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
-            scheduler_.update_speed(q_, d_);  // the motion from here on is a new free motion
+            scheduler_.motion_changed(q_, d_);  // the motion from here on is a new free motion
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
         }
         put_points_to_sleep();
@@ -230,7 +230,9 @@ void Stepper::put_points_to_sleep() {
     // A point out of contact over both recent levels, and far enough from the obstacle,
     // leaves the active set until the scheduler says it could be back.
     std::erase_if(active_, [this](std::size_t i) {
-        return eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0 && scheduler_.sleep(i, -eta_curr_[i]);
+        if (!(eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0)) return false;
+        scheduler_.refresh(q_, d_);  // the speed bound is kept current only while some point sleeps
+        return scheduler_.sleep(i, -eta_curr_[i]);
     });
 }
 

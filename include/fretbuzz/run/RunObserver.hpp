@@ -44,6 +44,7 @@ struct RunSummary {
     double last_contact_s = -1.0;
     bool lossless = false;
     bool screened = true;
+    std::string screening;  // whether and why contact screening ran (see choose_screening)
     // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
     std::vector<std::string> warnings;
 };

@@ -29,6 +29,13 @@ public:
 
     // Recomputes the speed bound from the free motion of the state (q^n, d^n).
     void update_speed(std::span<const double> q, std::span<const double> d);
+    // The motion changed (an impulse, or decay to account for): with points asleep the bound
+    // is recomputed now; with none it only matters once a point goes to sleep, so it waits
+    // for refresh(). A string resting on a point obstacle then never pays for it.
+    void motion_changed(std::span<const double> q, std::span<const double> d);
+    void refresh(std::span<const double> q, std::span<const double> d) {
+        if (stale_) update_speed(q, d);
+    }
     double speed() const { return speed_; }
     // A cheap look at a point uses only the first head_modes() modes: the others move it by
     // at most tail_bound() (sqrt(2/L) times the sum of their free amplitudes).
@@ -55,10 +62,10 @@ private:
     double speed_ = 0.0;     // W
     double slack_ = 0.0;     // absolute allowance for round-off in u
     double budget_ = 0.0;    // Phi(t_n)
+    bool stale_ = false;     // speed_ predates the last change of motion (no point asleep)
     std::size_t head_;
     double tail_ = 0.0;
     std::vector<double> amplitude_;  // R_j at the last update_speed
-    std::vector<double> tail_sums_;  // sum_{k >= j} R_k
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
 };
 

@@ -21,6 +21,10 @@ double advance(const double* e, const double* beta, const double* loss, const do
                std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
+// a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.
+void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d, double* a, std::size_t n);
+// sum_j x_j
+double sum(const double* x, std::size_t n);
 // y_j += c x_j
 void axpy(double c, const double* x, double* y, std::size_t n);
 

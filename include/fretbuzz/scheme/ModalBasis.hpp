@@ -28,6 +28,8 @@ public:
     std::span<const double> row(std::size_t i) const;
     // u = S q on the whole grid (fast transform).
     void to_grid(std::span<const double> q, std::span<double> u) const;
+    // FFTW's estimated operation count of one transform (see SineTransform).
+    double transform_flops() const;
     // q = dx S^T u (fast transform).
     void to_modes(std::span<const double> u, std::span<double> q) const;
     std::vector<double> displacement_at_grid(std::span<const double> q) const;

@@ -6,6 +6,10 @@
 // The left side is increasing and convex in r, so the root is unique; it is found by
 // Newton's method from the right (monotone for a convex function), inside a bracket that
 // bisection falls back on, and it fails loudly rather than silently.
+//
+// The common exponents alpha = 1, 3/2, 2, 3 have the quotient in closed form without pow,
+// expm1 or log1p (polynomials in eta, or in sqrt(eta) for 3/2), free of cancellation: the
+// contact solve is where contact-heavy runs spend their time.
 namespace fretbuzz {
 
 struct ContactSolution {
@@ -16,7 +20,9 @@ struct ContactSolution {
 
 class PenaltyContact {
 public:
-    PenaltyContact(double stiffness, double exponent);
+    // specialise = false evaluates every exponent through pow/expm1/log1p (the reference
+    // the closed forms are tested against).
+    PenaltyContact(double stiffness, double exponent, bool specialise = true);
 
     double stiffness() const { return k_; }
     double exponent() const { return alpha_; }
@@ -28,10 +34,17 @@ public:
     ContactSolution solve(double a, double b, double k) const;
 
 private:
+    enum class Law { general, linear, three_halves, quadratic, cubic };
+    // (Psi(a + r) - Psi(a)) / r and its slope in r where a > 0 and a + r > 0.
+    double anchor(double a) const;
+    double quotient(double a, double r, double anchor_a) const;
+    double quotient_inside(double a, double r, double anchor_a) const;
     double slope_of_quotient(double a, double r, double quotient) const;
+    double power(double eta) const;  // eta^alpha for eta > 0
 
     double k_;
     double alpha_;
+    Law law_ = Law::general;
 };
 
 }  // namespace fretbuzz

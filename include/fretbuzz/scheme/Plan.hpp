@@ -20,11 +20,27 @@ struct PlanOptions {
     // Skip grid points that provably cannot touch the obstacle (see ContactScreen).
     // false gives the straightforward path: every point is solved at every step.
     bool screen_contacts = true;
+    // Let a run turn screening off where it cannot pay (see choose_screening); the run's
+    // summary says which way it went and why.
+    bool choose_screening = true;
     // Above this many points to evaluate, use the fast sine transform instead of rows of S.
     std::size_t transform_threshold = 0;  // 0: chosen from the grid size
     // Let FFTW time its candidate algorithms when planning (worth it for long runs).
     bool measure_transform = false;
+    // Closed-form contact quotients for alpha = 1, 3/2, 2, 3; false: pow/expm1/log1p for
+    // every exponent (the reference they are tested against).
+    bool closed_form_contact = true;
 };
+
+// Screening pays by skipping points that cannot touch and by free flight between contacts.
+// With an obstacle of a few points, a string resting on it (or a run that cannot fly free,
+// its outputs coming every step) gains nothing from free flight and skips few points, so
+// keeping the speed bound costs more than solving them all.
+struct ScreeningChoice {
+    bool screen = true;
+    std::string reason;
+};
+ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly);
 
 class Plan {
 public:
@@ -39,8 +55,9 @@ public:
     const std::vector<double>& obstacle() const { return obstacle_; }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
-    // Points beyond which one sine transform is cheaper than rows of S, for N modes.
-    static std::size_t default_transform_threshold(std::size_t modes);
+    // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
+    // transform FFTW plans at `transform_flops` operations.
+    static std::size_t default_transform_threshold(std::size_t modes, double transform_flops);
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).

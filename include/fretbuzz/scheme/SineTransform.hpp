@@ -22,6 +22,9 @@ public:
     SineTransform& operator=(const SineTransform&) = delete;
 
     std::size_t size() const { return n_; }
+    // FFTW's own estimate of the plan's floating-point operations (deterministic for a
+    // given FFTW and length): what a cost model compares against row products.
+    double planned_flops() const;
     // output[k] = scale * RODFT00(input)[k]; input and output may be the same span.
     void apply(std::span<const double> input, std::span<double> output, double scale) const;
 

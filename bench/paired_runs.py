@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Wall time of whole `fretbuzz run` commands, variants side by side in one session.
+
+Each repetition runs every variant once, in turn, so that the load of a shared machine
+falls on all of them alike; the table gives the median wall time of each variant (over
+the repetitions), seconds of wall time per simulated second, and the ratio to the first
+variant. A variant is `label=program args...` with the program's path first, e.g.
+
+    bench/paired_runs.py --reps 5 \\
+        'before=/path/old/fretbuzz run tanpura --fs 48000 --allow-aliasing' \\
+        'after=build/cli/fretbuzz run tanpura --fs 48000 --allow-aliasing'
+
+Each run writes into a fresh scratch directory (--out is added), removed afterwards.
+"""
+import argparse
+import json
+import shlex
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def run_once(command, out_dir):
+    start = time.perf_counter()
+    result = subprocess.run(command + ["--out", str(out_dir)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True)
+    wall = time.perf_counter() - start
+    if result.returncode != 0:
+        sys.exit(f"{shlex.join(command)} failed ({result.returncode}): {result.stderr.strip()}")
+    summary = json.loads((out_dir / "summary.json").read_text())
+    return wall, summary
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--reps", type=int, default=5)
+    parser.add_argument("variants", nargs="+", help="label=program args...")
+    args = parser.parse_args()
+    variants = []
+    for text in args.variants:
+        label, _, command = text.partition("=")
+        variants.append((label, shlex.split(command)))
+    walls = {label: [] for label, _ in variants}
+    simulated = {}
+    with tempfile.TemporaryDirectory(prefix="fretbuzz-bench-") as scratch:
+        for rep in range(args.reps):
+            for v, (label, command) in enumerate(variants):
+                out_dir = Path(scratch) / f"{rep}-{v}"
+                wall, summary = run_once(command, out_dir)
+                walls[label].append(wall)
+                simulated[label] = summary.get("duration", float("nan"))
+                subprocess.run(["rm", "-rf", str(out_dir)], check=True)
+    first = statistics.median(walls[variants[0][0]])
+    print(f"{'variant':<24} {'median wall s':>14} {'s per sim s':>12} {'ratio':>7}   (medians of {args.reps} paired runs)")
+    for label, _ in variants:
+        median = statistics.median(walls[label])
+        print(f"{label:<24} {median:14.3f} {median / simulated[label]:12.4f} {median / first:7.2f}")
+
+
+if __name__ == "__main__":
+    main()
