@@ -20,6 +20,7 @@ void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
 void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
+void add_play_command(CLI::App& app, Action& action);  // performance through the real-time engine
 
 // What `plot` and `report` take: a run's output directory and how to draw it.
 struct FigureArguments {

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     cli::add_report_command(app, action);
     cli::add_sweep_command(app, action);
     cli::add_estimate_command(app, action);
+    cli::add_play_command(app, action);
 
     CLI11_PARSE(app, argc, argv);
     try {

@@ -103,9 +103,10 @@ void AudioWriter::finish(const RunSummary& summary) {
     for (std::size_t p = 0; p < channels_.size(); ++p) write_channel(p);
 }
 
-void AudioWriter::write_channel(std::size_t point) const {
-    const std::vector<double>& signal = channels_[point];
-    const std::filesystem::path& path = paths_[point];
+void AudioWriter::write_channel(std::size_t point) const { write_normalised_audio(paths_[point], channels_[point], rate_); }
+
+void write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                            int bits) {
     double peak = 0.0;
     for (double v : signal) peak = std::max(peak, std::abs(v));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
@@ -113,9 +114,12 @@ void AudioWriter::write_channel(std::size_t point) const {
     std::transform(signal.begin(), signal.end(), normalised.begin(), [gain](double v) { return gain * v; });
 
     SF_INFO info{};
-    info.samplerate = static_cast<int>(std::lround(rate_));
+    info.samplerate = static_cast<int>(std::lround(rate_hz));
     info.channels = 1;
-    info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_24;
+    if (path.extension() == ".ogg")
+        info.format = SF_FORMAT_OGG | SF_FORMAT_VORBIS;
+    else
+        info.format = SF_FORMAT_WAV | (bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
     SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     const sf_count_t written = sf_write_double(file, normalised.data(), static_cast<sf_count_t>(normalised.size()));

@@ -14,8 +14,15 @@ constexpr int kMaxIterations = 200;
 }  // namespace
 
 PenaltyContact::PenaltyContact(double stiffness, double exponent) : k_(stiffness), alpha_(exponent) {
-    require_positive("contact.K (penalty stiffness)", stiffness);
-    require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
+    set(stiffness, exponent);
+}
+
+void PenaltyContact::set(double stiffness, double exponent) {
+    // The checks build their messages only when they fail: a real-time change stays allocation-free.
+    if (!(std::isfinite(stiffness) && stiffness > 0.0)) require_positive("contact.K (penalty stiffness)", stiffness);
+    if (!(std::isfinite(exponent) && exponent >= 1.0)) require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
+    k_ = stiffness;
+    alpha_ = exponent;
 }
 
 double PenaltyContact::potential(double eta) const {

@@ -17,6 +17,8 @@ struct ContactSolution {
 class PenaltyContact {
 public:
     PenaltyContact(double stiffness, double exponent);
+    // New K and alpha (same checks), allocating nothing unless they are refused.
+    void set(double stiffness, double exponent);
 
     double stiffness() const { return k_; }
     double exponent() const { return alpha_; }

@@ -1,0 +1,95 @@
+// fretbuzz_bench_realtime: how much faster than real time does the real-time engine run, and
+// how long is its worst block? Each benchmark renders one second of audio at 48 kHz in blocks
+// of 256 samples, struck at the start of every iteration, one core. Side by side in one run:
+// the engine as shipped (free flight between contacts) and the same engine stepping every
+// mode every step (the straightforward path). Counters (medians over the repetitions):
+//   x_realtime      audio seconds per wall second
+//   worst_block_pct the longest single 256-sample block, in % of its 5.33 ms duration
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/realtime/Engine.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
+
+namespace {
+
+using namespace fretbuzz;
+
+constexpr double kRate = 48000.0;
+constexpr std::size_t kBlock = 256;
+
+struct Voice {
+    const char* name;
+    int fret;
+    double pluck;  // fraction of the sounding length
+};
+
+std::unique_ptr<Engine> make_voice(const Voice& v, bool free_flight) {
+    const Case open = load_case(v.name);
+    EngineOptions o;
+    o.host_rate_hz = kRate;
+    o.free_flight = free_flight;
+    const Case c = v.fret == 0 ? open : stopped_string(open, fret_position(open.string.length_m, v.fret), open.mode_count());
+    return std::make_unique<Engine>(c, o);
+}
+
+void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight) {
+    std::vector<std::unique_ptr<Engine>> engines;
+    for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight));
+    std::vector<float> block(kBlock);
+    const long blocks = static_cast<long>(kRate) / static_cast<long>(kBlock);
+    double worst = 0.0;
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < engines.size(); ++i)
+            engines[i]->strike({voices[i].pluck * engines[i]->length_m(), 1.0, 0.01, false});
+        for (long b = 0; b < blocks; ++b) {
+            const auto t0 = std::chrono::steady_clock::now();
+            for (auto& e : engines) e->process(block);
+            worst = std::max(worst, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            benchmark::DoNotOptimize(block.data());
+        }
+    }
+    const double audio_seconds = static_cast<double>(blocks * static_cast<long>(kBlock)) / kRate;
+    state.counters["x_realtime"] =
+        benchmark::Counter(audio_seconds, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["worst_block_pct"] = 100.0 * worst / (static_cast<double>(kBlock) / kRate);
+    state.counters["modes"] = static_cast<double>(engines.front()->mode_count());
+    state.counters["oversampling"] = engines.front()->oversampling();
+}
+
+void register_all() {
+    const struct {
+        const char* label;
+        std::vector<Voice> voices;
+    } sets[] = {
+        {"tanpura", {{"tanpura", 0, 0.3}}},
+        {"sitar", {{"sitar", 0, 0.3}}},
+        {"bass_fret5", {{"bass-pluck", 5, 0.8}}},
+        {"guitar_chord_6_voices", {{"guitar-point", 0, 0.8}, {"guitar-point", 2, 0.8}, {"guitar-point", 2, 0.8},
+                                   {"guitar-point", 1, 0.8}, {"guitar-point", 0, 0.8}, {"guitar-point", 3, 0.8}}},
+    };
+    for (const auto& s : sets)
+        for (const bool flight : {true, false})
+            benchmark::RegisterBenchmark((std::string(s.label) + (flight ? "/engine" : "/step_every_mode")).c_str(),
+                                         [voices = s.voices, flight](benchmark::State& st) { render(st, voices, flight); })
+                ->Unit(benchmark::kMillisecond)
+                ->Repetitions(5)
+                ->ReportAggregatesOnly(true)
+                ->UseRealTime()
+                ->Iterations(1);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    register_all();
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
