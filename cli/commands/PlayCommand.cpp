@@ -22,7 +22,7 @@ struct PlayArguments {
     std::string out;
     double rate = 48000.0;
     int oversampling = 0;
-    int max_oversampling = 16;
+    int max_oversampling = 8;
     int bits = 24;
     int open_note = -1;
     std::size_t block = 256;
@@ -65,7 +65,7 @@ void add_play_command(CLI::App& app, Action& action) {
     cmd->add_option("--out", a->out, "Output audio file (.wav, or .ogg for Ogg Vorbis)")->required();
     cmd->add_option("--rate", a->rate, "Host sampling rate, Hz (default 48000)");
     cmd->add_option("--oversampling", a->oversampling, "Internal rate / host rate (default: chosen from the modes)");
-    cmd->add_option("--max-oversampling", a->max_oversampling, "Largest automatic oversampling (default 16)");
+    cmd->add_option("--max-oversampling", a->max_oversampling, "Largest automatic oversampling (default 8)");
     cmd->add_option("--bits", a->bits, "WAV sample size, 16 or 24 (default 24)");
     cmd->add_option("--open-note", a->open_note, "MIDI note of the open string (default: nearest its first mode)");
     cmd->add_option("--block", a->block, "Block size in samples, 1 to 4096 (default 256)");

@@ -51,9 +51,19 @@ Decimator::Decimator(int factor, int taps_per_phase, double cutoff) : factor_(fa
 double Decimator::output() const {
     // history_[position_ ..] holds the inputs from oldest to newest; the taps are symmetric.
     const double* x = history_.data() + position_;
-    double y = 0.0;
-    for (std::size_t k = 0; k < taps_.size(); ++k) y += taps_[k] * x[k];
-    return y;
+    const double* h = taps_.data();
+    const std::size_t n = taps_.size();
+    // Four independent sums: the products pipeline instead of waiting on one accumulator.
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0, y3 = 0.0;
+    std::size_t k = 0;
+    for (; k + 4 <= n; k += 4) {
+        y0 += h[k] * x[k];
+        y1 += h[k + 1] * x[k + 1];
+        y2 += h[k + 2] * x[k + 2];
+        y3 += h[k + 3] * x[k + 3];
+    }
+    for (; k < n; ++k) y0 += h[k] * x[k];
+    return (y0 + y1) + (y2 + y3);
 }
 
 void Decimator::reset() {

@@ -10,11 +10,43 @@ namespace fretbuzz {
 
 namespace {
 constexpr double kFarBelow = 5e-3;  // m
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes);
 }  // namespace
 
 double fret_position(double length_m, int fret) { return length_m * (1.0 - std::exp2(-fret / 12.0)); }
 
+namespace {
+// The same string seen from its other end (x -> L - x): phi_j(L - x) = (-1)^(j+1) phi_j(x).
+Case mirrored(const Case& c) {
+    Case m = c;
+    std::reverse(m.obstacle_height_m.begin(), m.obstacle_height_m.end());
+    for (std::size_t j = 1; j < m.mode_count(); j += 2) {
+        m.initial_displacement[j] = -m.initial_displacement[j];
+        m.initial_velocity[j] = -m.initial_velocity[j];
+    }
+    for (double& x : m.observation_points_m) x = c.string.length_m - x;
+    return m;
+}
+}  // namespace
+
+bool stops_at_far_end(const Case& c) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < c.mode_count(); ++i)
+        if (std::isfinite(c.obstacle_height_m[i])) {
+            sum += c.grid_point(i);
+            ++count;
+        }
+    return count > 0 && sum / static_cast<double>(count) < 0.25 * c.string.length_m;
+}
+
 Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
+    if (stop_m > 0.0 && stops_at_far_end(open)) return mirrored(stopped_from_zero(mirrored(open), stop_m, modes));
+    return stopped_from_zero(open, stop_m, modes);
+}
+
+namespace {
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     const double length = open.string.length_m;
     if (!(stop_m >= 0.0 && stop_m <= 0.75 * length))
         throw InputError(out_of_range_message("stop position (m)", stop_m, "[0, 3 L / 4] (fret 24) with L = " + std::to_string(length)));
@@ -70,5 +102,7 @@ Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
     c.validate();
     return c;
 }
+
+}  // namespace
 
 }  // namespace fretbuzz

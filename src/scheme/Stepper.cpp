@@ -65,6 +65,7 @@ void Stepper::restart() {
     psi_prev_ = psi_curr_ = 0.0;
     if (screening_) {
         scheduler_.update_speed(q_, d_);
+        speed_stale_ = false;
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
     classify_points(grid_, impulse_);
@@ -114,7 +115,13 @@ void Stepper::step() {
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
-            scheduler_.update_speed(q_, d_);  // the motion from here on is a new free motion
+            // The motion from here on is a new free motion. With no point asleep its speed bound
+            // is needed only when one goes to sleep (a point resting on the obstacle would
+            // otherwise pay for it every step): any state of the same free motion gives a valid bound.
+            if (scheduler_.idle())
+                speed_stale_ = true;
+            else
+                scheduler_.update_speed(q_, d_);
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
         }
         put_points_to_sleep();
@@ -126,6 +133,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
     if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
+    refresh_speed_if_stale();
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
@@ -172,6 +180,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     stats_.free_flight_steps += flown;
     if (n_ >= next_speed_refresh_) {
         scheduler_.update_speed(q_, d_);
+        speed_stale_ = false;
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
     return flown;
@@ -286,8 +295,16 @@ void Stepper::put_points_to_sleep() {
     // A point out of contact over both recent levels, and far enough from the obstacle,
     // leaves the active set until the scheduler says it could be back.
     std::erase_if(active_, [this](std::size_t i) {
-        return eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0 && scheduler_.sleep(i, -eta_curr_[i]);
+        if (!(eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0)) return false;
+        refresh_speed_if_stale();
+        return scheduler_.sleep(i, -eta_curr_[i]);
     });
+}
+
+void Stepper::refresh_speed_if_stale() {
+    if (!speed_stale_) return;
+    scheduler_.update_speed(q_, d_);
+    speed_stale_ = false;
 }
 
 }  // namespace fretbuzz

@@ -236,5 +236,18 @@ TEST(StoppedString, FretTwelveSoundsAnOctaveHigher) {
     EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m[0]));
 }
 
+TEST(StoppedString, SitarIsStoppedAtTheFarEndAndKeepsItsBridge) {
+    const Case open = load_case("sitar");  // the bridge lies at x in [0, 25 mm]
+    ASSERT_TRUE(stops_at_far_end(open));
+    const Case stopped = stopped_string(open, fret_position(open.string.length_m, 7), open.mode_count());
+    EXPECT_NEAR(stopped.modes.frequency_hz[0] / open.modes.frequency_hz[0], std::exp2(7.0 / 12.0), 1e-12);
+    // The same bridge heights at the same distances from x = 0 (grid of the shorter string).
+    for (std::size_t i = 0; i < stopped.mode_count() && stopped.grid_point(i) < 0.02; ++i) {
+        const auto k = static_cast<std::size_t>(std::lround(stopped.grid_point(i) / open.grid_step())) - 1;
+        EXPECT_EQ(stopped.obstacle_height_m[i], open.obstacle_height_m[k]) << i;
+    }
+    EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m.back()));
+}
+
 }  // namespace
 }  // namespace fretbuzz

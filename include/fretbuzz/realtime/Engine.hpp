@@ -30,7 +30,7 @@ namespace fretbuzz {
 struct EngineOptions {
     double host_rate_hz = 48000.0;
     int oversampling = 0;          // M; 0: the smallest that keeps every mode below 0.45 M fs
-    int max_oversampling = 16;     // largest M chosen automatically (cost grows with M)
+    int max_oversampling = 8;      // largest M chosen automatically (cost grows with M)
     std::size_t max_modes = 0;     // 0: the case's (fewer if M cannot reach them)
     bool free_flight = true;       // fly while no contact is possible (false: step every mode)
     bool start_from_case = false;  // start from the case's initial state (else at rest)

@@ -9,13 +9,13 @@
 //   tail = 1.0             # s rendered after the last note ends
 //   strength = 1.5         # pluck velocity (m/s) at velocity 1
 //   width = 0.01           # pluck width (m)
-//   pickup = 0.9           # fraction of the sounding length from the stop (default: the case's point)
+//   pickup = 0.9           # fraction of the sounding length from the case's x = 0 end (default: the case's point)
 //   [[note]]
 //   time = 0.0             # s
 //   fret = 0               # 0 (open) to 24
 //   duration = 1.0         # s, then the string is muted
 //   velocity = 0.8         # (0, 1]
-//   position = 0.8         # pluck point, fraction of the sounding length from the stop
+//   position = 0.8         # pluck point, fraction of the sounding length from the case's x = 0 end
 #include <filesystem>
 #include <string>
 #include <string_view>

@@ -82,6 +82,7 @@ private:
     void apply_impulse();
     void advance_modes();
     void put_points_to_sleep();
+    void refresh_speed_if_stale();
 
     const Plan& plan_;
     ContactScheduler scheduler_;
@@ -99,6 +100,7 @@ private:
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
     long next_speed_refresh_ = 0;
+    bool speed_stale_ = false;  // the motion changed while no point slept: refresh before one does
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
