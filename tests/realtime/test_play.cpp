@@ -2,6 +2,7 @@
 // the engine; bad input is refused with exit status 2 and no output file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -10,36 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "../TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
 namespace fretbuzz {
 namespace {
-
-struct CommandResult {
-    int status = -1;
-    std::string output;
-};
-
-CommandResult run_cli(const std::string& arguments) {
-    const std::string command = std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1";
-    CommandResult result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer{};
-    while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe)) result.output += buffer.data();
-    const int status = ::pclose(pipe);
-    result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
-
-std::filesystem::path fresh_directory(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("fretbuzz-test-" + name);
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
 
 // A type-0 standard MIDI file, 480 ticks per quarter at the default 120 bpm (1 tick = 1/960 s):
 // each note (key, on tick, off tick, velocity).
@@ -78,7 +56,8 @@ void write_midi(const std::filesystem::path& path, const std::vector<std::array<
 }
 
 TEST(Play, MidiAndNoteListRenderTheSameAudio) {
-    const auto dir = fresh_directory("play-midi");
+    const testing::ScratchDir scratch("play-midi");
+    const std::filesystem::path& dir = scratch.path();
     const Case c = load_case("bass-pluck");
     const int open = open_string_note(c);
     write_midi(dir / "riff.mid", {{open + 3, 0, 480, 127}, {open, 480, 960, 64}});
@@ -115,24 +94,26 @@ velocity = 0.50393700787401574
     EXPECT_LT(std::sqrt(diff / norm), 1e-6);
     EXPECT_EQ(a.voices.size(), 2u);  // one prepared voice per fret played
 
-    const CommandResult r = run_cli("play bass-pluck --midi " + (dir / "riff.mid").string() + " --out " +
+    const testing::CommandResult r = testing::run_cli("play bass-pluck --midi " + (dir / "riff.mid").string() + " --out " +
                                     (dir / "riff.wav").string());
-    ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_GT(std::filesystem::file_size(dir / "riff.wav"), 44u + 3u * 2 * 48000);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // 1 s of notes and the default 1 s tail, 24-bit mono, after a 44-byte header.
+    EXPECT_EQ(std::filesystem::file_size(dir / "riff.wav"), 44u + 3u * 2 * 48000);
 }
 
 TEST(Play, RefusesBadInputWithoutWritingAnything) {
-    const auto dir = fresh_directory("play-bad");
+    const testing::ScratchDir scratch("play-bad");
+    const std::filesystem::path& dir = scratch.path();
     std::ofstream(dir / "bad.toml") << "[[note]]\ntime = 0\nfret = 30\n";
-    CommandResult r = run_cli("play sitar --notes " + (dir / "bad.toml").string() + " --out " + (dir / "x.wav").string());
-    EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_NE(r.output.find("note.fret"), std::string::npos) << r.output;
+    testing::CommandResult r = testing::run_cli("play sitar --notes " + (dir / "bad.toml").string() + " --out " + (dir / "x.wav").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("note[0].fret"), std::string::npos) << r.output;
     std::ofstream(dir / "typo.toml") << "[[note]]\ntime = 0\nvelocty = 1\n";
-    r = run_cli("play sitar --notes " + (dir / "typo.toml").string() + " --out " + (dir / "x.wav").string());
-    EXPECT_EQ(r.status, 2) << r.output;
+    r = testing::run_cli("play sitar --notes " + (dir / "typo.toml").string() + " --out " + (dir / "x.wav").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("velocty"), std::string::npos) << r.output;
-    r = run_cli("play sitar --out " + (dir / "x.wav").string());
-    EXPECT_EQ(r.status, 2) << r.output;
+    r = testing::run_cli("play sitar --out " + (dir / "x.wav").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.wav"));
     EXPECT_THROW(parse_note_list("[[note]]\nvelocity = 2\n", "inline"), InputError);
 }
