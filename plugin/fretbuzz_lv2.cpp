@@ -29,7 +29,7 @@ namespace {
 
 using namespace fretbuzz;
 
-constexpr int kPolyphony = 6;
+constexpr int kPolyphony = 6;  // held notes at once
 constexpr int kFrets = kMaxFret + 1;
 constexpr std::size_t kChunk = 4096;
 constexpr double kFullStrength = 1.5;  // m/s at MIDI velocity 127
@@ -178,6 +178,9 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
         EngineOptions options;
         options.host_rate_hz = rate;
         options.gain_per_m = 300.0;
+        // At most 4x oversampling: six voices must keep up with the host (measured by
+        // bench/bench_realtime.cpp: 6 guitar voices 2.2x real time at 4x, 0.7x at 8x on one core).
+        options.max_oversampling = 4;
         for (int k = 0; k < kFrets; ++k) {
             const Case c = k == 0 ? open : stopped_string(open, fret_position(open.string.length_m, k), open.mode_count());
             Voice& v = instrument->voices[static_cast<std::size_t>(k)];
