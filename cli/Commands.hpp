@@ -26,6 +26,7 @@ void add_report_command(CLI::App& app, Action& action);
 void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
 void add_setup_command(CLI::App& app, Action& action);  // neck set-up study, buzz map
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
+void add_play_command(CLI::App& app, Action& action);  // performance through the real-time engine
 
 // What `plot` and `report` take: a run's output directory and how to draw it.
 struct FigureArguments {

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
     cli::add_sweep_command(app, action);
     cli::add_setup_command(app, action);
     cli::add_estimate_command(app, action);
+    cli::add_play_command(app, action);
 
     CLI11_PARSE(app, argc, argv);
     try {

@@ -110,34 +110,41 @@ void AudioWriter::finish(const RunSummary& summary) {
 }
 
 void AudioWriter::write_channel(std::size_t point) {
-    const std::vector<double>& signal = channels_[point];
-    const std::filesystem::path& path = paths_[point];
     // Fades first, so that the peak (and the gain) is that of the file as heard.
-    std::vector<double> normalised = signal;
+    std::vector<double> faded = channels_[point];
     const auto fade = [&](double seconds, bool at_start) {
-        const auto n = std::min(normalised.size(), static_cast<std::size_t>(std::llround(seconds * rate_)));
+        const auto n = std::min(faded.size(), static_cast<std::size_t>(std::llround(seconds * rate_)));
         for (std::size_t k = 0; k < n; ++k) {
             const double w = 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
-            normalised[at_start ? k : normalised.size() - 1 - k] *= w;
+            faded[at_start ? k : faded.size() - 1 - k] *= w;
         }
     };
     fade(fades_.in_s, true);
     fade(fades_.out_s, false);
+    full_scale_[point] = write_normalised_audio(paths_[point], faded, rate_);
+}
+
+double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                              int bits) {
+    std::vector<double> normalised(signal.begin(), signal.end());
     double peak = 0.0;
     for (double v : normalised) peak = std::max(peak, std::abs(v));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
-    full_scale_[point] = 1.0 / gain;
     for (double& v : normalised) v *= gain;
 
     SF_INFO info{};
-    info.samplerate = static_cast<int>(std::lround(rate_));
+    info.samplerate = static_cast<int>(std::lround(rate_hz));
     info.channels = 1;
-    info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_24;
+    if (path.extension() == ".ogg")
+        info.format = SF_FORMAT_OGG | SF_FORMAT_VORBIS;
+    else
+        info.format = SF_FORMAT_WAV | (bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
     SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     const sf_count_t written = sf_write_double(file, normalised.data(), static_cast<sf_count_t>(normalised.size()));
     sf_close(file);
     if (written != static_cast<sf_count_t>(normalised.size())) throw std::runtime_error("writing " + path.string() + " failed");
+    return 1.0 / gain;
 }
 
 }  // namespace fretbuzz

@@ -18,7 +18,18 @@ constexpr std::size_t kHeadModes = 48;
 }  // namespace
 
 ContactScheduler::ContactScheduler(const Plan& plan)
-    : plan_(plan), norm_(std::sqrt(2.0 / plan.basis().length())), head_(std::min(kHeadModes, plan.mode_count())) {}
+    : plan_(plan), norm_(std::sqrt(2.0 / plan.basis().length())), head_(std::min(kHeadModes, plan.mode_count())) {
+    // Room for every point twice (asleep and just woken), so that stepping never allocates.
+    std::vector<Entry> storage;
+    storage.reserve(2 * plan.mode_count() + 16);
+    queue_ = decltype(queue_)(std::greater<>(), std::move(storage));
+    amplitude_.reserve(plan.mode_count());
+    tail_sums_.reserve(plan.mode_count() + 1);
+}
+
+void ContactScheduler::clear() {
+    while (!queue_.empty()) queue_.pop();
+}
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {
     const ModalPropagator& prop = plan_.propagator();

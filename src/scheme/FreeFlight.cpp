@@ -14,12 +14,19 @@ struct NearIdentity {
 };
 }  // namespace
 
-FreeFlight::FreeFlight(const ModalPropagator& propagator, long steps, std::size_t first) : steps_(steps) {
+FreeFlight::FreeFlight(const ModalPropagator& propagator, long steps, std::size_t first) : steps_(steps), first_(first) {
     const std::size_t n = propagator.size();
     qq_.resize(n);
     qd_.resize(n);
     dq_.resize(n);
     dd_.resize(n);
+    update(propagator);
+}
+
+void FreeFlight::update(const ModalPropagator& propagator) {
+    const std::size_t n = propagator.size();
+    const long steps = steps_;
+    const std::size_t first = first_;
     const auto e = propagator.decay();
     const auto beta = propagator.beta();
     const auto loss = propagator.loss();  // 1 - e, without cancellation

@@ -20,10 +20,14 @@ ModalBasis::ModalBasis(double length_m, std::size_t mode_count, bool measure_tra
 
 std::vector<double> ModalBasis::mode_shapes_at(double x) const {
     std::vector<double> phi(modes_);
+    mode_shapes_at(x, phi);
+    return phi;
+}
+
+void ModalBasis::mode_shapes_at(double x, std::span<double> phi) const {
     const double norm = std::sqrt(2.0 / length_);
     for (std::size_t j = 0; j < modes_; ++j)
         phi[j] = norm * std::sin(static_cast<double>(j + 1) * std::numbers::pi * x / length_);
-    return phi;
 }
 
 std::span<const double> ModalBasis::row(std::size_t i) const {

@@ -16,14 +16,26 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kAliasingLimit = 1e-9;
 }  // namespace
 
-ModalPropagator::ModalPropagator(const ModeTable& modes, double dt) : dt_(dt) {
+ModalPropagator::ModalPropagator(const ModeTable& modes, double dt) : dt_(dt), frequency_hz_(modes.frequency_hz) {
     const std::size_t n = modes.size();
-    for (auto* v : {&decay_, &beta_, &loss_, &omega_, &sigma_, &rate_, &half_decay_, &expm1_half_, &sin_step_, &versine_step_})
+    for (auto* v : {&decay_, &beta_, &loss_, &omega_, &sigma_, &rate_, &half_decay_, &expm1_half_, &sin_step_, &versine_step_,
+                    &amplitude_q_, &amplitude_d_, &speed_factor_})
         v->resize(n);
     underdamped_.resize(n);
+    special_modes_.reserve(n);
+    compute(modes.sigma_per_s);
+}
+
+void ModalPropagator::set_damping(std::span<const double> sigma_per_s) { compute(sigma_per_s); }
+
+void ModalPropagator::compute(std::span<const double> sigma_per_s) {
+    const std::size_t n = frequency_hz_.size();
+    const double dt = dt_;
+    lossless_ = true;
+    special_modes_.clear();
     for (std::size_t j = 0; j < n; ++j) {
-        const double w = 2.0 * std::numbers::pi * modes.frequency_hz[j];
-        const double s = modes.sigma_per_s[j];
+        const double w = 2.0 * std::numbers::pi * frequency_hz_[j];
+        const double s = sigma_per_s[j];
         if (s != 0.0) lossless_ = false;
         omega_[j] = w;
         sigma_[j] = s;
@@ -53,9 +65,8 @@ ModalPropagator::ModalPropagator(const ModeTable& modes, double dt) : dt_(dt) {
             beta_[j] = std::expm1(-w * w / (s + g) * dt) * std::expm1(-(s + g) * dt);
         }
     }
-    amplitude_q_.assign(n, 0.0);
-    amplitude_d_.assign(n, 0.0);
-    speed_factor_.resize(n);
+    std::fill(amplitude_q_.begin(), amplitude_q_.end(), 0.0);
+    std::fill(amplitude_d_.begin(), amplitude_d_.end(), 0.0);
     for (std::size_t j = 0; j < n; ++j) {
         speed_factor_[j] = underdamped_[j] ? omega_[j] : sigma_[j] + rate_[j];
         if (!underdamped_[j] || std::abs(sin_step_[j]) < kAliasingLimit) {

@@ -14,10 +14,18 @@ constexpr int kMaxIterations = 200;
 }  // namespace
 
 PenaltyContact::PenaltyContact(double stiffness, double exponent, bool specialise)
-    : k_(stiffness), alpha_(exponent) {
-    require_positive("contact.K (penalty stiffness)", stiffness);
-    require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
-    if (!specialise) return;
+    : k_(stiffness), alpha_(exponent), specialise_(specialise) {
+    set(stiffness, exponent);
+}
+
+void PenaltyContact::set(double stiffness, double exponent) {
+    // The checks build their messages only when they fail: a real-time change stays allocation-free.
+    if (!(std::isfinite(stiffness) && stiffness > 0.0)) require_positive("contact.K (penalty stiffness)", stiffness);
+    if (!(std::isfinite(exponent) && exponent >= 1.0)) require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
+    k_ = stiffness;
+    alpha_ = exponent;
+    law_ = Law::general;
+    if (!specialise_) return;
     if (exponent == 1.0) law_ = Law::linear;
     if (exponent == 1.5) law_ = Law::three_halves;
     if (exponent == 2.0) law_ = Law::quadratic;

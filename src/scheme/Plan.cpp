@@ -25,8 +25,17 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
             if (std::isfinite(g)) g = -g;
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
+    planned_obstacle_ = obstacle_;
     transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold
                                                             : default_transform_threshold(mode_count(), basis_.transform_flops());
+}
+
+void Plan::set_obstacle_offset(double offset) {
+    for (std::size_t i : obstacle_points_) obstacle_[i] = planned_obstacle_[i] + offset;
+}
+
+void Plan::prepare_rows() const {
+    for (std::size_t i : obstacle_points_) basis_.row(i);
 }
 
 ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly) {

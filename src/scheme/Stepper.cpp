@@ -22,7 +22,64 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       impulse_(q0.size(), 0.0),
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
-      eta_curr_(q0.size(), 0.0) {}
+      eta_curr_(q0.size(), 0.0) {
+    // Every list the step fills is bounded by the grid: reserve it once, so that a running
+    // stepper never allocates (real-time use).
+    active_.reserve(q0.size());
+    due_.reserve(2 * q0.size() + 16);
+    forces_.reserve(q0.size());
+}
+
+void Stepper::perturb(std::span<const double> displacement, std::span<const double> velocity) {
+    const double dt = plan_.dt();
+    if (n_ == 0) {
+        for (std::size_t j = 0; j < q_.size(); ++j) {
+            q_[j] += displacement[j];
+            v0_[j] += velocity[j];
+        }
+        return;
+    }
+    for (std::size_t j = 0; j < q_.size(); ++j) {
+        q_[j] += displacement[j];
+        d_[j] += velocity[j] * dt;
+    }
+    restart();
+}
+
+void Stepper::silence() {
+    std::fill(q_.begin(), q_.end(), 0.0);
+    std::fill(d_.begin(), d_.end(), 0.0);
+    std::fill(v0_.begin(), v0_.end(), 0.0);
+    restart();
+}
+
+void Stepper::restart() {
+    energy_step_ = -1;
+    if (n_ == 0) return;  // the first step looks at everything anyway
+    // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse).
+    for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
+    plan_.basis().to_grid(predicted_, impulse_);
+    plan_.basis().to_grid(q_, grid_);
+    scheduler_.clear();
+    active_.clear();
+    psi_prev_ = psi_curr_ = 0.0;
+    if (screening_) {
+        scheduler_.update_speed(q_, d_);
+        next_speed_refresh_ = n_ + kSpeedRefreshSteps;
+    }
+    classify_points(grid_, impulse_);
+}
+
+void Stepper::classify_points(std::span<const double> u_now, std::span<const double> u_before) {
+    const std::vector<double>& g = plan_.obstacle();
+    const PenaltyContact& law = plan_.contact();
+    for (std::size_t i : plan_.obstacle_points()) {
+        psi_prev_ += law.potential(g[i] - u_before[i]);
+        psi_curr_ += law.potential(g[i] - u_now[i]);
+        const bool apart = g[i] - u_before[i] <= 0.0 && g[i] - u_now[i] <= 0.0;
+        if (!screening_ || !apart || !scheduler_.sleep(i, u_now[i] - g[i])) activate(i, u_now[i], u_before[i]);
+    }
+}
 
 double Stepper::displacement(std::span<const double> mode_shapes) const {
     return kernels::dot(mode_shapes.data(), q_.data(), q_.size());
@@ -69,6 +126,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
     if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
+    scheduler_.refresh(q_, d_);
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
@@ -97,10 +155,16 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         scheduler_.end_step();
         ++flown;
     }
-    if (flown == steps)
+    if (flown == steps) {
         flight.jump(q_, d_, head);
-    else if (flown > 0)
-        FreeFlight(prop, flown, head).jump(q_, d_, head);
+    } else {
+        // Cut short (rare: a point may touch): the other modes take the flown steps one by
+        // one, which allocates nothing (a real-time engine flies too).
+        const std::size_t rest = q_.size() - head;
+        for (long m = 0; m < flown; ++m)
+            kernels::advance(prop.decay().data() + head, prop.beta().data() + head, nullptr, nullptr,
+                             q_.data() + head, d_.data() + head, rest);
+    }
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
     forces_.clear();
@@ -121,15 +185,8 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);
     plan_.basis().to_grid(q_, grid_);
-    const std::vector<double>& g = plan_.obstacle();
-    const PenaltyContact& law = plan_.contact();
     if (screening_) scheduler_.update_speed(q_, d_);
-    for (std::size_t i : plan_.obstacle_points()) {
-        psi_prev_ += law.potential(g[i] - u0[i]);
-        psi_curr_ += law.potential(g[i] - grid_[i]);
-        const bool apart = g[i] - u0[i] <= 0.0 && g[i] - grid_[i] <= 0.0;
-        if (!screening_ || !apart || !scheduler_.sleep(i, grid_[i] - g[i])) activate(i, grid_[i], u0[i]);
-    }
+    classify_points(grid_, u0);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }

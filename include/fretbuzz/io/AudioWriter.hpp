@@ -27,6 +27,12 @@ struct AudioFades {
 // for the first point, then "audio_<x>m.wav" with x in metres for the others.
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
 
+// Writes one mono signal peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or
+// Ogg Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's
+// inverse). std::runtime_error if the file cannot be written.
+double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                              int bits = 24);
+
 class AudioWriter : public RunObserver {
 public:
     // One path per observation point, in the order of the case's points.

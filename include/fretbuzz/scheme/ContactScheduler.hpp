@@ -48,6 +48,10 @@ public:
     bool sleep(std::size_t i, double gap);
     // Makes point i due at once (it will be popped by the next pop_due).
     void wake_now(std::size_t i) { queue_.emplace(budget_, i); }
+    // No point is asleep (the speed bound is then not needed until one goes to sleep).
+    bool idle() const { return queue_.empty(); }
+    // Forgets every sleeping point (the state changed from outside: all must be looked at again).
+    void clear();
     // Spends one step of budget (call once per step, before any update_speed for the new state).
     void end_step() { end_steps(1); }
     void end_steps(long steps);

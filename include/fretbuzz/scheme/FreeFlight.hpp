@@ -17,11 +17,14 @@ public:
     FreeFlight(const ModalPropagator& propagator, long steps, std::size_t first = 0);
 
     long steps() const { return steps_; }
+    // Recomputes the maps after the propagator changed (same size; allocates nothing).
+    void update(const ModalPropagator& propagator);
     // Applies the M-step map to modes [first, end) of (q, d).
     void jump(std::span<double> q, std::span<double> d, std::size_t first) const;
 
 private:
     long steps_;
+    std::size_t first_;
     std::vector<double> qq_, qd_, dq_, dd_;  // P_j^M - I
 };
 

@@ -24,6 +24,8 @@ public:
 
     // phi_j(x) for j = 1..Nm at any x in [0, L].
     std::vector<double> mode_shapes_at(double x) const;
+    // The same into `phi` (mode_count() values), allocating nothing.
+    void mode_shapes_at(double x, std::span<double> phi) const;
     // Row i of S: phi_j(x_i) for j = 1..Nm (reference stays valid for the basis' life).
     std::span<const double> row(std::size_t i) const;
     // u = S q on the whole grid (fast transform).

@@ -19,6 +19,10 @@ class ModalPropagator {
 public:
     ModalPropagator(const ModeTable& modes, double dt);
 
+    // New dampings sigma_j for the same frequencies and dt, computed in place (no allocation:
+    // a sounding instrument can change its damping between two audio blocks).
+    void set_damping(std::span<const double> sigma_per_s);
+
     std::size_t size() const { return decay_.size(); }
     double dt() const { return dt_; }
     std::span<const double> decay() const { return decay_; }  // e_j
@@ -49,8 +53,11 @@ private:
         double c_plus, c_minus;  // overdamped: q(t) = c+ e^{-(s-g)t} + c- e^{-(s+g)t}
     };
 
+    void compute(std::span<const double> sigma_per_s);
+
     double dt_;
     bool lossless_ = true;
+    std::vector<double> frequency_hz_;
     std::vector<double> decay_, beta_, loss_, omega_, sigma_;
     std::vector<double> rate_;            // omega_d (underdamped) or gamma = sqrt(sigma^2 - omega^2)
     std::vector<unsigned char> underdamped_;

@@ -23,6 +23,8 @@ public:
     // specialise = false evaluates every exponent through pow/expm1/log1p (the reference
     // the closed forms are tested against).
     PenaltyContact(double stiffness, double exponent, bool specialise = true);
+    // New K and alpha (same checks), allocating nothing unless they are refused.
+    void set(double stiffness, double exponent);
 
     double stiffness() const { return k_; }
     double exponent() const { return alpha_; }
@@ -45,6 +47,7 @@ private:
     double k_;
     double alpha_;
     Law law_ = Law::general;
+    bool specialise_ = true;
 };
 
 }  // namespace fretbuzz

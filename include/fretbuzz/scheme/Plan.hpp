@@ -6,6 +6,7 @@
 // Planning refuses a sampling rate at which modes alias onto low frequencies under contact.
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,16 @@ public:
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
 
+    // Changes while a string sounds (a real-time instrument's controls). Neither allocates;
+    // a Stepper on this plan must be told with Stepper::restart() before its next step.
+    void set_contact_law(double stiffness, double exponent) { contact_.set(stiffness, exponent); }
+    void set_damping(std::span<const double> sigma_per_s) { propagator_.set_damping(sigma_per_s); }
+    // Raises the whole obstacle by `offset` metres above its planned height (toward the string:
+    // more buzz), in the contact solve's coordinate.
+    void set_obstacle_offset(double offset);
+    // Makes every row of S the contact solve may read, so that stepping never allocates.
+    void prepare_rows() const;
+
 private:
     double dt_;
     double mu_;
@@ -72,6 +83,7 @@ private:
     ModalPropagator propagator_;
     PenaltyContact contact_;
     std::vector<double> obstacle_;
+    std::vector<double> planned_obstacle_;  // obstacle_ at zero offset
     std::vector<std::size_t> obstacle_points_;
     PlanOptions options_;
     std::size_t transform_threshold_;

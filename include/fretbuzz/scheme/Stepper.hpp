@@ -41,6 +41,17 @@ public:
     long free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                      std::vector<double>& u, std::vector<double>* v);
 
+    // Adds a displacement and a velocity (modal, dq/dt) to the current state, as an external
+    // impulse between two steps would: q^n += dq, q^{n-1} += dq - dv dt. The energy H^{n-1/2}
+    // changes by the work done; the caller reads it with energy() before and after.
+    void perturb(std::span<const double> displacement, std::span<const double> velocity);
+    // Takes the state and the plan as they are now (after perturb, or after the plan's contact
+    // law or damping changed): every obstacle point is looked at again and the contact energy
+    // recomputed. Allocates nothing.
+    void restart();
+    // Puts the string at rest (q = d = 0), keeping the step count and the losses so far.
+    void silence();
+
     long step_index() const { return n_; }
     double time() const { return static_cast<double>(n_) * plan_.dt(); }
     std::span<const double> modal_displacement() const { return q_; }  // q^n
@@ -62,6 +73,8 @@ public:
 private:
     double modal_energy() const;  // H^{n-1/2} without the contact part, cached per step
     void first_step();
+    // Looks at every obstacle point for the state with u^n, u^{n-1} on the grid.
+    void classify_points(std::span<const double> u_now, std::span<const double> u_before);
     void wake_due_points();
     void activate(std::size_t i, double u_now, double u_before);
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);

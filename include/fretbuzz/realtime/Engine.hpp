@@ -1,0 +1,125 @@
+#pragma once
+// A real-time voice: one string of a Case, rendered in blocks of audio at the host rate while
+// events arrive between blocks (plucks, mute, changes of contact law, damping or pickup).
+//
+// It runs the offline scheme itself (Plan, Stepper, PenaltyContact: no second physics) at an
+// internal rate M times the host rate, M an integer chosen at set-up so that every mode kept
+// lies below the internal Nyquist frequency (the aliasing check of SamplingCheck passes; modes
+// that would need more than the largest allowed M are dropped), and decimates the pickup
+// signal by M through a band-limited FIR (Decimator). While no point can touch, it flies over
+// each host sample stepping only the modes below the host's Nyquist frequency (FreeFlight).
+//
+// The audio path (process and every event) allocates nothing and takes no lock; denormals
+// are flushed to zero while it runs. The discrete energy is the guard: without input it can
+// only decrease, so if H + dissipated ever exceeds the energy put in (every pluck, and every
+// parameter change, counted), or a sample is not finite, the voice is silenced and counted.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/realtime/Decimator.hpp"
+#include "fretbuzz/scheme/FreeFlight.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz {
+
+struct EngineOptions {
+    double host_rate_hz = 48000.0;
+    int oversampling = 0;          // M; 0: the smallest that keeps every mode below 0.45 M fs
+    int max_oversampling = 8;      // largest M chosen automatically (cost grows with M)
+    std::size_t max_modes = 0;     // 0: the case's (fewer if M cannot reach them)
+    bool free_flight = true;       // fly while no contact is possible (false: step every mode)
+    bool start_from_case = false;  // start from the case's initial state (else at rest)
+    int taps_per_phase = 64;       // decimation filter length / M
+    double pickup_m = -1.0;        // where the signal is read; < 0: the case's first observation point
+    double gain_per_m = 1000.0;    // output sample per metre of displacement
+};
+
+// An excitation added to the sounding string: a raised-cosine bump of the given width
+// centred at position_m, in velocity (a pluck or a pick: strength in m/s) or in
+// displacement (a pop: strength in m).
+struct Strike {
+    double position_m = 0.0;
+    double strength = 0.5;
+    double width_m = 0.01;
+    bool displacement = false;
+};
+
+// What the energy guard and the clamps saw (read by front ends to log, outside the audio path).
+struct EngineHealth {
+    long resets = 0;         // times the voice was silenced by the guard
+    long clamped = 0;        // control values moved into their range
+    long solver_failures = 0;
+};
+
+class Engine {
+public:
+    // The costly set-up: plans the case at the internal rate and warms every buffer.
+    // InputError for bad options (named, with their range).
+    Engine(const Case& c, const EngineOptions& options = {});
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    // Renders out.size() host samples (any size). Allocates nothing.
+    void process(std::span<float> out);
+    // Renders out.size() internal steps of the pickup displacement (m), undecimated (tests).
+    void render_internal(std::span<double> out);
+
+    // Events, between blocks; none allocates. Values out of range are clamped (health().clamped).
+    void strike(const Strike& s);
+    void set_damping_scale(double scale);  // multiplies every sigma_j, in [0, 1000]
+    void mute(bool on);                    // damping scale x kMuteScale while on
+    void set_contact_law(double stiffness, double exponent);  // K in [1, 1e16], alpha in [1, 3]
+    void set_pickup(double x_m);           // in (0, L)
+    // Raises the obstacle (frets, bridge) by `offset` metres toward the string: more buzz.
+    void set_obstacle_offset(double offset_m);  // in [-5 mm, 1 mm]
+
+    int oversampling() const { return factor_; }
+    double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
+    std::size_t mode_count() const { return case_.mode_count(); }
+    const Case& voice_case() const { return case_; }
+    double length_m() const { return case_.string.length_m; }
+    // Discrete energy H (J), energy dissipated by damping, and energy put in since set-up.
+    double energy() const { return stepper_->energy(); }
+    double dissipated() const { return stepper_->dissipated(); }
+    double injected() const { return injected_; }
+    bool sounding() const;
+    const EngineHealth& health() const { return health_; }
+
+    static constexpr double kMuteScale = 300.0;
+
+private:
+    double clamp(double value, double low, double high);
+    void render_host_sample();
+    void apply_damping();
+    void guard();
+    void silence();
+    // Runs a change of state or plan, counting the energy it adds or removes as input.
+    template <class Change>
+    void change(Change&& f);
+
+    EngineOptions options_;
+    Case case_;
+    int factor_ = 1;
+    double orientation_ = 1.0;
+    std::unique_ptr<Plan> plan_;
+    std::unique_ptr<Stepper> stepper_;
+    std::optional<FreeFlight> flight_;
+    std::size_t head_ = 0;
+    Decimator decimator_;
+    std::vector<std::vector<double>> pickup_;  // one probe: the mode shapes at the pickup
+    std::vector<double> flight_u_;
+    std::vector<double> grid_, dq_, dv_, zero_;
+    std::vector<double> base_sigma_, sigma_;
+    double damping_scale_ = 1.0;
+    bool muted_ = false;
+    double injected_ = 0.0;
+    double peak_ = 0.0;  // largest energy after a strike: the scale of "silent"
+    EngineHealth health_;
+};
+
+}  // namespace fretbuzz

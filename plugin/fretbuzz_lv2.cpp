@@ -1,0 +1,224 @@
+// The fretbuzz LV2 instrument: a thin shell over the real-time Engine. One string of a preset
+// (bass, guitar, sitar, tanpura); MIDI note n plays fret n - (the open string's note), velocity
+// sets the pluck strength, note-off mutes. Each fret is a voice prepared at instantiation (the
+// string stopped at that fret: a stand-in for a modelled finger); at most kPolyphony notes
+// sound at once (the oldest is muted to make room). run() allocates nothing and takes no lock.
+#include <lv2/atom/atom.h>
+#include <lv2/atom/util.h>
+#include <lv2/core/lv2.h>
+#include <lv2/log/log.h>
+#include <lv2/log/logger.h>
+#include <lv2/midi/midi.h>
+#include <lv2/urid/urid.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/realtime/Engine.hpp"
+#include "fretbuzz/realtime/Performance.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
+
+namespace {
+
+using namespace fretbuzz;
+
+constexpr int kPolyphony = 6;  // held notes at once
+constexpr int kFrets = kMaxFret + 1;
+constexpr std::size_t kChunk = 4096;
+constexpr double kFullStrength = 1.5;  // m/s at MIDI velocity 127
+
+enum Port : uint32_t { kMidiIn, kOut, kPluck, kPickup, kBuzz, kDamping, kPortCount };
+
+struct Control {
+    const char* name;
+    float low, high;
+};
+// The ranges the .ttl declares: values outside are clamped, with a warning.
+constexpr std::array<Control, kPortCount> kControls = {
+    {{"", 0, 0}, {"", 0, 0}, {"pluck", 0.02f, 0.98f}, {"pickup", 0.02f, 0.98f}, {"buzz", -2.0f, 0.5f}, {"damping", 0.1f, 10.0f}}};
+
+struct Preset {
+    const char* uri;
+    const char* case_name;
+};
+constexpr std::array<Preset, 4> kPresets = {{{"urn:fretbuzz:bass", "bass-pluck"},
+                                             {"urn:fretbuzz:guitar", "guitar-point"},
+                                             {"urn:fretbuzz:sitar", "sitar"},
+                                             {"urn:fretbuzz:tanpura", "tanpura"}}};
+
+struct Voice {
+    std::unique_ptr<Engine> engine;
+    std::array<float, kPortCount> applied{};  // control values this voice last took
+    long started = -1;                        // note-on order; -1: not held
+    bool active = false;                      // sounding (held or ringing out)
+};
+
+struct Instrument {
+    std::array<Voice, kFrets> voices;
+    int open_note = 40;
+    long notes = 0;
+    std::array<const float*, kPortCount> controls{};
+    const LV2_Atom_Sequence* midi = nullptr;
+    float* out = nullptr;
+    std::array<float, kPortCount> last{};  // raw values last seen, to warn once per change
+    std::array<float, kChunk> scratch{};
+    LV2_URID midi_event = 0;
+    LV2_Log_Logger logger{};
+
+    float control(uint32_t port) {
+        const float raw = *controls[port];
+        const Control& c = kControls[port];
+        const float value = std::isnan(raw) ? c.low : std::clamp(raw, c.low, c.high);
+        if (raw != last[port] && !(std::isnan(raw) && std::isnan(last[port])) && value != raw)
+            lv2_log_warning(&logger, "fretbuzz: %s = %g is out of range [%g, %g]; using %g\n", c.name,
+                            static_cast<double>(raw), static_cast<double>(c.low), static_cast<double>(c.high),
+                            static_cast<double>(value));
+        last[port] = raw;
+        return value;
+    }
+
+    void sync(Voice& v, const std::array<float, kPortCount>& now) {
+        Engine& e = *v.engine;
+        if (now[kPickup] != v.applied[kPickup]) e.set_pickup(now[kPickup] * e.length_m());
+        if (now[kBuzz] != v.applied[kBuzz]) e.set_obstacle_offset(now[kBuzz] * 1e-3);
+        if (now[kDamping] != v.applied[kDamping]) e.set_damping_scale(now[kDamping]);
+        v.applied = now;
+    }
+
+    void note_on(int fret, int velocity, const std::array<float, kPortCount>& now) {
+        Voice& v = voices[static_cast<std::size_t>(fret)];
+        if (v.started < 0) {
+            // Room for one more: mute the oldest held note beyond the polyphony.
+            int held = 0;
+            Voice* oldest = nullptr;
+            for (Voice& o : voices)
+                if (o.started >= 0) {
+                    ++held;
+                    if (oldest == nullptr || o.started < oldest->started) oldest = &o;
+                }
+            if (held >= kPolyphony && oldest != nullptr) note_off(*oldest);
+        }
+        sync(v, now);
+        v.engine->mute(false);
+        v.engine->strike({now[kPluck] * v.engine->length_m(), kFullStrength * velocity / 127.0, 0.01, false});
+        v.started = notes++;
+        v.active = true;
+    }
+
+    static void note_off(Voice& v) {
+        v.engine->mute(true);
+        v.started = -1;
+    }
+
+    void render(uint32_t from, uint32_t to) {
+        while (from < to) {
+            const uint32_t n = std::min<uint32_t>(to - from, kChunk);
+            const std::span<float> chunk(scratch.data(), n);
+            for (Voice& v : voices) {
+                if (!v.active) continue;
+                v.engine->process(chunk);
+                for (uint32_t i = 0; i < n; ++i) out[from + i] += chunk[i];
+                if (v.started < 0 && !v.engine->sounding()) v.active = false;
+            }
+            from += n;
+        }
+    }
+
+    void run(uint32_t frames) {
+        std::fill(out, out + frames, 0.0f);
+        std::array<float, kPortCount> now{};
+        for (uint32_t p = kPluck; p < kPortCount; ++p) now[p] = control(p);
+        for (Voice& v : voices)
+            if (v.active) sync(v, now);
+        uint32_t done = 0;
+        LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
+            if (ev->body.type != midi_event) continue;
+            const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
+            const auto at = static_cast<uint32_t>(std::clamp<int64_t>(ev->time.frames, done, frames));
+            render(done, at);
+            done = at;
+            const uint8_t status = lv2_midi_message_type(msg);
+            const int fret = msg[1] - open_note;
+            if (fret < 0 || fret >= kFrets) continue;
+            Voice& v = voices[static_cast<std::size_t>(fret)];
+            if (status == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0)
+                note_on(fret, msg[2], now);
+            else if ((status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON) && v.started >= 0)
+                note_off(v);
+        }
+        render(done, frames);
+    }
+};
+
+LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char*, const LV2_Feature* const* features) {
+    LV2_URID_Map* map = nullptr;
+    LV2_Log_Log* log = nullptr;
+    for (int i = 0; features != nullptr && features[i] != nullptr; ++i) {
+        if (std::strcmp(features[i]->URI, LV2_URID__map) == 0) map = static_cast<LV2_URID_Map*>(features[i]->data);
+        if (std::strcmp(features[i]->URI, LV2_LOG__log) == 0) log = static_cast<LV2_Log_Log*>(features[i]->data);
+    }
+    if (map == nullptr) return nullptr;  // required: MIDI events are told apart by their URID
+    auto instrument = std::make_unique<Instrument>();
+    lv2_log_logger_init(&instrument->logger, map, log);
+    instrument->midi_event = map->map(map->handle, LV2_MIDI__MidiEvent);
+    try {
+        const Preset* preset = nullptr;
+        for (const Preset& p : kPresets)
+            if (std::strcmp(p.uri, descriptor->URI) == 0) preset = &p;
+        if (preset == nullptr) return nullptr;
+        const Case open = load_case(preset->case_name);
+        instrument->open_note = open_string_note(open);
+        EngineOptions options;
+        options.host_rate_hz = rate;
+        options.gain_per_m = 300.0;
+        // At most 4x oversampling: six voices must keep up with the host (measured by
+        // bench/bench_realtime.cpp: 6 guitar voices 2.2x real time at 4x, 0.7x at 8x on one core).
+        options.max_oversampling = 4;
+        for (int k = 0; k < kFrets; ++k) {
+            const Case c = k == 0 ? open : stopped_string(open, fret_position(open.string.length_m, k), open.mode_count());
+            Voice& v = instrument->voices[static_cast<std::size_t>(k)];
+            v.engine = std::make_unique<Engine>(c, options);
+            v.applied = {0, 0, -1, -1, 0, 1};  // the engine's own pickup; buzz 0; damping 1
+        }
+    } catch (const std::exception& e) {
+        lv2_log_error(&instrument->logger, "fretbuzz: cannot prepare %s: %s\n", descriptor->URI, e.what());
+        return nullptr;
+    }
+    instrument->last = {0.0f, 0.0f, 0.8f, 0.9f, 0.0f, 1.0f};  // the .ttl defaults
+    return instrument.release();
+}
+
+void connect_port(LV2_Handle handle, uint32_t port, void* data) {
+    auto* self = static_cast<Instrument*>(handle);
+    if (port == kMidiIn)
+        self->midi = static_cast<const LV2_Atom_Sequence*>(data);
+    else if (port == kOut)
+        self->out = static_cast<float*>(data);
+    else if (port < kPortCount)
+        self->controls[port] = static_cast<const float*>(data);
+}
+
+void run(LV2_Handle handle, uint32_t frames) { static_cast<Instrument*>(handle)->run(frames); }
+
+void cleanup(LV2_Handle handle) { delete static_cast<Instrument*>(handle); }
+
+const void* extension_data(const char*) { return nullptr; }
+
+constexpr LV2_Descriptor descriptor(const char* uri) {
+    return {uri, instantiate, connect_port, nullptr, run, nullptr, cleanup, extension_data};
+}
+const std::array<LV2_Descriptor, kPresets.size()> kDescriptors = {
+    descriptor(kPresets[0].uri), descriptor(kPresets[1].uri), descriptor(kPresets[2].uri), descriptor(kPresets[3].uri)};
+
+}  // namespace
+
+LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(uint32_t index) {
+    return index < kDescriptors.size() ? &kDescriptors[index] : nullptr;
+}

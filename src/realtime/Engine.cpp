@@ -1,0 +1,258 @@
+#include "fretbuzz/realtime/Engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
+
+#if defined(__x86_64__) || defined(__SSE2__)
+#include <xmmintrin.h>
+#define FRETBUZZ_HAS_MXCSR 1
+#endif
+
+namespace fretbuzz {
+
+namespace {
+// Modes are kept below this fraction of the internal rate: under the Nyquist frequency with
+// a margin, so no mode aliases under contact (see SamplingCheck).
+constexpr double kBandEdge = 0.45;
+// Free flight steps the modes up to this fraction of the host rate (the decimator removes
+// the rest), and at least this many (sharp checks of sleeping points).
+constexpr double kFlightBand = 0.6;
+constexpr std::size_t kMinimumFlightModes = 48;
+// Relative allowance on the energy guard: far above the round-off of the balance.
+constexpr double kGuardTolerance = 1e-6;
+// Below this fraction of the largest energy struck in, the voice is silent and not stepped.
+constexpr double kSilentFraction = 1e-14;
+// A mute damps even a lossless string.
+constexpr double kMuteFloor = 30.0;  // 1/s
+
+// Flushes denormals to zero (and treats denormal inputs as zero) while it lives: a decaying
+// string would otherwise slow to a crawl as its modes sink below 1e-308.
+class FlushDenormals {
+public:
+#ifdef FRETBUZZ_HAS_MXCSR
+    FlushDenormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
+    ~FlushDenormals() { _mm_setcsr(saved_); }
+
+private:
+    unsigned saved_;
+#endif
+};
+
+struct RateChoice {
+    int factor;
+    std::size_t modes;
+};
+
+RateChoice choose_rate(const Case& c, const EngineOptions& o) {
+    const std::size_t available = o.max_modes > 0 ? std::min(o.max_modes, c.mode_count()) : c.mode_count();
+    const auto modes_below = [&](double edge_hz) {
+        std::size_t n = 0;
+        while (n < available && c.modes.frequency_hz[n] < edge_hz) ++n;
+        return n;
+    };
+    if (o.oversampling > 0) return {o.oversampling, modes_below(kBandEdge * o.oversampling * o.host_rate_hz)};
+    for (int m = 1; m <= o.max_oversampling; ++m)
+        if (modes_below(kBandEdge * m * o.host_rate_hz) == available) return {m, available};
+    return {o.max_oversampling, modes_below(kBandEdge * o.max_oversampling * o.host_rate_hz)};
+}
+
+void check_options(const EngineOptions& o) {
+    const auto in = [](const char* name, double v, double low, double high, const char* range) {
+        if (!(v >= low && v <= high)) throw InputError(out_of_range_message(name, v, range));
+    };
+    in("host rate (Hz)", o.host_rate_hz, 8000.0, 768000.0, "[8000, 768000]");
+    in("oversampling", o.oversampling, 0, 64, "0 (automatic) to 64");
+    in("max oversampling", o.max_oversampling, 1, 64, "1 to 64");
+    in("taps per phase", o.taps_per_phase, 4, 256, "4 to 256");
+    in("gain per metre", o.gain_per_m, 0.0, 1e9, "[0, 1e9]");
+}
+
+std::vector<double> oriented(const std::vector<double>& v, double orientation, bool keep) {
+    std::vector<double> out(v.size(), 0.0);
+    if (keep)
+        for (std::size_t j = 0; j < v.size(); ++j) out[j] = orientation * v[j];
+    return out;
+}
+}  // namespace
+
+Engine::Engine(const Case& c, const EngineOptions& options) : options_(options), decimator_(1) {
+    check_options(options);
+    const RateChoice rate = choose_rate(c, options);
+    if (rate.modes == 0)
+        throw InputError(out_of_range_message("oversampling", rate.factor,
+                                              "high enough that the first mode lies below 0.45 x the internal rate"));
+    factor_ = rate.factor;
+    case_ = rate.modes == c.mode_count() ? c : stopped_string(c, 0.0, rate.modes);
+    case_.run.sample_rate_hz = internal_rate_hz();
+    orientation_ = case_.contact_orientation();
+    plan_ = std::make_unique<Plan>(case_, 1.0 / internal_rate_hz());
+    plan_->prepare_rows();
+    stepper_ = std::make_unique<Stepper>(*plan_, oriented(case_.initial_displacement, orientation_, options.start_from_case),
+                                         oriented(case_.initial_velocity, orientation_, options.start_from_case));
+    stepper_->step();  // the first step is special (exact free motion); from here on, the scheme
+    injected_ = energy() + dissipated();
+    peak_ = injected_;
+
+    const std::size_t n = case_.mode_count();
+    pickup_.assign(1, std::vector<double>(n, 0.0));
+    const double pickup = options.pickup_m < 0.0 ? case_.observation_points_m.front() : options.pickup_m;
+    if (!(pickup > 0.0 && pickup < length_m()))
+        throw InputError(out_of_range_message("pickup position (m)", pickup, "(0, L), L = " + std::to_string(length_m())));
+    set_pickup(pickup);
+    while (head_ < n && case_.modes.frequency_hz[head_] < kFlightBand * options.host_rate_hz) ++head_;
+    head_ = std::max(head_, std::min(kMinimumFlightModes, n));
+    if (options.free_flight && factor_ >= 2 && head_ < n) flight_.emplace(plan_->propagator(), factor_, head_);
+    flight_u_.assign(static_cast<std::size_t>(factor_), 0.0);
+    decimator_ = Decimator(factor_, options.taps_per_phase);
+    grid_.assign(n, 0.0);
+    dq_.assign(n, 0.0);
+    dv_.assign(n, 0.0);
+    zero_.assign(n, 0.0);
+    base_sigma_ = case_.modes.sigma_per_s;
+    sigma_ = base_sigma_;
+}
+
+double Engine::clamp(double value, double low, double high) {
+    if (std::isnan(value)) {
+        ++health_.clamped;
+        return low;
+    }
+    if (value < low || value > high) ++health_.clamped;
+    return std::clamp(value, low, high);
+}
+
+bool Engine::sounding() const { return energy() > kSilentFraction * peak_; }
+
+void Engine::process(std::span<float> out) {
+    const FlushDenormals ftz;
+    if (!sounding()) {
+        // Nothing to hear: the string is not stepped (its time stands still), the filter drains.
+        for (float& y : out) {
+            for (int k = 0; k < factor_; ++k) decimator_.push(0.0);
+            y = static_cast<float>(options_.gain_per_m * decimator_.output());
+        }
+        return;
+    }
+    try {
+        for (float& y : out) {
+            render_host_sample();
+            const double value = options_.gain_per_m * decimator_.output();
+            y = std::isfinite(value) ? static_cast<float>(value) : 0.0f;
+        }
+    } catch (const SolverError&) {
+        ++health_.solver_failures;
+        for (float& y : out) y = 0.0f;
+        silence();
+        return;
+    }
+    guard();
+}
+
+void Engine::render_internal(std::span<double> out) {
+    const FlushDenormals ftz;
+    for (double& u : out) {
+        stepper_->step();
+        u = stepper_->displacement(pickup_.front());
+    }
+}
+
+void Engine::render_host_sample() {
+    int k = 0;
+    if (flight_) {
+        k = static_cast<int>(stepper_->free_flight(*flight_, head_, pickup_, flight_u_, nullptr));
+        for (int m = 0; m < k; ++m) decimator_.push(flight_u_[static_cast<std::size_t>(m)]);
+    }
+    for (; k < factor_; ++k) {
+        stepper_->step();
+        decimator_.push(stepper_->displacement(pickup_.front()));
+    }
+}
+
+template <class Change>
+void Engine::change(Change&& f) {
+    const double before = energy() + dissipated();
+    f();
+    injected_ += energy() + dissipated() - before;
+    guard();
+}
+
+void Engine::guard() {
+    const double total = energy() + dissipated();
+    if (std::isfinite(total) && total <= injected_ + kGuardTolerance * std::max(std::abs(injected_), peak_)) return;
+    ++health_.resets;
+    silence();
+}
+
+void Engine::silence() {
+    stepper_->silence();
+    decimator_.reset();
+    injected_ = energy() + dissipated();
+}
+
+void Engine::strike(const Strike& s) {
+    const double dx = case_.grid_step();
+    const double width = clamp(s.width_m, 2.0 * dx, 0.5 * length_m());
+    const double position = clamp(s.position_m, 0.5 * width, length_m() - 0.5 * width);
+    const double limit = s.displacement ? 0.02 : 20.0;  // m or m/s: far beyond any real pluck
+    const double strength = clamp(s.strength, -limit, limit);
+    for (std::size_t i = 0; i < grid_.size(); ++i) {
+        const double r = std::abs(case_.grid_point(i) - position) / (0.5 * width);
+        grid_[i] = r < 1.0 ? orientation_ * strength * 0.5 * (1.0 + std::cos(std::numbers::pi * r)) : 0.0;
+    }
+    std::vector<double>& target = s.displacement ? dq_ : dv_;
+    plan_->basis().to_modes(grid_, target);
+    change([&] { stepper_->perturb(s.displacement ? dq_ : zero_, s.displacement ? zero_ : dv_); });
+    peak_ = std::max(peak_, energy());
+    std::fill(target.begin(), target.end(), 0.0);
+}
+
+void Engine::set_damping_scale(double scale) {
+    damping_scale_ = clamp(scale, 0.0, 1000.0);
+    apply_damping();
+}
+
+void Engine::mute(bool on) {
+    if (on == muted_) return;
+    muted_ = on;
+    apply_damping();
+}
+
+void Engine::apply_damping() {
+    for (std::size_t j = 0; j < sigma_.size(); ++j)
+        sigma_[j] = muted_ ? base_sigma_[j] * damping_scale_ * kMuteScale + kMuteFloor : base_sigma_[j] * damping_scale_;
+    change([&] {
+        plan_->set_damping(sigma_);
+        if (flight_) flight_->update(plan_->propagator());
+        stepper_->restart();
+    });
+}
+
+void Engine::set_contact_law(double stiffness, double exponent) {
+    const double k = clamp(stiffness, 1.0, 1e16);
+    const double alpha = clamp(exponent, 1.0, 3.0);
+    change([&] {
+        plan_->set_contact_law(k, alpha);
+        stepper_->restart();
+    });
+}
+
+void Engine::set_obstacle_offset(double offset_m) {
+    const double offset = clamp(offset_m, -5e-3, 1e-3);
+    change([&] {
+        plan_->set_obstacle_offset(offset);
+        stepper_->restart();
+    });
+}
+
+void Engine::set_pickup(double x_m) {
+    const double dx = case_.grid_step();
+    const double x = clamp(x_m, dx, length_m() - dx);
+    plan_->basis().mode_shapes_at(x, pickup_.front());
+    for (double& phi : pickup_.front()) phi *= orientation_;
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,108 @@
+#include "fretbuzz/realtime/StoppedString.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fretbuzz/Error.hpp"
+
+namespace fretbuzz {
+
+namespace {
+constexpr double kFarBelow = 5e-3;  // m
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes);
+}  // namespace
+
+double fret_position(double length_m, int fret) { return length_m * (1.0 - std::exp2(-fret / 12.0)); }
+
+namespace {
+// The same string seen from its other end (x -> L - x): phi_j(L - x) = (-1)^(j+1) phi_j(x).
+Case mirrored(const Case& c) {
+    Case m = c;
+    std::reverse(m.obstacle_height_m.begin(), m.obstacle_height_m.end());
+    for (std::size_t j = 1; j < m.mode_count(); j += 2) {
+        m.initial_displacement[j] = -m.initial_displacement[j];
+        m.initial_velocity[j] = -m.initial_velocity[j];
+    }
+    for (double& x : m.observation_points_m) x = c.string.length_m - x;
+    return m;
+}
+}  // namespace
+
+bool stops_at_far_end(const Case& c) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < c.mode_count(); ++i)
+        if (std::isfinite(c.obstacle_height_m[i])) {
+            sum += c.grid_point(i);
+            ++count;
+        }
+    return count > 0 && sum / static_cast<double>(count) < 0.25 * c.string.length_m;
+}
+
+Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
+    if (stop_m > 0.0 && stops_at_far_end(open)) return mirrored(stopped_from_zero(mirrored(open), stop_m, modes));
+    return stopped_from_zero(open, stop_m, modes);
+}
+
+namespace {
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
+    const double length = open.string.length_m;
+    if (!(stop_m >= 0.0 && stop_m <= 0.75 * length))
+        throw InputError(out_of_range_message("stop position (m)", stop_m, "[0, 3 L / 4] (fret 24) with L = " + std::to_string(length)));
+    if (modes == 0) throw InputError(out_of_range_message("modes", 0.0, ">= 1"));
+    const std::size_t n_open = open.mode_count();
+    const std::size_t n = std::min(modes, n_open);
+    const double sounding = length - stop_m;
+    const double ratio = length / sounding;
+
+    Case c = open;
+    c.name = open.name + (stop_m > 0.0 ? "-stopped" : "");
+    c.string.length_m = sounding;
+    c.modes.frequency_hz.resize(n);
+    c.modes.sigma_per_s.resize(n);
+    c.modes.source.resize(n);
+    for (double& f : c.modes.frequency_hz) f *= ratio;
+    c.initial_displacement.assign(n, 0.0);
+    c.initial_velocity.assign(n, 0.0);
+    if (stop_m == 0.0)
+        for (std::size_t j = 0; j < n; ++j) {
+            c.initial_displacement[j] = open.initial_displacement[j];
+            c.initial_velocity[j] = open.initial_velocity[j];
+        }
+
+    // The obstacle on the new grid: nearest point of the open grid (keeps point-like frets
+    // at full height when the new grid is finer), relative to the string's new rest line.
+    const double dx_open = open.grid_step();
+    const auto nearest = [&](double x) {
+        const long k = std::lround(x / dx_open) - 1;
+        return static_cast<std::size_t>(std::clamp<long>(k, 0, static_cast<long>(n_open) - 1));
+    };
+    double stop_height = 0.0;  // height of what the string is pressed onto (a fret top)
+    if (stop_m > 0.0) {
+        stop_height = -std::numeric_limits<double>::infinity();
+        const std::size_t k = nearest(stop_m);
+        for (std::size_t i = k > 0 ? k - 1 : 0; i <= std::min(k + 1, n_open - 1); ++i)
+            stop_height = std::max(stop_height, open.obstacle_height_m[i]);
+        // Nothing within a few millimetres (no fret there): the finger holds the string at rest height.
+        if (!(stop_height > -kFarBelow)) stop_height = 0.0;
+    }
+    const double dx = sounding / static_cast<double>(n + 1);
+    c.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i) {
+        const double s = static_cast<double>(i + 1) * dx;
+        if (stop_m > 0.0 && s < 1.5 * dx_open) continue;  // the fret under the finger is the new nut
+        const double g = open.obstacle_height_m[nearest(stop_m + s)];
+        if (std::isfinite(g)) c.obstacle_height_m[i] = g - stop_height * (1.0 - s / sounding);
+    }
+    c.observation_points_m.clear();
+    for (double x : open.observation_points_m)
+        if (x > stop_m) c.observation_points_m.push_back(x - stop_m);
+    if (c.observation_points_m.empty()) c.observation_points_m.push_back(0.9 * sounding);
+    c.validate();
+    return c;
+}
+
+}  // namespace
+
+}  // namespace fretbuzz

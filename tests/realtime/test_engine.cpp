@@ -1,0 +1,253 @@
+// The real-time engine: the same scheme as the offline run, energy bookkeeping of every event,
+// and an audio path that never allocates nor produces a non-finite sample.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "AllocationCounter.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/realtime/Decimator.hpp"
+#include "fretbuzz/realtime/Engine.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
+#include "fretbuzz/run/Simulation.hpp"
+
+namespace fretbuzz {
+namespace {
+
+double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        num += (a[i] - b[i]) * (a[i] - b[i]);
+        den += b[i] * b[i];
+    }
+    return std::sqrt(num / den);
+}
+
+// The offline run of `c` at rate fs, one row per step, at the case's first observation point.
+std::vector<double> offline_signal(Case c, double fs, long steps) {
+    c.run.sample_rate_hz = fs;
+    c.run.duration_s = static_cast<double>(steps) / fs;
+    c.run.output_rate_hz.reset();  // native: one row per step from t = 0
+    ResultRecorder recorder;
+    RunObserver* observers[] = {&recorder};
+    simulate(c, observers);
+    std::vector<double> u;
+    const RecordedRun& run = recorder.run();
+    for (std::size_t n = 0; n < run.time.size(); ++n) u.push_back(run.observation[n * run.point_count()]);
+    return u;
+}
+
+TEST(RealtimeEngine, EqualsTheOfflineRunBeforeDecimation) {
+    // The tanpura buzzes on its point obstacle about once a period: contact from the start.
+    for (const char* name : {"tanpura", "bass-pop"}) {
+        SCOPED_TRACE(name);
+        const Case c = load_case(name);
+        EngineOptions o;
+        o.start_from_case = true;
+        o.free_flight = false;
+        o.oversampling = 8;  // 384 kHz
+        Engine engine(c, o);
+        ASSERT_EQ(engine.mode_count(), std::string(name) == "tanpura" ? c.mode_count() : engine.mode_count());
+        const long steps = 20000;
+        std::vector<double> live(static_cast<std::size_t>(steps));
+        engine.render_internal(live);
+        // The engine took the first step at set-up: its samples are steps 2, 3, ...
+        const std::vector<double> offline = offline_signal(engine.voice_case(), engine.internal_rate_hz(), steps + 1);
+        const std::vector<double> reference(offline.begin() + 2, offline.begin() + 2 + steps);
+        EXPECT_LT(relative_l2(live, reference), 1e-9);
+    }
+}
+
+TEST(RealtimeEngine, ChoosesTheRateThatKeepsEveryModeBelowNyquist) {
+    const Case c = load_case("tanpura");  // top mode near 160 kHz
+    Engine engine(c, {});
+    const double top = c.modes.frequency_hz.back();
+    EXPECT_EQ(engine.mode_count(), c.mode_count());
+    EXPECT_LT(top, 0.45 * engine.internal_rate_hz());
+    EXPECT_GE(top, 0.45 * (engine.oversampling() - 1) * 48000.0);  // the smallest such factor
+    EngineOptions low;
+    low.max_oversampling = 2;  // 96 kHz: only the modes below 43.2 kHz are kept
+    Engine limited(c, low);
+    EXPECT_EQ(limited.oversampling(), 2);
+    EXPECT_LT(limited.mode_count(), c.mode_count());
+    EXPECT_LT(limited.voice_case().modes.frequency_hz.back(), 0.45 * 96000.0);
+}
+
+TEST(RealtimeEngine, PluckInjectsTheKineticEnergyOfItsVelocity) {
+    // A raised-cosine velocity V (1 + cos(pi r)) / 2 of width w on a string at rest carries
+    // (mu/2) V^2 (3 w / 8): the engine's discrete energy after the strike is that, to the
+    // discretisation of the bump and the damping of half a step.
+    const Case c = load_case("guitar-point");
+    Engine engine(c, {});
+    ASSERT_EQ(engine.energy(), 0.0);
+    Strike s;
+    s.position_m = 0.2;
+    s.width_m = 0.02;
+    s.strength = 0.8;
+    engine.strike(s);
+    const double expected = 0.5 * c.string.linear_density * s.strength * s.strength * 3.0 * s.width_m / 8.0;
+    EXPECT_NEAR(engine.energy() / expected, 1.0, 1e-3);
+    EXPECT_NEAR(engine.injected(), engine.energy() + engine.dissipated(), 1e-12 * expected);
+}
+
+TEST(RealtimeEngine, EnergyOnlyDecreasesBetweenEventsThroughContact) {
+    const Case c = load_case("tanpura");
+    Engine engine(c, {});
+    engine.strike({0.3, 1.0, 0.02, false});
+    std::vector<float> block(256);
+    double previous = engine.energy();
+    for (int b = 0; b < 200; ++b) {
+        engine.process(block);
+        const double h = engine.energy();
+        EXPECT_LE(h, previous * (1.0 + 1e-12));
+        previous = h;
+        // H + dissipated stays what was put in, to round-off.
+        EXPECT_NEAR((engine.energy() + engine.dissipated()) / engine.injected(), 1.0, 1e-9);
+    }
+    EXPECT_EQ(engine.health().resets, 0);
+    // Parameter changes while sounding are counted as input too, and the balance holds on.
+    engine.set_contact_law(1e13, 2.0);
+    engine.set_damping_scale(3.0);
+    engine.set_obstacle_offset(0.2e-3);
+    for (int b = 0; b < 50; ++b) engine.process(block);
+    EXPECT_NEAR((engine.energy() + engine.dissipated()) / engine.injected(), 1.0, 1e-9);
+    EXPECT_EQ(engine.health().resets, 0);
+}
+
+TEST(RealtimeEngine, MuteDampsTheString) {
+    Engine engine(load_case("guitar-point"), {});
+    engine.strike({0.2, 0.5, 0.02, false});
+    std::vector<float> block(480);
+    engine.process(block);
+    const double before = engine.energy();
+    engine.mute(true);
+    for (int b = 0; b < 10; ++b) engine.process(block);  // 0.1 s
+    EXPECT_LT(engine.energy(), 1e-6 * before);
+}
+
+TEST(RealtimeEngine, FreeFlightGivesTheSameAudio) {
+    // Flying over host samples steps only the audible modes; after decimation the audio is
+    // that of stepping every mode (what flight leaves out lies above the filter's band).
+    const Case c = load_case("tanpura");
+    EngineOptions fly, step;
+    step.free_flight = false;
+    Engine a(c, fly), b(c, step);
+    for (Engine* e : {&a, &b}) e->strike({0.3, 1.0, 0.02, false});
+    std::vector<float> x(24000), y(24000);
+    a.process(x);
+    b.process(y);
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        num += (x[i] - y[i]) * (x[i] - y[i]);
+        den += static_cast<double>(y[i]) * y[i];
+    }
+    EXPECT_LT(std::sqrt(num / den), 1e-4);
+}
+
+TEST(RealtimeEngine, AudioPathNeverAllocates) {
+    Engine engine(load_case("bass-pop"), {});
+    std::vector<float> block(4096);
+    const long before = testing::allocations();
+    {
+        const testing::Counting counting;
+        engine.strike({0.7, 1.5, 0.01, false});
+        engine.process(std::span<float>(block).first(256));
+        engine.strike({0.6, 2e-3, 0.01, true});  // a pop into the frets
+        engine.set_contact_law(1e12, 1.3);
+        engine.set_pickup(0.8);
+        engine.set_obstacle_offset(0.3e-3);
+        engine.process(std::span<float>(block).first(1024));
+        engine.set_damping_scale(2.0);
+        engine.mute(true);
+        engine.process(block);
+        engine.mute(false);
+        engine.process(std::span<float>(block).first(7));
+    }
+    EXPECT_EQ(testing::allocations() - before, 0);
+}
+
+TEST(RealtimeEngine, FuzzedEventsStayFiniteAndNeverAllocate) {
+    std::mt19937_64 random(16);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    for (const char* name : {"tanpura", "sitar", "bass-pop"}) {
+        SCOPED_TRACE(name);
+        Engine engine(load_case(name), {});
+        std::vector<float> block(4096);
+        const long before = testing::allocations();
+        long samples = 0;
+        bool finite = true;
+        {
+            const testing::Counting counting;
+            while (samples < 48000 * 3) {
+                // Controller values from anywhere, including out of range and not numbers.
+                const auto wild = [&](double low, double high) {
+                    const double r = unit(random);
+                    if (r < 0.05) return nan;
+                    if (r < 0.1) return (unit(random) < 0.5 ? -1.0 : 1.0) * inf;
+                    if (r < 0.2) return low - (high - low) * unit(random) * 10.0;
+                    return low + (high - low) * unit(random) * 1.2;
+                };
+                switch (static_cast<int>(unit(random) * 7.0)) {
+                    case 0: engine.strike({wild(0.0, 1.0), wild(-2.0, 2.0), wild(0.0, 0.05), unit(random) < 0.3}); break;
+                    case 1: engine.mute(unit(random) < 0.5); break;
+                    case 2: engine.set_damping_scale(wild(0.0, 5.0)); break;
+                    case 3: engine.set_contact_law(std::pow(10.0, wild(6.0, 15.0)), wild(1.0, 3.0)); break;
+                    case 4: engine.set_pickup(wild(0.0, 1.0)); break;
+                    case 5: engine.set_obstacle_offset(wild(-1e-3, 1e-3)); break;
+                    default: break;
+                }
+                const auto size = static_cast<std::size_t>(1 + unit(random) * 4095.0);
+                const std::span<float> out(block.data(), size);
+                engine.process(out);
+                for (float y : out) finite = finite && std::isfinite(y);
+                samples += static_cast<long>(size);
+            }
+        }
+        EXPECT_TRUE(finite);
+        EXPECT_EQ(testing::allocations() - before, 0);
+        EXPECT_GT(engine.health().clamped, 0);
+    }
+}
+
+TEST(Decimator, PassesTheBandAndStopsWhatWouldAlias) {
+    const Decimator d(8, 64, 0.45);
+    EXPECT_NEAR(d.gain_at(0.0), 1.0, 1e-12);
+    for (double f : {0.1, 0.3, 0.4}) EXPECT_NEAR(d.gain_at(f / 8.0), 1.0, 1e-3) << f;  // of the output rate
+    for (double f : {0.5, 0.7, 1.5, 3.9}) EXPECT_LT(d.gain_at(f / 8.0), 1e-4) << f;
+}
+
+TEST(StoppedString, FretTwelveSoundsAnOctaveHigher) {
+    const Case open = load_case("bass-pluck");
+    const double x12 = fret_position(open.string.length_m, 12);
+    EXPECT_NEAR(x12, 0.5 * open.string.length_m, 1e-12);
+    const Case stopped = stopped_string(open, fret_position(open.string.length_m, 5), open.mode_count());
+    EXPECT_NEAR(stopped.modes.frequency_hz[0] / open.modes.frequency_hz[0], std::exp2(5.0 / 12.0), 1e-12);
+    // The string rests on fret 5: the frets beyond stay below it, the fret under the finger is gone.
+    double highest = -1.0;
+    for (double g : stopped.obstacle_height_m)
+        if (std::isfinite(g)) highest = std::max(highest, g);
+    EXPECT_LT(highest, 0.0);
+    EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m[0]));
+}
+
+TEST(StoppedString, SitarIsStoppedAtTheFarEndAndKeepsItsBridge) {
+    const Case open = load_case("sitar");  // the bridge lies at x in [0, 25 mm]
+    ASSERT_TRUE(stops_at_far_end(open));
+    const Case stopped = stopped_string(open, fret_position(open.string.length_m, 7), open.mode_count());
+    EXPECT_NEAR(stopped.modes.frequency_hz[0] / open.modes.frequency_hz[0], std::exp2(7.0 / 12.0), 1e-12);
+    // The same bridge heights at the same distances from x = 0 (grid of the shorter string).
+    for (std::size_t i = 0; i < stopped.mode_count() && stopped.grid_point(i) < 0.02; ++i) {
+        const auto k = static_cast<std::size_t>(std::lround(stopped.grid_point(i) / open.grid_step())) - 1;
+        EXPECT_EQ(stopped.obstacle_height_m[i], open.obstacle_height_m[k]) << i;
+    }
+    EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m.back()));
+}
+
+}  // namespace
+}  // namespace fretbuzz
