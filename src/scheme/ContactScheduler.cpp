@@ -24,7 +24,6 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     storage.reserve(2 * plan.mode_count() + 16);
     queue_ = decltype(queue_)(std::greater<>(), std::move(storage));
     amplitude_.reserve(plan.mode_count());
-    tail_sums_.reserve(plan.mode_count() + 1);
 }
 
 void ContactScheduler::clear() {
