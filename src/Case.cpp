@@ -48,7 +48,94 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     }
 }
 
+void check_finger(const FingerSpec& f, const Case& c) {
+    const double length = c.string.length_m;
+    const std::string& k = f.key;
+    require_finite(k + ".position (m)", f.position_m);
+    if (!(f.position_m > 0.0 && f.position_m < length))
+        throw InputError(out_of_range_message(k + ".position (m)", f.position_m,
+                                              "must lie inside the string, in (0, L) = (0, " + std::to_string(length) +
+                                                  ") m"));
+    require_positive(k + ".width (m)", f.width_m);
+    if (!(f.position_m - 0.5 * f.width_m > 0.0 && f.position_m + 0.5 * f.width_m < length))
+        throw InputError(out_of_range_message(k + ".width (m)", f.width_m,
+                                              "the pad [position - width/2, position + width/2] must stay inside "
+                                              "(0, L): it overlaps an end of the string"));
+    require_positive(k + ".mass (kg)", f.mass_kg);
+    require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
+    require_at_least(k + ".exponent", f.exponent, 1.0);
+    if (f.exponent > 3.0) throw InputError(out_of_range_message(k + ".exponent", f.exponent, "must be in [1, 3]"));
+    require_non_negative(k + ".loss (s/m)", f.loss);
+    require_non_negative(k + ".gap (m)", f.initial_gap_m);
+    if (f.initial_gap_m > 0.05) throw InputError(out_of_range_message(k + ".gap (m)", f.initial_gap_m, "must be in [0, 0.05] m"));
+    require_finite(k + ".velocity (m/s)", f.initial_velocity);
+    if (std::abs(f.initial_velocity) > 100.0)
+        throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
+    for (std::size_t p = 0; p < f.force_profile.size(); ++p) {
+        const std::string item = k + ".force[" + std::to_string(p) + "]";
+        const double t = f.force_profile[p][0], force = f.force_profile[p][1];
+        require_finite(item + "[0] (time, s)", t);
+        if (!(t >= 0.0 && t <= c.run.duration_s))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t,
+                                                  "must lie within the run, in [0, run.duration = " +
+                                                      std::to_string(c.run.duration_s) + "] s"));
+        if (p > 0 && !(t > f.force_profile[p - 1][0]))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must increase from point to point"));
+        require_non_negative(item + "[1] (force, N)", force);
+        if (force > 1000.0) throw InputError(out_of_range_message(item + "[1] (force, N)", force, "must be in [0, 1000] N"));
+    }
+}
+
+void check_fingers_apart(const Case& c) {
+    for (std::size_t a = 0; a < c.fingers.size(); ++a)
+        for (std::size_t b = a + 1; b < c.fingers.size(); ++b) {
+            const FingerSpec &f = c.fingers[a], &h = c.fingers[b];
+            if (std::abs(f.position_m - h.position_m) < 0.5 * (f.width_m + h.width_m) + c.grid_step())
+                throw InputError(out_of_range_message(h.key + ".position (m)", h.position_m,
+                                                      "its pad overlaps the pad of " + f.key +
+                                                          " (pads must be apart by more than one grid step)"));
+        }
+}
+
 }  // namespace
+
+std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
+    // A fret is a stretch of points (one for a plain fret, several for a crowned one) that
+    // stands at least 0.1 mm above the points on both sides of it: far more than any neck
+    // relief changes over one grid step, far less than any fret's height.
+    constexpr double kStep = 1e-4;
+    std::vector<double> frets;
+    const std::size_t n = heights.size();
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+        if (!std::isfinite(heights[i]) || !(heights[i] - heights[i - 1] > kStep)) continue;
+        std::size_t j = i;
+        while (j + 1 < n && std::isfinite(heights[j + 1]) && std::abs(heights[j + 1] - heights[j]) <= kStep) ++j;
+        if (j + 1 < n && heights[j] - heights[j + 1] > kStep)
+            frets.push_back(0.5 * static_cast<double>(i + j + 2) * dx);
+        i = j;
+    }
+    return frets;
+}
+
+void Case::add_fret_finger(std::size_t k, const std::string& key) {
+    if (fret_positions_m.empty())
+        throw InputError(key + " = " + std::to_string(k) +
+                         ": this case has no frets (its obstacle has no fret standing out of the fingerboard); "
+                         "place a finger with [[finger]] position = ... instead");
+    if (k < 1 || k > fret_positions_m.size())
+        throw InputError(out_of_range_message(key, static_cast<double>(k),
+                                              "must be a fret of this case, in [1, " +
+                                                  std::to_string(fret_positions_m.size()) + "]"));
+    const double fret = fret_positions_m[k - 1];
+    const double spacing = fret - (k > 1 ? fret_positions_m[k - 2] : 0.0);
+    FingerSpec f;  // defaults: see FingerSpec and the case files' comments
+    f.key = key + " = " + std::to_string(k) + " (finger)";
+    f.width_m = std::min(0.01, 0.5 * spacing);
+    // Just behind the fret: the pad's near edge 15 % of the fret spacing from it.
+    f.position_m = fret - 0.15 * spacing - 0.5 * f.width_m;
+    f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), 5.0}};
+    fingers.push_back(std::move(f));
+}
 
 void Case::validate() const {
     require_positive("string.L (length, m)", string.length_m);
@@ -93,6 +180,8 @@ void Case::validate() const {
                                                       std::to_string(string.length_m) + ")"));
     }
     check_initial_shape_clears_obstacle(*this);
+    for (const FingerSpec& f : fingers) check_finger(f, *this);
+    check_fingers_apart(*this);
 }
 
 }  // namespace fretbuzz

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
@@ -22,7 +23,20 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       impulse_(q0.size(), 0.0),
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
-      eta_curr_(q0.size(), 0.0) {}
+      eta_curr_(q0.size(), 0.0),
+      on_pad_(q0.size(), 0) {
+    for (const FingerSpec& spec : plan.fingers()) {
+        fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                              plan.force_to_displacement());
+        for (std::size_t i : fingers_.back().pad()) {
+            if (on_pad_[i] != 0)
+                throw InputError(spec.key + ": its pad overlaps another finger's pad at x = " +
+                                 std::to_string(plan.basis().grid_point(i)) + " m; fingers must not overlap");
+            on_pad_[i] = 1;
+        }
+        pad_points_ += fingers_.back().pad().size();
+    }
+}
 
 double Stepper::displacement(std::span<const double> mode_shapes) const {
     return kernels::dot(mode_shapes.data(), q_.data(), q_.size());
@@ -41,7 +55,28 @@ double Stepper::modal_energy() const {
     return modal_energy_;
 }
 
-double Stepper::energy() const { return modal_energy() + contact_energy(); }
+double Stepper::energy() const {
+    const double h = modal_energy() + contact_energy();
+    return fingers_.empty() ? h : h + finger_energy();
+}
+
+double Stepper::finger_energy() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.energy();
+    return e;
+}
+
+double Stepper::finger_loss() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.loss();
+    return e;
+}
+
+double Stepper::work() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.work();
+    return e;
+}
 
 double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
 
@@ -68,7 +103,9 @@ void Stepper::step() {
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
-    if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
+    // A finger may touch at any time: its pad points are solved every step.
+    if (n_ == 0 || !screening_ || !fingers_.empty() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+        return 0;
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
@@ -127,8 +164,18 @@ void Stepper::first_step() {
     for (std::size_t i : plan_.obstacle_points()) {
         psi_prev_ += law.potential(g[i] - u0[i]);
         psi_curr_ += law.potential(g[i] - grid_[i]);
+        if (on_pad_[i] != 0) continue;  // solved with its finger
         const bool apart = g[i] - u0[i] <= 0.0 && g[i] - grid_[i] <= 0.0;
         if (!screening_ || !apart || !scheduler_.sleep(i, grid_[i] - g[i])) activate(i, grid_[i], u0[i]);
+    }
+    for (Finger& f : fingers_) {
+        pad_w_.clear();
+        pad_f_.clear();
+        for (std::size_t i : f.pad()) {
+            pad_w_.push_back(u0[i]);
+            pad_f_.push_back(grid_[i]);
+        }
+        f.start(pad_w_, pad_f_);
     }
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
@@ -177,17 +224,18 @@ void Stepper::solve_contacts() {
     forces_.clear();
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
-    stats_.points_solved += static_cast<double>(active_.size());
-    if (active_.empty()) return;
+    stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
+    if (active_.empty() && fingers_.empty()) return;
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
     kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
-    const bool use_transform = active_.size() > plan_.transform_threshold();
+    const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
     if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
+    if (!fingers_.empty()) solve_fingers(use_transform);
     for (std::size_t i : active_) {
         const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
         const double a = eta_prev_[i];
@@ -200,6 +248,20 @@ void Stepper::solve_contacts() {
         if (s.force != 0.0) forces_.emplace_back(i, s.force);
     }
     if (!forces_.empty()) ++stats_.contact_steps;
+}
+
+void Stepper::solve_fingers(bool use_transform) {
+    const std::size_t n = q_.size();
+    for (Finger& f : fingers_) {
+        pad_w_.clear();
+        for (std::size_t i : f.pad())
+            pad_w_.push_back(use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n));
+        pad_f_.assign(pad_w_.size(), 0.0);
+        psi_curr_ += f.step(n_, pad_w_, pad_f_);
+        stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, f.max_iterations());
+        for (std::size_t p = 0; p < pad_f_.size(); ++p)
+            if (pad_f_[p] != 0.0) forces_.emplace_back(f.pad()[p], pad_f_[p]);
+    }
 }
 
 void Stepper::apply_impulse() {

@@ -26,9 +26,10 @@ public:
     double difference_quotient(double a, double r) const;
     // Solves the scalar equation above; throws SolverError if it cannot converge.
     ContactSolution solve(double a, double b, double k) const;
+    // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
+    double slope_of_quotient(double a, double r, double quotient) const;
 
 private:
-    double slope_of_quotient(double a, double r, double quotient) const;
 
     double k_;
     double alpha_;

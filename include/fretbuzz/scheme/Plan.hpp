@@ -47,6 +47,8 @@ public:
     const std::vector<std::string>& warnings() const { return warnings_; }
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
+    // The fingers of the case (they press toward the obstacle side, see Finger).
+    const std::vector<FingerSpec>& fingers() const { return fingers_; }
 
 private:
     double dt_;
@@ -56,6 +58,7 @@ private:
     PenaltyContact contact_;
     std::vector<double> obstacle_;
     std::vector<std::size_t> obstacle_points_;
+    std::vector<FingerSpec> fingers_;
     PlanOptions options_;
     std::size_t transform_threshold_;
     std::vector<std::string> warnings_;
