@@ -8,7 +8,7 @@
 namespace fretbuzz {
 
 std::string summary_json(const RunSummary& s, const std::vector<double>& observation_points_m) {
-    const nlohmann::ordered_json json = {
+    nlohmann::ordered_json json = {
         {"case", s.case_name},
         {"fs", s.sample_rate_hz},
         {"duration", s.duration_s},
@@ -33,6 +33,13 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"observation_points_m", observation_points_m},
         {"warnings", s.warnings},
     };
+    if (s.fingers > 0) {  // the balance is then energy - work + dissipated = energy_initial
+        json["fingers"] = s.fingers;
+        json["work_J"] = s.work_j;
+        json["finger_energy_final_J"] = s.finger_energy_final_j;
+        json["finger_loss_J"] = s.finger_loss_j;
+        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j;
+    }
     return json.dump(2);
 }
 

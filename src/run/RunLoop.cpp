@@ -21,6 +21,7 @@ RunLayout layout_of(const Case& c) {
     layout.output_stride = output_stride(c);
     layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
     layout.observation_points_m = c.observation_points_m;
+    layout.fingers = c.fingers.size();
     return layout;
 }
 
@@ -60,6 +61,7 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.output_rate_hz = layout_.output_rate_hz;
     summary_.lossless = plan_.propagator().lossless();
     summary_.screened = options.plan.screen_contacts;
+    summary_.fingers = c.fingers.size();
     summary_.warnings = c.warnings;
     summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
@@ -193,10 +195,20 @@ void RunLoop::report_snapshots() {
 
 void RunLoop::report_output() {
     const double h = stepper_.energy();
-    audit_.record(h, stepper_.dissipated(), summary_);
+    if (stepper_.fingers().empty()) {
+        audit_.record(h, stepper_.dissipated(), summary_);
+    } else {
+        audit_.record(h, stepper_.dissipated(), summary_, stepper_.work());
+        summary_.work_j = stepper_.work();
+        summary_.finger_energy_final_j = stepper_.finger_energy();
+        summary_.finger_loss_j = stepper_.finger_loss();
+    }
     if (n_ % layout_.output_stride != 0) return;
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
+    if (!stepper_.fingers().empty())
+        for (RunObserver* o : observers_)
+            o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
     for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
 }
 
