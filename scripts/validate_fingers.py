@@ -97,7 +97,7 @@ def energy_table(directory):
                 args.append("--lossless")
             fretbuzz(*args)
             s = json.loads((out / "summary.json").read_text())
-            print(f"| {case} | {'none' if lossless else 'damping + finger'} | {s['steps']} | {s['work_J']:.4g} | "
+            print(f"| {case} | {'finger loss only' if lossless else 'damping + finger loss'} | {s['steps']} | {s['work_J']:.4g} | "
                   f"{s['finger_loss_J']:.4g} | {s['max_relative_energy_balance_error']:.2e} |")
 
 
