@@ -248,5 +248,25 @@ TEST(Finger, FretPlacesTheFingerJustBehindTheFret) {
     EXPECT_THROW(fretless.add_fret_finger(5, "fret"), InputError);
 }
 
+TEST(Finger, BuiltinFingerCasesPutTheirFingersWhereTheySay) {
+    for (const auto& [name, fret] : std::vector<std::pair<std::string, std::size_t>>{
+             {"bass-fret1-pop", 1}, {"bass-fret5-pop", 5}, {"bass-fret12-pop", 12}, {"bass-fret5-lift", 5}}) {
+        SCOPED_TRACE(name);
+        const Case c = load_case(name);
+        EXPECT_NO_THROW(c.validate());
+        ASSERT_EQ(c.fret_positions_m.size(), 20u);  // the measured neck's 20 frets, found on its profile
+        ASSERT_EQ(c.fingers.size(), 1u);
+        const FingerSpec& f = c.fingers.front();
+        EXPECT_LT(f.position_m, c.fret_positions_m[fret - 1]);
+        EXPECT_GT(f.position_m, fret > 1 ? c.fret_positions_m[fret - 2] : 0.0);
+        EXPECT_EQ(f.force_profile.back()[1] > 0.0, name != "bass-fret5-lift");  // lifted: ends at 0 N
+    }
+    const Case slap = load_case("bass-slap");
+    EXPECT_NO_THROW(slap.validate());
+    ASSERT_EQ(slap.fingers.size(), 1u);
+    EXPECT_TRUE(slap.fingers.front().force_profile.empty());
+    EXPECT_GT(slap.fingers.front().initial_velocity, 0.0);
+}
+
 }  // namespace
 }  // namespace fretbuzz
