@@ -5,6 +5,8 @@
 //   Straightforward  the modal scheme solving every point every step (sine transforms);
 //   Dense            eq. (4) with D and D~ as full N x N matrices (two matrix-vector
 //                    products per step), compiled with the same flags.
+//   Played           the open pop and the same pop stopped at fret 5 by a finger, whole runs
+//                    of the same length side by side (the finger's cost on the fast path).
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 #include <benchmark/benchmark.h>
@@ -33,6 +35,9 @@ struct BenchCase {
 };
 
 const BenchCase kCases[] = {{"bass-pop", 4e6, 1.0}, {"flat-obstacle", 1e4, 4.0}};
+// The open pop against the fretted pop over the same 0.3 s (the fretted run has no
+// stretch free of contact: about 45 s per simulated second).
+const BenchCase kPlayed[] = {{"bass-pop", 4e6, 0.3}, {"bass-fret5-pop", 4e6, 0.3}};
 
 Case prepared(const BenchCase& b) {
     Case c = load_case(b.name);
@@ -114,6 +119,13 @@ public:
             std::printf("  %-14s straightforward %.2f us/step, dense %.1f us/step; fast is %.0fx faster than dense, %.0fx than straightforward\n",
                         "", plain_us, dense_us, dense_us / fast_us, plain_us / fast_us);
         }
+        const auto played = [&](const char* name) {
+            const auto it = median_us_.find(std::string("Played/") + name);
+            return it == median_us_.end() ? std::nan("") : it->second;
+        };
+        const double open_us = played(kPlayed[0].name), fretted_us = played(kPlayed[1].name);
+        std::printf("  played, %.1f s at %.0f Hz: open pop %.4f us/step, fretted pop (fret 5) %.4f us/step: %.1fx the open pop's time\n",
+                    kPlayed[0].duration, kPlayed[0].fs, open_us, fretted_us, fretted_us / open_us);
     }
 
 private:
@@ -140,6 +152,11 @@ int main(int argc, char** argv) {
             ->Iterations(2)
             ->UseRealTime();
     }
+    for (const BenchCase& b : kPlayed)
+        benchmark::RegisterBenchmark((std::string("Played/") + b.name).c_str(), fast, b)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1)
+            ->UseRealTime();
     std::vector<char*> args(argv, argv + argc);
     std::string repetitions = "--benchmark_repetitions=5";
     bool has_repetitions = false;
