@@ -48,19 +48,42 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     }
 }
 
-void check_finger(const FingerSpec& f, const Case& c) {
+void check_pad(const std::string& k, double position, double width, bool point_allowed, const Case& c) {
     const double length = c.string.length_m;
-    const std::string& k = f.key;
-    require_finite(k + ".position (m)", f.position_m);
-    if (!(f.position_m > 0.0 && f.position_m < length))
-        throw InputError(out_of_range_message(k + ".position (m)", f.position_m,
+    require_finite(k + ".position (m)", position);
+    if (!(position > 0.0 && position < length))
+        throw InputError(out_of_range_message(k + ".position (m)", position,
                                               "must lie inside the string, in (0, L) = (0, " + std::to_string(length) +
                                                   ") m"));
-    require_positive(k + ".width (m)", f.width_m);
-    if (!(f.position_m - 0.5 * f.width_m > 0.0 && f.position_m + 0.5 * f.width_m < length))
-        throw InputError(out_of_range_message(k + ".width (m)", f.width_m,
+    if (point_allowed)
+        require_non_negative(k + ".width (m)", width);
+    else
+        require_positive(k + ".width (m)", width);
+    if (!(position - 0.5 * width > 0.0 && position + 0.5 * width < length))
+        throw InputError(out_of_range_message(k + ".width (m)", width,
                                               "the pad [position - width/2, position + width/2] must stay inside "
                                               "(0, L): it overlaps an end of the string"));
+}
+
+void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile, const Case& c) {
+    for (std::size_t p = 0; p < profile.size(); ++p) {
+        const std::string item = k + ".force[" + std::to_string(p) + "]";
+        const double t = profile[p][0], force = profile[p][1];
+        require_finite(item + "[0] (time, s)", t);
+        if (!(t >= 0.0 && t <= c.run.duration_s))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t,
+                                                  "must lie within the run, in [0, run.duration = " +
+                                                      std::to_string(c.run.duration_s) + "] s"));
+        if (p > 0 && !(t > profile[p - 1][0]))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must increase from point to point"));
+        require_non_negative(item + "[1] (force, N)", force);
+        if (force > 1000.0) throw InputError(out_of_range_message(item + "[1] (force, N)", force, "must be in [0, 1000] N"));
+    }
+}
+
+void check_finger(const FingerSpec& f, const Case& c) {
+    const std::string& k = f.key;
+    check_pad(k, f.position_m, f.width_m, false, c);
     require_positive(k + ".mass (kg)", f.mass_kg);
     require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
     require_at_least(k + ".exponent", f.exponent, 1.0);
@@ -71,30 +94,23 @@ void check_finger(const FingerSpec& f, const Case& c) {
     require_finite(k + ".velocity (m/s)", f.initial_velocity);
     if (std::abs(f.initial_velocity) > 100.0)
         throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
-    for (std::size_t p = 0; p < f.force_profile.size(); ++p) {
-        const std::string item = k + ".force[" + std::to_string(p) + "]";
-        const double t = f.force_profile[p][0], force = f.force_profile[p][1];
-        require_finite(item + "[0] (time, s)", t);
-        if (!(t >= 0.0 && t <= c.run.duration_s))
-            throw InputError(out_of_range_message(item + "[0] (time, s)", t,
-                                                  "must lie within the run, in [0, run.duration = " +
-                                                      std::to_string(c.run.duration_s) + "] s"));
-        if (p > 0 && !(t > f.force_profile[p - 1][0]))
-            throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must increase from point to point"));
-        require_non_negative(item + "[1] (force, N)", force);
-        if (force > 1000.0) throw InputError(out_of_range_message(item + "[1] (force, N)", force, "must be in [0, 1000] N"));
-    }
+    check_force_profile(k, f.force_profile, c);
 }
 
-void check_fingers_apart(const Case& c) {
-    for (std::size_t a = 0; a < c.fingers.size(); ++a)
-        for (std::size_t b = a + 1; b < c.fingers.size(); ++b) {
-            const FingerSpec &f = c.fingers[a], &h = c.fingers[b];
-            if (std::abs(f.position_m - h.position_m) < 0.5 * (f.width_m + h.width_m) + c.grid_step())
-                throw InputError(out_of_range_message(h.key + ".position (m)", h.position_m,
-                                                      "its pad overlaps the pad of " + f.key +
+void check_pads_apart(const Case& c) {
+    struct Pad {
+        const std::string* key;
+        double position, width;
+    };
+    std::vector<Pad> pads;
+    for (const FingerSpec& f : c.fingers) pads.push_back({&f.key, f.position_m, f.width_m});
+    for (const ForceSpec& f : c.forces) pads.push_back({&f.key, f.position_m, f.width_m});
+    for (std::size_t a = 0; a < pads.size(); ++a)
+        for (std::size_t b = a + 1; b < pads.size(); ++b)
+            if (std::abs(pads[a].position - pads[b].position) < 0.5 * (pads[a].width + pads[b].width) + c.grid_step())
+                throw InputError(out_of_range_message(*pads[b].key + ".position (m)", pads[b].position,
+                                                      "its pad overlaps the pad of " + *pads[a].key +
                                                           " (pads must be apart by more than one grid step)"));
-        }
 }
 
 }  // namespace
@@ -181,7 +197,11 @@ void Case::validate() const {
     }
     check_initial_shape_clears_obstacle(*this);
     for (const FingerSpec& f : fingers) check_finger(f, *this);
-    check_fingers_apart(*this);
+    for (const ForceSpec& f : forces) {
+        check_pad(f.key, f.position_m, f.width_m, true, *this);
+        check_force_profile(f.key, f.force_profile, *this);
+    }
+    check_pads_apart(*this);
 }
 
 }  // namespace fretbuzz

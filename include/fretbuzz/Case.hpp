@@ -43,6 +43,15 @@ struct FingerSpec {
     double initial_velocity = 0.0;    // m/s toward the fretboard
 };
 
+// A prescribed force F(t) on the string over a pad (a force gesture, see scheme/ForceProfile.hpp).
+struct ForceSpec {
+    std::string key = "gesture";
+    double position_m = 0.0;   // pad centre, in (0, L)
+    double width_m = 0.0;      // 0: the nearest grid point
+    double direction = 1.0;    // +1 toward the fretboard ("down"), -1 away from it ("up")
+    std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
+};
+
 struct RunSettings {
     double sample_rate_hz = 0.0;              // Fe
     double duration_s = 0.0;
@@ -73,6 +82,7 @@ struct Case {
     // neighbouring stretches (see find_frets). Empty on a case without frets.
     std::vector<double> fret_positions_m;
     std::vector<FingerSpec> fingers;
+    std::vector<ForceSpec> forces;
     // The case file text this Case was built from (kept in the outputs).
     std::string source_text;
     // What reading the case found doubtful but allowed (shown to the user, kept in summary.json).

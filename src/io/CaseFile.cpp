@@ -156,6 +156,7 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     read_run_section(top.section("run"), c);
     read_observe_section(top.section("observe"), c);
     read_fingers(top, c);
+    read_gestures(top, c);
     if (auto audio = top.optional_section("audio")) read_audio_section(*audio, c);
     top.finish();
     return c;

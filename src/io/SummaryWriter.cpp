@@ -33,8 +33,9 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"observation_points_m", observation_points_m},
         {"warnings", s.warnings},
     };
-    if (s.fingers > 0) {  // the balance is then energy - work + dissipated = energy_initial
+    if (s.fingers + s.gestures > 0) {  // the balance is then energy - work + dissipated = energy_initial
         json["fingers"] = s.fingers;
+        json["gestures"] = s.gestures;
         json["work_J"] = s.work_j;
         json["finger_energy_final_J"] = s.finger_energy_final_j;
         json["finger_loss_J"] = s.finger_loss_j;

@@ -14,18 +14,6 @@ namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr int kMaxIterations = 100;
 
-std::vector<std::size_t> pad_points(const FingerSpec& spec, double dx, std::size_t points) {
-    std::vector<std::size_t> pad;
-    const double half = 0.5 * spec.width_m * (1.0 + 1e-12);
-    for (std::size_t i = 0; i < points; ++i)
-        if (std::abs(static_cast<double>(i + 1) * dx - spec.position_m) <= half) pad.push_back(i);
-    if (pad.empty()) {  // a pad narrower than the grid step still touches its nearest point
-        const double nearest = std::clamp(std::round(spec.position_m / dx), 1.0, static_cast<double>(points));
-        pad.push_back(static_cast<std::size_t>(nearest) - 1);
-    }
-    return pad;
-}
-
 [[noreturn]] void fail(const FingerSpec& spec, const char* what, double detail) {
     std::ostringstream msg;
     msg.precision(17);
@@ -44,7 +32,8 @@ Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obs
       m_(spec.mass_kg / (dt * dt)),
       law_(1.0, 1.0),
       obstacle_law_(obstacle_law),
-      pad_(pad_points(spec, dx, obstacle.size())) {
+      pad_(pad_points(spec.position_m, spec.width_m, dx, obstacle.size())),
+      pressing_(spec.force_profile) {
     // The pad's stiffness K_f is shared by its points: per unit length K_f / (n dx).
     law_ = PenaltyContact(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
     for (std::size_t i : pad_) g_.push_back(obstacle[i]);
@@ -56,16 +45,7 @@ Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obs
     rho_.assign(n, 0.0);
 }
 
-double Finger::pressing_force(double t) const {
-    const auto& f = spec_.force_profile;
-    if (f.empty()) return 0.0;
-    if (t <= f.front()[0]) return f.front()[1];
-    if (t >= f.back()[0]) return f.back()[1];
-    const auto after = std::upper_bound(f.begin(), f.end(), t, [](double v, const auto& p) { return v < p[0]; });
-    const auto before = after - 1;
-    const double s = (t - (*before)[0]) / ((*after)[0] - (*before)[0]);
-    return (*before)[1] + s * ((*after)[1] - (*before)[1]);
-}
+double Finger::pressing_force(double t) const { return pressing_.at(t); }
 
 double Finger::pressing_force_at_step(long n) const { return pressing_force(static_cast<double>(n) * dt_); }
 

@@ -28,14 +28,28 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     for (const FingerSpec& spec : plan.fingers()) {
         fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                               plan.force_to_displacement());
-        for (std::size_t i : fingers_.back().pad()) {
-            if (on_pad_[i] != 0)
-                throw InputError(spec.key + ": its pad overlaps another finger's pad at x = " +
-                                 std::to_string(plan.basis().grid_point(i)) + " m; fingers must not overlap");
-            on_pad_[i] = 1;
-        }
-        pad_points_ += fingers_.back().pad().size();
+        claim_pad(fingers_.back().pad(), spec.key);
     }
+    for (const ForceSpec& spec : plan.forces()) {
+        gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                               plan.force_to_displacement());
+        claim_pad(gestures_.back().pad(), spec.key);
+    }
+}
+
+void Stepper::claim_pad(const std::vector<std::size_t>& pad, const std::string& key) {
+    for (std::size_t i : pad) {
+        if (on_pad_[i] != 0)
+            throw InputError(key + ": it acts on x = " + std::to_string(plan_.basis().grid_point(i)) +
+                             " m where another finger or gesture acts; they must not overlap");
+        on_pad_[i] = 1;
+    }
+    pad_points_ += pad.size();
+}
+
+void Stepper::pad_values(const std::vector<std::size_t>& pad, std::span<const double> field) {
+    pad_w_.clear();
+    for (std::size_t i : pad) pad_w_.push_back(field[i]);
 }
 
 double Stepper::displacement(std::span<const double> mode_shapes) const {
@@ -75,6 +89,7 @@ double Stepper::finger_loss() const {
 double Stepper::work() const {
     double e = 0.0;
     for (const Finger& f : fingers_) e += f.work();
+    for (const ForceProfile& g : gestures_) e += g.work();
     return e;
 }
 
@@ -104,7 +119,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
     // A finger may touch at any time: its pad points are solved every step.
-    if (n_ == 0 || !screening_ || !fingers_.empty() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+    if (n_ == 0 || !screening_ || played() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
         return 0;
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
@@ -169,13 +184,16 @@ void Stepper::first_step() {
         if (!screening_ || !apart || !scheduler_.sleep(i, grid_[i] - g[i])) activate(i, grid_[i], u0[i]);
     }
     for (Finger& f : fingers_) {
-        pad_w_.clear();
-        pad_f_.clear();
-        for (std::size_t i : f.pad()) {
-            pad_w_.push_back(u0[i]);
-            pad_f_.push_back(grid_[i]);
-        }
+        pad_values(f.pad(), grid_);
+        pad_f_ = pad_w_;
+        pad_values(f.pad(), u0);
         f.start(pad_w_, pad_f_);
+    }
+    for (ForceProfile& gesture : gestures_) {
+        pad_values(gesture.pad(), grid_);
+        pad_f_ = pad_w_;
+        pad_values(gesture.pad(), u0);
+        gesture.start(pad_w_, pad_f_);
     }
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
@@ -225,7 +243,7 @@ void Stepper::solve_contacts() {
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
-    if (active_.empty() && fingers_.empty()) return;
+    if (active_.empty() && !played()) return;
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
@@ -235,7 +253,7 @@ void Stepper::solve_contacts() {
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (!fingers_.empty()) solve_fingers(use_transform);
+    if (played()) solve_fingers(use_transform);
     for (std::size_t i : active_) {
         const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
         const double a = eta_prev_[i];
@@ -252,16 +270,18 @@ void Stepper::solve_contacts() {
 
 void Stepper::solve_fingers(bool use_transform) {
     const std::size_t n = q_.size();
-    for (Finger& f : fingers_) {
+    const auto solve = [&](auto& part) {
         pad_w_.clear();
-        for (std::size_t i : f.pad())
+        for (std::size_t i : part.pad())
             pad_w_.push_back(use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n));
         pad_f_.assign(pad_w_.size(), 0.0);
-        psi_curr_ += f.step(n_, pad_w_, pad_f_);
-        stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, f.max_iterations());
+        psi_curr_ += part.step(n_, pad_w_, pad_f_);
+        stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
-            if (pad_f_[p] != 0.0) forces_.emplace_back(f.pad()[p], pad_f_[p]);
-    }
+            if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
+    };
+    for (Finger& f : fingers_) solve(f);
+    for (ForceProfile& g : gestures_) solve(g);
 }
 
 void Stepper::apply_impulse() {

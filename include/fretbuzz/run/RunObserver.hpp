@@ -20,7 +20,7 @@ struct RunLayout {
     long output_stride = 1;       // time steps between output rows
     double output_rate_hz = 0.0;  // fs / output_stride
     std::vector<double> observation_points_m;
-    std::size_t fingers = 0;      // fingers on the string (their energy terms are reported)
+    std::size_t fingers = 0;      // fingers and gestures on the string (their energy terms are reported)
 };
 
 struct RunSummary {
@@ -48,6 +48,7 @@ struct RunSummary {
     // With fingers: the balance is H - work + dissipated = H^{1/2} (dissipated_j includes
     // finger_loss_j); the terms at the end of the run.
     std::size_t fingers = 0;
+    std::size_t gestures = 0;       // force gestures
     double work_j = 0.0;            // work of the pressing forces
     double finger_energy_final_j = 0.0;
     double finger_loss_j = 0.0;

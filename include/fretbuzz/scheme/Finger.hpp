@@ -30,6 +30,7 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
@@ -75,6 +76,7 @@ private:
     PenaltyContact law_;
     const PenaltyContact& obstacle_law_;
     std::vector<std::size_t> pad_;
+    TimeProfile pressing_;
     std::vector<double> g_;                       // obstacle height at the pad points
     std::vector<double> u_curr_, u_prev_, guess_;  // u^n, u^{n-1}, last u^{n+1} (pad order)
     std::vector<double> c_, rho_;                  // per step: u^{n-1} - z^{n-1}, loss coefficient

@@ -49,6 +49,8 @@ public:
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
     // The fingers of the case (they press toward the obstacle side, see Finger).
     const std::vector<FingerSpec>& fingers() const { return fingers_; }
+    // Prescribed forces on the string (force gestures).
+    const std::vector<ForceSpec>& forces() const { return forces_; }
 
 private:
     double dt_;
@@ -59,6 +61,7 @@ private:
     std::vector<double> obstacle_;
     std::vector<std::size_t> obstacle_points_;
     std::vector<FingerSpec> fingers_;
+    std::vector<ForceSpec> forces_;
     PlanOptions options_;
     std::size_t transform_threshold_;
     std::vector<std::string> warnings_;

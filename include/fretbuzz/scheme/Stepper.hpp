@@ -10,11 +10,13 @@
 // H - work + dissipated = constant (work: done by their pressing forces). Nothing here does I/O.
 #include <cstddef>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "fretbuzz/scheme/ContactScheduler.hpp"
 #include "fretbuzz/scheme/Finger.hpp"
+#include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 
@@ -61,8 +63,10 @@ public:
     double damping_dissipated() const { return dissipated_; }
     double finger_energy() const;  // kinetic and contact energy of the fingers
     double finger_loss() const;    // their contact losses so far (>= 0)
-    double work() const;           // work of the external forces (pressing forces) so far
+    double work() const;           // work of the external forces (pressing forces, gestures) so far
     const std::vector<Finger>& fingers() const { return fingers_; }
+    // Whether fingers or gestures act (the balance then counts their work).
+    bool played() const { return !fingers_.empty() || !gestures_.empty(); }
 
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
@@ -79,6 +83,8 @@ private:
     void advance_modes();
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
+    void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
+    void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
 
     const Plan& plan_;
     ContactScheduler scheduler_;
@@ -94,6 +100,7 @@ private:
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
     std::vector<Finger> fingers_;
+    std::vector<ForceProfile> gestures_;
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
