@@ -14,26 +14,13 @@
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
+#include "SmallBass.hpp"
 
 namespace fretbuzz {
 namespace {
 
-void replace(std::string& text, const std::string& from, const std::string& to) {
-    const auto at = text.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-}
-
-// The Jazz Bass of bass-pluck (its neck rebuilt by the fretboard generator) on fewer modes,
-// so that runs of 1e5 steps take a second; plucked `amplitude` at 0.637 m.
 Case small_bass(double fs, double duration, double amplitude = 0.2e-3) {
-    std::string text = builtin_case_text("bass-pluck");
-    replace(text, "modes = 862", "modes = 255");  // N + 1 = 256: a fast sine transform
-    replace(text, "amplitude = 0.5e-3", "amplitude = " + std::to_string(amplitude));
-    Case c = parse_case(text, "small-bass.toml", DataSource::builtin());
-    c.run.sample_rate_hz = fs;
-    c.run.duration_s = duration;
-    return c;
+    return testing::small_bass(fs, duration, amplitude);
 }
 
 struct Ledger {
@@ -109,23 +96,9 @@ TEST(Finger, BalanceStaysExactWhenTheFingerIsLiftedAndFliesOff) {
 TEST(Finger, ScreenedAndStraightforwardPathsAgree) {
     Case c = small_bass(400000.0, 0.05);
     c.add_fret_finger(5, "fret");
-    const Plan fast_plan(c, 1.0 / c.run.sample_rate_hz);
-    PlanOptions plain_options;
-    plain_options.screen_contacts = false;
-    const Plan plain_plan(c, 1.0 / c.run.sample_rate_hz, plain_options);
-    Stepper fast(fast_plan, c.initial_displacement, c.initial_velocity);
-    Stepper plain(plain_plan, c.initial_displacement, c.initial_velocity);
-    double num = 0.0, den = 0.0;
-    for (long n = 0; n < 20000; ++n) {
-        fast.step();
-        plain.step();
-        for (std::size_t j = 0; j < c.mode_count(); ++j) {
-            const double a = fast.modal_displacement()[j], b = plain.modal_displacement()[j];
-            num += (a - b) * (a - b);
-            den += b * b;
-        }
-    }
-    EXPECT_LT(std::sqrt(num / den), 1e-9);
+    const testing::PathComparison p = testing::compare_paths(c, 20000);
+    EXPECT_GT(p.contact_steps, 0);
+    EXPECT_LT(p.relative_l2, 1e-9);
 }
 
 TEST(Finger, AFingerThatNeverTouchesChangesNothing) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "SmallBass.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -17,15 +18,7 @@
 namespace fretbuzz {
 namespace {
 
-Case small_bass_at_rest(double fs, double duration) {
-    std::string text = builtin_case_text("bass-pluck");
-    text.replace(text.find("modes = 862"), 11, "modes = 255");
-    text.replace(text.find("amplitude = 0.5e-3"), 18, "amplitude = 0.0");
-    Case c = parse_case(text, "small-bass.toml", DataSource::builtin());
-    c.run.sample_rate_hz = fs;
-    c.run.duration_s = duration;
-    return c;
-}
+Case small_bass_at_rest(double fs, double duration) { return testing::small_bass(fs, duration, 0.0); }
 
 ForceSpec push(double x, double width, double direction, std::vector<std::array<double, 2>> profile) {
     ForceSpec f;
@@ -103,24 +96,9 @@ TEST(ForceGesture, AConstantForceSettlesAtTheTautStringsStaticDeflection) {
 TEST(ForceGesture, ScreenedAndStraightforwardPathsAgree) {
     Case c = small_bass_at_rest(400000.0, 0.05);
     c.forces.push_back(push(0.637, 0.01, 1.0, {{0.0, 0.0}, {0.005, 3.0}, {0.0051, 0.0}}));
-    const Plan fast_plan(c, 1.0 / c.run.sample_rate_hz);
-    PlanOptions plain_options;
-    plain_options.screen_contacts = false;
-    const Plan plain_plan(c, 1.0 / c.run.sample_rate_hz, plain_options);
-    Stepper fast(fast_plan, c.initial_displacement, c.initial_velocity);
-    Stepper plain(plain_plan, c.initial_displacement, c.initial_velocity);
-    double num = 0.0, den = 0.0;
-    for (long n = 0; n < 20000; ++n) {
-        fast.step();
-        plain.step();
-        for (std::size_t j = 0; j < c.mode_count(); ++j) {
-            const double a = fast.modal_displacement()[j], b = plain.modal_displacement()[j];
-            num += (a - b) * (a - b);
-            den += b * b;
-        }
-    }
-    EXPECT_GT(fast.statistics().contact_steps, 0);
-    EXPECT_LT(std::sqrt(num / den), 1e-9);
+    const testing::PathComparison p = testing::compare_paths(c, 20000);
+    EXPECT_GT(p.contact_steps, 0);
+    EXPECT_LT(p.relative_l2, 1e-9);
 }
 
 TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
