@@ -8,6 +8,8 @@
 //   Window           the product's stepping over the same contact window as the two above;
 //   Outputs/None     a 3 s bass-pop with every output file (CSV, WAV, HDF5 with the contact
 //                    map) against the same run with no observer at all.
+//   Played           the open pop and the same pop stopped at fret 5 by a finger, whole runs
+//                    of the same length side by side (the finger's cost on the fast path).
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
@@ -42,6 +44,9 @@ struct BenchCase {
 };
 
 const BenchCase kCases[] = {{"bass-pop", 4e6, 1.0}, {"flat-obstacle", 1e4, 4.0}};
+// The open pop against the fretted pop over the same 0.3 s (the fretted run has no
+// stretch free of contact: about 45 s per simulated second).
+const BenchCase kPlayed[] = {{"bass-pop", 4e6, 0.3}, {"bass-fret5-pop", 4e6, 0.3}};
 
 Case prepared(const BenchCase& b) {
     Case c = load_case(b.name);
@@ -152,6 +157,13 @@ public:
         if (outputs != median_us_.end() && none != median_us_.end())
             std::printf("  bass-pop 3 s at 4 MHz: every output %.2f s, no output %.2f s (%.2fx)\n",
                         outputs->second * 12.0, none->second * 12.0, outputs->second / none->second);
+        const auto played = [&](const char* name) {
+            const auto it = median_us_.find(std::string("Played/") + name);
+            return it == median_us_.end() ? std::nan("") : it->second;
+        };
+        const double open_us = played(kPlayed[0].name), fretted_us = played(kPlayed[1].name);
+        std::printf("  played, %.1f s at %.0f Hz: open pop %.4f us/step, fretted pop (fret 5) %.4f us/step: %.1fx the open pop's time\n",
+                    kPlayed[0].duration, kPlayed[0].fs, open_us, fretted_us, fretted_us / open_us);
     }
 
 private:
@@ -272,6 +284,11 @@ int main(int argc, char** argv) {
     }
     for (bool outputs : {true, false})
         benchmark::RegisterBenchmark(outputs ? "Outputs/bass-pop-3s" : "None/bass-pop-3s", whole_run, outputs)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1)
+            ->UseRealTime();
+    for (const BenchCase& b : kPlayed)
+        benchmark::RegisterBenchmark((std::string("Played/") + b.name).c_str(), fast, b)
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)
             ->UseRealTime();

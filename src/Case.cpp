@@ -48,7 +48,110 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     }
 }
 
+void check_pad(const std::string& k, double position, double width, bool point_allowed, const Case& c) {
+    const double length = c.string.length_m;
+    require_finite(k + ".position (m)", position);
+    if (!(position > 0.0 && position < length))
+        throw InputError(out_of_range_message(k + ".position (m)", position,
+                                              "must lie inside the string, in (0, L) = (0, " + std::to_string(length) +
+                                                  ") m"));
+    if (point_allowed)
+        require_non_negative(k + ".width (m)", width);
+    else
+        require_positive(k + ".width (m)", width);
+    if (!(position - 0.5 * width > 0.0 && position + 0.5 * width < length))
+        throw InputError(out_of_range_message(k + ".width (m)", width,
+                                              "the pad [position - width/2, position + width/2] must stay inside "
+                                              "(0, L): it overlaps an end of the string"));
+}
+
+void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile, const Case& c) {
+    for (std::size_t p = 0; p < profile.size(); ++p) {
+        const std::string item = k + ".force[" + std::to_string(p) + "]";
+        const double t = profile[p][0], force = profile[p][1];
+        require_finite(item + "[0] (time, s)", t);
+        if (!(t >= 0.0 && t <= c.run.duration_s))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t,
+                                                  "must lie within the run, in [0, run.duration = " +
+                                                      std::to_string(c.run.duration_s) + "] s"));
+        if (p > 0 && !(t > profile[p - 1][0]))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must increase from point to point"));
+        require_non_negative(item + "[1] (force, N)", force);
+        if (force > 1000.0) throw InputError(out_of_range_message(item + "[1] (force, N)", force, "must be in [0, 1000] N"));
+    }
+}
+
+void check_finger(const FingerSpec& f, const Case& c) {
+    const std::string& k = f.key;
+    check_pad(k, f.position_m, f.width_m, false, c);
+    require_positive(k + ".mass (kg)", f.mass_kg);
+    require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
+    require_at_least(k + ".exponent", f.exponent, 1.0);
+    if (f.exponent > 3.0) throw InputError(out_of_range_message(k + ".exponent", f.exponent, "must be in [1, 3]"));
+    require_non_negative(k + ".loss (s/m)", f.loss);
+    require_non_negative(k + ".gap (m)", f.initial_gap_m);
+    if (f.initial_gap_m > 0.05) throw InputError(out_of_range_message(k + ".gap (m)", f.initial_gap_m, "must be in [0, 0.05] m"));
+    require_finite(k + ".velocity (m/s)", f.initial_velocity);
+    if (std::abs(f.initial_velocity) > 100.0)
+        throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
+    check_force_profile(k, f.force_profile, c);
+}
+
+void check_pads_apart(const Case& c) {
+    struct Pad {
+        const std::string* key;
+        double position, width;
+    };
+    std::vector<Pad> pads;
+    for (const FingerSpec& f : c.fingers) pads.push_back({&f.key, f.position_m, f.width_m});
+    for (const ForceSpec& f : c.forces) pads.push_back({&f.key, f.position_m, f.width_m});
+    for (std::size_t a = 0; a < pads.size(); ++a)
+        for (std::size_t b = a + 1; b < pads.size(); ++b)
+            if (std::abs(pads[a].position - pads[b].position) < 0.5 * (pads[a].width + pads[b].width) + c.grid_step())
+                throw InputError(out_of_range_message(*pads[b].key + ".position (m)", pads[b].position,
+                                                      "its pad overlaps the pad of " + *pads[a].key +
+                                                          " (pads must be apart by more than one grid step)"));
+}
+
 }  // namespace
+
+std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
+    // A fret is a stretch of points (one for a plain fret, several for a crowned one) that
+    // stands at least 0.1 mm above the points on both sides of it: far more than any neck
+    // relief changes over one grid step, far less than any fret's height.
+    constexpr double kStep = 1e-4;
+    std::vector<double> frets;
+    const std::size_t n = heights.size();
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+        if (!std::isfinite(heights[i]) || !(heights[i] - heights[i - 1] > kStep)) continue;
+        std::size_t j = i;
+        while (j + 1 < n && std::isfinite(heights[j + 1]) && std::abs(heights[j + 1] - heights[j]) <= kStep) ++j;
+        if (j + 1 < n && heights[j] - heights[j + 1] > kStep)
+            frets.push_back(0.5 * static_cast<double>(i + j + 2) * dx);
+        i = j;
+    }
+    return frets;
+}
+
+void Case::add_fret_finger(std::size_t k, const std::string& key) {
+    if (fret_positions_m.empty())
+        throw InputError(key + " = " + std::to_string(k) +
+                         ": this case has no frets (its obstacle has no fret standing out of the fingerboard); "
+                         "place a finger with [[finger]] position = ... instead");
+    if (k < 1 || k > fret_positions_m.size())
+        throw InputError(out_of_range_message(key, static_cast<double>(k),
+                                              "must be a fret of this case, in [1, " +
+                                                  std::to_string(fret_positions_m.size()) + "]"));
+    const double fret = fret_positions_m[k - 1];
+    const double spacing = fret - (k > 1 ? fret_positions_m[k - 2] : 0.0);
+    FingerSpec f;  // defaults: see FingerSpec and the case files' comments
+    f.key = key + " = " + std::to_string(k) + " (finger)";
+    f.width_m = std::min(0.01, 0.5 * spacing);
+    // Just behind the fret: the pad's near edge 15 % of the fret spacing from it.
+    f.position_m = fret - 0.15 * spacing - 0.5 * f.width_m;
+    f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), 5.0}};
+    fingers.push_back(std::move(f));
+}
 
 void Case::validate() const {
     require_positive("string.L (length, m)", string.length_m);
@@ -93,6 +196,12 @@ void Case::validate() const {
                                                       std::to_string(string.length_m) + ")"));
     }
     check_initial_shape_clears_obstacle(*this);
+    for (const FingerSpec& f : fingers) check_finger(f, *this);
+    for (const ForceSpec& f : forces) {
+        check_pad(f.key, f.position_m, f.width_m, true, *this);
+        check_force_profile(f.key, f.force_profile, *this);
+    }
+    check_pads_apart(*this);
 }
 
 }  // namespace fretbuzz

@@ -27,6 +27,7 @@ struct RunArguments {
     bool lossless = false;
     bool allow_aliasing = false;
     std::vector<double> observe;
+    std::optional<long> fret;
     std::optional<std::string> output_rate;
     std::optional<double> audio_rate;
     bool velocity_audio = false;
@@ -68,6 +69,11 @@ void apply_overrides(const RunArguments& a, Case& c) {
             c.run.output_rate_hz.reset();
         else
             c.run.output_rate_hz = parse_rate(*a.output_rate);
+    }
+    if (a.fret) {
+        if (*a.fret < 1)
+            throw InputError(out_of_range_message("--fret", static_cast<double>(*a.fret), "must be a fret number >= 1"));
+        c.add_fret_finger(static_cast<std::size_t>(*a.fret), "--fret");
     }
 }
 
@@ -141,6 +147,8 @@ void add_run_command(CLI::App& app, Action& action) {
                   "Run even when modes lie so close to a multiple of fs that contact results are wrong "
                   "(as run.allow_aliasing = true)");
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
+    cmd->add_option("--fret", args->fret,
+                    "Stop the string with a finger just behind fret K (default finger: 5 g, 5 N after 5 ms)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
     cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");
     cmd->add_option("--fade-in", args->fades.in_s, "Raised-cosine fade-in of the WAV files in s (no click at the start)")

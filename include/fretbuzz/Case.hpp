@@ -3,6 +3,7 @@
 // modes, the obstacle sampled on the grid, the initial state, the contact law,
 // and what to compute and record. Case files (TOML) and the built-in cases are
 // turned into a Case; the scheme only ever sees a Case.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,34 @@ struct StringProperties {
 struct ContactLaw {
     double stiffness = 1e13;  // K
     double exponent = 1.5;    // alpha >= 1
+};
+
+// A lumped finger (or thumb) on the far side of the string from the fretboard: a mass that
+// touches the string along a pad of grid points through a penalty contact of its own, with
+// a Hunt-Crossley contact loss, pushed toward the fretboard by a force that varies in time.
+// See scheme/Finger.hpp for the model and its sources.
+struct FingerSpec {
+    std::string key = "finger";   // where it was given (for messages): "finger[0]", "fret", "--fret"
+    double position_m = 0.0;      // pad centre, in (0, L)
+    double width_m = 0.01;        // pad length along the string, m
+    double mass_kg = 5e-3;        // M_f
+    double stiffness = 1e5;       // K_f of the whole pad, N/m^alpha_f
+    double exponent = 1.0;        // alpha_f >= 1
+    double loss = 20.0;           // lambda_f, s/m: loss force lambda_f K_f eta^alpha_f d(eta)/dt
+    // Pressing force toward the fretboard (N) at times (s): linear in between, held before
+    // the first and after the last point. Empty: no force.
+    std::vector<std::array<double, 2>> force_profile;
+    double initial_gap_m = 0.0;       // pad above the highest pad point of the initial shape
+    double initial_velocity = 0.0;    // m/s toward the fretboard
+};
+
+// A prescribed force F(t) on the string over a pad (a force gesture, see scheme/ForceProfile.hpp).
+struct ForceSpec {
+    std::string key = "gesture";
+    double position_m = 0.0;   // pad centre, in (0, L)
+    double width_m = 0.0;      // 0: the nearest grid point
+    double direction = 1.0;    // +1 toward the fretboard ("down"), -1 away from it ("up")
+    std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
 };
 
 struct RunSettings {
@@ -49,6 +78,11 @@ struct Case {
     ContactLaw contact;
     RunSettings run;
     std::vector<double> observation_points_m;
+    // Fret positions (m, from the nut) found on the obstacle: where it stands out above both
+    // neighbouring stretches (see find_frets). Empty on a case without frets.
+    std::vector<double> fret_positions_m;
+    std::vector<FingerSpec> fingers;
+    std::vector<ForceSpec> forces;
     // The case file text this Case was built from (kept in the outputs).
     std::string source_text;
     // What reading the case found doubtful but allowed (shown to the user, kept in summary.json).
@@ -65,8 +99,14 @@ struct Case {
 
     // Removes all losses (sigma_j = 0), for energy-conservation studies.
     void make_lossless();
+    // Adds a finger with the default parameters just behind fret k (1-based); `key` names the
+    // setting in messages ("fret", "--fret"). Throws InputError on a case without that fret.
+    void add_fret_finger(std::size_t k, const std::string& key);
     // Checks every field; throws InputError naming the first bad one.
     void validate() const;
 };
+
+// Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx: see Case::fret_positions_m.
+std::vector<double> find_frets(const std::vector<double>& heights, double dx);
 
 }  // namespace fretbuzz

@@ -94,6 +94,10 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
     if (c.obstacle_above) std::for_each(obstacles.begin(), obstacles.end(), mirror);
     c.obstacle_height_m = highest_of(obstacles);
     if (c.obstacle_above) mirror(c.obstacle_height_m);
+    // Frets stand out toward the string: find them on the heights as the solve sees them.
+    std::vector<double> toward_string = c.obstacle_height_m;
+    if (c.obstacle_above) mirror(toward_string);
+    c.fret_positions_m = find_frets(toward_string, c.grid_step());
 }
 
 void read_observe_section(TomlSection s, Case& c) {
@@ -151,6 +155,8 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     read_contact_section(top.section("contact"), c);
     read_run_section(top.section("run"), c);
     read_observe_section(top.section("observe"), c);
+    read_fingers(top, c);
+    read_gestures(top, c);
     if (auto audio = top.optional_section("audio")) read_audio_section(*audio, c);
     top.finish();
     return c;

@@ -41,6 +41,11 @@ std::vector<double> read_obstacle_section(TomlSection& section, const DataSource
 // [excitation]: initial modal displacement and velocity on the modes of c.
 void read_excitation_section(TomlSection& section, const DataSource& data, Case& c);
 
+// `fret = k` and [[finger]] (after [run]: their times are checked against the run).
+void read_fingers(TomlSection& top, Case& c);
+// [[gesture]] (after [run], like the fingers).
+void read_gestures(TomlSection& top, Case& c);
+
 // The CSV file named by section.key; any error in it names the key.
 CsvTable read_section_table(TomlSection& section, std::string_view key, const DataSource& data,
                             std::size_t min_columns);

@@ -52,9 +52,20 @@ void ObservationCsvWriter::finish(const RunSummary&) { check_written(out_, path_
 
 EnergyCsvWriter::EnergyCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
-void EnergyCsvWriter::begin(const RunLayout&) {
+void EnergyCsvWriter::begin(const RunLayout& layout) {
     open_for_writing(out_, path_);
-    out_ << "t_s,energy_J,contact_energy_J,dissipated_J\n";
+    fingers_ = layout.fingers > 0;
+    out_ << "t_s,energy_J,contact_energy_J,dissipated_J";
+    // With fingers: energy_J includes finger_energy_J, dissipated_J includes finger_loss_J,
+    // and energy_J - work_J + dissipated_J is constant.
+    if (fingers_) out_ << ",finger_energy_J,work_J,finger_loss_J";
+    out_ << '\n';
+}
+
+void EnergyCsvWriter::finger_energy(double finger_energy, double work, double finger_loss) {
+    finger_terms_[0] = finger_energy;
+    finger_terms_[1] = work;
+    finger_terms_[2] = finger_loss;
 }
 
 void EnergyCsvWriter::energy(double t, double h, double contact, double dissipated) {
@@ -63,6 +74,11 @@ void EnergyCsvWriter::energy(double t, double h, double contact, double dissipat
         if (!line_.empty()) line_ += ',';
         append_number(line_, v);
     }
+    if (fingers_)
+        for (double v : finger_terms_) {
+            line_ += ',';
+            append_number(line_, v);
+        }
     line_ += '\n';
     out_ << line_;
 }

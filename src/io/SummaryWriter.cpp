@@ -53,6 +53,14 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         if (extras->provenance && c != nullptr)
             json["provenance"] = nlohmann::ordered_json::parse(provenance_json(*extras->provenance, *c));
     }
+    if (s.fingers + s.gestures > 0) {  // the balance is then energy - work + dissipated = energy_initial
+        json["fingers"] = s.fingers;
+        json["gestures"] = s.gestures;
+        json["work_J"] = s.work_j;
+        json["finger_energy_final_J"] = s.finger_energy_final_j;
+        json["finger_loss_J"] = s.finger_loss_j;
+        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j;
+    }
     return json.dump(2);
 }
 

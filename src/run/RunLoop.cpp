@@ -22,6 +22,7 @@ RunLayout layout_of(const Case& c) {
     layout.output_stride = output_stride(c);
     layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
     layout.observation_points_m = c.observation_points_m;
+    layout.fingers = c.fingers.size() + c.forces.size();
     return layout;
 }
 
@@ -68,6 +69,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.lossless = plan_.propagator().lossless();
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
+    summary_.fingers = c.fingers.size();
+    summary_.gestures = c.forces.size();
     summary_.warnings = c.warnings;
     summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
@@ -201,10 +204,20 @@ void RunLoop::report_snapshots() {
 
 void RunLoop::report_output() {
     const double h = stepper_.energy();
-    audit_.record(h, stepper_.dissipated(), summary_);
+    if (!stepper_.played()) {
+        audit_.record(h, stepper_.dissipated(), summary_);
+    } else {
+        audit_.record(h, stepper_.dissipated(), summary_, stepper_.work());
+        summary_.work_j = stepper_.work();
+        summary_.finger_energy_final_j = stepper_.finger_energy();
+        summary_.finger_loss_j = stepper_.finger_loss();
+    }
     if (n_ % layout_.output_stride != 0) return;
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
+    if (stepper_.played())
+        for (RunObserver* o : observers_)
+            o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
     for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
 }
 

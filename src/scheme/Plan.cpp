@@ -15,6 +15,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       propagator_(c.modes, dt),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       obstacle_(c.obstacle_height_m),
+      fingers_(c.fingers),
+      forces_(c.forces),
       options_(options) {
     require_positive("time step dt (s)", dt);
     // Without an obstacle the modal update is exact at any dt: nothing can alias.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
@@ -22,12 +23,23 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       impulse_(q0.size(), 0.0),
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
-      eta_curr_(q0.size(), 0.0) {
+      eta_curr_(q0.size(), 0.0),
+      on_pad_(q0.size(), 0) {
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
+    for (const FingerSpec& spec : plan.fingers()) {
+        fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                              plan.force_to_displacement());
+        claim_pad(fingers_.back().pad(), spec.key);
+    }
+    for (const ForceSpec& spec : plan.forces()) {
+        gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                               plan.force_to_displacement());
+        claim_pad(gestures_.back().pad(), spec.key);
+    }
 }
 
 void Stepper::perturb(std::span<const double> displacement, std::span<const double> velocity) {
@@ -76,9 +88,25 @@ void Stepper::classify_points(std::span<const double> u_now, std::span<const dou
     for (std::size_t i : plan_.obstacle_points()) {
         psi_prev_ += law.potential(g[i] - u_before[i]);
         psi_curr_ += law.potential(g[i] - u_now[i]);
+        if (on_pad_[i] != 0) continue;  // solved with its finger
         const bool apart = g[i] - u_before[i] <= 0.0 && g[i] - u_now[i] <= 0.0;
         if (!screening_ || !apart || !scheduler_.sleep(i, u_now[i] - g[i])) activate(i, u_now[i], u_before[i]);
     }
+}
+
+void Stepper::claim_pad(const std::vector<std::size_t>& pad, const std::string& key) {
+    for (std::size_t i : pad) {
+        if (on_pad_[i] != 0)
+            throw InputError(key + ": it acts on x = " + std::to_string(plan_.basis().grid_point(i)) +
+                             " m where another finger or gesture acts; they must not overlap");
+        on_pad_[i] = 1;
+    }
+    pad_points_ += pad.size();
+}
+
+void Stepper::pad_values(const std::vector<std::size_t>& pad, std::span<const double> field) {
+    pad_w_.clear();
+    for (std::size_t i : pad) pad_w_.push_back(field[i]);
 }
 
 double Stepper::displacement(std::span<const double> mode_shapes) const {
@@ -98,7 +126,29 @@ double Stepper::modal_energy() const {
     return modal_energy_;
 }
 
-double Stepper::energy() const { return modal_energy() + contact_energy(); }
+double Stepper::energy() const {
+    const double h = modal_energy() + contact_energy();
+    return fingers_.empty() ? h : h + finger_energy();
+}
+
+double Stepper::finger_energy() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.energy();
+    return e;
+}
+
+double Stepper::finger_loss() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.loss();
+    return e;
+}
+
+double Stepper::work() const {
+    double e = 0.0;
+    for (const Finger& f : fingers_) e += f.work();
+    for (const ForceProfile& g : gestures_) e += g.work();
+    return e;
+}
 
 double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
 
@@ -125,7 +175,9 @@ void Stepper::step() {
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
-    if (n_ == 0 || !screening_ || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0) return 0;
+    // A finger may touch at any time: its pad points are solved every step.
+    if (n_ == 0 || !screening_ || played() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+        return 0;
     scheduler_.refresh(q_, d_);
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
@@ -187,6 +239,18 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, grid_);
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
+    for (Finger& f : fingers_) {
+        pad_values(f.pad(), grid_);
+        pad_f_ = pad_w_;
+        pad_values(f.pad(), u0);
+        f.start(pad_w_, pad_f_);
+    }
+    for (ForceProfile& gesture : gestures_) {
+        pad_values(gesture.pad(), grid_);
+        pad_f_ = pad_w_;
+        pad_values(gesture.pad(), u0);
+        gesture.start(pad_w_, pad_f_);
+    }
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
@@ -234,17 +298,18 @@ void Stepper::solve_contacts() {
     forces_.clear();
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
-    stats_.points_solved += static_cast<double>(active_.size());
-    if (active_.empty()) return;
+    stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
+    if (active_.empty() && !played()) return;
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
     kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
-    const bool use_transform = active_.size() > plan_.transform_threshold();
+    const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
     if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
+    if (played()) solve_fingers(use_transform);
     for (std::size_t i : active_) {
         const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
         const double a = eta_prev_[i];
@@ -257,6 +322,22 @@ void Stepper::solve_contacts() {
         if (s.force != 0.0) forces_.emplace_back(i, s.force);
     }
     if (!forces_.empty()) ++stats_.contact_steps;
+}
+
+void Stepper::solve_fingers(bool use_transform) {
+    const std::size_t n = q_.size();
+    const auto solve = [&](auto& part) {
+        pad_w_.clear();
+        for (std::size_t i : part.pad())
+            pad_w_.push_back(use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n));
+        pad_f_.assign(pad_w_.size(), 0.0);
+        psi_curr_ += part.step(n_, pad_w_, pad_f_);
+        stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
+        for (std::size_t p = 0; p < pad_f_.size(); ++p)
+            if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
+    };
+    for (Finger& f : fingers_) solve(f);
+    for (ForceProfile& g : gestures_) solve(g);
 }
 
 void Stepper::apply_impulse() {

@@ -29,12 +29,15 @@ public:
     explicit EnergyCsvWriter(const std::filesystem::path& path);
     void begin(const RunLayout& layout) override;
     void energy(double t, double h, double contact, double dissipated) override;
+    void finger_energy(double finger_energy, double work, double finger_loss) override;
     void finish(const RunSummary&) override;
 
 private:
     std::filesystem::path path_;
     std::ofstream out_;
     std::string line_;
+    bool fingers_ = false;
+    double finger_terms_[3] = {0.0, 0.0, 0.0};
 };
 
 // bridge_force.csv (t_s, bridge_force_N): the force of the string on its bridge end.

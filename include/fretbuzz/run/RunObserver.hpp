@@ -20,6 +20,7 @@ struct RunLayout {
     long output_stride = 1;       // time steps between output rows
     double output_rate_hz = 0.0;  // fs / output_stride
     std::vector<double> observation_points_m;
+    std::size_t fingers = 0;      // fingers and gestures on the string (their energy terms are reported)
 };
 
 struct RunSummary {
@@ -45,6 +46,13 @@ struct RunSummary {
     bool lossless = false;
     bool screened = true;
     std::string screening;  // whether and why contact screening ran (see choose_screening)
+    // With fingers: the balance is H - work + dissipated = H^{1/2} (dissipated_j includes
+    // finger_loss_j); the terms at the end of the run.
+    std::size_t fingers = 0;
+    std::size_t gestures = 0;       // force gestures
+    double work_j = 0.0;            // work of the pressing forces
+    double finger_energy_final_j = 0.0;
+    double finger_loss_j = 0.0;
     // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
     std::vector<std::string> warnings;
 };
@@ -60,6 +68,9 @@ public:
     virtual void bridge_force(double, double) {}
     // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
     virtual void energy(double, double, double, double) {}
+    // With fingers, just before each energy(): the fingers' part of H, the work of the
+    // external forces so far, and the fingers' part of the dissipated energy.
+    virtual void finger_energy(double /*finger_energy*/, double /*work*/, double /*finger_loss*/) {}
     // Observers that return true receive u at every observation point at every time step
     // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
     virtual bool wants_every_step() const { return false; }

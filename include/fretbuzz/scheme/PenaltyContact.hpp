@@ -34,6 +34,8 @@ public:
     double difference_quotient(double a, double r) const;
     // Solves the scalar equation above; throws SolverError if it cannot converge.
     ContactSolution solve(double a, double b, double k) const;
+    // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
+    double slope_of_quotient(double a, double r, double quotient) const;
 
 private:
     enum class Law { general, linear, three_halves, quadratic, cubic };
@@ -41,7 +43,6 @@ private:
     double anchor(double a) const;
     double quotient(double a, double r, double anchor_a) const;
     double quotient_inside(double a, double r, double anchor_a) const;
-    double slope_of_quotient(double a, double r, double quotient) const;
     double power(double eta) const;  // eta^alpha for eta > 0
 
     double k_;

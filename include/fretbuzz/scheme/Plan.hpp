@@ -65,6 +65,10 @@ public:
     const std::vector<std::string>& warnings() const { return warnings_; }
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
+    // The fingers of the case (they press toward the obstacle side, see Finger).
+    const std::vector<FingerSpec>& fingers() const { return fingers_; }
+    // Prescribed forces on the string (force gestures).
+    const std::vector<ForceSpec>& forces() const { return forces_; }
 
     // Changes while a string sounds (a real-time instrument's controls). Neither allocates;
     // a Stepper on this plan must be told with Stepper::restart() before its next step.
@@ -85,6 +89,8 @@ private:
     std::vector<double> obstacle_;
     std::vector<double> planned_obstacle_;  // obstacle_ at zero offset
     std::vector<std::size_t> obstacle_points_;
+    std::vector<FingerSpec> fingers_;
+    std::vector<ForceSpec> forces_;
     PlanOptions options_;
     std::size_t transform_threshold_;
     std::vector<std::string> warnings_;

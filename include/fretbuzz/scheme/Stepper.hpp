@@ -5,13 +5,18 @@
 // where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
 // scalar solve at each grid point that can touch (ContactScheduler says which). It also keeps
 // the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
-// H + dissipated is constant to round-off. Nothing here does I/O.
+// H + dissipated is constant to round-off. Fingers (see Finger) are advanced with the string:
+// their pad points are solved every step, and the balance becomes
+// H - work + dissipated = constant (work: done by their pressing forces). Nothing here does I/O.
 #include <cstddef>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "fretbuzz/scheme/ContactScheduler.hpp"
+#include "fretbuzz/scheme/Finger.hpp"
+#include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 
@@ -62,9 +67,17 @@ public:
     double velocity(std::span<const double> mode_shapes) const;
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
-    double energy() const;          // H^{n-1/2}, contact energy included
+    double energy() const;          // H^{n-1/2}: string, obstacle contact and fingers
     double contact_energy() const;  // dx (Psi(eta^n) + Psi(eta^{n-1})) / 2
-    double dissipated() const { return dissipated_; }  // damping losses since H^{1/2}
+    // Losses since H^{1/2}: modal damping plus the fingers' contact losses.
+    double dissipated() const { return dissipated_ + finger_loss(); }
+    double damping_dissipated() const { return dissipated_; }
+    double finger_energy() const;  // kinetic and contact energy of the fingers
+    double finger_loss() const;    // their contact losses so far (>= 0)
+    double work() const;           // work of the external forces (pressing forces, gestures) so far
+    const std::vector<Finger>& fingers() const { return fingers_; }
+    // Whether fingers or gestures act (the balance then counts their work).
+    bool played() const { return !fingers_.empty() || !gestures_.empty(); }
 
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
@@ -82,6 +95,9 @@ private:
     void apply_impulse();
     void advance_modes();
     void put_points_to_sleep();
+    void solve_fingers(bool use_transform);
+    void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
+    void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
 
     const Plan& plan_;
     ContactScheduler scheduler_;
@@ -96,6 +112,11 @@ private:
     std::vector<std::size_t> active_;      // points solved every step
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
+    std::vector<Finger> fingers_;
+    std::vector<ForceProfile> gestures_;
+    std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
+    std::size_t pad_points_ = 0;
+    std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
     long next_speed_refresh_ = 0;

@@ -1,0 +1,90 @@
+#pragma once
+// A lumped finger (or a thumb) touching the string from the side away from the fretboard:
+// a mass M with height z, a penalty contact of its own along a pad of grid points,
+//     f_i = K [u_i - z]_+^alpha  (per unit length, K = K_f / (pad length)),
+// a Hunt-Crossley contact loss r_i (du_i/dt - dz/dt), r_i = lambda K [u_i - z]_+^alpha,
+// and a force F(t) pressing it toward the fretboard (finger models with a mass, a power-law
+// contact and a loss: Bilbao and Torin, "Numerical modeling and sound synthesis for
+// articulated string/fretboard interactions", JAES 2015; Desvages and Bilbao, Appl. Sci.
+// 2016, for the fingers of a bowed string). The solve sees the fretboard below (u -> -u
+// when the case's obstacle is above), so the finger is always above and pushes down.
+//
+// Discretisation (the obstacle's, Issanchou et al. 2017): the contact force is the discrete
+// gradient of the potential between levels n-1 and n+1, velocities are centred, and
+//     M (z^{n+1} - 2 z^n + z^{n-1}) / dt^2 = dx sum_i [Q_i + rho_i (y_i - c_i)] - F^n,
+// with y_i = u_i^{n+1} - z^{n+1}, c_i = u_i^{n-1} - z^{n-1}, Q_i the difference quotient and
+// rho_i = r_i^n / (2 dt). Then, exactly (to round-off),
+//     E^{n+1/2} - E^{n-1/2} = -F^n (z^{n+1} - z^{n-1}) / 2 - dx sum_i rho_i (y_i - c_i)^2 / 2,
+// E = the string's energy + M/2 ((z^{n+1} - z^n)/dt)^2 + dx sum_i (Psi(y^{n+1}) + Psi(y^n))/2:
+// the pressing force's work in, the contact loss out (>= 0).
+//
+// The solve stays local. At a pad point u_i^{n+1} = w_i + (dt^2/mu) f_i (S S^T = I/dx), so for
+// a given z^{n+1} each point is a scalar monotone equation (finger and obstacle terms both
+// increasing in u_i^{n+1}); the finger's own equation G(z^{n+1}) = 0 is then increasing in
+// z^{n+1} (the contact force on it can only fall as it rises). Both are solved by Newton's
+// method inside a bracket (the slopes are at least 1 and M/dt^2), with the finger's slope
+// from the inner solutions: a nested scalar solve, no global system. Failure throws.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
+
+namespace fretbuzz {
+
+class Finger {
+public:
+    // obstacle: heights at every grid point, in the solve's orientation (-inf: none);
+    // k = dt^2 / mu.
+    Finger(const FingerSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
+           double dt, double k);
+
+    // Grid points of the pad, in increasing order.
+    const std::vector<std::size_t>& pad() const { return pad_; }
+    // Levels 0 and 1 of the string at the pad points (the string's first step is free): the
+    // finger starts spec.initial_gap_m above the highest pad point with its initial velocity.
+    void start(std::span<const double> u0, std::span<const double> u1);
+    // Step n -> n + 1 given the pad points' free predictions w (pad order). Writes the total
+    // force per unit length on the string at each pad point (finger and obstacle) into
+    // `force` and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
+    double step(long n, std::span<const double> predicted, std::span<double> force);
+
+    double pressing_force(double t) const;
+    double height() const { return z_; }                     // z^n (solve orientation)
+    double energy() const;                                   // kinetic + contact, (n-1, n)
+    double contact_energy() const { return 0.5 * dx_ * (psi_curr_ + psi_prev_); }
+    double work() const { return work_; }                    // pressing force's work so far
+    double loss() const { return loss_; }                    // contact loss so far (>= 0)
+    double contact_force() const { return contact_force_; }  // total force on the finger, N (last step)
+    int max_iterations() const { return max_iterations_; }
+
+private:
+    struct Point {
+        double x = 0.0;      // u^{n+1}
+        double y = 0.0;      // u^{n+1} - z^{n+1}
+        double push = 0.0;   // Q + rho (y - c): force per unit length on the finger
+        double slope = 0.0;  // d(push)/dZ through this point's inner solution
+        double obstacle_force = 0.0, obstacle_psi = 0.0;
+    };
+    Point solve_point(std::size_t p, double w, double s, double guess) const;
+    double pressing_force_at_step(long n) const;
+
+    FingerSpec spec_;
+    double dx_, dt_, k_, m_;  // m_ = M / dt^2
+    PenaltyContact law_;
+    const PenaltyContact& obstacle_law_;
+    std::vector<std::size_t> pad_;
+    TimeProfile pressing_;
+    std::vector<double> g_;                       // obstacle height at the pad points
+    std::vector<double> u_curr_, u_prev_, guess_;  // u^n, u^{n-1}, last u^{n+1} (pad order)
+    std::vector<double> c_, rho_;                  // per step: u^{n-1} - z^{n-1}, loss coefficient
+    double z_ = 0.0, dz_ = 0.0;                    // z^n and z^n - z^{n-1} (difference form keeps digits)
+    double psi_curr_ = 0.0, psi_prev_ = 0.0;       // sum_i Psi_f(u_i - z) at n and n-1
+    std::vector<Point> points_;                    // scratch: the inner solutions
+    double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
+    int max_iterations_ = 0;
+};
+
+}  // namespace fretbuzz

@@ -1,0 +1,186 @@
+#include "fretbuzz/scheme/Finger.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <tuple>
+
+#include "fretbuzz/Error.hpp"
+
+namespace fretbuzz {
+
+namespace {
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr int kMaxIterations = 100;
+
+[[noreturn]] void fail(const FingerSpec& spec, const char* what, double detail) {
+    std::ostringstream msg;
+    msg.precision(17);
+    msg << spec.key << ": the finger's contact solve did not converge (" << what << ", " << detail
+        << "); reduce its stiffness or the time step";
+    throw SolverError(msg.str());
+}
+}  // namespace
+
+Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obstacle,
+               const PenaltyContact& obstacle_law, double dt, double k)
+    : spec_(spec),
+      dx_(dx),
+      dt_(dt),
+      k_(k),
+      m_(spec.mass_kg / (dt * dt)),
+      law_(1.0, 1.0),
+      obstacle_law_(obstacle_law),
+      pad_(pad_points(spec.position_m, spec.width_m, dx, obstacle.size())),
+      pressing_(spec.force_profile) {
+    // The pad's stiffness K_f is shared by its points: per unit length K_f / (n dx).
+    law_ = PenaltyContact(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
+    for (std::size_t i : pad_) g_.push_back(obstacle[i]);
+    const std::size_t n = pad_.size();
+    u_curr_.assign(n, 0.0);
+    u_prev_.assign(n, 0.0);
+    guess_.assign(n, 0.0);
+    c_.assign(n, 0.0);
+    rho_.assign(n, 0.0);
+}
+
+double Finger::pressing_force(double t) const { return pressing_.at(t); }
+
+double Finger::pressing_force_at_step(long n) const { return pressing_force(static_cast<double>(n) * dt_); }
+
+double Finger::energy() const {
+    const double v = dz_ / dt_;
+    return 0.5 * spec_.mass_kg * v * v + contact_energy();
+}
+
+void Finger::start(std::span<const double> u0, std::span<const double> u1) {
+    const double z0 = *std::max_element(u0.begin(), u0.end()) + spec_.initial_gap_m;
+    dz_ = -spec_.initial_velocity * dt_;  // toward the fretboard: down in the solve's orientation
+    z_ = z0 + dz_;
+    psi_prev_ = psi_curr_ = 0.0;
+    for (std::size_t p = 0; p < pad_.size(); ++p) {
+        u_prev_[p] = u0[p];
+        u_curr_[p] = u1[p];
+        guess_[p] = u1[p];
+        psi_prev_ += law_.potential(u0[p] - z0);
+        psi_curr_ += law_.potential(u1[p] - z_);
+    }
+}
+
+Finger::Point Finger::solve_point(std::size_t p, double w, double s, double guess) const {
+    // h(x) = (x - w) - k Q_obstacle(x) + k P(x - z^{n+1}), increasing with slope >= 1.
+    const double g = g_[p];
+    const bool obstacle = std::isfinite(g);
+    const double a_o = g - u_prev_[p];
+    const double c = c_[p];
+    const double rho = rho_[p];
+    const double z_next_minus_z = s;
+    Point pt;
+    double slope_h = 1.0, psi_slope = 1.0;
+    const auto evaluate = [&](double x) {
+        pt.x = x;
+        pt.y = (x - z_) - z_next_minus_z;
+        double residual_scale = std::abs(x) + std::abs(w);
+        double h = x - w;
+        psi_slope = 1.0;
+        pt.obstacle_force = 0.0;
+        if (obstacle) {
+            const double r_o = u_prev_[p] - x;
+            pt.obstacle_force = obstacle_law_.difference_quotient(a_o, r_o);
+            psi_slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, pt.obstacle_force);
+            h -= k_ * pt.obstacle_force;
+            residual_scale += k_ * pt.obstacle_force;
+        }
+        const double r_f = pt.y - c;
+        const double q = law_.difference_quotient(c, r_f);
+        const double push_slope = law_.slope_of_quotient(c, r_f, q) + rho;
+        pt.push = q + rho * r_f;
+        h += k_ * pt.push;
+        residual_scale += k_ * std::abs(pt.push);
+        slope_h = psi_slope + k_ * push_slope;
+        pt.slope = -push_slope * psi_slope / slope_h;  // d(push)/dZ: dy/dZ = -psi'/h'
+        return std::pair{h, residual_scale};
+    };
+    auto [h, scale] = evaluate(guess);
+    double lo = guess, hi = guess;
+    (h > 0.0 ? lo : hi) = guess - h;  // slope >= 1: the root lies within |h| of the guess
+    for (int it = 0; it < kMaxIterations; ++it) {
+        if (std::abs(h) <= 4.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
+        const double x = pt.x;
+        double next = x - h / slope_h;
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        std::tie(h, scale) = evaluate(next);
+        (h > 0.0 ? hi : lo) = next;
+        if (std::abs(next - x) <= kEps * std::abs(next)) break;
+        if (it + 1 == kMaxIterations) fail(spec_, "pad point", pt.x);
+    }
+    if (obstacle) pt.obstacle_psi = obstacle_law_.potential(g - pt.x);
+    return pt;
+}
+
+double Finger::step(long n, std::span<const double> predicted, std::span<double> force) {
+    const std::size_t count = pad_.size();
+    const double press = pressing_force_at_step(n);
+    const double z_prev = z_ - dz_;
+    for (std::size_t p = 0; p < count; ++p) {
+        c_[p] = u_prev_[p] - z_prev;
+        // Hunt-Crossley loss, its coefficient taken at level n so the step stays exactly lossy.
+        rho_[p] = spec_.loss * law_.force(u_curr_[p] - z_) / (2.0 * dt_);
+    }
+    std::vector<Point>& pts = points_;
+    pts.resize(count);
+    // G(s) = m (s - dz) + F - dx sum push(s), s = z^{n+1} - z^n: increasing, slope >= m.
+    const auto evaluate = [&](double s, double& slope) {
+        double push = 0.0, push_slope = 0.0;
+        for (std::size_t p = 0; p < count; ++p) {
+            pts[p] = solve_point(p, predicted[p], s, guess_[p]);
+            guess_[p] = pts[p].x;
+            push += pts[p].push;
+            push_slope += pts[p].slope;
+        }
+        contact_force_ = dx_ * push;
+        slope = m_ - dx_ * push_slope;
+        return m_ * (s - dz_) + press - contact_force_;
+    };
+    double s = dz_ + (contact_force_ - press) / m_;
+    double slope = m_;
+    double G = evaluate(s, slope);
+    double lo = s, hi = s;
+    (G > 0.0 ? lo : hi) = s - G / m_;
+    int it = 0;
+    for (; it < kMaxIterations; ++it) {
+        const double scale = m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press) + std::abs(contact_force_);
+        if (std::abs(G) <= 8.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
+        double next = s - G / slope;
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const double previous = s;
+        s = next;
+        G = evaluate(s, slope);
+        (G > 0.0 ? hi : lo) = s;
+        if (std::abs(s - previous) <= kEps * std::abs(s)) break;
+    }
+    if (it == kMaxIterations) fail(spec_, "finger height", s);
+    max_iterations_ = std::max(max_iterations_, it + 1);
+
+    double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0;
+    for (std::size_t p = 0; p < count; ++p) {
+        const Point& pt = pts[p];
+        force[p] = pt.obstacle_force - pt.push;
+        obstacle_psi += pt.obstacle_psi;
+        psi_next += law_.potential(pt.y);
+        const double r = pt.y - c_[p];
+        lost += rho_[p] * r * r;
+        u_prev_[p] = u_curr_[p];
+        u_curr_[p] = pt.x;
+    }
+    loss_ += 0.5 * dx_ * lost;
+    work_ -= 0.5 * press * (s + dz_);
+    psi_prev_ = psi_curr_;
+    psi_curr_ = psi_next;
+    z_ += s;
+    dz_ = s;
+    return obstacle_psi;
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,51 @@
+#pragma once
+// Shared by the finger and gesture tests: the Jazz Bass of bass-pluck (its neck rebuilt by
+// the fretboard generator) on 255 modes, so that runs of 1e5 steps take a second, and the
+// comparison of the screened path with the straightforward one, step by step.
+#include <cmath>
+#include <string>
+
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz::testing {
+
+// Plucked `amplitude` (m) at 0.637 m; 0 leaves the string at rest.
+inline Case small_bass(double fs, double duration, double amplitude) {
+    std::string text = builtin_case_text("bass-pluck");
+    text.replace(text.find("modes = 862"), 11, "modes = 255");  // N + 1 = 256: a fast sine transform
+    text.replace(text.find("amplitude = 0.5e-3"), 18, "amplitude = " + std::to_string(amplitude));
+    Case c = parse_case(text, "small-bass.toml", DataSource::builtin());
+    c.run.sample_rate_hz = fs;
+    c.run.duration_s = duration;
+    return c;
+}
+
+struct PathComparison {
+    double relative_l2 = 0.0;  // of the modal state over every step
+    long contact_steps = 0;    // on the screened path
+};
+
+// Runs c screened and straightforward side by side for `steps` steps.
+inline PathComparison compare_paths(const Case& c, long steps) {
+    const Plan fast_plan(c, 1.0 / c.run.sample_rate_hz);
+    PlanOptions plain_options;
+    plain_options.screen_contacts = false;
+    const Plan plain_plan(c, 1.0 / c.run.sample_rate_hz, plain_options);
+    Stepper fast(fast_plan, c.initial_displacement, c.initial_velocity);
+    Stepper plain(plain_plan, c.initial_displacement, c.initial_velocity);
+    double num = 0.0, den = 0.0;
+    for (long n = 0; n < steps; ++n) {
+        fast.step();
+        plain.step();
+        for (std::size_t j = 0; j < c.mode_count(); ++j) {
+            const double a = fast.modal_displacement()[j], b = plain.modal_displacement()[j];
+            num += (a - b) * (a - b);
+            den += b * b;
+        }
+    }
+    return {std::sqrt(num / den), fast.statistics().contact_steps};
+}
+
+}  // namespace fretbuzz::testing
