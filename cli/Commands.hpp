@@ -20,6 +20,11 @@ void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
 void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
+void add_clean_command(CLI::App& app, Action& action);  // stale staging folders of killed runs
+
+// SIGINT and SIGTERM ask the running simulation to stop at its next step boundary (it then
+// discards its staging folder and the command exits 130 or 143) instead of killing it.
+void stop_cleanly_on_signals();
 
 // What `plot` and `report` take: a run's output directory and how to draw it.
 struct FigureArguments {

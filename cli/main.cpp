@@ -1,11 +1,29 @@
 // The fretbuzz command: a thin layer that parses arguments and calls the library.
-// Errors in the user's input exit with status 2, numerical failures with 3.
+// Exit status: 0 success, 2 bad input (command line or case), 1 an I/O failure (a full
+// disk, an unreadable output), 3 a numerical failure, 128 + the signal when interrupted.
+#include <csignal>
 #include <iostream>
 #include <string>
 
 #include "Commands.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/Version.hpp"
+
+namespace fretbuzz::cli {
+
+namespace {
+extern "C" void on_stop_signal(int signal) { request_stop(signal); }
+}  // namespace
+
+void stop_cleanly_on_signals() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
+}
+
+}  // namespace fretbuzz::cli
 
 int main(int argc, char** argv) {
     using namespace fretbuzz;
@@ -22,13 +40,23 @@ int main(int argc, char** argv) {
     cli::add_report_command(app, action);
     cli::add_sweep_command(app, action);
     cli::add_estimate_command(app, action);
+    cli::add_clean_command(app, action);
 
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version end the parse with status 0; any other parse error is bad input.
+        const int status = app.exit(e);
+        return status == 0 ? 0 : 2;
+    }
     try {
         return action ? action() : 0;
     } catch (const InputError& e) {
         std::cerr << "fretbuzz: error: " << e.what() << "\n";
         return 2;
+    } catch (const Interrupted& e) {
+        std::cerr << "\nfretbuzz: " << e.what() << "; no results written\n";
+        return 128 + e.signal();
     } catch (const SolverError& e) {
         std::cerr << "fretbuzz: solver error: " << e.what() << "\n";
         return 3;

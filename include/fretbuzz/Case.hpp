@@ -67,6 +67,13 @@ struct Case {
     void make_lossless();
     // Checks every field; throws InputError naming the first bad one.
     void validate() const;
+
+    // Limits of validate() on derived quantities: the decay of a mode within one step,
+    // the phase of its one-step map, and the contact law's exponent (the penalty solve is
+    // tested for alpha in [1, 3]; far above, K [g - u]^alpha under- and overflows).
+    static constexpr double kMaxSigmaDt = 100.0;
+    static constexpr double kMaxOmegaDt = 1e6;
+    static constexpr double kMaxExponent = 10.0;
 };
 
 }  // namespace fretbuzz
