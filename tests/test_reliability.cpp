@@ -245,10 +245,10 @@ TEST(Reliability, FullDiskExitsOneNamingTheFileAndLeavesEarlierResults) {
     const fs::path out = disk / "out";
     const fs::path log = scratch.path() / "log";
     // Earlier results that fit, then runs that fill the disk at different moments.
-    const std::vector<std::string> tiny = {"run", "bass-pluck", "--fs", "48000", "--duration", "0.01", "--output-rate", "1000", "-q"};
+    const std::vector<std::string> tiny = {"run", "bass-pop", "--fs", "400000", "--duration", "0.005", "-q"};
     ASSERT_EQ(run_args(with(tiny, {"--out", out.string()}), log), 0) << read_text(log);
     const std::string earlier = read_text(out / "summary.json");
-    for (const char* duration : {"0.3", "1", "0.15"}) {
+    for (const char* duration : {"0.3", "1", "0.5"}) {
         const int status = run_args({"run", "bass-pop", "--duration", duration, "--out", out.string(), "-q"}, log);
         const std::string message = read_text(log);
         SCOPED_TRACE(std::string("duration ") + duration + ": " + message);
