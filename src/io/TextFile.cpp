@@ -43,11 +43,11 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
                              " bytes long; names may have at most " + std::to_string(NAME_MAX) + " bytes");
     struct stat info {};
     if (::stat(path.c_str(), &info) != 0)
-        throw InputError(what + ": " + name + " cannot be read (" + std::strerror(errno) + ")");
+        throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
     if (!S_ISREG(info.st_mode)) throw InputError(what + ": " + name + " is not a regular file");
     // O_NONBLOCK: should the name become a FIFO after the check, opening it must not hang.
     const FileDescriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
-    if (fd.get() < 0) throw InputError(what + ": " + name + " cannot be read (" + std::strerror(errno) + ")");
+    if (fd.get() < 0) throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
     if (::fstat(fd.get(), &info) != 0 || !S_ISREG(info.st_mode))
         throw InputError(what + ": " + name + " is not a regular file");
     if (static_cast<std::size_t>(info.st_size) > max_bytes)
@@ -62,7 +62,7 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
         }
         const ssize_t n = ::read(fd.get(), text.data() + filled, text.size() - filled);
         if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw InputError(what + ": " + name + " cannot be read (" + std::strerror(errno) + ")");
+        if (n < 0) throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
         if (n == 0) break;
         filled += static_cast<std::size_t>(n);
     }
