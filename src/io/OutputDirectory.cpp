@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <climits>
 #include <csignal>
 #include <cstdio>
@@ -91,8 +92,11 @@ std::size_t remove_stale_in(const fs::path& parent) {
             fs::remove(lock, ec);
             ++removed;
         } else if (name.starts_with(kLockPrefix)) {
+            // A lock alone is either left over or a run's that has not locked it yet (the
+            // lock comes first): only old ones go.
             const fs::path staging = parent / (std::string(kStagingPrefix) + name.substr(kLockPrefix.size()));
-            if (!fs::exists(staging, ec) && lock_is_free(p)) fs::remove(p, ec);
+            const auto age = fs::file_time_type::clock::now() - fs::last_write_time(p, ec);
+            if (!ec && age > std::chrono::minutes(1) && !fs::exists(staging, ec) && lock_is_free(p)) fs::remove(p, ec);
         }
     }
     return removed;
