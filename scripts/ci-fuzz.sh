@@ -1,21 +1,13 @@
 #!/usr/bin/env bash
 # CI: a short libFuzzer run over the case-file parser (clang from Debian, with ASan and
 # UBSan), seeded with the built-in cases. FRETBUZZ_FUZZ_SECONDS sets its length (120 s).
+# Reuses the build of ci-sanitizers.sh when it ran first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${FRETBUZZ_FUZZ_BUILD:-build-fuzz}
+build=${FRETBUZZ_SANITIZER_BUILD:-build-sanitizers}
 seconds=${FRETBUZZ_FUZZ_SECONDS:-120}
-flags="-O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
 start=$(date +%s)
-launcher=()
-if command -v ccache >/dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-fi
-CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug "${launcher[@]}" \
-  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DFRETBUZZ_BUILD_TESTS=OFF -DFRETBUZZ_BUILD_BENCH=OFF -DFRETBUZZ_BUILD_PYTHON=OFF -DFRETBUZZ_BUILD_FUZZ=ON >/dev/null
-cmake --build "$build" -j2 --target case_file_fuzzer
+scripts/ci-sanitizer-build.sh case_file_fuzzer
 corpus="$build/fuzz-corpus"
 rm -rf "$corpus" && mkdir -p "$corpus"
 cp cases/*.toml "$corpus"/

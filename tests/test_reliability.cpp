@@ -163,15 +163,16 @@ TEST(Reliability, InterruptedRunsLeaveNothingAndKeepEarlierResults) {
     const fs::path earlier = scratch.path() / "earlier";
     const fs::path log = scratch.path() / "log";
     ASSERT_EQ(run_args(with(kShortRun, {"--out", earlier.string()}), log), 0) << read_text(log);
-    const std::string earlier_summary = read_text(earlier / "summary.json");
-    const std::string earlier_csv = read_text(earlier / "observation.csv");
+    std::string earlier_summary = read_text(earlier / "summary.json");
+    std::string earlier_csv = read_text(earlier / "observation.csv");
     std::mt19937 random(12345);
-    const std::vector<std::string> longer = {"run", "bass-pop", "--fs", "1000000", "--duration", "0.3",
+    const std::vector<std::string> longer = {"run", "bass-pop", "--fs", "1000000", "--duration", "1",
                                              "--observe", "0.4", "-q"};
     for (int trial = 0; trial < 8; ++trial) {
         const int signal = trial % 2 == 0 ? SIGINT : SIGTERM;
         const bool into_earlier = trial % 4 < 2;
-        const fs::path out = into_earlier ? earlier : scratch.path() / "new" / "a" / "b";
+        const fs::path fresh = scratch.path() / ("new" + std::to_string(trial));
+        const fs::path out = into_earlier ? earlier : fresh / "a" / "b";
         Child child(with(longer, {"--out", out.string()}), log);
         std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(20, 900)(random)));
         child.signal(signal);
@@ -179,7 +180,9 @@ TEST(Reliability, InterruptedRunsLeaveNothingAndKeepEarlierResults) {
         SCOPED_TRACE("trial " + std::to_string(trial) + ": " + read_text(log));
         if (status == 0) {  // finished before the signal: then its set is complete
             expect_complete_set(out, "finished run");
-            if (into_earlier) continue;
+            earlier_summary = read_text(earlier / "summary.json");  // the new earlier results
+            earlier_csv = read_text(earlier / "observation.csv");
+            continue;
         }
         ASSERT_EQ(status, 128 + signal);
         expect_no_staging(scratch.path());
@@ -187,7 +190,7 @@ TEST(Reliability, InterruptedRunsLeaveNothingAndKeepEarlierResults) {
             EXPECT_EQ(read_text(earlier / "summary.json"), earlier_summary);
             EXPECT_EQ(read_text(earlier / "observation.csv"), earlier_csv);
         } else {
-            EXPECT_FALSE(fs::exists(scratch.path() / "new")) << "the new --out a/b (or its parents) was left behind";
+            EXPECT_FALSE(fs::exists(fresh)) << "the new --out a/b (or its parents) was left behind";
         }
     }
 }
