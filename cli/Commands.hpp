@@ -4,11 +4,16 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace fretbuzz::cli {
 
 using Action = std::function<int()>;
+
+// The command line as typed (the arguments joined by spaces): the outputs record it.
+const std::string& command_line();
 
 // Each adds its subcommand to app and sets `action` to run when it is chosen.
 void add_run_command(CLI::App& app, Action& action);
@@ -19,6 +24,7 @@ void add_modes_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
 void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
+void add_setup_command(CLI::App& app, Action& action);  // neck set-up study, buzz map
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
 void add_clean_command(CLI::App& app, Action& action);  // stale staging folders of killed runs
 
@@ -31,12 +37,16 @@ struct FigureArguments {
     std::string dir;
     std::string animation = "gif";
     bool quiet = false;
+    std::vector<std::string> formats;  // png, pdf, svg (default png)
+    std::vector<std::string> zooms;    // START:END in s, the zoomed windows of signal.png
+    std::optional<double> db_range;    // of the spectrogram, below its peak
+    std::optional<double> max_frequency;  // of the spectrogram, Hz
 };
 void add_figure_options(CLI::App& command, FigureArguments& args);
 
-// The PNG plots (and the animation: "gif", "mp4" or "none") of a run's output directory;
-// throws InputError naming DIR if it holds no results.h5.
-void make_plots(const std::filesystem::path& dir, const std::string& animation, bool quiet);
+// The plots (and the animation: "gif", "mp4" or "none") of a run's output directory;
+// throws InputError naming DIR if it holds no results.h5, or naming a bad option.
+void make_plots(const FigureArguments& args);
 // The plots, then report.html; returns the exit status.
 int make_report(const std::filesystem::path& dir, bool quiet);
 

@@ -73,4 +73,17 @@ int run_python_script(std::string_view script, const std::vector<std::string>& a
     return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+int run_package_main(const std::string& module, const std::vector<std::string>& arguments) {
+    const std::string script =
+        "import importlib, sys\n"
+        "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
+        "module = importlib.import_module('fretbuzz.' + sys.argv.pop(1))\n"
+        "sys.exit(module.main(sys.argv[1:]))\n";
+    std::string paths = FRETBUZZ_PYTHON_DIRS;
+    if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
+    std::vector<std::string> args{paths, module};
+    args.insert(args.end(), arguments.begin(), arguments.end());
+    return run_python_script(script, args);
+}
+
 }  // namespace fretbuzz::cli

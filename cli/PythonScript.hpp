@@ -13,4 +13,8 @@ std::string_view plot_script();  // python/fretbuzz/plots.py, embedded at build 
 // The script's exit status; throws std::runtime_error if the interpreter cannot be started.
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments);
 
+// Runs main(arguments) of a module of the fretbuzz Python package (e.g. "sweeps"), this
+// build's copy first (then $FRETBUZZ_PYTHONPATH, then an installed one); its exit status.
+int run_package_main(const std::string& module, const std::vector<std::string>& arguments);
+
 }  // namespace fretbuzz::cli

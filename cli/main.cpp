@@ -23,10 +23,15 @@ void stop_cleanly_on_signals() {
     for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
 }
 
+namespace {
+std::string invocation;
+}  // namespace
+const std::string& command_line() { return invocation; }
 }  // namespace fretbuzz::cli
 
 int main(int argc, char** argv) {
     using namespace fretbuzz;
+    for (int k = 0; k < argc; ++k) cli::invocation.append(k > 0 ? " " : "").append(argv[k]);
     CLI::App app{"fretbuzz: strings vibrating against obstacles (modal scheme, exact energy balance)"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "fretbuzz " + std::string(version));
@@ -39,6 +44,7 @@ int main(int argc, char** argv) {
     cli::add_plot_command(app, action);
     cli::add_report_command(app, action);
     cli::add_sweep_command(app, action);
+    cli::add_setup_command(app, action);
     cli::add_estimate_command(app, action);
     cli::add_clean_command(app, action);
 

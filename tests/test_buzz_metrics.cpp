@@ -141,9 +141,15 @@ TEST(BuzzMetrics, APointObstacleIsTouchedOnlyByNotesAboveFretK) {
         const bool touched = row.metrics[column("contact_steps")] > 0.0;
         EXPECT_EQ(touched, n > k) << "fret " << n;
         EXPECT_EQ(row.features, n > k ? "1" : "") << "fret " << n;
-        // Untouched, the run is the obstacle-free run: 0 dB.
+        // Untouched, the run is the obstacle-free run: the buzz band unchanged (0 dB) and
+        // no contact-generated signal (no buzz level); touched, a contact-generated one.
         if (!touched) {
-            EXPECT_NEAR(row.metrics[column("buzz_dB")], 0.0, 1e-9) << "fret " << n;
+            EXPECT_NEAR(row.metrics[column("hf_change_dB")], 0.0, 1e-9) << "fret " << n;
+            EXPECT_EQ(row.metrics[column("hf_energy_contact_m2")], 0.0) << "fret " << n;
+            EXPECT_TRUE(std::isnan(row.metrics[column("buzz_dB")])) << "fret " << n;
+        } else {
+            EXPECT_GT(row.metrics[column("hf_energy_contact_m2")], 0.0) << "fret " << n;
+            EXPECT_TRUE(std::isfinite(row.metrics[column("buzz_dB")])) << "fret " << n;
         }
     }
 }

@@ -53,8 +53,28 @@ TEST_F(ReportDirectory, EmbedsFiguresAndAudioAndTabulatesTheSummary) {
     EXPECT_NE(page.find("src=\"data:audio/wav;base64," + base64_encode("RIFF") + "\""), std::string::npos);
     EXPECT_NE(page.find("src=\"data:audio/wav;base64," + base64_encode("RIFF2") + "\""), std::string::npos);
     EXPECT_NE(page.find("x = 0.5 m"), std::string::npos);
-    EXPECT_NE(page.find("<tr><th>fs</th><td>400000.0</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>Sampling rate fs</th><td>400000 Hz</td></tr>"), std::string::npos) << page;
     EXPECT_EQ(page.find("fig-spectrogram"), std::string::npos);  // absent figures are left out
+}
+
+TEST_F(ReportDirectory, ShowsUnitsRoundedNumbersGainsAndProvenance) {
+    write("summary.json", R"({"case": "demo", "duration": 0.0123456789, "energy_initial_J": 1.234567890123e-05,
+        "contact_steps": 42, "some_new_key": 3.14159265358979,
+        "audio": [{"file": "audio.wav", "x_m": 0.854, "signal": "displacement", "full_scale": 0.001234567,
+                   "full_scale_unit": "m", "rate_hz": 48000.0, "fade_in_s": 0.005, "fade_out_s": 0.0}],
+        "provenance": {"fretbuzz_version": "9.9.9", "created_utc": "2026-01-01T00:00:00Z", "command_line": "fretbuzz run x",
+                       "platform": "Linux", "case_sha256": "abc123", "case_text": "name = 1",
+                       "mode_table": {"frequency_hz": [98.0, 196.0, 294.5], "sigma_per_s": [1, 2, 3]}}})");
+    const std::string page = render_html_report(dir_);
+    EXPECT_NE(page.find("<tr><th>Simulated duration</th><td>0.01235 s</td></tr>"), std::string::npos) << page;
+    EXPECT_NE(page.find("<tr><th>Initial energy H(1/2)</th><td>1.235e-05 J</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>Steps with contact</th><td>42</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>some_new_key</th><td>3.142</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<td>0.001235 m</td>"), std::string::npos);  // the WAV's full scale
+    EXPECT_NE(page.find("<tr><th>fretbuzz version</th><td>9.9.9</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>Case file SHA-256</th><td>abc123</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("3 modes, 98 to 294.5 Hz"), std::string::npos);
+    EXPECT_EQ(page.find("name = 1"), std::string::npos);  // the case text is shown from results.h5 only
 }
 
 TEST_F(ReportDirectory, WithoutSummaryNamesTheDirectory) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <string>
 
@@ -90,6 +91,20 @@ TEST(Sweep, RowsEqualSingleRunsOverKAndFs) {
         RunObserver* observers[] = {&metrics};
         const RunSummary summary = simulate(c, observers);
         const BuzzReport& b = metrics.report();
+        // The buzz level: what the contacts added to the signal, against the same run
+        // with no obstacle, in the buzz band.
+        Case free_case = c;
+        free_case.obstacle_height_m.assign(c.obstacle_height_m.size(), -std::numeric_limits<double>::infinity());
+        BuzzMetrics free_metrics(spec.buzz_band_hz);
+        RunObserver* free_observers[] = {&free_metrics};
+        simulate(free_case, free_observers);
+        std::vector<double> added = metrics.signal();
+        for (std::size_t i = 0; i < added.size(); ++i) added[i] -= free_metrics.signal()[i];
+        const double e_added = high_frequency_energy(added, summary.output_rate_hz, spec.buzz_band_hz);
+        const double e_free = free_metrics.report().high_frequency_energy;
+        EXPECT_EQ(row.metrics[metric("hf_energy_free_m2")], e_free);
+        EXPECT_EQ(row.metrics[metric("hf_energy_contact_m2")], e_added);
+        EXPECT_EQ(row.metrics[metric("buzz_dB")], 10.0 * std::log10(e_added / e_free));
         EXPECT_GT(b.contact_steps, 0);
         EXPECT_EQ(row.metrics[metric("contact_steps")], static_cast<double>(b.contact_steps));
         EXPECT_EQ(row.metrics[metric("peak_contact_force_N")], b.peak_force_n);
@@ -134,6 +149,31 @@ TEST(Sweep, ResumeRunsOnlyTheMissingRowsAndGivesTheSameTable) {
     // A different spec cannot resume into this directory.
     const SweepSpec other = f.spec("[[parameter]]\nkey = \"contact.K\"\nvalues = [1e8]\n");
     EXPECT_THROW(run_sweep(other, dir, options), InputError);
+}
+
+// Asked to stop (Ctrl-C from Python), a sweep finishes the runs under way, keeps their
+// rows, writes no table, and a resumed sweep completes it with the same table.
+TEST(Sweep, AStoppedSweepKeepsItsRowsAndResumes) {
+    SweepFixture f;
+    const SweepSpec spec = f.spec("[[parameter]]\nkey = \"contact.K\"\nvalues = [1e8, 1e9, 1e10, 1e11]\n");
+    const ScratchDir out("sweep-stop");
+    run_sweep(spec, out.path() / "whole");
+    SweepOptions options;
+    options.jobs = 1;
+    std::size_t finished = 0;
+    options.progress = [&](const SweepProgress&) { ++finished; };
+    options.stop = [&] { return finished >= 2; };
+    const SweepOutcome stopped = run_sweep(spec, out.path() / "s", options);
+    EXPECT_TRUE(stopped.interrupted);
+    EXPECT_EQ(stopped.computed, 2u);
+    EXPECT_FALSE(std::filesystem::exists(out.path() / "s" / "results.csv"));
+    SweepOptions resume;
+    resume.resume = true;
+    const SweepOutcome rest = run_sweep(spec, out.path() / "s", resume);
+    EXPECT_FALSE(rest.interrupted);
+    EXPECT_EQ(rest.computed, 2u);
+    EXPECT_EQ(rest.resumed, 2u);
+    EXPECT_EQ(read_text(out.path() / "s" / "results.csv"), read_text(out.path() / "whole" / "results.csv"));
 }
 
 TEST(Sweep, AFailedRunStaysInTheTableWithItsError) {

@@ -1,9 +1,11 @@
-// `fretbuzz cases` lists the built-in cases; `fretbuzz show CASE` prints one's file.
+// `fretbuzz cases` lists the built-in cases; `fretbuzz show CASE` prints one's file;
+// `fretbuzz export CASE DIR` writes it with its data files.
 #include <iostream>
 #include <memory>
+#include <utility>
 
 #include "../Commands.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/CaseExport.hpp"
 
 namespace fretbuzz::cli {
 
@@ -21,6 +23,16 @@ void add_cases_commands(CLI::App& app, Action& action) {
     show->callback([name, &action] {
         action = [name] {
             std::cout << builtin_case_text(*name);
+            return 0;
+        };
+    });
+    auto exported = std::make_shared<std::pair<std::string, std::string>>();
+    CLI::App* exp = app.add_subcommand("export", "Write a built-in case file and its data files to DIR, to edit and run");
+    exp->add_option("case", exported->first, "Built-in case name")->required();
+    exp->add_option("dir", exported->second, "Folder to write into (created)")->required();
+    exp->callback([exported, &action] {
+        action = [exported] {
+            for (const auto& path : export_builtin_case(exported->first, exported->second)) std::cout << path.string() << "\n";
             return 0;
         };
     });

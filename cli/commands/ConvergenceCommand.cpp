@@ -1,12 +1,16 @@
 // `fretbuzz convergence`: run a case at several sampling rates (or penalty stiffnesses),
 // compare each with a reference run, print the table, write convergence.csv and a plot.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "../Commands.hpp"
+#include "../PythonScript.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/OutputDirectory.hpp"
@@ -54,16 +58,34 @@ ConvergenceStudy make_study(const ConvergenceArguments& a) {
     return study;
 }
 
+// The log-log plot, drawn by the plotting module from the CSV; an empty string when drawn,
+// else why not (the CSV is complete either way).
+std::string plot_convergence(const ConvergenceReport& r, const std::filesystem::path& csv,
+                             const std::filesystem::path& png) {
+    std::ostringstream title, threshold;
+    title << r.case_name << ": error against the reference " << parameter_name(r.parameter) << " = " << r.reference
+          << ", window " << r.window_s << " s";
+    threshold << r.threshold;
+    try {
+        const int status = run_python_script(plot_script(), {"--convergence", csv.string(), png.string(), title.str(),
+                                                             threshold.str(), parameter_name(r.parameter)});
+        if (status == 0 && std::filesystem::exists(png)) return "";
+        return "the plotting module failed (is python3-matplotlib installed?)";
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+}
+
 int convergence_command(const ConvergenceArguments& a) {
     const ConvergenceStudy study = make_study(a);
     OutputDirectory out(a.out);
     const ConvergenceReport report = run_convergence(study);
     const auto csv = out.staged("convergence.csv");
     write_convergence_csv(report, csv);
-    const PlotOutcome plot = plot_convergence(report, csv, out.staged("convergence.png"));
+    const std::string plot_problem = plot_convergence(report, csv, out.staged("convergence.png"));
     out.commit();
     std::cout << format_convergence_table(report);
-    std::cerr << "fretbuzz: outputs in " << out.path().string() << (plot.written ? "" : " (no plot: " + plot.message + ")")
+    std::cerr << "fretbuzz: outputs in " << out.path().string() << (plot_problem.empty() ? "" : " (no plot: " + plot_problem + ")")
               << "\n";
     return 0;
 }

@@ -1,5 +1,6 @@
 // `fretbuzz report DIR`: the plots, then one self-contained report.html (figures, audio
 // players, summary and case file) in the run's output directory.
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -12,8 +13,11 @@ namespace fretbuzz::cli {
 namespace {
 
 
-int report_command(const FigureArguments& a) {
-    make_plots(a.dir, a.animation, a.quiet);
+int report_command(FigureArguments a) {
+    // The page embeds the PNGs: draw them whatever other formats are asked for.
+    if (!a.formats.empty() && std::find(a.formats.begin(), a.formats.end(), "png") == a.formats.end())
+        a.formats.emplace_back("png");
+    make_plots(a);
     const std::filesystem::path page = write_html_report(a.dir);
     if (!a.quiet) std::cerr << "fretbuzz: report: " << page.string() << "\n";
     return 0;
@@ -22,7 +26,10 @@ int report_command(const FigureArguments& a) {
 }  // namespace
 
 int make_report(const std::filesystem::path& dir, bool quiet) {
-    return report_command({.dir = dir.string(), .animation = "gif", .quiet = quiet});
+    FigureArguments a;
+    a.dir = dir.string();
+    a.quiet = quiet;
+    return report_command(a);
 }
 
 void add_report_command(CLI::App& app, Action& action) {

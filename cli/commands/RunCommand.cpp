@@ -38,6 +38,7 @@ struct RunArguments {
     bool no_free_flight = false;
     bool dense_contact_map = false;
     bool quiet = false;
+    AudioFades fades;
 };
 
 double parse_rate(const std::string& text) {
@@ -91,12 +92,16 @@ int run_command(const RunArguments& a) {
         throw InputError(out_of_range_message("--snapshots (Hz)", a.snapshot_rate_hz,
                                               "must be in [0, fs] (0 for none)"));
     if (a.snapshot_until_s) require_positive("--snapshot-until (s)", *a.snapshot_until_s);
+    require_non_negative("--fade-in (s)", a.fades.in_s);
+    require_non_negative("--fade-out (s)", a.fades.out_s);
 
     RunOutputs outputs(a.out, c,
                        {.velocity_audio = a.velocity_audio,
                         .snapshot_rate_hz = a.snapshot_rate_hz,
                         .snapshot_until_s = a.snapshot_until_s.value_or(std::numeric_limits<double>::infinity()),
-                        .dense_contact_map = a.dense_contact_map});
+                        .dense_contact_map = a.dense_contact_map,
+                        .command_line = command_line(),
+                        .fades = a.fades});
 
     RunOptions options;
     options.plan.screen_contacts = !a.no_screen;
@@ -139,6 +144,10 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
     cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");
+    cmd->add_option("--fade-in", args->fades.in_s, "Raised-cosine fade-in of the WAV files in s (no click at the start)")
+        ->capture_default_str();
+    cmd->add_option("--fade-out", args->fades.out_s, "Raised-cosine fade-out of the WAV files in s")
+        ->capture_default_str();
     cmd->add_flag("--velocity-audio", args->velocity_audio,
                   "Also write the velocity (what a magnetic pickup senses) as velocity*.wav");
     cmd->add_option("--snapshots", args->snapshot_rate_hz, "Store string shapes in results.h5 at this rate in Hz")

@@ -22,6 +22,7 @@ struct SweepArguments {
     unsigned jobs = 0;
     bool resume = false;
     std::string scheduler;
+    double scheduler_timeout = 10.0;
     bool quiet = false;
 };
 
@@ -32,24 +33,20 @@ std::string clock_text(double seconds) {
     return text;
 }
 
-// The Dask driver lives in Python (fretbuzz_sweep.py); the build's module and the source
-// tree's python/ folder are searched before the installed package.
+// The Dask driver lives in the Python package (fretbuzz.sweeps, the same compiled library
+// on every worker).
 int dask_sweep(const SweepArguments& a) {
-    const std::string script =
-        "import sys\n"
-        "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
-        "import fretbuzz_sweep\n"
-        "sys.exit(fretbuzz_sweep.main(sys.argv[1:]))\n";
-    std::string paths = FRETBUZZ_PYTHON_DIRS;
-    if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
-    std::vector<std::string> args{paths, a.spec, "--out", a.out, "--scheduler", a.scheduler};
+    std::vector<std::string> args{a.spec, "--out", a.out, "--scheduler", a.scheduler, "--timeout",
+                                  std::to_string(a.scheduler_timeout)};
     if (a.resume) args.push_back("--resume");
     if (a.quiet) args.push_back("--quiet");
-    return run_python_script(script, args);
+    return run_package_main("sweeps", args);
 }
 
 int sweep_command(const SweepArguments& a) {
     if (!a.scheduler.empty()) {
+        if (!(a.scheduler_timeout > 0.0 && a.scheduler_timeout <= 3600.0))
+            throw InputError(out_of_range_message("--scheduler-timeout", a.scheduler_timeout, "must be in (0, 3600] s"));
         if (a.jobs != 0) throw InputError("--jobs: with --scheduler the cluster's workers set the parallelism");
         return dask_sweep(a);
     }
@@ -87,6 +84,8 @@ void add_sweep_command(CLI::App& app, Action& action) {
     cmd->add_option("--jobs", args->jobs, "Runs at a time on this machine (default: the hardware's threads)");
     cmd->add_flag("--resume", args->resume, "Finish an interrupted sweep in --out: run only the missing rows");
     cmd->add_option("--scheduler", args->scheduler, "Run on a Dask cluster: the scheduler's address, tcp://HOST:PORT");
+    cmd->add_option("--scheduler-timeout", args->scheduler_timeout,
+                    "Seconds to wait for the scheduler to answer (default 10)");
     cmd->add_flag("--quiet", args->quiet, "No progress lines");
     cmd->callback([args, &action] { action = [args] { return sweep_command(*args); }; });
 }

@@ -8,5 +8,6 @@ void bind_case(pybind11::module_& m);     // Case, load_case, cases
 void bind_results(pybind11::module_& m);  // RecordedRun (wrapped by fretbuzz.Results)
 void bind_run(pybind11::module_& m);      // simulate, Progress
 void bind_estimate(pybind11::module_& m);  // estimate
+void bind_sweep(pybind11::module_& m);     // SweepSpec, SweepStore, run_sweep_local
 
 }  // namespace fretbuzz::python

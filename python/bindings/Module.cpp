@@ -16,4 +16,5 @@ PYBIND11_MODULE(_core, m) {
     fretbuzz::python::bind_results(m);
     fretbuzz::python::bind_run(m);
     fretbuzz::python::bind_estimate(m);
+    fretbuzz::python::bind_sweep(m);
 }

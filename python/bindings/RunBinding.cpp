@@ -27,9 +27,32 @@ namespace py = pybind11;
 
 namespace {
 
+// The Python program that asked for the run, for the outputs' provenance.
+std::string python_command_line() {
+    std::string line = "python";
+    for (const py::handle arg : py::module_::import("sys").attr("argv")) {
+        line.push_back(' ');
+        line.append(py::str(arg).cast<std::string>());
+    }
+    line.append(" (fretbuzz.run)");
+    return line;
+}
+
+// The WAV fades: None keeps the writers' defaults.
+AudioFades fades_of(const py::object& fade_in, const py::object& fade_out) {
+    AudioFades fades;
+    if (!fade_in.is_none()) fades.in_s = to_number(fade_in, "fade_in");
+    if (!fade_out.is_none()) fades.out_s = to_number(fade_out, "fade_out");
+    require_non_negative("fade_in (s)", fades.in_s);
+    require_non_negative("fade_out (s)", fades.out_s);
+    return fades;
+}
+
 RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool screen, bool free_flight, const py::object& out,
-                          bool velocity_audio, const py::object& snapshot_until, const py::object& progress) {
+                          bool velocity_audio, const py::object& snapshot_until, const py::object& progress,
+                          const py::object& fade_in, const py::object& fade_out) {
     c.validate();
+    const AudioFades fades = fades_of(fade_in, fade_out);
     const double snapshot_rate = to_number(snapshots, "snapshots");
     if (!(snapshot_rate >= 0.0 && snapshot_rate <= c.run.sample_rate_hz))
         throw InputError(out_of_range_message("snapshots (Hz)", snapshot_rate, "must be in [0, fs] (0 for none)"));
@@ -44,7 +67,9 @@ RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool scree
         outputs.emplace(py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>(), c,
                         RunOutputOptions{.velocity_audio = velocity_audio,
                                          .snapshot_rate_hz = snapshot_rate,
-                                         .snapshot_until_s = until});
+                                         .snapshot_until_s = until,
+                                         .command_line = python_command_line(),
+                                         .fades = fades});
     ResultRecorder recorder(snapshot_rate);
     std::vector<RunObserver*> observers{&recorder};
     if (outputs) observers.insert(observers.end(), outputs->observers().begin(), outputs->observers().end());
@@ -87,8 +112,9 @@ void bind_run(py::module_& m) {
     m.def("simulate", &simulate_case, py::arg("case"), py::kw_only(), py::arg("snapshots") = 0.0,
           py::arg("screen") = true, py::arg("free_flight") = true, py::arg("out") = py::none(),
           py::arg("velocity_audio") = false, py::arg("snapshot_until") = py::none(), py::arg("progress") = py::none(),
+          py::arg("fade_in") = py::none(), py::arg("fade_out") = py::none(),
           "simulate(case: Case, *, snapshots=0.0, screen=True, free_flight=True, out=None, velocity_audio=False,\n"
-          "         snapshot_until=None, progress=None) -> RecordedRun\n\n"
+          "         snapshot_until=None, progress=None, fade_in=None, fade_out=None) -> RecordedRun\n\n"
           "The compiled run behind fretbuzz.run(); see there.");
 }
 

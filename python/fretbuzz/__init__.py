@@ -6,6 +6,7 @@
     c = fretbuzz.load_case("bass-pop"); c["K"] = 1e12
     r = fretbuzz.run(c, fs=400000, duration=0.05, out="out/pop")   # the CLI's files too
     r.plot(); r.audio(); r.save("elsewhere")
+    table = fretbuzz.sweep("study.toml", out="out/study", progress=True)  # pandas DataFrame
 
 The compiled part (fretbuzz._core) is the same C++ library as the `fretbuzz` program.
 """
@@ -24,11 +25,15 @@ __all__ = ["Case", "InputError", "Progress", "Results", "SolverError", "cases", 
 
 # Every other public function of the compiled part (each binding file in python/bindings/
 # adds its own, e.g. estimate) is part of the package too, except the internals run() wraps.
-_INTERNAL = {"simulate", "audio_file_names"}
+_INTERNAL = {"simulate", "audio_file_names", "run_sweep_local"}
 for _name in dir(_core):
     if not _name.startswith("_") and _name not in globals() and _name not in _INTERNAL:
         globals()[_name] = getattr(_core, _name)
         __all__.append(_name)
+
+from .sweeps import read_table, sweep  # noqa: E402  (after the compiled names it uses)
+
+__all__ += ["sweep", "read_table"]
 
 CaseLike = Union[str, "os.PathLike[str]", Case]
 
@@ -71,7 +76,8 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
         K: Optional[float] = None, alpha: Optional[float] = None, snapshots: float = 0.0,
         snapshot_until: Optional[float] = None, screen: bool = True, free_flight: bool = True,
         out: Union[str, "os.PathLike[str]", None] = None, velocity_audio: bool = False,
-        progress: Union[bool, Callable[[Progress], Any]] = False) -> Results:
+        progress: Union[bool, Callable[[Progress], Any]] = False, fade_in: Optional[float] = None,
+        fade_out: Optional[float] = None) -> Results:
     """Runs a case and returns its Results.
 
     case: a built-in name (see cases()), a path to a .toml file, or a Case (not modified).
@@ -80,7 +86,9 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
     lossless: remove all damping. snapshots: also record the string shape at this rate (Hz),
     up to snapshot_until (s). screen, free_flight: the fast paths (False: the reference paths).
     out: also write the files of `fretbuzz run --out DIR` there (CSV, WAV, results.h5,
-    summary.json), through the same writers; velocity_audio adds velocity.wav.
+    summary.json), through the same writers; velocity_audio adds velocity.wav; fade_in and
+    fade_out (s): the WAV files' raised-cosine fades (default 0.005 s in, none out; the
+    summary records them with each file's full scale).
     progress: True for a progress bar (tqdm where installed), or a callable taking a
     fretbuzz.Progress, called about twice a second.
     Ctrl-C stops the run within about half a second with KeyboardInterrupt; `out` then
@@ -99,7 +107,7 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
     if lossless:
         c.make_lossless()
     settings = {"snapshots": snapshots, "snapshot_until": snapshot_until, "screen": screen,
-                "free_flight": free_flight, "velocity_audio": velocity_audio}
+                "free_flight": free_flight, "velocity_audio": velocity_audio, "fade_in": fade_in, "fade_out": fade_out}
     callback, bar = _progress_callback(progress, c.duration)
     try:
         recorded = _core.simulate(c, out=out, progress=callback, **settings)

@@ -2,6 +2,7 @@
 """Figures of one fretbuzz run, drawn from the results.h5 in its output directory.
 
 Usage: python3 -m fretbuzz.plots DIR (or `fretbuzz plot DIR`) [--animation gif|mp4|none] [--quiet]
+       [--format png|pdf|svg ...] [--zoom START:END ...] [--db-range DB] [--max-frequency HZ]
 
 Writes into DIR:
   signal.png             displacement at the first observation point, zoomed windows, energy
@@ -25,7 +26,12 @@ import sys
 ZOOM_WINDOWS = 3
 MAX_CONTACTOGRAM_COLUMNS = 700  # about one pixel per column, so short contacts stay visible
 MAX_ANIMATION_FRAMES = 100
+ANIMATION_DPI = 128  # 8 x 3 inches: 1024 x 384 pixels
 SNAPSHOT_PANELS = 6
+# The spectrogram's colours span this many dB below its peak, up to this frequency: 60 dB
+# shows a decaying string's partials without turning the picture black.
+DB_RANGE = 60.0
+MAX_FREQUENCY = 10000.0
 
 
 def parse_arguments(argv):
@@ -35,7 +41,18 @@ def parse_arguments(argv):
     parser.add_argument("--quiet", action="store_true")
     parser.add_argument("--format", dest="formats", action="append", choices=["png", "pdf", "svg"],
                         help="file format of the figures (repeatable; default png)")
+    parser.add_argument("--zoom", dest="zoom", action="append", type=zoom_window,
+                        help="a zoomed window START:END in s of signal.png (repeatable)")
+    parser.add_argument("--db-range", type=float, default=DB_RANGE, help="spectrogram colour range in dB")
+    parser.add_argument("--max-frequency", type=float, default=MAX_FREQUENCY, help="spectrogram top frequency (Hz)")
     return parser.parse_args(argv)
+
+
+def zoom_window(text):
+    start, end = (float(v) for v in text.split(":"))
+    if not 0 <= start < end:
+        raise ValueError(f"zoom window {text}: need 0 <= START < END")
+    return start, end
 
 
 class Results:
@@ -84,8 +101,9 @@ def reduced_contact_map(f, np, max_rows=None):
 
 
 # The file formats each figure is saved in (plot_directory's `formats`); PDF and SVG are
-# vector formats for papers.
+# vector formats for papers. OPTIONS: plot_directory's zoom windows and spectrogram range.
 FORMATS = ["png"]
+OPTIONS = {"zoom": None, "db_range": DB_RANGE, "max_frequency": MAX_FREQUENCY}
 
 
 def save(fig, directory, name, written):
@@ -106,15 +124,15 @@ def zoom_windows(duration, first_contact):
 def plot_signal(r, plt, np, directory, written):
     t, u = r.time, r.displacement[:, 0] * 1e3
     fig = plt.figure(figsize=(10, 7.5), layout="constrained")
-    grid = fig.add_gridspec(3, ZOOM_WINDOWS, height_ratios=[1.2, 1, 1])
+    duration = t[-1] if len(t) else 0.0
+    windows = OPTIONS["zoom"] or zoom_windows(duration, float(r.summary.get("first_contact_s", -1.0)))
+    grid = fig.add_gridspec(3, len(windows), height_ratios=[1.2, 1, 1])
     top = fig.add_subplot(grid[0, :])
     top.plot(t, u, lw=0.6, color="C0")
     top.set_ylabel("u (mm)")
     top.set_title(f"{r.case}: displacement at x = {r.points[0]:g} m")
-    duration = t[-1] if len(t) else 0.0
-    windows = zoom_windows(duration, float(r.summary.get("first_contact_s", -1.0)))
     for k, (a, b) in enumerate(windows):
-        letter = "abc"[k]
+        letter = "abcdefghijklmnopqrstuvwxyz"[k % 26]
         top.axvspan(a, b, color="C1", alpha=0.25)
         top.annotate(f"({letter})", (0.5 * (a + b), 0.98), xycoords=("data", "axes fraction"), ha="center", va="top")
         zoom = fig.add_subplot(grid[1, k])
@@ -158,11 +176,12 @@ def plot_spectrogram(r, plt, np, directory, written):
             spectrum, frequencies, times, image = ax.specgram(
                 u - np.mean(u), NFFT=nfft, Fs=rate, noverlap=nfft * 7 // 8, window=np.hanning(nfft),
                 scale="dB", mode="psd", cmap="magma")
+        # u in m: the density is in m^2/Hz, so its dB are re 1 m^2/Hz.
         db = 10 * np.log10(np.maximum(spectrum, 1e-300))
-        top = db[frequencies <= 10000].max()
-        image.set_clim(top - 100, top)
-        fig.colorbar(image, ax=ax, label="power spectral density (dB)")
-    ax.set_ylim(0, min(10000, rate / 2))
+        top = db[frequencies <= OPTIONS["max_frequency"]].max()
+        image.set_clim(top - OPTIONS["db_range"], top)
+        fig.colorbar(image, ax=ax, label="power spectral density (dB re 1 m$^2$/Hz)")
+    ax.set_ylim(0, min(OPTIONS["max_frequency"], rate / 2))
     ax.set_xlabel("t (s)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(f"{r.case}: spectrogram at x = {r.points[0]:g} m")
@@ -204,10 +223,13 @@ def plot_contactogram(r, plt, np, directory, written):
         # visible whatever the resolution; the strongest are drawn last, on top.
         force = r.map_force[rows, points]
         order = np.argsort(force)
+        # Three decades below the strongest contact, labelled at 1, 2 and 5 of each decade.
+        low, high = max(force.min(), force.max() * 1e-3), force.max()
         image = ax.scatter(r.map_time[rows[order]], r.grid_x[points[order]], c=force[order], s=6, marker="s",
-                           linewidths=0, cmap="viridis", norm=LogNorm(vmin=max(force.min(), force.max() * 1e-6),
-                                                                      vmax=force.max()))
-        fig.colorbar(image, ax=ax, label="largest contact force per interval (N/m)")
+                           linewidths=0, cmap="viridis", norm=LogNorm(vmin=low, vmax=high))
+        bar = fig.colorbar(image, ax=ax, label="largest contact force per interval (N/m)")
+        bar.set_ticks(colour_ticks(low, high, np))
+        bar.set_ticklabels([f"{v:.3g}" for v in colour_ticks(low, high, np)])
         margin = 0.02 * r.length
         ax.set_ylim(max(0.0, r.grid_x[points].min() - margin), min(r.length, r.grid_x[points].max() + margin))
         # Contacts often last a fraction of the run (the pop: 80 ms of 3 s): show their span.
@@ -218,6 +240,13 @@ def plot_contactogram(r, plt, np, directory, written):
     ax.set_title(f"{r.case}: contactogram")
     save(fig, directory, "contactogram.png", written)
     plt.close(fig)
+
+
+def colour_ticks(low, high, np):
+    """Ticks at 1, 2, 5 x 10^k between low and high (and the ends when fewer than three fall inside)."""
+    ticks = [m * 10.0 ** k for k in range(int(np.floor(np.log10(low))), int(np.ceil(np.log10(high))) + 1)
+             for m in (1, 2, 5) if low <= m * 10.0 ** k <= high]
+    return ticks if len(ticks) >= 3 else sorted(set(ticks) | {low, high})
 
 
 def draw_obstacle(ax, r, np, floor):
@@ -298,7 +327,7 @@ def animate(r, plt, np, directory, written, form):
     else:
         writer, name = animation.PillowWriter(fps=15), "animation.gif"
     path = os.path.join(directory, name)
-    movie.save(path, writer=writer, dpi=72)
+    movie.save(path, writer=writer, dpi=ANIMATION_DPI)
     written.append(path)
     plt.close(fig)
 
@@ -311,8 +340,13 @@ def remove_stale(directory, names):
             os.remove(path)
 
 
-def plot_directory(directory, animation="none", formats=("png",), quiet=True):
+def plot_directory(directory, animation="none", formats=("png",), quiet=True, zoom=None, db_range=DB_RANGE,
+                   max_frequency=MAX_FREQUENCY):
     """Draws every figure of the run in `directory` (holding results.h5); returns the paths written.
+
+    formats: any of "png", "pdf", "svg". zoom: the zoomed windows of signal.png as (start,
+    end) pairs in s (default: the first contacts, the middle, the end). db_range: the
+    spectrogram's colour range below its peak (dB), up to max_frequency (Hz).
 
     Keeps the current Matplotlib backend (inline figures in notebooks are closed after saving).
     """
@@ -324,6 +358,10 @@ def plot_directory(directory, animation="none", formats=("png",), quiet=True):
     if unknown or not formats:
         raise ValueError(f"formats: must be some of png, pdf, svg, got {sorted(unknown) or 'none'}")
     FORMATS[:] = list(formats)
+    if not db_range > 0 or not max_frequency > 0:
+        raise ValueError(f"db_range and max_frequency: must be > 0, got {db_range} and {max_frequency}")
+    OPTIONS.update(zoom=[tuple(map(float, w)) for w in zoom] if zoom else None, db_range=float(db_range),
+                   max_frequency=float(max_frequency))
     path = os.path.join(directory, "results.h5")
     if not os.path.isfile(path):
         raise FileNotFoundError(f"DIR {directory}: holds no results.h5")
@@ -410,7 +448,41 @@ def plot_estimate(directory, quiet):
     return 0
 
 
+def plot_convergence(csv_path, image_path, title, threshold, name):
+    """The log-log plot of `fretbuzz convergence`: relative L2 error against fs or K, with
+    the observed orders and the threshold."""
+    import csv
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    threshold = float(threshold)
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    values = [float(r["value"]) for r in rows]
+    errors = [float(r["relative_error"]) for r in rows]
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+    ax.loglog(values, errors, "o-", label="relative L2 error")
+    ax.axhline(threshold, color="tab:red", ls="--", lw=1, label=f"threshold {threshold:g}")
+    for v, e, r in zip(values, errors, rows):
+        if r["observed_order"]:
+            ax.annotate(f"{float(r['observed_order']):.2f}", (v, e), textcoords="offset points", xytext=(4, 6),
+                        fontsize=8)
+    ax.set_xlabel("fs (Hz)" if name == "fs" else "K (N/m^alpha+1)")
+    ax.set_ylabel("relative L2 error")
+    ax.set_title(title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(image_path)
+    plt.close(fig)
+    return 0
+
+
 def main(argv):
+    if argv[:1] == ["--convergence"]:
+        return plot_convergence(*argv[1:6])
     if argv[:1] == ["--estimate"]:
         return plot_estimate(argv[1], "--quiet" in argv[2:])
     args = parse_arguments(argv)
@@ -426,7 +498,8 @@ def main(argv):
     if not os.path.isfile(os.path.join(args.dir, "results.h5")):
         print(f"fretbuzz plot: DIR {args.dir}: holds no results.h5", file=sys.stderr)
         return 2
-    plot_directory(args.dir, animation=args.animation, formats=args.formats or ["png"], quiet=args.quiet)
+    plot_directory(args.dir, animation=args.animation, formats=args.formats or ["png"], quiet=args.quiet,
+                   zoom=args.zoom, db_range=args.db_range, max_frequency=args.max_frequency)
     return 0
 
 

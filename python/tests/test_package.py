@@ -7,6 +7,7 @@ by the pip-install test (FRETBUZZ_CLI, when set, is the program to compare files
 """
 import concurrent.futures
 import filecmp
+import json
 import os
 import pickle
 import signal
@@ -15,6 +16,7 @@ import tempfile
 import threading
 import time
 import unittest
+import wave
 
 import numpy as np
 
@@ -155,6 +157,22 @@ class Files(unittest.TestCase):
             saved = r.save(os.path.join(tmp, "copy"))
             self.assertTrue(filecmp.cmp(os.path.join(tmp, "py", "observation.csv"),
                                         os.path.join(saved, "observation.csv"), shallow=False))
+
+    def test_fades_are_applied_and_recorded(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            fretbuzz.run("bass-pop", fs=FS, duration=0.01, out=tmp, fade_in=0.002, fade_out=0.003)
+            with open(os.path.join(tmp, "summary.json")) as f:
+                audio = json.load(f)["audio"][0]
+            self.assertEqual((audio["fade_in_s"], audio["fade_out_s"]), (0.002, 0.003))
+            with wave.open(os.path.join(tmp, "audio.wav")) as w:
+                raw = np.frombuffer(w.readframes(w.getnframes()), dtype=np.uint8).reshape(-1, 3)
+            # 24-bit little endian: the first and the last sample are faded to exactly 0.
+            self.assertFalse(raw[0].any())
+            self.assertFalse(raw[-1].any())
+            with self.assertRaises(fretbuzz.InputError) as caught:
+                fretbuzz.run("bass-pop", fs=FS, duration=0.01, out=os.path.join(tmp, "no"), fade_out=-1)
+            self.assertIn("fade_out (s)", str(caught.exception))
+            self.assertFalse(os.path.exists(os.path.join(tmp, "no")))
 
     def test_save_without_files_runs_again_and_matches_the_files(self):
         r = short_run("bass-pop")

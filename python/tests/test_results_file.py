@@ -1,6 +1,7 @@
 """results.h5 written by `fretbuzz run`: agrees with the CSV outputs and summary.json, its
 contact map agrees with its per-point contact statistics, and the WAV files have the rate
 and length asked for. Run by ctest with FRETBUZZ_CLI naming the built command."""
+import hashlib
 import json
 import math
 import os
@@ -110,6 +111,73 @@ class ResultsFile(unittest.TestCase):
                 self.assertEqual(w.getsampwidth(), 3, name)
                 # fs * duration + 1 samples in, resampled: the output has one sample more or less.
                 self.assertLessEqual(abs(w.getnframes() - round(DURATION * AUDIO_RATE)), 1, name)
+
+    def test_every_dataset_has_units(self):
+        missing = []
+        self.h5.visititems(lambda name, obj: missing.append(name)
+                           if isinstance(obj, h5py.Dataset) and "units" not in obj.attrs else None)
+        self.assertEqual(missing, [], "datasets without a units attribute")
+        self.assertEqual(self.h5["observation/displacement"].attrs["units"], "m")
+        self.assertEqual(self.h5["energy/total"].attrs["units"], "J")
+        self.assertEqual(self.h5["modes/frequency_hz"].attrs["units"], "Hz")
+
+    def test_provenance_names_version_command_case_hash_and_modes(self):
+        case_text = self.h5["case/text"][()].decode()
+        digest = hashlib.sha256(case_text.encode()).hexdigest()
+        attrs = self.h5.attrs
+        self.assertEqual(attrs["case_sha256"], digest)
+        self.assertRegex(attrs["fretbuzz_version"], r"^\d+\.\d+\.\d+")
+        self.assertRegex(attrs["created_utc"], r"^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ$")
+        self.assertIn("run bass-pop", attrs["command_line"])
+        self.assertIn(self.dir, attrs["command_line"])
+        self.assertTrue(attrs["platform"])
+        with open(os.path.join(self.dir, "summary.json")) as f:
+            provenance = json.load(f)["provenance"]
+        self.assertEqual(provenance["case_sha256"], digest)
+        self.assertEqual(provenance["case_text"], case_text)
+        self.assertEqual(provenance["command_line"], attrs["command_line"])
+        # The mode table is the one `fretbuzz modes` prints (17 significant digits), in both files.
+        listing = subprocess.run([os.environ["FRETBUZZ_CLI"], "modes", "bass-pop"], check=True, text=True,
+                                 capture_output=True).stdout.splitlines()[1:]
+        frequencies = [float(line.split(",")[1]) for line in listing]
+        np.testing.assert_array_equal(self.h5["modes/frequency_hz"][()], frequencies)
+        np.testing.assert_array_equal(provenance["mode_table"]["frequency_hz"], frequencies)
+        np.testing.assert_array_equal(self.h5["modes/mode"][()], np.arange(1, len(frequencies) + 1))
+        self.assertEqual([s.decode() for s in self.h5["modes/source"][()]], [line.split(",")[3] for line in listing])
+
+    def test_audio_starts_silent_and_records_its_full_scale(self):
+        with open(os.path.join(self.dir, "summary.json")) as f:
+            audio = {a["file"]: a for a in json.load(f)["audio"]}
+        self.assertEqual(sorted(audio), ["audio.wav", "audio_0.3m.wav", "velocity.wav", "velocity_0.3m.wav"])
+        for name, entry in audio.items():
+            with wave.open(os.path.join(self.dir, name)) as w:
+                raw = np.frombuffer(w.readframes(w.getnframes()), dtype=np.uint8).reshape(-1, 3)
+            samples = (raw[:, 0].astype(np.int32) | raw[:, 1].astype(np.int32) << 8 | raw[:, 2].astype(np.int32) << 16)
+            samples = np.where(samples >= 1 << 23, samples - (1 << 24), samples) / float(1 << 23)
+            self.assertEqual(samples[0], 0.0, name)  # faded in: no click
+            self.assertAlmostEqual(np.abs(samples).max(), 0.99, delta=1e-6)
+            self.assertEqual(entry["full_scale_unit"], "m/s" if name.startswith("velocity") else "m")
+            self.assertEqual(entry["fade_in_s"], 0.005)
+        # Full scale times the loudest sample is the loudest displacement in the file: at least
+        # the loudest after the fade-in, at most the loudest overall (to the resampler's band
+        # limit, a few per cent).
+        observation = self.csv("observation.csv")
+        loudest = audio["audio.wav"]["full_scale"] * 0.99
+        self.assertGreater(loudest, 0.97 * np.abs(observation[observation[:, 0] >= 0.005, 1]).max())
+        self.assertLess(loudest, 1.03 * np.abs(observation[:, 1]).max())
+
+    def test_plots_in_vector_formats_with_chosen_windows_and_range(self):
+        from fretbuzz.plots import colour_ticks, plot_directory
+        written = plot_directory(self.dir, formats=("pdf", "svg"), zoom=[(0.001, 0.004), (0.01, 0.012)], db_range=80)
+        for name in ("signal", "spectrogram", "energy", "contactogram"):
+            for form in ("pdf", "svg"):
+                self.assertIn(os.path.join(self.dir, f"{name}.{form}"), written)
+                self.assertGreater(os.path.getsize(os.path.join(self.dir, f"{name}.{form}")), 1000)
+        # The contactogram's scale: labelled ticks over its three decades, not one.
+        ticks = colour_ticks(2.3e3, 2.3e6, np)
+        self.assertEqual(ticks[:3], [5e3, 1e4, 2e4])
+        self.assertEqual(len(ticks), 9)
+        self.assertEqual(colour_ticks(3.0, 4.0, np), [3.0, 4.0])
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -37,8 +38,12 @@ std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const do
     return names;
 }
 
-AudioWriter::AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz, AudioSignal signal)
-    : paths_(std::move(paths)), rate_(audio_rate_hz), signal_(signal) {}
+AudioWriter::AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz, AudioSignal signal,
+                         AudioFades fades)
+    : paths_(std::move(paths)), rate_(audio_rate_hz), signal_(signal), fades_(fades) {
+    if (!(fades_.in_s >= 0.0 && fades_.out_s >= 0.0))
+        throw std::invalid_argument("AudioWriter: fades must be >= 0 s");
+}
 
 AudioWriter::~AudioWriter() {
     if (resampler_ != nullptr) soxr_delete(as_soxr(resampler_));
@@ -100,17 +105,29 @@ void AudioWriter::finish(const RunSummary& summary) {
     const std::size_t expected = static_cast<std::size_t>(std::llround(summary.duration_s * rate_)) + 1;
     for (auto& channel : channels_)
         if (channel.size() > expected) channel.resize(expected);
+    full_scale_.assign(channels_.size(), 1.0);
     for (std::size_t p = 0; p < channels_.size(); ++p) write_channel(p);
 }
 
-void AudioWriter::write_channel(std::size_t point) const {
+void AudioWriter::write_channel(std::size_t point) {
     const std::vector<double>& signal = channels_[point];
     const std::filesystem::path& path = paths_[point];
+    // Fades first, so that the peak (and the gain) is that of the file as heard.
+    std::vector<double> normalised = signal;
+    const auto fade = [&](double seconds, bool at_start) {
+        const auto n = std::min(normalised.size(), static_cast<std::size_t>(std::llround(seconds * rate_)));
+        for (std::size_t k = 0; k < n; ++k) {
+            const double w = 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
+            normalised[at_start ? k : normalised.size() - 1 - k] *= w;
+        }
+    };
+    fade(fades_.in_s, true);
+    fade(fades_.out_s, false);
     double peak = 0.0;
-    for (double v : signal) peak = std::max(peak, std::abs(v));
+    for (double v : normalised) peak = std::max(peak, std::abs(v));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
-    std::vector<double> normalised(signal.size());
-    std::transform(signal.begin(), signal.end(), normalised.begin(), [gain](double v) { return gain * v; });
+    full_scale_[point] = 1.0 / gain;
+    for (double& v : normalised) v *= gain;
 
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(rate_));

@@ -55,6 +55,12 @@ void Handle::reset() {
     id_ = -1;
 }
 
+void write_attribute_at(hid_t parent, const std::string& path, const std::string& name, const std::string& value) {
+    if (H5Lexists(parent, path.c_str(), H5P_DEFAULT) <= 0) return;
+    const Handle object(H5Oopen(parent, path.c_str(), H5P_DEFAULT), H5Oclose, "open " + path);
+    write_attribute(object.get(), name, value);
+}
+
 void Handle::close(const std::string& what) {
     if (id_ < 0 || closer_ == nullptr) return;
     const herr_t status = closer_(std::exchange(id_, -1));

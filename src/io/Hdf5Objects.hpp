@@ -46,6 +46,8 @@ void write_strings(hid_t parent, const std::string& name, const std::vector<std:
 void write_attribute(hid_t object, const std::string& name, double value);
 void write_attribute(hid_t object, const std::string& name, long long value);
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
+// A string attribute on the object at `path` below `parent`, if that object exists.
+void write_attribute_at(hid_t parent, const std::string& path, const std::string& name, const std::string& value);
 
 // int64: whole numbers held as doubles in memory (exact below 2^53), stored as integers.
 enum class Storage { float64, float32, int64 };

@@ -18,6 +18,36 @@ constexpr std::size_t kMapChunkRows = 64;
 constexpr std::size_t kMapChunkEntries = 4096;
 constexpr std::size_t kSnapshotChunkRows = 16;
 
+// The unit of every dataset the writer makes.
+constexpr std::pair<const char*, const char*> kUnits[] = {
+    {"time", "s"},
+    {"case/text", "text"},
+    {"summary", "text"},
+    {"observation/points_m", "m"},
+    {"observation/displacement", "m"},
+    {"observation/bridge_force", "N"},
+    {"energy/time", "s"},
+    {"energy/total", "J"},
+    {"energy/contact", "J"},
+    {"energy/dissipated", "J"},
+    {"grid/x_m", "m"},
+    {"grid/obstacle_height_m", "m"},
+    {"contact/row", "1"},
+    {"contact/point", "1"},
+    {"contact/max_force", "N/m"},
+    {"contact/max_force_dense", "N/m"},
+    {"contact/first_s", "s"},
+    {"contact/last_s", "s"},
+    {"contact/steps", "1"},
+    {"contact/peak_force", "N/m"},
+    {"snapshots/time", "s"},
+    {"snapshots/displacement", "m"},
+    {"modes/mode", "1"},
+    {"modes/frequency_hz", "Hz"},
+    {"modes/sigma_per_s", "1/s"},
+    {"modes/source", "text"},
+};
+
 // Pads a dense map with zero rows until it has `rows` rows.
 void append_zero_rows(hdf5::GrowingDataset& dense, std::size_t rows) {
     if (dense.rows() >= rows) return;
@@ -42,6 +72,7 @@ struct Hdf5Writer::File {
     std::optional<ContactMapRows> map;
     double dt = 0.0;
     std::vector<double> observation_points;
+    const Case* source = nullptr;
 };
 
 Hdf5Writer::Hdf5Writer(const std::filesystem::path& path, Hdf5WriterOptions options) : path_(path), options_(options) {}
@@ -57,6 +88,7 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     file_ = std::make_unique<File>();
     File& f = *file_;
     f.dt = layout.dt;
+    f.source = layout.source;
     f.observation_points = layout.observation_points_m;
     f.file = create_file(path_.string());
     const hid_t root = f.file.get();
@@ -70,6 +102,24 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     write_attribute(root, "output_stride", static_cast<long long>(layout.output_stride));
     write_attribute(root, "modes", static_cast<long long>(grid_size));
     write_attribute(root, "length_m", c.string.length_m);
+    if (const auto& p = options_.extras.provenance) {
+        write_attribute(root, "fretbuzz_version", p->version);
+        write_attribute(root, "created_utc", p->created_utc);
+        write_attribute(root, "command_line", p->command_line);
+        write_attribute(root, "platform", p->platform);
+        write_attribute(root, "case_sha256", sha256_hex(c.source_text));
+    }
+    {
+        const Handle modes = create_group(root, "modes");
+        std::vector<long long> mode(c.mode_count());
+        for (std::size_t j = 0; j < mode.size(); ++j) mode[j] = static_cast<long long>(j + 1);
+        std::vector<std::string> source;
+        for (const ModeSource s : c.modes.source) source.push_back(to_string(s));
+        write_array(modes.get(), "mode", mode);
+        write_array(modes.get(), "frequency_hz", c.modes.frequency_hz);
+        write_array(modes.get(), "sigma_per_s", c.modes.sigma_per_s);
+        write_strings(modes.get(), "source", source);
+    }
 
     f.case_group = create_group(root, "case");
     write_string(f.case_group.get(), "text", c.source_text);
@@ -166,7 +216,8 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     write_array(contact, "last_s", f.map->last_contact_s());
     write_array(contact, "steps", f.map->contact_steps());
     write_array(contact, "peak_force", f.map->peak_force());
-    write_string(f.file.get(), "summary", summary_json(summary, f.observation_points));
+    write_string(f.file.get(), "summary", summary_json(summary, f.observation_points, f.source, &options_.extras));
+    for (const auto& [path, unit] : kUnits) write_attribute_at(f.file.get(), path, "units", unit);
     // Close the file now, every object before the file and every status checked: a full
     // disk shows here, and a file left half-open would make HDF5's own shutdown crash.
     const std::string name = path_.string();

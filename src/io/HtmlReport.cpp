@@ -1,5 +1,7 @@
 #include "fretbuzz/io/HtmlReport.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -108,11 +110,104 @@ void write_figures_section(std::ostream& html, const fs::path& dir) {
     html << "</section>\n";
 }
 
+// The summary keys the report names in words, with their units ("" for none).
+struct SummaryRow {
+    const char* key;
+    const char* label;
+    const char* unit;
+};
+constexpr SummaryRow kSummaryRows[] = {
+    {"case", "Case", ""},
+    {"fs", "Sampling rate fs", "Hz"},
+    {"duration", "Simulated duration", "s"},
+    {"steps", "Time steps", ""},
+    {"modes", "Modes", ""},
+    {"output_rate", "Output rate", "Hz"},
+    {"wall_seconds", "Computing time", "s"},
+    {"steps_per_second", "Speed", "steps/s"},
+    {"lossless", "Lossless", ""},
+    {"contact_screening", "Contact screening", ""},
+    {"energy_initial_J", "Initial energy H(1/2)", "J"},
+    {"energy_final_J", "Final energy", "J"},
+    {"dissipated_J", "Energy dissipated by damping", "J"},
+    {"max_relative_energy_increase", "Largest relative energy increase", ""},
+    {"max_relative_energy_balance_error", "Largest relative energy-balance error", ""},
+    {"contact_steps", "Steps with contact", ""},
+    {"first_contact_s", "First contact", "s"},
+    {"last_contact_s", "Last contact", "s"},
+    {"max_newton_iterations", "Most Newton iterations in a step", ""},
+    {"mean_points_solved_per_step", "Contact solves per step (mean)", ""},
+    {"free_flight_fraction", "Share of steps in free flight", ""},
+    {"observation_points_m", "Observation points", "m"},
+    {"warnings", "Warnings", ""},
+};
+
+// Numbers to 4 significant digits, lists item by item, text as it is.
+std::string rounded(const nlohmann::ordered_json& value) {
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_number_float()) {
+        const double v = value.get<double>();
+        // Whole digits are kept below 1e9 (400000 Hz, not 4e+05 Hz).
+        const int digits = v != 0.0 && std::abs(v) < 1e9 ? static_cast<int>(std::floor(std::log10(std::abs(v)))) + 1 : 0;
+        std::ostringstream text;
+        text.precision(std::max(4, digits));
+        text << v;
+        return text.str();
+    }
+    if (value.is_array()) {
+        std::string list;
+        for (const auto& item : value) list += (list.empty() ? "" : item.is_string() ? "; " : ", ") + rounded(item);
+        return list.empty() ? "none" : list;
+    }
+    return value.dump();
+}
+
+void write_row(std::ostream& html, const std::string& label, const std::string& value, const std::string& unit) {
+    html << "<tr><th>" << html_escape(label) << "</th><td>" << html_escape(value) << (unit.empty() ? "" : " ")
+         << html_escape(unit) << "</td></tr>\n";
+}
+
 void write_summary_section(std::ostream& html, const nlohmann::ordered_json& summary) {
     html << "<section id=\"summary\"><h2>Run summary</h2>\n<table id=\"summary-table\">\n";
-    for (const auto& [key, value] : summary.items()) {
-        const std::string shown = value.is_string() ? value.get<std::string>() : value.dump();
-        html << "<tr><th>" << html_escape(key) << "</th><td>" << html_escape(shown) << "</td></tr>\n";
+    std::vector<std::string> named;
+    for (const SummaryRow& row : kSummaryRows) {
+        named.emplace_back(row.key);
+        if (summary.contains(row.key)) write_row(html, row.label, rounded(summary[row.key]), row.unit);
+    }
+    // Keys this page has no words for yet: shown under their own names.
+    for (const auto& [key, value] : summary.items())
+        if (std::find(named.begin(), named.end(), key) == named.end() && key != "provenance" && key != "audio")
+            write_row(html, key, rounded(value), "");
+    html << "</table></section>\n";
+}
+
+// Where the results come from, and what full scale means in each WAV file.
+void write_provenance_section(std::ostream& html, const nlohmann::ordered_json& summary) {
+    if (summary.contains("audio")) {
+        html << "<section id=\"audio-gain\"><h2>Audio files</h2>\n<table id=\"audio-table\">\n"
+                "<tr><th>file</th><th>signal at x</th><th>full scale</th><th>fade in / out</th></tr>\n";
+        for (const auto& a : summary["audio"])
+            html << "<tr><td>" << html_escape(a.value("file", std::string())) << "</td><td>"
+                 << html_escape(a.value("signal", std::string())) << " at " << rounded(a.value("x_m", nlohmann::ordered_json()))
+                 << " m</td><td>" << rounded(a.value("full_scale", nlohmann::ordered_json())) << " "
+                 << html_escape(a.value("full_scale_unit", std::string())) << "</td><td>"
+                 << rounded(a.value("fade_in_s", nlohmann::ordered_json())) << " s / "
+                 << rounded(a.value("fade_out_s", nlohmann::ordered_json())) << " s</td></tr>\n";
+        html << "</table><p>A sample of 1.0 (full scale) in a file stands for the value given.</p></section>\n";
+    }
+    if (!summary.contains("provenance")) return;
+    const auto& p = summary["provenance"];
+    html << "<section id=\"provenance\"><h2>Provenance</h2>\n<table id=\"provenance-table\">\n";
+    write_row(html, "fretbuzz version", p.value("fretbuzz_version", std::string()), "");
+    write_row(html, "Run on (UTC)", p.value("created_utc", std::string()), "");
+    write_row(html, "Command line", p.value("command_line", std::string()), "");
+    write_row(html, "Platform", p.value("platform", std::string()), "");
+    write_row(html, "Case file SHA-256", p.value("case_sha256", std::string()), "");
+    if (p.contains("mode_table") && p["mode_table"].contains("frequency_hz")) {
+        const auto& f = p["mode_table"]["frequency_hz"];
+        if (!f.empty())
+            write_row(html, "Mode table", std::to_string(f.size()) + " modes, " + rounded(f.front()) + " to " +
+                                              rounded(f.back()) + " Hz (in results.h5 /modes)", "");
     }
     html << "</table></section>\n";
 }
@@ -162,6 +257,7 @@ std::string render_html_report(const fs::path& dir) {
     write_audio_section(html, dir, points);
     write_figures_section(html, dir);
     write_summary_section(html, summary);
+    write_provenance_section(html, summary);
     write_case_section(html, dir);
     html << "</body></html>\n";
     return html.str();

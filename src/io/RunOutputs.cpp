@@ -7,6 +7,7 @@
 #include "fretbuzz/io/CsvWriters.hpp"
 #include "fretbuzz/io/Hdf5Writer.hpp"
 #include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/io/Provenance.hpp"
 #include "fretbuzz/io/SummaryWriter.hpp"
 
 namespace fretbuzz {
@@ -19,40 +20,59 @@ std::vector<std::filesystem::path> staged_audio_paths(OutputDirectory& out, Audi
     return paths;
 }
 
+SummaryExtras summary_extras(const RunOutputOptions& o, const AudioWriter& audio,
+                             const std::optional<AudioWriter>& velocity_audio) {
+    SummaryExtras extras{current_provenance(o.command_line.empty() ? "(library call)" : o.command_line), {&audio}};
+    if (velocity_audio) extras.audio.push_back(&*velocity_audio);
+    return extras;
+}
+
 }  // namespace
 
-// Member order is construction order: the directory first, so every writer writes into it.
+// Member order is construction order: the directory first, so every writer writes into it;
+// the audio writers before the results and summary, which record their gains.
 struct RunOutputs::Writers {
     Writers(const std::filesystem::path& dir, const Case& c, const RunOutputOptions& o)
         : out(dir),
           observation(out.staged("observation.csv")),
           energy(out.staged("energy.csv")),
           bridge_force(out.staged("bridge_force.csv")),
-          audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz),
+          audio(staged_audio_paths(out, AudioSignal::displacement, c), c.run.audio_rate_hz, AudioSignal::displacement,
+                o.fades),
+          velocity_audio(o.velocity_audio ? std::make_optional<std::vector<std::filesystem::path>>(
+                                                staged_audio_paths(out, AudioSignal::velocity, c))
+                                          : std::nullopt,
+                         c.run.audio_rate_hz, o.fades),
           results(out.staged("results.h5"),
                   {.snapshot_rate_hz = o.snapshot_rate_hz,
                    .snapshot_until_s = o.snapshot_until_s,
-                   .dense_contact_map = o.dense_contact_map}),
-          summary(out.staged("summary.json")) {
-        if (o.velocity_audio)
-            velocity_audio.emplace(staged_audio_paths(out, AudioSignal::velocity, c), c.run.audio_rate_hz,
-                                   AudioSignal::velocity);
-    }
+                   .dense_contact_map = o.dense_contact_map,
+                   .extras = summary_extras(o, audio, velocity_audio.writer)}),
+          summary(out.staged("summary.json"), summary_extras(o, audio, velocity_audio.writer)) {}
+    // The velocity WAVs, when asked for.
+    struct OptionalAudio {
+        OptionalAudio(std::optional<std::vector<std::filesystem::path>> paths, double rate, const AudioFades& fades) {
+            if (paths) writer.emplace(std::move(*paths), rate, AudioSignal::velocity, fades);
+        }
+        std::optional<AudioWriter> writer;
+    };
     OutputDirectory out;
     ObservationCsvWriter observation;
     EnergyCsvWriter energy;
     BridgeForceCsvWriter bridge_force;
     AudioWriter audio;
+    OptionalAudio velocity_audio;
     Hdf5Writer results;
     SummaryWriter summary;
-    std::optional<AudioWriter> velocity_audio;
 };
 
 RunOutputs::RunOutputs(const std::filesystem::path& dir, const Case& c, const RunOutputOptions& options)
     : writers_(std::make_unique<Writers>(dir, c, options)) {
     Writers& w = *writers_;
-    observers_ = {&w.observation, &w.energy, &w.audio, &w.results, &w.summary, &w.bridge_force};
-    if (w.velocity_audio) observers_.push_back(&*w.velocity_audio);
+    // Observers finish in this order: the WAVs (and their gains) before results and summary.
+    observers_ = {&w.observation, &w.energy, &w.audio};
+    if (w.velocity_audio.writer) observers_.push_back(&*w.velocity_audio.writer);
+    observers_.insert(observers_.end(), {&w.results, &w.summary, &w.bridge_force});
 }
 
 RunOutputs::~RunOutputs() = default;

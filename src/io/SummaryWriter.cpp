@@ -2,12 +2,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CsvWriters.hpp"
 
 namespace fretbuzz {
 
-std::string summary_json(const RunSummary& s, const std::vector<double>& observation_points_m) {
-    const nlohmann::ordered_json json = {
+std::string summary_json(const RunSummary& s, const std::vector<double>& observation_points_m, const Case* c,
+                         const SummaryExtras* extras) {
+    nlohmann::ordered_json json = {
         {"case", s.case_name},
         {"fs", s.sample_rate_hz},
         {"duration", s.duration_s},
@@ -32,11 +35,28 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"observation_points_m", observation_points_m},
         {"warnings", s.warnings},
     };
+    if (extras != nullptr) {
+        // One entry per WAV file: a sample of 1.0 stands for full_scale (m, or m/s for velocity).
+        nlohmann::ordered_json audio = nlohmann::ordered_json::array();
+        for (const AudioWriter* writer : extras->audio)
+            for (std::size_t p = 0; p < writer->paths().size(); ++p)
+                audio.push_back({{"file", writer->paths()[p].filename().string()},
+                                 {"x_m", p < observation_points_m.size() ? observation_points_m[p] : 0.0},
+                                 {"signal", writer->signal() == AudioSignal::velocity ? "velocity" : "displacement"},
+                                 {"full_scale", writer->full_scale(p)},
+                                 {"full_scale_unit", writer->signal() == AudioSignal::velocity ? "m/s" : "m"},
+                                 {"rate_hz", writer->rate_hz()},
+                                 {"fade_in_s", writer->fades().in_s},
+                                 {"fade_out_s", writer->fades().out_s}});
+        if (!audio.empty()) json["audio"] = audio;
+        if (extras->provenance && c != nullptr)
+            json["provenance"] = nlohmann::ordered_json::parse(provenance_json(*extras->provenance, *c));
+    }
     return json.dump(2);
 }
 
 void SummaryWriter::finish(const RunSummary& s) {
-    write_text_file(path_, summary_json(s, observation_points_m_) + '\n');
+    write_text_file(path_, summary_json(s, observation_points_m_, case_, &extras_) + '\n');
 }
 
 }  // namespace fretbuzz

@@ -90,7 +90,27 @@ std::string TomlSection::key_path(std::string_view key) const {
     return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
-bool TomlSection::has(std::string_view key) const { return table_->contains(key); }
+namespace {
+// Where key paths looked up are logged while case_keys_looked_up parses (one thread).
+thread_local std::set<std::string>* key_log = nullptr;
+}  // namespace
+
+void TomlSection::log_lookup(std::string_view key) const {
+    if (key_log == nullptr) return;
+    std::string path = key_path(key);
+    // obstacle[1].type and obstacle.type are the same key of the schema.
+    for (std::size_t open = path.find('['); open != std::string::npos; open = path.find('['))
+        path.erase(open, path.find(']', open) - open + 1);
+    key_log->insert(std::move(path));
+}
+
+KeyLogScope::KeyLogScope(std::set<std::string>& log) : previous_(key_log) { key_log = &log; }
+KeyLogScope::~KeyLogScope() { key_log = previous_; }
+
+bool TomlSection::has(std::string_view key) const {
+    log_lookup(key);
+    return table_->contains(key);
+}
 
 namespace {
 // Edit distance between two short keys, to point at a likely typo.
@@ -111,6 +131,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 }  // namespace
 
 const toml::node& TomlSection::required(std::string_view key) {
+    log_lookup(key);
     const toml::node* n = table_->get(key);
     if (n == nullptr) {
         std::string hint;
@@ -124,6 +145,7 @@ const toml::node& TomlSection::required(std::string_view key) {
 }
 
 const toml::node* TomlSection::node(std::string_view key) {
+    log_lookup(key);
     const toml::node* n = table_->get(key);
     if (n != nullptr) used_.emplace(key);
     return n;

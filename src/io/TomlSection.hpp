@@ -17,6 +17,19 @@ namespace fretbuzz {
 // Parses TOML text; a syntax error becomes an InputError "source:line:column: what".
 toml::table parse_toml_document(std::string_view text, const std::string& source);
 
+// While alive, every key path a TomlSection looks up on this thread (present or not, array
+// indices dropped: "obstacle.type") is added to `log`: the schema as the parser enforces it.
+class KeyLogScope {
+public:
+    explicit KeyLogScope(std::set<std::string>& log);
+    ~KeyLogScope();
+    KeyLogScope(const KeyLogScope&) = delete;
+    KeyLogScope& operator=(const KeyLogScope&) = delete;
+
+private:
+    std::set<std::string>* previous_;
+};
+
 class TomlSection {
 public:
     TomlSection(const toml::table& table, std::string path);
@@ -53,6 +66,7 @@ public:
     void finish() const;
 
 private:
+    void log_lookup(std::string_view key) const;
     const toml::node& required(std::string_view key);
     double to_number(const toml::node& node, std::string_view key) const;
 

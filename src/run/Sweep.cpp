@@ -55,6 +55,7 @@ SweepValue number_value(const std::string& key, double x) {
 // [[parameter]]: key, and values or from/to/count/scale.
 std::vector<SweepValue> read_parameter(TomlSection s) {
     const std::string key = s.text("key");
+    const bool label = s.optional_flag("label").value_or(false);
     if (key.empty()) throw InputError(s.key_path("key") + " is empty: give a case-file key such as \"contact.K\"");
     std::vector<SweepValue> values;
     if (s.has("values")) {
@@ -86,6 +87,7 @@ std::vector<SweepValue> read_parameter(TomlSection s) {
         }
     }
     s.finish();
+    for (SweepValue& v : values) v.label = label;
     return values;
 }
 
@@ -178,7 +180,8 @@ std::string describe(const SweepRun& run) {
 toml::table edited_document(const SweepSpec& spec, const SweepRun& run) {
     toml::table root = parse_toml_document(spec.base.text, spec.base.source_name);
     for (const SweepValue& v : spec.fixed) assign(root, v);
-    for (const SweepValue& v : run.values) assign(root, v);
+    for (const SweepValue& v : run.values)
+        if (!v.label) assign(root, v);
     return root;
 }
 

@@ -24,14 +24,16 @@ const std::vector<std::string>& sweep_metric_names() {
         "contact_steps",      "touched_points",        "touched_x_min_m",      "touched_x_max_m",
         "features_touched",   "main_feature",          "first_contact_s",      "last_contact_s",
         "contact_episodes",   "contact_time_s",        "contact_energy_loss_J", "peak_contact_force_N",
-        "contact_impulse_Ns", "hf_energy_m2",          "hf_energy_free_m2",    "buzz_dB",
+        "contact_impulse_Ns", "hf_energy_m2",          "hf_energy_free_m2",    "hf_energy_contact_m2",
+        "hf_change_dB",       "buzz_dB",
         "energy_initial_J",   "energy_final_J",        "max_relative_energy_balance_error"};
     return names;
 }
 
 namespace {
 
-BuzzReport run_with_metrics(const Case& c, double band_hz, RunSummary* summary, const std::filesystem::path& audio_dir) {
+BuzzReport run_with_metrics(const Case& c, double band_hz, RunSummary* summary, const std::filesystem::path& audio_dir,
+                            std::vector<double>* signal) {
     BuzzMetrics metrics(band_hz);
     std::vector<RunObserver*> observers{&metrics};
     std::unique_ptr<AudioWriter> audio;
@@ -45,6 +47,7 @@ BuzzReport run_with_metrics(const Case& c, double band_hz, RunSummary* summary, 
     }
     const RunSummary s = simulate(c, observers);
     if (summary != nullptr) *summary = s;
+    if (signal != nullptr) *signal = metrics.signal();
     return metrics.report();
 }
 
@@ -71,8 +74,17 @@ SweepRow run_sweep_point(const SweepSpec& spec, std::size_t index, const std::fi
     const auto start = std::chrono::steady_clock::now();
     try {
         RunSummary summary;
-        const BuzzReport b = run_with_metrics(sweep_case(spec, run), spec.buzz_band_hz, &summary, audio_dir);
-        const BuzzReport free = run_with_metrics(obstacle_free_case(spec, run), spec.buzz_band_hz, nullptr, {});
+        std::vector<double> u, u_free;
+        const Case c = sweep_case(spec, run);
+        const BuzzReport b = run_with_metrics(c, spec.buzz_band_hz, &summary, audio_dir, &u);
+        const BuzzReport free = run_with_metrics(obstacle_free_case(spec, run), spec.buzz_band_hz, nullptr, {}, &u_free);
+        // What the contacts added to the signal: u - u_free, sample by sample (the same
+        // case and rates). Without contact it is round-off of two paths: no buzz (NaN).
+        double contact_hf = b.contact_steps == 0 ? 0.0 : BuzzReport::nan;
+        if (b.contact_steps > 0 && u.size() == u_free.size()) {
+            for (std::size_t i = 0; i < u.size(); ++i) u[i] -= u_free[i];
+            contact_hf = high_frequency_energy(u, summary.output_rate_hz, spec.buzz_band_hz);
+        }
         row.metrics = {static_cast<double>(b.contact_steps),
                        static_cast<double>(b.touched_points),
                        b.touched_x_min_m,
@@ -88,7 +100,9 @@ SweepRow run_sweep_point(const SweepSpec& spec, std::size_t index, const std::fi
                        b.impulse_n_s,
                        b.high_frequency_energy,
                        free.high_frequency_energy,
+                       contact_hf,
                        buzz_level_db(b.high_frequency_energy, free.high_frequency_energy),
+                       buzz_level_db(contact_hf, free.high_frequency_energy),
                        summary.energy_initial_j,
                        summary.energy_final_j,
                        summary.max_relative_balance_error};
@@ -154,6 +168,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
     std::exception_ptr failure;
     auto worker = [&] {
         for (std::size_t k = next++; k < todo.size(); k = next++) {
+            if (options.stop && options.stop()) {
+                std::lock_guard lock(mutex);
+                outcome.interrupted = true;
+                next = todo.size();
+                break;
+            }
             try {
                 const std::size_t index = todo[k];
                 const SweepRow row = run_sweep_point(spec, index, spec.audio ? store.audio_dir(index) : std::filesystem::path{});
@@ -184,6 +204,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
         for (unsigned t = 0; t < outcome.jobs; ++t) workers.emplace_back(worker);
     }
     if (failure) std::rethrow_exception(failure);
+    if (outcome.interrupted) return outcome;
     store.write_table();
     outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return outcome;

@@ -15,6 +15,14 @@ namespace fretbuzz {
 
 enum class AudioSignal { displacement, velocity };
 
+// Raised-cosine fades applied to each file as it is written (the signal itself, samples(),
+// is left as it is). A plucked string starts displaced, so its first sample is far from
+// zero: without a fade-in the file starts with a click.
+struct AudioFades {
+    double in_s = 0.005;
+    double out_s = 0.0;
+};
+
 // The file names for the observation points, in order: "audio.wav" (or "velocity.wav")
 // for the first point, then "audio_<x>m.wav" with x in metres for the others.
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
@@ -23,7 +31,7 @@ class AudioWriter : public RunObserver {
 public:
     // One path per observation point, in the order of the case's points.
     AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz,
-                AudioSignal signal = AudioSignal::displacement);
+                AudioSignal signal = AudioSignal::displacement, AudioFades fades = {});
     ~AudioWriter() override;
     AudioWriter(const AudioWriter&) = delete;
     AudioWriter& operator=(const AudioWriter&) = delete;
@@ -42,14 +50,22 @@ public:
     // The resampled signal of one point before normalisation (available after finish()).
     const std::vector<double>& samples(std::size_t point = 0) const { return channels_.at(point); }
     double rate_hz() const { return rate_; }
+    // What full scale (a sample of 1.0) stands for in each file, in m (displacement) or m/s
+    // (velocity): files are peak-normalised to 0.99 of full scale (after finish()).
+    double full_scale(std::size_t point) const { return full_scale_.at(point); }
+    const std::vector<std::filesystem::path>& paths() const { return paths_; }
+    AudioSignal signal() const { return signal_; }
+    const AudioFades& fades() const { return fades_; }
 
 private:
     void drain(bool flush);
-    void write_channel(std::size_t point) const;
+    void write_channel(std::size_t point);
 
     std::vector<std::filesystem::path> paths_;
     double rate_;
     AudioSignal signal_;
+    AudioFades fades_;
+    std::vector<double> full_scale_;
     void* resampler_ = nullptr;
     std::vector<double> input_;   // interleaved, one frame per time step
     std::vector<double> block_;   // interleaved resampler output

@@ -18,12 +18,18 @@
 //                           float32); zero elsewhere. Attributes interval_steps, rows.
 //   /contact/{first_s,last_s,steps,peak_force}   per grid point (NaN: never touched)
 //   /snapshots/{time,displacement}   string shapes on the grid, if requested
+//   /modes/{mode,frequency_hz,sigma_per_s,source}   the mode table the run used
 //   /summary                the run summary as JSON text (same as summary.json)
+//
+// Every dataset has a `units` attribute ("1": a count or index; "text": a string). With
+// provenance, the root also has fretbuzz_version, created_utc, command_line, platform and
+// case_sha256 (of /case/text).
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
 
+#include "fretbuzz/io/SummaryWriter.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
@@ -36,6 +42,8 @@ struct Hdf5WriterOptions {
     double max_contact_map_rate_hz = 50000.0;
     // Also store the dense map (/contact/max_force_dense, rows x points): for checking readers.
     bool dense_contact_map = false;
+    // Provenance and WAV gains for /summary and the root attributes.
+    SummaryExtras extras{};
 };
 
 class Hdf5Writer : public RunObserver {

@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
@@ -18,6 +20,8 @@ struct RunOutputOptions {
     double snapshot_rate_hz = 0.0;  // string shapes in results.h5; 0: none
     double snapshot_until_s = std::numeric_limits<double>::infinity();
     bool dense_contact_map = false;  // also the dense contact map in results.h5 (to check readers)
+    std::string command_line{};  // how the run was asked for: recorded in summary.json and results.h5
+    AudioFades fades{};          // of the WAV files
 };
 
 class RunOutputs {

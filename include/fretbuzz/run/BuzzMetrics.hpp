@@ -4,7 +4,7 @@
 // local peaks, i.e. the frets of a fretboard, numbered from the nut), when, in how many
 // episodes, for how long, with what force, the energy dissipated while touching, and the
 // high-frequency energy of the first observation signal, which, compared with the same
-// run without the obstacle, gives the audible buzz level in dB.
+// run without the obstacle, gives the audible buzz level in dB (see SweepRunner).
 #include <cstddef>
 #include <limits>
 #include <span>
@@ -52,6 +52,8 @@ public:
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     void finish(const RunSummary& summary) override;
     const BuzzReport& report() const { return report_; }
+    // The first observation signal at the output rate, as measured.
+    const std::vector<double>& signal() const { return signal_; }
 
 private:
     double band_hz_;
@@ -68,7 +70,9 @@ private:
     BuzzReport report_;
 };
 
-// 10 log10(E_hf(with obstacle) / E_hf(without)): the buzz level in dB (NaN if undefined).
+// 10 log10(a / b) in dB (NaN unless both are > 0): with a = E_hf(with obstacle) and
+// b = E_hf(without), how the buzz band's level changed; with a = E_hf(u - u_free), the
+// contact-generated buzz relative to the note's own high-frequency content.
 double buzz_level_db(double high_frequency_energy, double obstacle_free_high_frequency_energy);
 
 }  // namespace fretbuzz

@@ -1,6 +1,6 @@
 #pragma once
-// What a convergence study leaves behind: a table for people, a CSV for programs, and a
-// log-log plot (drawn by matplotlib; the script is carried inside the library).
+// What a convergence study leaves behind: a table for people and a CSV for programs (the
+// command line draws its log-log plot from the CSV with the plotting module).
 #include <filesystem>
 #include <string>
 
@@ -14,14 +14,5 @@ std::string format_convergence_table(const ConvergenceReport& report);
 // Columns: parameter,value,relative_error,observed_order,meets_threshold,wall_seconds
 // (observed_order empty on the coarsest level).
 void write_convergence_csv(const ConvergenceReport& report, const std::filesystem::path& path);
-
-struct PlotOutcome {
-    bool written = false;
-    std::string message;  // why not, when it was not
-};
-
-// Draws error against level from the CSV with `python` (e.g. /usr/bin/python3) and matplotlib.
-PlotOutcome plot_convergence(const ConvergenceReport& report, const std::filesystem::path& csv,
-                             const std::filesystem::path& png, const std::string& python = "/usr/bin/python3");
 
 }  // namespace fretbuzz

@@ -17,6 +17,10 @@
 //   [[parameter]]
 //   key = "contact.K"
 //   values = [1e12, 1e13]    # or: from = 1e12, to = 1e14, count = 3, scale = "log"
+//   [[parameter]]
+//   key = "fret"             # label = true: a column of the table only, not a case key
+//   label = true             # (tags runs, e.g. the note each run stands for)
+//   values = [0, 1]
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -33,6 +37,7 @@ struct SweepValue {
     std::string key;   // dotted path
     std::string toml;  // the value as TOML text
     std::string text;  // the value as it appears in the table (numbers: shortest exact form)
+    bool label = false;  // a table column only: not written into the case
 };
 
 struct SweepRun {
@@ -103,12 +108,14 @@ struct SweepOptions {
     unsigned jobs = 0;          // runs at a time; 0: the hardware's threads
     bool resume = false;
     std::function<void(const SweepProgress&)> progress;  // after every finished run
+    std::function<bool()> stop;  // asked before each run starts: true ends the sweep early
 };
 
 struct SweepOutcome {
     std::size_t total = 0, computed = 0, resumed = 0, failed = 0;
     double wall_seconds = 0.0;
     unsigned jobs = 1;
+    bool interrupted = false;   // stopped early: rows kept, no table (finish with resume)
 };
 
 // Runs the missing rows of a sweep into `out` (see SweepStore) and writes the table.
