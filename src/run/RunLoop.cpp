@@ -175,7 +175,8 @@ void RunLoop::report_step() {
 
 void RunLoop::report_flight(long flown) {
     const std::size_t width = shapes_.size();
-    for (long m = 0; m < flown; ++m) {
+    // Without per-step observers the flight records no probe rows (the buffers stay empty).
+    for (long m = 0; m < flown && !per_step_.empty(); ++m) {
         const auto row = static_cast<std::size_t>(m) * width;
         const std::span<const double> row_u(flight_u_.data() + row, width);
         const std::span<const double> row_v =
