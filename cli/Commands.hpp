@@ -27,6 +27,11 @@ void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, loc
 void add_setup_command(CLI::App& app, Action& action);  // neck set-up study, buzz map
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
 void add_play_command(CLI::App& app, Action& action);  // performance through the real-time engine
+void add_clean_command(CLI::App& app, Action& action);  // stale staging folders of killed runs
+
+// SIGINT and SIGTERM ask the running simulation to stop at its next step boundary (it then
+// discards its staging folder and the command exits 130 or 143) instead of killing it.
+void stop_cleanly_on_signals();
 
 // What `plot` and `report` take: a run's output directory and how to draw it.
 struct FigureArguments {

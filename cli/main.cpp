@@ -1,5 +1,7 @@
 // The fretbuzz command: a thin layer that parses arguments and calls the library.
-// Errors in the user's input exit with status 2, numerical failures with 3.
+// Exit status: 0 success, 2 bad input (command line or case), 1 an I/O failure (a full
+// disk, an unreadable output), 3 a numerical failure, 128 + the signal when interrupted.
+#include <csignal>
 #include <iostream>
 #include <string>
 
@@ -8,9 +10,22 @@
 #include "fretbuzz/Version.hpp"
 
 namespace fretbuzz::cli {
+
+namespace {
+extern "C" void on_stop_signal(int signal) { request_stop(signal); }
+}  // namespace
+
+void stop_cleanly_on_signals() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (int signal : {SIGINT, SIGTERM}) sigaction(signal, &action, nullptr);
+}
+
 namespace {
 std::string invocation;
-}
+}  // namespace
 const std::string& command_line() { return invocation; }
 }  // namespace fretbuzz::cli
 
@@ -32,13 +47,23 @@ int main(int argc, char** argv) {
     cli::add_setup_command(app, action);
     cli::add_estimate_command(app, action);
     cli::add_play_command(app, action);
+    cli::add_clean_command(app, action);
 
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version end the parse with status 0; any other parse error is bad input.
+        const int status = app.exit(e);
+        return status == 0 ? 0 : 2;
+    }
     try {
         return action ? action() : 0;
     } catch (const InputError& e) {
         std::cerr << "fretbuzz: error: " << e.what() << "\n";
         return 2;
+    } catch (const Interrupted& e) {
+        std::cerr << "\nfretbuzz: " << e.what() << "; no results written\n";
+        return 128 + e.signal();
     } catch (const SolverError& e) {
         std::cerr << "fretbuzz: solver error: " << e.what() << "\n";
         return 3;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <string>
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
@@ -113,6 +115,54 @@ void check_pads_apart(const Case& c) {
                                                           " (pads must be apart by more than one grid step)"));
 }
 
+// Quantities derived from several inputs, checked before a run plans anything: each would
+// otherwise overflow deep inside the scheme and surface as a divergence naming nothing.
+void check_derived_quantities(const Case& c) {
+    const double fs = c.run.sample_rate_hz;
+    const double dt = 1.0 / fs;
+    if (std::lround(c.run.duration_s * fs) < 1) {
+        std::ostringstream allowed;
+        allowed << "must be at least one time step, 1/run.fs = " << dt << " s";
+        throw InputError(out_of_range_message("run.duration (s)", c.run.duration_s, allowed.str()));
+    }
+    for (std::size_t j = 0; j < c.mode_count(); ++j) {
+        const std::string mode = "mode " + std::to_string(j + 1);
+        // e^{-sigma dt} and sinh of the overdamped rate overflow or underflow near sigma dt = 700;
+        // a mode that loses e^-100 of its amplitude in one step is not a physical input anyway.
+        const double sigma_dt = c.modes.sigma_per_s[j] * dt;
+        if (!(sigma_dt <= Case::kMaxSigmaDt)) {
+            std::ostringstream allowed;
+            allowed << "sigma * dt = " << sigma_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxSigmaDt
+                    << " (lower the damping or raise fs)";
+            throw InputError(out_of_range_message(mode + " sigma_per_s", c.modes.sigma_per_s[j], allowed.str()));
+        }
+        // The one-step map evaluates sin(omega dt): far above fs its phase is round-off.
+        const double omega_dt = 2.0 * std::numbers::pi * c.modes.frequency_hz[j] * dt;
+        if (!(omega_dt <= Case::kMaxOmegaDt)) {
+            std::ostringstream allowed;
+            allowed << "omega * dt = " << omega_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxOmegaDt;
+            throw InputError(out_of_range_message(mode + " frequency_hz", c.modes.frequency_hz[j], allowed.str()));
+        }
+    }
+    // The energy is mu / (2 dt^2) times a sum over modes: both must be representable.
+    const double scale = c.string.linear_density / (2.0 * dt * dt);
+    if (!std::isfinite(scale)) {
+        std::ostringstream allowed;
+        allowed << "with run.fs = " << fs << " Hz the energy scale mu fs^2 / 2 overflows; must keep mu * fs^2 finite";
+        throw InputError(out_of_range_message("string.mu (linear density, kg/m)", c.string.linear_density, allowed.str()));
+    }
+    double initial = 0.0;  // (1/2) mu sum_j (v_j^2 + omega_j^2 q_j^2)
+    for (std::size_t j = 0; j < c.mode_count(); ++j) {
+        const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
+        const double q = c.initial_displacement[j] * omega, v = c.initial_velocity[j];
+        initial += 0.5 * c.string.linear_density * (v * v + q * q);
+    }
+    if (!std::isfinite(initial))
+        throw InputError(out_of_range_message(
+            "string.mu (linear density, kg/m)", c.string.linear_density,
+            "with this initial displacement and velocity the initial energy overflows; must keep the energy finite"));
+}
+
 }  // namespace
 
 std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
@@ -172,6 +222,9 @@ void Case::validate() const {
     }
     require_positive("contact.K (penalty stiffness)", contact.stiffness);
     require_at_least("contact.alpha (penalty exponent)", contact.exponent, 1.0);
+    if (contact.exponent > kMaxExponent)
+        throw InputError(out_of_range_message("contact.alpha (penalty exponent)", contact.exponent,
+                                              "must be in [1, " + std::to_string(static_cast<int>(kMaxExponent)) + "]"));
     require_positive("run.fs (sample rate, Hz)", run.sample_rate_hz);
     require_positive("run.duration (s)", run.duration_s);
     if (run.sample_rate_hz * run.duration_s > 4e9)
@@ -195,6 +248,7 @@ void Case::validate() const {
                                                   "must lie inside the string, in (0, L) = (0, " +
                                                       std::to_string(string.length_m) + ")"));
     }
+    check_derived_quantities(*this);
     check_initial_shape_clears_obstacle(*this);
     for (const FingerSpec& f : fingers) check_finger(f, *this);
     for (const ForceSpec& f : forces) {

@@ -1,9 +1,30 @@
 #include "fretbuzz/Error.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <sstream>
+#include <string>
 
 namespace fretbuzz {
+
+namespace {
+// Lock-free, so a signal handler may store into it.
+std::atomic<int> requested_stop{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+}  // namespace
+
+Interrupted::Interrupted(int signal)
+    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal")),
+      signal_(signal) {}
+
+void request_stop(int signal) noexcept { requested_stop.store(signal, std::memory_order_relaxed); }
+
+int stop_signal() noexcept { return requested_stop.load(std::memory_order_relaxed); }
+
+void throw_if_stopped() {
+    if (const int signal = stop_signal(); signal != 0) throw Interrupted(signal);
+}
 
 std::string out_of_range_message(const std::string& name, double value, const std::string& allowed) {
     std::ostringstream out;

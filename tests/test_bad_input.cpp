@@ -99,7 +99,7 @@ x = [0.3]
                               std::to_string(3 * dx) + ",-1e-3\n";
     write("above.csv", above);
     const BadRun cases[] = {
-        {(scratch.path() / "absent.toml").string(), "cannot be read"},
+        {(scratch.path() / "absent.toml").string(), "cannot read"},
         {write("syntax.toml", "name = \"x\"\n[string\nL = 1\n"), "syntax.toml:"},
         {write("typo.toml", std::string(base).replace(base.find("mu = "), 2, "muu")), "found string.muu instead"},
         {write("negative_tension.toml", std::string(base).replace(base.find("T = 80.0"), 8, "T = -80.0")),

@@ -16,6 +16,20 @@
 namespace fretbuzz {
 namespace {
 
+// AddressSanitizer's shadow memory and quarantine roughly double a program's footprint
+// (385 MB measured for this run) and slow it down; the bounds are on the program, not the tool.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr double kSanitizerFactor = 3.0;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr double kSanitizerFactor = 3.0;
+#else
+constexpr double kSanitizerFactor = 1.0;
+#endif
+#else
+constexpr double kSanitizerFactor = 1.0;
+#endif
+
 TEST(LongRun, ThreeSecondsOfBassPopAtFourMegahertzInBoundedMemory) {
     testing::ScratchDir scratch("long-run");
     const auto start = std::chrono::steady_clock::now();
@@ -28,9 +42,9 @@ TEST(LongRun, ThreeSecondsOfBassPopAtFourMegahertzInBoundedMemory) {
     RecordProperty("wall_seconds", std::to_string(wall));
     RecordProperty("peak_memory_MB", std::to_string(peak_mb));
     std::printf("3 s of bass-pop at 4 MHz: %.2f s wall, peak memory %.1f MB\n", wall, peak_mb);
-    EXPECT_LT(peak_mb, 200.0);
+    EXPECT_LT(peak_mb, 200.0 * kSanitizerFactor);
     // Not a speed benchmark (bench/ is): a guard against losing the fast path altogether.
-    EXPECT_LT(wall, 120.0);
+    EXPECT_LT(wall, 120.0 * kSanitizerFactor);
 }
 
 std::vector<double> audio_of(const Case& c, bool free_flight, RunSummary& summary) {

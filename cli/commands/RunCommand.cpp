@@ -84,6 +84,7 @@ void print_progress(const Progress& p) {
 }
 
 int run_command(const RunArguments& a) {
+    stop_cleanly_on_signals();
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
     c.validate();  // before anything is created on disk

@@ -104,6 +104,13 @@ struct Case {
     void add_fret_finger(std::size_t k, const std::string& key);
     // Checks every field; throws InputError naming the first bad one.
     void validate() const;
+
+    // Limits of validate() on derived quantities: the decay of a mode within one step,
+    // the phase of its one-step map, and the contact law's exponent (the penalty solve is
+    // tested for alpha in [1, 3]; far above, K [g - u]^alpha under- and overflows).
+    static constexpr double kMaxSigmaDt = 100.0;
+    static constexpr double kMaxOmegaDt = 1e6;
+    static constexpr double kMaxExponent = 10.0;
 };
 
 // Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx: see Case::fret_positions_m.

@@ -17,6 +17,23 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// A run stopped by a signal (SIGINT, SIGTERM) at a step boundary; nothing was written.
+class Interrupted : public std::runtime_error {
+public:
+    explicit Interrupted(int signal);
+    int signal() const { return signal_; }
+
+private:
+    int signal_;
+};
+
+// Asks running simulations to stop at their next step boundary (async-signal-safe: a
+// signal handler may call it). stop_signal() is the signal asked for, 0 if none.
+void request_stop(int signal) noexcept;
+int stop_signal() noexcept;
+// Throws Interrupted if a stop was asked for.
+void throw_if_stopped();
+
 // Formats "<name> = <value> is out of range: <allowed>" for InputError messages.
 std::string out_of_range_message(const std::string& name, double value, const std::string& allowed);
 

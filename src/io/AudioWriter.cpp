@@ -142,8 +142,11 @@ double write_normalised_audio(const std::filesystem::path& path, std::span<const
     SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     const sf_count_t written = sf_write_double(file, normalised.data(), static_cast<sf_count_t>(normalised.size()));
-    sf_close(file);
-    if (written != static_cast<sf_count_t>(normalised.size())) throw std::runtime_error("writing " + path.string() + " failed");
+    const std::string write_error = written != static_cast<sf_count_t>(normalised.size()) ? sf_strerror(file) : "";
+    // sf_close writes the header's final sizes: a full disk can fail it alone.
+    const int close_error = sf_close(file);
+    if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
+    if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
     return 1.0 / gain;
 }
 

@@ -10,6 +10,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 #include "fretbuzz/io/BuiltinFiles.hpp"
+#include "fretbuzz/io/TextFile.hpp"
 
 namespace fretbuzz {
 
@@ -32,14 +33,11 @@ std::string DataSource::read(const std::string& relative_path, const std::string
     }
     const std::filesystem::path given(relative_path);
     const std::filesystem::path path = given.is_absolute() ? given : dir_ / given;
-    std::ifstream in(path, std::ios::binary);
     // A case copied out with `fretbuzz show` still finds the built-in data it names.
-    if (!in && !given.is_absolute() && !std::filesystem::exists(path))
+    std::error_code ec;
+    if (!given.is_absolute() && !std::filesystem::exists(path, ec) && !ec)
         if (auto text = find_builtin_file(relative_path)) return std::string(*text);
-    if (!in) throw InputError(key + " = \"" + relative_path + "\": cannot read " + path.string());
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
+    return read_text_file(path, key + " = \"" + relative_path + "\"", kMaxDataFileBytes);
 }
 
 namespace {
@@ -191,11 +189,8 @@ CaseText read_case_text(const std::string& name_or_path) {
         return {builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin()};
     const std::filesystem::path path(name_or_path);
     if (path.extension() == kCaseSuffix) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw InputError("case file " + path.string() + " cannot be read (missing or not readable)");
-        std::ostringstream text;
-        text << in.rdbuf();
-        return {text.str(), path.string(), DataSource::directory(path.parent_path())};
+        return {read_text_file(path, "case file " + path.string(), kMaxCaseFileBytes), path.string(),
+                DataSource::directory(path.parent_path())};
     }
     builtin_case_text(name_or_path);  // throws the list of valid names
     return {};

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/TextFile.hpp"
 
 namespace fretbuzz {
 
@@ -65,6 +66,9 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
         const std::string_view raw = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
         start = end == std::string_view::npos ? text.size() + 1 : end + 1;
         ++line_number;
+        const std::string at = source + ":" + std::to_string(line_number);
+        if (raw.size() > kMaxLineBytes)
+            throw InputError(at + ": the line is longer than " + std::to_string(kMaxLineBytes) + " bytes");
         const std::string_view line = trim(raw);
         if (line.empty()) continue;
         if (line.front() == '#') {
@@ -74,7 +78,9 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
         std::vector<double> row;
         std::string label;
         bool numeric = true;
+        std::size_t column = 0;
         for (std::string_view cell : split(line)) {
+            ++column;
             double value = 0.0;
             if (!parse_number(cell, value)) {
                 // Text after the required numbers is a label (the `source` column of a mode table).
@@ -83,8 +89,7 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
                 break;
             }
             if (!std::isfinite(value))
-                throw InputError(source + ":" + std::to_string(line_number) + ": value '" + std::string(cell) +
-                                 "' is not a finite number");
+                throw InputError(at + ": the value in column " + std::to_string(column) + " is not a finite number");
             row.push_back(value);
         }
         if (!numeric) {
@@ -92,11 +97,12 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
                 table.column_names = names_of(line);
                 continue;
             }
-            throw InputError(source + ":" + std::to_string(line_number) + ": expected " + std::to_string(min_columns) +
-                             " comma-separated numbers, got '" + std::string(line) + "'");
+            // The file is someone else's: say where, never echo what (it may not be a table at all).
+            throw InputError(at + ": expected " + std::to_string(min_columns) +
+                             " comma-separated numbers, column " + std::to_string(column) + " is not a number");
         }
         if (row.size() < min_columns)
-            throw InputError(source + ":" + std::to_string(line_number) + ": expected at least " +
+            throw InputError(at + ": expected at least " +
                              std::to_string(min_columns) + " columns, got " + std::to_string(row.size()));
         table.rows.push_back(std::move(row));
         table.labels.push_back(std::move(label));

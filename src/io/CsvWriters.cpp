@@ -1,8 +1,9 @@
 #include "fretbuzz/io/CsvWriters.hpp"
 
+#include <cerrno>
 #include <charconv>
-
-#include "fretbuzz/Error.hpp"
+#include <cstring>
+#include <stdexcept>
 
 namespace fretbuzz {
 
@@ -13,16 +14,32 @@ void append_number(std::string& line, double v) {
 }
 
 namespace {
-void open_for_writing(std::ofstream& out, const std::filesystem::path& path) {
-    out.open(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot write " + path.string());
-}
-void check_written(std::ofstream& out, const std::filesystem::path& path) {
-    out.flush();
-    if (!out) throw std::runtime_error("writing " + path.string() + " failed (disk full?)");
-    out.close();
+[[noreturn]] void write_failure(const std::filesystem::path& path) {
+    const int error = errno;  // the failed write's, when the stream library left it
+    throw std::runtime_error("cannot write " + path.string() + ": " +
+                             (error != 0 ? std::strerror(error) : "the write failed (disk full?)"));
 }
 }  // namespace
+
+void open_for_writing(std::ofstream& out, const std::filesystem::path& path) {
+    errno = 0;
+    out.open(path, std::ios::binary | std::ios::trunc);
+    if (!out) write_failure(path);
+}
+
+void close_checked(std::ofstream& out, const std::filesystem::path& path) {
+    errno = 0;
+    out.flush();
+    if (out) out.close();  // close() flushes the last buffer: it can fail too
+    if (!out) write_failure(path);
+}
+
+void write_text_file(const std::filesystem::path& path, std::string_view text) {
+    std::ofstream out;
+    open_for_writing(out, path);
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    close_checked(out, path);
+}
 
 ObservationCsvWriter::ObservationCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
@@ -48,7 +65,7 @@ void ObservationCsvWriter::observation(double t, std::span<const double> u) {
     out_ << line_;
 }
 
-void ObservationCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+void ObservationCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
 
 EnergyCsvWriter::EnergyCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
@@ -83,7 +100,7 @@ void EnergyCsvWriter::energy(double t, double h, double contact, double dissipat
     out_ << line_;
 }
 
-void EnergyCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+void EnergyCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
 
 BridgeForceCsvWriter::BridgeForceCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
@@ -101,6 +118,6 @@ void BridgeForceCsvWriter::bridge_force(double t, double force) {
     out_ << line_;
 }
 
-void BridgeForceCsvWriter::finish(const RunSummary&) { check_written(out_, path_); }
+void BridgeForceCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
 
 }  // namespace fretbuzz

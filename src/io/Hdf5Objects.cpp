@@ -61,10 +61,26 @@ void write_attribute_at(hid_t parent, const std::string& path, const std::string
     write_attribute(object.get(), name, value);
 }
 
-void silence_error_printing() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void Handle::close(const std::string& what) {
+    if (id_ < 0 || closer_ == nullptr) return;
+    const herr_t status = closer_(std::exchange(id_, -1));
+    check_status(status, what);
+}
+
+void silence_error_printing() {
+    // No clean-up at exit: after a failed close (a full disk) HDF5's own shutdown would
+    // touch the half-closed file and crash. Fails harmlessly once the library is running.
+    static const bool once = (H5dont_atexit(), true);
+    (void)once;
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
 
 Handle create_file(const std::string& path) {
     return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path);
+}
+
+void flush_file(hid_t file, const std::string& path) {
+    check_status(H5Fflush(file, H5F_SCOPE_LOCAL), "write " + path);
 }
 
 Handle create_group(hid_t parent, const std::string& name) {

@@ -23,7 +23,8 @@ public:
     Handle(const Handle&) = delete;
     Handle& operator=(const Handle&) = delete;
     hid_t get() const { return id_; }
-    void reset();
+    void reset();  // closes, ignoring the status (for unwinding)
+    void close(const std::string& what);  // closes; throws naming `what` if HDF5 reports a failure
 
 private:
     hid_t id_ = -1;
@@ -34,6 +35,8 @@ private:
 void silence_error_printing();
 
 Handle create_file(const std::string& path);
+// Writes everything the library holds for the file to disk; throws naming path on failure.
+void flush_file(hid_t file, const std::string& path);
 Handle create_group(hid_t parent, const std::string& name);
 
 void write_array(hid_t parent, const std::string& name, std::span<const double> values);
@@ -59,6 +62,7 @@ public:
     void append(std::span<const double> row);
     void append(double value) { append(std::span<const double>(&value, 1)); }
     void flush();
+    void close(const std::string& what) { dataset_.close(what); }
     std::size_t rows() const { return written_ + pending_rows(); }
     std::size_t width() const { return row_width_; }
     hid_t id() const { return dataset_.get(); }

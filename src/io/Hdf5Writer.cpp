@@ -218,7 +218,16 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     write_array(contact, "peak_force", f.map->peak_force());
     write_string(f.file.get(), "summary", summary_json(summary, f.observation_points, f.source, &options_.extras));
     for (const auto& [path, unit] : kUnits) write_attribute_at(f.file.get(), path, "units", unit);
-    // Close the file now: it is complete before the output directory is committed.
+    // Close the file now, every object before the file and every status checked: a full
+    // disk shows here, and a file left half-open would make HDF5's own shutdown crash.
+    const std::string name = path_.string();
+    flush_file(f.file.get(), name);
+    for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
+                              &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
+                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force})
+        d->close("write " + name);
+    for (Handle* h : {&f.case_group, &f.observation, &f.energy, &f.grid, &f.contact, &f.snapshots}) h->close("write " + name);
+    f.file.close("write " + name);
     file_.reset();
 }
 

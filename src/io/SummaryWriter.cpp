@@ -1,10 +1,10 @@
 #include "fretbuzz/io/SummaryWriter.hpp"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/io/AudioWriter.hpp"
+#include "fretbuzz/io/CsvWriters.hpp"
 
 namespace fretbuzz {
 
@@ -65,9 +65,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
 }
 
 void SummaryWriter::finish(const RunSummary& s) {
-    std::ofstream out(path_, std::ios::trunc);
-    out << summary_json(s, observation_points_m_, case_, &extras_) << '\n';
-    if (!out) throw std::runtime_error("cannot write " + path_.string());
+    write_text_file(path_, summary_json(s, observation_points_m_, case_, &extras_) + '\n');
 }
 
 }  // namespace fretbuzz

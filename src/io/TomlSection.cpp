@@ -5,10 +5,76 @@
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/TextFile.hpp"
 
 namespace fretbuzz {
 
+namespace {
+
+constexpr std::size_t kMaxKeyParts = 64;   // a.b.c: three parts; case files use at most three
+constexpr std::size_t kMaxNesting = 64;    // arrays and inline tables inside each other
+
+// The TOML parser recurses on dotted keys and nested values; a hostile file (a header of
+// 50 000 parts) would overflow the stack. A linear scan refuses such files first.
+void check_toml_shape(std::string_view text, const std::string& source) {
+    if (text.size() > kMaxCaseFileBytes)
+        throw InputError(source + ": the file is larger than " + std::to_string(kMaxCaseFileBytes >> 20) + " MiB");
+    std::size_t line = 1, parts = 1;
+    bool in_key = true;       // where a key may be: line start, a header, after '{' or ',' in an inline table
+    bool in_header = false;
+    std::string nesting;      // open '[' and '{' of values
+    auto fail = [&](const std::string& what) { throw InputError(source + ":" + std::to_string(line) + ": " + what); };
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char ch = text[i];
+        if (ch == '\n') {
+            ++line;
+            if (nesting.empty()) {
+                in_key = true;
+                parts = 1;
+                in_header = false;
+            }
+        } else if (ch == '#') {
+            while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+        } else if (ch == '"' || ch == '\'') {
+            const bool triple = text.substr(i, 3) == std::string(3, ch);
+            const std::string_view end = triple ? text.substr(i, 3) : text.substr(i, 1);
+            for (i += end.size(); i < text.size() && text.substr(i, end.size()) != end; ++i) {
+                if (ch == '"' && text[i] == '\\') ++i;  // an escape in a basic string
+                else if (text[i] == '\n') ++line;
+            }
+            i += end.size() - 1;
+        } else if (in_key && ch == '.') {
+            if (++parts > kMaxKeyParts)
+                fail("a dotted key has more than " + std::to_string(kMaxKeyParts) + " parts");
+        } else if (in_header) {
+            if (ch == ']') in_key = false;
+        } else if (in_key && nesting.empty() && ch == '[') {
+            in_header = true;
+            while (i + 1 < text.size() && text[i + 1] == '[') ++i;
+        } else if (ch == '=') {
+            in_key = false;
+        } else if (ch == '[' || ch == '{') {
+            nesting.push_back(ch);
+            if (nesting.size() > kMaxNesting)
+                fail("values are nested more than " + std::to_string(kMaxNesting) + " deep");
+            if (ch == '{') {
+                in_key = true;
+                parts = 1;
+            }
+        } else if (ch == ']' || ch == '}') {
+            if (!nesting.empty()) nesting.pop_back();
+            in_key = false;
+        } else if (ch == ',' && !nesting.empty() && nesting.back() == '{') {
+            in_key = true;
+            parts = 1;
+        }
+    }
+}
+
+}  // namespace
+
 toml::table parse_toml_document(std::string_view text, const std::string& source) {
+    check_toml_shape(text, source);
     try {
         return toml::parse(text, source);
     } catch (const toml::parse_error& e) {

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
 
 namespace fretbuzz {
@@ -82,6 +84,8 @@ RunSummary RunLoop::run() {
     if (!per_step_.empty()) report_step();
     report_snapshots();
     while (n_ < layout_.steps) {
+        // A signal (Ctrl-C) stops the run between steps; the outputs then discard their files.
+        throw_if_stopped();
         if (const long flown = fly(); flown > 0) {
             n_ += flown;
             report_flight(flown);
@@ -91,8 +95,11 @@ RunSummary RunLoop::run() {
         ++n_;
         after_step();
     }
+    // The summary's final energy is the state's at the last step, whatever the output rate.
+    if (n_ > 0 && audited_step_ != n_) audit_energy();
     finish_summary();
     for (RunObserver* o : observers_) o->finish(summary_);
+    throw_if_stopped();
     return summary_;
 }
 
@@ -157,7 +164,11 @@ void RunLoop::after_step() {
     if (!per_step_.empty()) report_step();
     if (!snapshot_taps_.empty()) report_snapshots();
     if (n_ % layout_.output_stride == 0 || n_ == 1) report_output();
-    if (options_.progress && (n_ & 0xfff) == 0) report_progress();
+    if ((n_ & 0xfff) == 0) {
+        // Between output rows too: a run gone to NaN stops within a few thousand steps.
+        if (audited_step_ != n_) check_state(stepper_.energy());
+        if (options_.progress) report_progress();
+    }
 }
 
 void RunLoop::report_observation() {
@@ -175,7 +186,8 @@ void RunLoop::report_step() {
 
 void RunLoop::report_flight(long flown) {
     const std::size_t width = shapes_.size();
-    for (long m = 0; m < flown; ++m) {
+    // Without per-step observers the flight records no probe rows (the buffers stay empty).
+    for (long m = 0; m < flown && !per_step_.empty(); ++m) {
         const auto row = static_cast<std::size_t>(m) * width;
         const std::span<const double> row_u(flight_u_.data() + row, width);
         const std::span<const double> row_v =
@@ -202,8 +214,9 @@ void RunLoop::report_snapshots() {
     }
 }
 
-void RunLoop::report_output() {
+double RunLoop::audit_energy() {
     const double h = stepper_.energy();
+    check_state(h);
     if (!stepper_.played()) {
         audit_.record(h, stepper_.dissipated(), summary_);
     } else {
@@ -212,6 +225,31 @@ void RunLoop::report_output() {
         summary_.finger_energy_final_j = stepper_.finger_energy();
         summary_.finger_loss_j = stepper_.finger_loss();
     }
+    audited_step_ = n_;
+    return h;
+}
+
+void RunLoop::check_state(double h) const {
+    if (std::isfinite(h) && std::isfinite(stepper_.dissipated())) return;
+    // Name the first quantity that went bad: a modal coordinate, else an energy term.
+    std::string what = std::isfinite(h) ? "the dissipated energy" : "the energy";
+    const std::span<const double> q = stepper_.modal_displacement();
+    const std::span<const double> d = stepper_.modal_difference();
+    for (std::size_t j = 0; j < q.size(); ++j) {
+        if (!std::isfinite(q[j]) || !std::isfinite(d[j])) {
+            what = "the displacement of mode " + std::to_string(j + 1) + " (q_" + std::to_string(j + 1) + " = " +
+                   std::to_string(std::isfinite(q[j]) ? d[j] : q[j]) + ")";
+            break;
+        }
+    }
+    if (what == "the energy" && !std::isfinite(stepper_.contact_energy())) what = "the contact energy";
+    throw SolverError("the simulation produced a non-finite value at t = " + std::to_string(stepper_.time()) +
+                      " s (step " + std::to_string(n_) + "): " + what +
+                      "; check the case's extreme values (string.mu, contact.K, contact.alpha, the modes' sigma)");
+}
+
+void RunLoop::report_output() {
+    const double h = audit_energy();
     if (n_ % layout_.output_stride != 0) return;
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;

@@ -37,6 +37,8 @@ private:
     void report_flight(long flown);
     void report_snapshots();
     void report_output();
+    double audit_energy();  // H at this step, into the summary; throws SolverError if not finite
+    void check_state(double h) const;
     void report_progress();
     void finish_summary();
 
@@ -64,6 +66,7 @@ private:
     std::size_t head_ = 0;  // modes stepped one by one during free flight
 
     EnergyAudit audit_;
+    long audited_step_ = -1;
     RunSummary summary_;
 };
 

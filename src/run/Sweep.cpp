@@ -11,6 +11,7 @@
 
 #include "../io/TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/io/TextFile.hpp"
 
 namespace fretbuzz {
 
@@ -272,11 +273,8 @@ SweepSpec parse_sweep(const std::string& text, const std::string& source_name, c
 }
 
 SweepSpec load_sweep(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError("sweep spec " + path.string() + " cannot be read (missing or not readable)");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_sweep(text.str(), path.string(), path.parent_path());
+    return parse_sweep(read_text_file(path, "sweep spec " + path.string(), kMaxCaseFileBytes), path.string(),
+                       path.parent_path());
 }
 
 Case sweep_case(const SweepSpec& spec, const SweepRun& run) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "fretbuzz/run/RunObserver.hpp"
 
@@ -53,6 +54,12 @@ private:
     std::ofstream out_;
     std::string line_;
 };
+
+// Checked file writing: each throws runtime_error naming the file (and the system's
+// reason, e.g. "No space left on device") when opening, writing, flushing or closing fails.
+void open_for_writing(std::ofstream& out, const std::filesystem::path& path);
+void close_checked(std::ofstream& out, const std::filesystem::path& path);
+void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 // Appends the shortest decimal form of v that reads back to exactly v.
 void append_number(std::string& line, double v);

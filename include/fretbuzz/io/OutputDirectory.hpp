@@ -1,7 +1,14 @@
 #pragma once
-// All-or-nothing output: files are written into a hidden staging folder inside the
-// output directory and moved into place only when the run succeeds. A failed run leaves
-// nothing behind (not even the directory, if the run created it).
+// All-or-nothing output. Files are written into a staging folder beside the output
+// directory (same parent, so same file system); commit() syncs them to disk and then swaps
+// the staging folder and the directory in one rename (renameat2 RENAME_EXCHANGE), so a
+// reader sees either the old set or the new one, never a mix. The new set replaces the
+// old one whole: files of an older run that this run does not write (say audio_0.5m.wav)
+// are gone; files fretbuzz never writes (a user's notes) are kept, hard-linked into the
+// new set. A run that fails or is interrupted leaves nothing behind: no staging folder,
+// and no directory (or parents) it created. Staging folders of a run that was killed
+// (SIGKILL, power loss) are found by their lock and removed by the next run into the same
+// directory, or by remove_stale_staging() (`fretbuzz clean DIR`).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -10,8 +17,9 @@ namespace fretbuzz {
 
 class OutputDirectory {
 public:
-    // Creates (if needed) dir and a staging folder in it; throws InputError naming --out
-    // if either cannot be created or written.
+    // Checks dir (InputError naming --out: a file in the way, a name too long, a folder that
+    // fretbuzz did not write inside it, not writable) and creates the staging folder and any
+    // missing parents of dir.
     explicit OutputDirectory(const std::filesystem::path& dir);
     ~OutputDirectory();  // discards the staged files unless commit() ran
     OutputDirectory(const OutputDirectory&) = delete;
@@ -19,16 +27,30 @@ public:
 
     // Where a writer should write `name` (inside the staging folder).
     std::filesystem::path staged(const std::string& name);
-    // Moves every staged file into the directory, replacing older files of the same name.
+    // Makes the staged files the directory's content at once. Throws (runtime_error naming
+    // the file, or Interrupted before the swap) and leaves the old content intact on failure.
     void commit();
     const std::filesystem::path& path() const { return dir_; }
 
 private:
-    std::filesystem::path dir_;
-    std::filesystem::path staging_;
+    void discard() noexcept;
+
+    std::filesystem::path dir_;      // as given
+    std::filesystem::path target_;   // absolute, symbolic links followed: what gets swapped
+    std::filesystem::path staging_;  // sibling of target_
+    std::filesystem::path lock_;     // held while this run lives: a staging folder without a held lock is stale
+    int lock_fd_ = -1;
     std::vector<std::string> names_;
-    bool created_dir_ = false;
+    std::vector<std::filesystem::path> created_;  // parents this run created, outermost first
     bool committed_ = false;
 };
+
+// Removes the staging folders that runs into `dir` left when they were killed (their lock is
+// free), and those of runs into folders inside `dir`. Returns how many it removed.
+std::size_t remove_stale_staging(const std::filesystem::path& dir);
+
+// True for the names of files a run or its report writes (observation.csv, audio*.wav,
+// report.html, ...): files of an older run with these names are replaced or removed.
+bool is_run_output_name(const std::string& name);
 
 }  // namespace fretbuzz
