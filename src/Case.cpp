@@ -67,12 +67,13 @@ void check_pad(const std::string& k, double position, double width, bool point_a
                                               "(0, L): it overlaps an end of the string"));
 }
 
-void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile, const Case& c) {
+void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile, const Case& c,
+                         bool may_outlast_run = false) {
     for (std::size_t p = 0; p < profile.size(); ++p) {
         const std::string item = k + ".force[" + std::to_string(p) + "]";
         const double t = profile[p][0], force = profile[p][1];
         require_finite(item + "[0] (time, s)", t);
-        if (!(t >= 0.0 && t <= c.run.duration_s))
+        if (!(t >= 0.0 && (may_outlast_run || t <= c.run.duration_s)))
             throw InputError(out_of_range_message(item + "[0] (time, s)", t,
                                                   "must lie within the run, in [0, run.duration = " +
                                                       std::to_string(c.run.duration_s) + "] s"));
@@ -96,7 +97,7 @@ void check_finger(const FingerSpec& f, const Case& c) {
     require_finite(k + ".velocity (m/s)", f.initial_velocity);
     if (std::abs(f.initial_velocity) > 100.0)
         throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
-    check_force_profile(k, f.force_profile, c);
+    check_force_profile(k, f.force_profile, c, f.default_force);
 }
 
 void check_pads_apart(const Case& c) {
@@ -200,6 +201,7 @@ void Case::add_fret_finger(std::size_t k, const std::string& key) {
     // Just behind the fret: the pad's near edge 15 % of the fret spacing from it.
     f.position_m = fret - 0.15 * spacing - 0.5 * f.width_m;
     f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), 5.0}};
+    f.default_force = true;
     fingers.push_back(std::move(f));
 }
 

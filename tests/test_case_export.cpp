@@ -37,6 +37,13 @@ struct Motion : RunObserver {
 
 Motion short_run(Case c, double duration) {
     c.run.duration_s = duration;
+    // Profile times beyond a run are refused: keep the points inside the shortened run, the
+    // same cut for both cases compared (what is compared is the export, not the gesture).
+    const auto cut = [duration](std::vector<std::array<double, 2>>& profile) {
+        std::erase_if(profile, [duration](const std::array<double, 2>& p) { return p[0] > duration; });
+    };
+    for (FingerSpec& f : c.fingers) cut(f.force_profile);
+    for (ForceSpec& f : c.forces) cut(f.force_profile);
     Motion m;
     RunObserver* observers[] = {&m};
     simulate(c, observers);

@@ -39,6 +39,9 @@ struct FingerSpec {
     // Pressing force toward the fretboard (N) at times (s): linear in between, held before
     // the first and after the last point. Empty: no force.
     std::vector<std::array<double, 2>> force_profile;
+    // The profile was made by `fret = k` (not written by the user): it may outlast a run
+    // shortened later (--duration), where a user's own times beyond the run are refused.
+    bool default_force = false;
     double initial_gap_m = 0.0;       // pad above the highest pad point of the initial shape
     double initial_velocity = 0.0;    // m/s toward the fretboard
 };

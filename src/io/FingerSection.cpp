@@ -37,6 +37,7 @@ void read_finger(TomlSection& s, Case& c) {
             f.force_profile = s.number_pairs("force");
         else
             f.force_profile = {{0.0, s.number("force")}};
+        f.default_force = false;
     }
 }
 
