@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <numbers>
 #include <string>
 
@@ -65,7 +66,13 @@ TEST(Finger, LosslessBalanceIsExactWhilePressingAStringOntoAFret) {
     c.fingers.back().loss = 0.0;
     const Ledger l = run_ledger(c, 100000);
     EXPECT_GT(l.work.back(), 0.5 * l.energy.front());  // the finger does real work on the string
-    EXPECT_GT(l.contact_force.back(), 4.0);            // and rests on it with about its 5 N
+    // and leans on it with its 5 N: without losses the finger never settles, but its momentum
+    // stays bounded, so over the second half the mean contact force is the pressing force
+    // (the force at any one step depends on the bounce and on round-off).
+    const auto half = l.contact_force.begin() + static_cast<std::ptrdiff_t>(l.contact_force.size() / 2);
+    const double mean_force = std::accumulate(half, l.contact_force.end(), 0.0) /
+                              static_cast<double>(l.contact_force.end() - half);
+    EXPECT_NEAR(mean_force, 5.0, 0.25);
     EXPECT_LT(worst_balance_error(l), 1e-10);
     for (double d : l.dissipated) EXPECT_EQ(d, 0.0);
 }
