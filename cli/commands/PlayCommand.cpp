@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
@@ -41,14 +42,14 @@ int play(const PlayArguments& a) {
     options.host_rate_hz = a.rate;
     options.oversampling = a.oversampling;
     options.max_oversampling = a.max_oversampling;
-    const RenderedPerformance r = render_performance(c, p, options, a.block);
+    RenderedPerformance r = render_performance(c, p, options, a.block);
     const double seconds = static_cast<double>(r.audio.size()) / a.rate;
     for (const auto& v : r.voices) {
         std::printf("fret %2d: %zu modes at %d x %.0f Hz\n", v.fret, v.modes, v.oversampling, a.rate);
         if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: the energy guard silenced the voice %ld times\n", v.fret, v.resets);
         if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: %ld values clamped into range\n", v.fret, v.clamped);
     }
-    write_normalised_audio(a.out, r.audio, a.rate, a.bits);
+    write_normalised_audio(a.out, std::move(r.audio), a.rate, a.bits);
     std::printf("%s: %.2f s of audio, %zu notes, rendered in %.2f s (%.1f x real time)\n", a.out.c_str(), seconds,
                 p.notes.size(), r.wall_seconds, seconds / r.wall_seconds);
     return 0;

@@ -121,12 +121,11 @@ void AudioWriter::write_channel(std::size_t point) {
     };
     fade(fades_.in_s, true);
     fade(fades_.out_s, false);
-    full_scale_[point] = write_normalised_audio(paths_[point], faded, rate_);
+    full_scale_[point] = write_normalised_audio(paths_[point], std::move(faded), rate_);
 }
 
-double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+double write_normalised_audio(const std::filesystem::path& path, std::vector<double> normalised, double rate_hz,
                               int bits) {
-    std::vector<double> normalised(signal.begin(), signal.end());
     double peak = 0.0;
     for (double v : normalised) peak = std::max(peak, std::abs(v));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;

@@ -29,8 +29,9 @@ std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const do
 
 // Writes one mono signal peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or
 // Ogg Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's
-// inverse). std::runtime_error if the file cannot be written.
-double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+// inverse). Takes the signal by value: it is scaled in place (move it in where it is not needed
+// afterwards). std::runtime_error if the file cannot be written.
+double write_normalised_audio(const std::filesystem::path& path, std::vector<double> signal, double rate_hz,
                               int bits = 24);
 
 class AudioWriter : public RunObserver {
