@@ -55,7 +55,8 @@ class Neck:
         self.relief = obstacle.get("relief", 0.0)
         self.board_end = float(obstacle.get("board_end", self.fret_x(self.N)))
         self.body = obstacle.get("body_height")
-        self.raised: Dict[int, float] = {}
+        # Individual fret heights (obstacle.frets.height_offsets); `--raise` sets them too.
+        self.raised: Dict[int, float] = {int(n): float(h) for n, h in frets.get("height_offsets", {}).items()}
         excitation = doc["excitation"]
         self.pluck_x = float(excitation["position"])
         self.amplitude = float(excitation["amplitude"])
@@ -78,11 +79,15 @@ class Neck:
                 return d0 + (d1 - d0) * (x - x0) / (x1 - x0)
         return 0.0
 
-    def fret_top(self, n: int) -> float:
-        """Height of fret n's top below the open string at rest (negative, m), raise included."""
+    def fret_line(self, n: int) -> float:
+        """Height of the fret line at fret n below the open string at rest (negative, m)."""
         x = self.fret_x(n)
         action = self.action_nut + (self.action_last - self.action_nut) * x / self.fret_x(self.N)
-        return -action - self._relief_depth(x) + self.raised.get(n, 0.0)
+        return -action - self._relief_depth(x)
+
+    def fret_top(self, n: int) -> float:
+        """Height of fret n's top below the open string at rest (negative, m), its offset included."""
+        return self.fret_line(n) + self.raised.get(n, 0.0)
 
     def note(self, k: int) -> Dict[str, object]:
         """The case-file values of the note stopped at fret k (k = 0: the open string)."""
@@ -98,7 +103,9 @@ class Neck:
             return rest_k * (self.L - x) / length
 
         count = self.N - k
-        tops = [self.fret_top(k + n) - rest(self.fret_x(k + n)) for n in range(1, count + 1)]
+        # The fret line through the frets beyond k, seen from the stopped string; the
+        # individual fret heights stay offsets from it, renumbered from the stopped fret.
+        tops = [self.fret_line(k + n) - rest(self.fret_x(k + n)) for n in range(1, count + 1)]
         xs = [self.fret_x(k + n) - xk for n in range(1, count + 1)]
         action_nut = self.action_nut if k == 0 else 0.0
         action_last = -tops[-1]
@@ -115,6 +122,7 @@ class Neck:
             "obstacle.relief": relief if relief else 0.0,
             "obstacle.board_end": self.board_end - xk,
             "excitation.position": self.pluck_x - xk,
+            "obstacle.frets.height_offsets": {n - k: h for n, h in sorted(self.raised.items()) if n > k},
         }
         if self.body is not None:
             values["obstacle.body_height"] = float(self.body) - rest(self.board_end)
@@ -147,6 +155,8 @@ def _toml(value: object) -> str:
         return repr(value)
     if isinstance(value, str):
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }" if value else "{}"
     return "[" + ", ".join(_toml(v) for v in value) + "]"
 
 
@@ -240,8 +250,9 @@ def main(argv=None) -> int:
                 neck.raised[int(fret)] = float(height)
             except ValueError:
                 raise InputError(f"--raise {item!r}: give FRET:METRES, e.g. 7:0.05e-3") from None
-            if not 1 <= int(fret) <= neck.N or not abs(float(height)) <= 1e-3:
-                raise InputError(f"--raise {item!r}: fret in [1, {neck.N}], height in [-0.001, 0.001] m")
+            if not 1 <= int(fret) <= neck.N or not -neck.fret_height <= float(height) <= 1e-3:
+                raise InputError(f"--raise {item!r} (obstacle.frets.height_offsets.{fret}): fret in [1, {neck.N}], "
+                                 f"offset in [-{neck.fret_height:g} (down to the board), 0.001] m")
         frets = _frets(a.frets, neck) if a.frets else list(range(neck.N))
         strengths = _numbers(a.strength, "--strength") if a.strength else [neck.amplitude]
         fixed = {k: v for k, v in (("run.fs", a.fs), ("run.duration", a.duration)) if v is not None}

@@ -49,6 +49,11 @@ double Fretboard::fret_line_height(double x) const {
     return -action - relief.depth_at(x, last);
 }
 
+double Fretboard::fret_top_height(std::size_t n) const {
+    const auto offset = fret_height_offset_m.find(n);
+    return fret_line_height(fret_position(n)) + (offset == fret_height_offset_m.end() ? 0.0 : offset->second);
+}
+
 std::vector<double> Fretboard::sample(const Grid& grid) const {
     const double nothing = -std::numeric_limits<double>::infinity();
     // Round-off in x_i must not move a grid point that sits on the end of the board.
@@ -60,7 +65,7 @@ std::vector<double> Fretboard::sample(const Grid& grid) const {
     }
     for (std::size_t n = 1; n <= fret_count; ++n) {
         const double xn = fret_position(n);
-        const double top = fret_line_height(xn);
+        const double top = fret_top_height(n);
         for (std::size_t i = 0; i < grid.points; ++i)
             if (std::abs(grid.x(i) - xn) <= 0.5 * crown_width_m) g[i] = std::max(g[i], top);
         double& nearest = g[nearest_grid_point(grid, xn)];

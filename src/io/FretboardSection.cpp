@@ -1,8 +1,10 @@
 // [obstacle] type = "fretboard", with its frets in [obstacle.frets]:
 //   scale_length (default L), action_nut, action_last_fret, relief (a bow depth, or
 //   [[x, depth], ...]), board_end (default: the last fret), body_height (optional);
-//   frets: count, height, crown_width (default 0: one grid point per fret).
+//   frets: count, height, crown_width (default 0: one grid point per fret),
+//   height_offsets ({ n = m }: fret n's top raised by m, lowered if negative).
 #include <cmath>
+#include <sstream>
 
 #include "FretboardSection.hpp"
 #include "fretbuzz/Error.hpp"
@@ -13,6 +15,7 @@ namespace fretbuzz {
 namespace {
 
 constexpr double kMaxAction = 0.05;  // m: far above any playable setup
+constexpr double kMaxFretOffset = 1e-3;  // m: a fret 1 mm proud stops every note below it
 
 double action(TomlSection& s, std::string_view key) {
     const double a = s.non_negative(key);
@@ -25,6 +28,15 @@ void read_frets(TomlSection s, Fretboard& board) {
     board.fret_height_m = s.positive("height");
     if (board.fret_height_m > 0.01)
         throw InputError(out_of_range_message(s.key_path("height"), board.fret_height_m, "must be in (0, 0.01] m"));
+    // A fret may stand up to 1 mm proud of the fret line, or be worn down to the board.
+    board.fret_height_offset_m = s.numbered_numbers("height_offsets", 1, board.fret_count);
+    for (const auto& [n, offset] : board.fret_height_offset_m)
+        if (!(offset >= -board.fret_height_m && offset <= kMaxFretOffset)) {
+            std::ostringstream allowed;
+            allowed << "must be in [-" << board.fret_height_m << ", 0.001] m (down to the board at most)";
+            throw InputError(out_of_range_message(s.key_path("height_offsets." + std::to_string(n)), offset,
+                                                  allowed.str()));
+        }
     board.crown_width_m = s.optional_non_negative("crown_width").value_or(0.0);
     if (board.crown_width_m > 0.02)
         throw InputError(

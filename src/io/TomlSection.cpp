@@ -1,6 +1,7 @@
 #include "TomlSection.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -255,6 +256,28 @@ std::vector<std::array<double, 2>> TomlSection::number_pairs(std::string_view ke
         pairs.push_back({to_number(*pair->get(0), item + "[0]"), to_number(*pair->get(1), item + "[1]")});
     }
     return pairs;
+}
+
+std::map<std::size_t, double> TomlSection::numbered_numbers(std::string_view key, std::size_t minimum,
+                                                            std::size_t maximum) {
+    std::map<std::size_t, double> values;
+    if (!has(key)) return values;
+    const toml::node& n = required(key);
+    const auto* table = n.as_table();
+    if (table == nullptr)
+        throw InputError(key_path(key) + " must be a table of numbers by number, e.g. { " + std::to_string(minimum) +
+                         " = 0.05e-3 }");
+    for (const auto& [name, value] : *table) {
+        const std::string entry = std::string(key) + "." + std::string(name.str());
+        std::size_t number = 0;
+        const auto [end, error] = std::from_chars(name.str().data(), name.str().data() + name.str().size(), number);
+        if (error != std::errc() || end != name.str().data() + name.str().size() || number < minimum ||
+            number > maximum)
+            throw InputError(key_path(entry) + ": \"" + std::string(name.str()) + "\" must be a whole number in [" +
+                             std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+        values[number] = to_number(value, entry);
+    }
+    return values;
 }
 
 TomlSection TomlSection::section(std::string_view key) {

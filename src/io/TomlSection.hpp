@@ -4,6 +4,7 @@
 // that names the key instead of a silent fall-back to a default.
 #include <array>
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -55,6 +56,9 @@ public:
     std::optional<std::size_t> optional_count(std::string_view key, std::size_t minimum, std::size_t maximum);
     // An array of [a, b] number pairs (e.g. a curve given point by point).
     std::vector<std::array<double, 2>> number_pairs(std::string_view key);
+    // A table of numbers keyed by whole numbers in [minimum, maximum], e.g. per-fret values
+    // { 12 = 0.05e-3 }; empty when absent. Messages name the entry: key.12.
+    std::map<std::size_t, double> numbered_numbers(std::string_view key, std::size_t minimum, std::size_t maximum);
     TomlSection section(std::string_view key);
     std::optional<TomlSection> optional_section(std::string_view key);
     // Arrays of tables ([[obstacle.points]] etc.).

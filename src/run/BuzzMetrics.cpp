@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/SineTransform.hpp"
 
 namespace fretbuzz {
@@ -60,6 +61,24 @@ double high_frequency_energy(std::span<const double> signal, double rate_hz, dou
     return energy / static_cast<double>(n);  // Parseval: sum |u_i|^2 = (1/n) sum |U_k|^2
 }
 
+std::size_t first_buzz_point(const Case& c) {
+    if (c.fingers.empty()) return 0;
+    double edge = 0.0;
+    for (const FingerSpec& f : c.fingers) edge = std::max(edge, f.position_m + 0.5 * f.width_m);
+    const std::vector<std::size_t> feature = obstacle_features(c.obstacle_height_m);
+    const std::size_t n = c.obstacle_height_m.size();
+    const auto point_at = [&](double x) {
+        const double i = std::round(x / c.grid_step()) - 1.0;
+        return static_cast<std::size_t>(std::clamp(i, 0.0, static_cast<double>(n - 1)));
+    };
+    const auto stop = std::lower_bound(c.fret_positions_m.begin(), c.fret_positions_m.end(), edge);
+    if (stop == c.fret_positions_m.end() || feature.empty()) return std::min(point_at(edge) + 1, n);
+    const std::size_t stopping = feature[point_at(*stop)];
+    std::size_t i = point_at(*stop);
+    while (i < n && feature[i] <= stopping) ++i;
+    return i;
+}
+
 void BuzzMetrics::begin(const RunLayout& layout) {
     dt_ = layout.dt;
     output_rate_ = layout.output_rate_hz;
@@ -69,6 +88,7 @@ void BuzzMetrics::begin(const RunLayout& layout) {
         feature_of_point_.empty() ? 0 : *std::max_element(feature_of_point_.begin(), feature_of_point_.end());
     feature_impulse_.assign(features + 1, 0.0);
     touched_.assign(layout.source->mode_count(), 0);
+    first_counted_ = first_buzz_point(*layout.source);
     signal_.clear();
     report_ = {};
 }
@@ -85,6 +105,9 @@ void BuzzMetrics::energy(double, double, double, double dissipated) {
 }
 
 void BuzzMetrics::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
+    if (first_counted_ > 0 &&
+        std::none_of(forces.begin(), forces.end(), [this](const auto& p) { return p.first >= first_counted_; }))
+        return;  // only fretting: no buzz at this step
     // A gap longer than episode_gap_s since the last contact step starts a new episode.
     if (report_.contact_steps == 0 || t - last_contact_t_ > std::max(episode_gap_s_, 1.5 * dt_)) ++report_.episodes;
     if (report_.contact_steps == 0) report_.first_contact_s = t;
@@ -94,6 +117,7 @@ void BuzzMetrics::contacts(double t, std::span<const std::pair<std::size_t, doub
     contact_since_energy_ = true;
     double total = 0.0;
     for (const auto& [i, f] : forces) {
+        if (i < first_counted_) continue;
         total += f * dx_;
         touched_[i] = 1;
         feature_impulse_[feature_of_point_[i]] += f * dx_ * dt_;

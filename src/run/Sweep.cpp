@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "../io/TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/run/BuzzMetrics.hpp"
 #include "fretbuzz/io/TextFile.hpp"
 
 namespace fretbuzz {
@@ -29,15 +31,20 @@ SweepValue make_value(const std::string& key, const toml::node& node, const std:
         v.text = s->get();
     } else if (const auto* b = node.as_boolean()) {
         v.text = b->get() ? "true" : "false";
-    } else if (!node.is_array()) {
-        throw InputError(where + " must be a number, a string, true/false or an array");
+    } else if (!node.is_array() && !node.is_table()) {
+        throw InputError(where + " must be a number, a string, true/false, an array or a table");
     }
     std::ostringstream toml;
     if (const auto* s = node.as_string())
         toml << toml::value<std::string>(s->get());
     else if (const auto* a = node.as_array())
         toml << *a;
-    else if (const auto* f = node.as_floating_point())
+    else if (const auto* t = node.as_table()) {
+        // A whole table as one value (e.g. obstacle.frets.height_offsets = { 3 = 1e-4 }).
+        toml::table inline_table = *t;
+        inline_table.is_inline(true);
+        toml << inline_table;
+    }    else if (const auto* f = node.as_floating_point())
         toml << *f;
     else if (const auto* i = node.as_integer())
         toml << *i;
@@ -289,6 +296,14 @@ Case sweep_case(const SweepSpec& spec, const SweepRun& run) {
 
 Case obstacle_free_case(const SweepSpec& spec, const SweepRun& run) {
     toml::table root = edited_document(spec, run);
+    // A fretted note keeps what stops it (the finger, the fret it presses on): its reference
+    // is the same note with nothing to buzz against past the stopping fret.
+    if (Case c = parse_document_case(spec, run, root); !c.fingers.empty()) {
+        const std::size_t first = first_buzz_point(c);
+        for (std::size_t i = first; i < c.obstacle_height_m.size(); ++i)
+            c.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
+        return c;
+    }
     root.insert_or_assign("obstacle", toml::table{{"type", "none"}});
     return parse_document_case(spec, run, root);
 }

@@ -8,6 +8,7 @@
 // measurements of the Fender Jazz Bass of Issanchou et al. 2017 it reproduces the
 // published neck profile (cases/data/bass_fretted_obstacle.csv).
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -41,9 +42,13 @@ struct Fretboard {
     NeckRelief relief = NeckRelief::straight();
     double board_end_m = 0.0;         // the fingerboard covers (0, board_end]
     std::optional<double> body_height_m;  // past board_end; none: nothing to touch
+    // Individual frets standing off the fret line (fret n -> m, + raises its top): a high
+    // or worn fret, the set-up detail a luthier levels. The board below is unchanged.
+    std::map<std::size_t, double> fret_height_offset_m;
 
     double fret_position(std::size_t n) const;  // n = 1..fret_count
     double fret_line_height(double x) const;    // height of a fret top at x
+    double fret_top_height(std::size_t n) const;  // fret n's top: the fret line plus its offset
     std::vector<double> sample(const Grid& grid) const;
 };
 

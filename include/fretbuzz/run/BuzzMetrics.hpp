@@ -15,6 +15,8 @@
 
 namespace fretbuzz {
 
+struct Case;
+
 struct BuzzReport {
     static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     std::size_t touched_points = 0;       // grid points that ever carried a force
@@ -35,6 +37,13 @@ struct BuzzReport {
 // (the frets of a fretboard, a bridge's crest, a point obstacle). Returns, per grid
 // point, the 1-based feature nearest to it (0 when the obstacle has none).
 std::vector<std::size_t> obstacle_features(std::span<const double> obstacle_height_m);
+
+// A finger stopping the string holds it on a fret: the contacts from the nut up to that fret
+// (the finger's pad, the fret it stops on) are the fretting, not buzz. Returns the first grid
+// point past them: the first point of the next obstacle feature beyond the stopping fret,
+// the stopping fret being the first fret at or past the bridge-side edge of the
+// bridge-most finger. 0 for a case without fingers (every contact counts).
+std::size_t first_buzz_point(const Case& c);
 
 // High-frequency energy of a signal sampled at rate_hz: sum over the one-sided spectrum
 // of the Hann-windowed signal of |U_k|^2 for f_k >= band_hz (NaN if band_hz >= rate/2).
@@ -60,6 +69,7 @@ private:
     double episode_gap_s_;
     double dt_ = 0.0, dx_ = 0.0, output_rate_ = 0.0;
     std::vector<std::size_t> feature_of_point_;
+    std::size_t first_counted_ = 0;  // contacts before this grid point are fretting (first_buzz_point)
     std::vector<double> feature_impulse_;
     std::vector<char> touched_;
     std::vector<double> signal_;

@@ -66,6 +66,7 @@ SweepSpec load_sweep(const std::filesystem::path& path);
 // read by the case-file parser. InputError names the run and the parameter.
 Case sweep_case(const SweepSpec& spec, const SweepRun& run);
 // The same case with its obstacle removed ([obstacle] type = "none"): the buzz reference.
+// A case with fingers keeps its obstacle up to the stopping fret (see first_buzz_point).
 Case obstacle_free_case(const SweepSpec& spec, const SweepRun& run);
 // Builds every run's case once, so a bad value stops the sweep before anything runs.
 void check_sweep(const SweepSpec& spec);
