@@ -6,7 +6,12 @@ Also the CPU time the process used and CPU/wall (the cores it actually got): on 
 machine a speed-up below 2 with CPU/wall near 1 means the second core was busy elsewhere.
 
     PYTHONPATH=build/python/module /usr/bin/python3 bench/bench_sweep.py [--frets 0-19]
-        [--duration 0.5] [--fs 4e6] [--repetitions 3]
+        [--duration 0.5] [--fs 4e6] [--repetitions 3] [--notes clamp|finger|both] [--workers 1,2]
+
+--notes picks the stopped-note model of `fretbuzz setup`: the string clamped on the fret
+(the default) or a finger pressing it (`--finger`); `both` times the two maps side by side,
+alternating, on the same workers (a fretted note costs far more: free flight is off while a
+finger is on the string).
 """
 import argparse
 import os
@@ -27,35 +32,54 @@ def main() -> int:
     p.add_argument("--duration", type=float, default=0.5)
     p.add_argument("--fs", type=float, default=4e6)
     p.add_argument("--repetitions", type=int, default=3)
+    p.add_argument("--notes", choices=("clamp", "finger", "both"), default="clamp")
+    p.add_argument("--workers", default="1,2", help="worker counts to time, e.g. 1,2 or 2")
     a = p.parse_args()
     n = neck.Neck(fretbuzz.load_case(a.case).source_text, a.case)
-    frets = neck._frets(a.frets, n) if a.frets else list(range(n.N))
-    text = neck.study_spec(n, a.case, frets, [n.amplitude], {"run.fs": a.fs, "run.duration": a.duration})
-    text = text.replace("audio = true", "audio = false")
-    spec = _core.SweepSpec.parse(text, "bench", ".")
-    times = {1: [], 2: []}
-    cpu = {1: [], 2: []}
+    fixed = {"run.fs": a.fs, "run.duration": a.duration}
+    specs = {}
+    for model in (("clamp", "finger") if a.notes == "both" else (a.notes,)):
+        fingered = model == "finger"
+        if a.frets:
+            frets = neck._frets(a.frets, n, fingered)
+        else:
+            frets = [k for k in range(n.N + 1 if fingered else n.N)
+                     if not fingered or k == 0 or n.fret_x(k) < min([n.pluck_x, *n.observe])]
+        make = neck.fingered_study_spec if fingered else neck.study_spec
+        text = make(n, a.case, frets, [n.amplitude], fixed).replace("audio = true", "audio = false")
+        specs[model] = (_core.SweepSpec.parse(text, "bench", "."), frets)
+    workers = [int(w) for w in a.workers.split(",")]
+    series = [(model, jobs) for model in specs for jobs in workers]
+    times = {s: [] for s in series}
+    cpu = {s: [] for s in series}
     with tempfile.TemporaryDirectory(prefix="fretbuzz-bench-") as tmp:
         for r in range(a.repetitions):
-            for jobs in ((1, 2) if r % 2 == 0 else (2, 1)):
+            for model, jobs in (series if r % 2 == 0 else series[::-1]):
                 usage = resource.getrusage(resource.RUSAGE_SELF)
                 start = time.perf_counter()
-                outcome = fretbuzz.sweeps.run_sweep(spec, os.path.join(tmp, f"{r}-{jobs}"), jobs=jobs)
-                times[jobs].append(time.perf_counter() - start)
+                outcome = fretbuzz.sweeps.run_sweep(specs[model][0], os.path.join(tmp, f"{r}-{model}-{jobs}"),
+                                                    jobs=jobs)
+                times[model, jobs].append(time.perf_counter() - start)
                 after = resource.getrusage(resource.RUSAGE_SELF)
-                cpu[jobs].append(after.ru_utime + after.ru_stime - usage.ru_utime - usage.ru_stime)
+                cpu[model, jobs].append(after.ru_utime + after.ru_stime - usage.ru_utime - usage.ru_stime)
                 assert outcome["failed"] == 0, outcome
-                print(f"repetition {r + 1}, {jobs} worker(s): {times[jobs][-1]:.2f} s wall, "
-                      f"{cpu[jobs][-1]:.2f} s CPU", flush=True)
-    runs = len(spec)
-    m1, m2 = statistics.median(times[1]), statistics.median(times[2])
-    print(f"\n{a.case}: {runs} notes (frets {frets[0]}-{frets[-1]}), {a.duration:g} s each at {a.fs:g} Hz, "
-          f"medians of {a.repetitions} repetitions, os.cpu_count() = {os.cpu_count()}")
-    for jobs, m in ((1, m1), (2, m2)):
-        c = statistics.median(cpu[jobs])
-        print(f"{jobs} worker{'s' if jobs > 1 else ' '}: {m:.2f} s, {runs / m:.3f} runs/s, CPU {c:.2f} s, "
-              f"CPU/wall {c / m:.2f}")
-    print(f"speed-up 1 -> 2 workers: {m1 / m2:.2f}x")
+                print(f"repetition {r + 1}, {model} notes, {jobs} worker(s): {times[model, jobs][-1]:.2f} s wall, "
+                      f"{cpu[model, jobs][-1]:.2f} s CPU", flush=True)
+    print(f"\n{a.case}: {a.duration:g} s per note at {a.fs:g} Hz, medians of {a.repetitions} repetitions, "
+          f"os.cpu_count() = {os.cpu_count()}")
+    medians = {s: statistics.median(times[s]) for s in series}
+    for model, jobs in series:
+        spec, frets = specs[model]
+        m, c = medians[model, jobs], statistics.median(cpu[model, jobs])
+        print(f"{model} notes ({len(spec)}, frets {frets[0]}-{frets[-1]}), {jobs} worker{'s' if jobs > 1 else ' '}: "
+              f"{m:.2f} s, {len(spec) / m:.3f} runs/s, CPU {c:.2f} s, CPU/wall {c / m:.2f}")
+    for model in specs:
+        if 1 in workers and 2 in workers:
+            print(f"{model} notes: speed-up 1 -> 2 workers: {medians[model, 1] / medians[model, 2]:.2f}x")
+    if len(specs) == 2:
+        for jobs in workers:
+            print(f"{jobs} worker(s): finger map / clamp map: "
+                  f"{medians['finger', jobs] / medians['clamp', jobs]:.1f}x the time")
     return 0
 
 

@@ -15,7 +15,7 @@ void add_setup_command(CLI::App& app, Action& action) {
     struct Arguments {
         std::string case_name, out;
         std::vector<std::string> raised;
-        bool resume = false, quiet = false;
+        bool resume = false, quiet = false, finger = false;
     };
     auto args = std::make_shared<Arguments>();
     CLI::App* cmd = app.add_subcommand(
@@ -37,6 +37,9 @@ void add_setup_command(CLI::App& app, Action& action) {
     auto values = std::make_shared<std::vector<std::string>>(passed.size());
     for (std::size_t k = 0; k < passed.size(); ++k) cmd->add_option(passed[k].first, (*values)[k], passed[k].second);
     cmd->add_option("--raise", args->raised, "Raise one fret's top: FRET:METRES, e.g. 7:0.05e-3 (repeatable)");
+    cmd->add_flag("--finger", args->finger,
+                  "Fretted notes: a finger presses the string behind each fret (slower; default: the string clamped "
+                  "on the fret's top)");
     cmd->add_flag("--resume", args->resume, "Finish an interrupted study in --out");
     cmd->add_flag("--quiet", args->quiet, "No progress lines");
     cmd->callback([args, values, passed, &action] {
@@ -45,6 +48,7 @@ void add_setup_command(CLI::App& app, Action& action) {
             for (std::size_t k = 0; k < passed.size(); ++k)
                 if (!(*values)[k].empty()) words.insert(words.end(), {passed[k].first, (*values)[k]});
             for (const std::string& r : args->raised) words.insert(words.end(), {"--raise", r});
+            if (args->finger) words.push_back("--finger");
             if (args->resume) words.push_back("--resume");
             if (args->quiet) words.push_back("--quiet");
             return run_package_main("neck", words);

@@ -57,7 +57,7 @@ def notes_from_table(table, fret_column: str, sweep_dir: str, page_dir: str = ".
                 audio = os.path.relpath(os.path.join(folder, wavs[0]), page_dir).replace(os.sep, "/")
         notes.append({
             "fret": fret,
-            "strength_m": _number(row.get("excitation.amplitude", math.nan)),
+            "strength_m": _number(row.get("strength_m", row.get("excitation.amplitude", math.nan))),
             "status": row["status"] if row["status"] == "ok" else f"failed: {row['error']}",
             "buzz_dB": _number(row.get("buzz_dB")),
             "buzz_fret": int(main) + offset if main and main > 0 else "",

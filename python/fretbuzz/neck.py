@@ -40,9 +40,7 @@ class Neck:
         if obstacle.get("type") != "fretboard":
             raise InputError(f"{case_name}: a set-up study needs [obstacle] type = \"fretboard\" "
                              f"(e.g. the built-in bass-neck), not {obstacle.get('type')!r}")
-        if "table" in doc.get("modes", {}) or "measured" in doc.get("modes", {}):
-            raise InputError(f"{case_name}: [modes] table/measured fix the frequencies of one string length; "
-                             f"a set-up study shortens the string, so give models ([modes.frequency], [modes.damping])")
+        self.measured_modes = "table" in doc.get("modes", {}) or "measured" in doc.get("modes", {})
         self.case_name = case_name
         self.L = float(doc["string"]["L"])
         self.modes = int(doc["string"]["modes"])
@@ -57,7 +55,10 @@ class Neck:
         self.body = obstacle.get("body_height")
         # Individual fret heights (obstacle.frets.height_offsets); `--raise` sets them too.
         self.raised: Dict[int, float] = {int(n): float(h) for n, h in frets.get("height_offsets", {}).items()}
+        self.wave_speed = math.sqrt(float(doc["string"]["T"]) / float(doc["string"]["mu"]))
+        self.T = float(doc["string"]["T"])
         excitation = doc["excitation"]
+        self.pluck_width = float(excitation.get("width", 0.0))
         self.pluck_x = float(excitation["position"])
         self.amplitude = float(excitation["amplitude"])
         self.observe = [float(x) for x in doc.get("observe", {}).get("x", [])]
@@ -90,7 +91,12 @@ class Neck:
         return self.fret_line(n) + self.raised.get(n, 0.0)
 
     def note(self, k: int) -> Dict[str, object]:
-        """The case-file values of the note stopped at fret k (k = 0: the open string)."""
+        """The case-file values of the note stopped at fret k (k = 0: the open string), clamped
+        on fret k's top (the stand-in)."""
+        if self.measured_modes:
+            raise InputError(f"{self.case_name}: [modes] table/measured fix the frequencies of one string length; "
+                             f"the clamped stand-in shortens the string, so give models ([modes.frequency], "
+                             f"[modes.damping]), or play the notes with a finger (--finger)")
         if not 0 <= k < self.N:
             raise InputError(f"--frets: fret {k} is not in [0, {self.N - 1}] (the last fret, {self.N}, "
                              f"has no fret beyond it to buzz against in this stand-in)")
@@ -133,6 +139,15 @@ class Neck:
                              f"play frets below it")
         return values
 
+    def check_fingered(self, k: int) -> None:
+        """Fret k can be played with a finger: a fret of the neck, below the pluck and the
+        observation points (the finger sits just behind it)."""
+        if not 0 <= k <= self.N:
+            raise InputError(f"--frets: fret {k} is not in [0, {self.N}]")
+        if k > 0 and (self.pluck_x <= self.fret_x(k) or any(x <= self.fret_x(k) for x in self.observe)):
+            raise InputError(f"--frets: fret {k} (x = {self.fret_x(k):.4g} m) is beyond the pluck or an observation "
+                             f"point; play frets below it")
+
     def parameters(self) -> Dict[str, object]:
         """The set-up as the buzz map shows it."""
         p: Dict[str, object] = {"case": self.case_name, "scale length (m)": self.S, "frets": self.N,
@@ -144,6 +159,16 @@ class Neck:
         for n, h in sorted(self.raised.items()):
             p[f"fret {n} raised (mm)"] = 1e3 * h
         return p
+
+    def setup_values(self) -> Dict[str, object]:
+        """The set-up as case-file keys (what a fingered study writes into the whole case)."""
+        values: Dict[str, object] = {"obstacle.action_nut": self.action_nut,
+                                     "obstacle.action_last_fret": self.action_last}
+        if not isinstance(self.relief, list):
+            values["obstacle.relief"] = float(self.relief)
+        for n, h in sorted(self.raised.items()):
+            values[f"obstacle.frets.height_offsets.{n}"] = h
+        return values
 
 
 def _toml(value: object) -> str:
@@ -157,6 +182,8 @@ def _toml(value: object) -> str:
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(value, dict):
         return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }" if value else "{}"
+    if isinstance(value, tuple):
+        value = list(value)
     return "[" + ", ".join(_toml(v) for v in value) + "]"
 
 
@@ -178,7 +205,73 @@ def study_spec(neck: Neck, case: str, frets: Sequence[int], strengths: Sequence[
     return "\n".join(lines)
 
 
-def _frets(text: str, neck: Neck) -> List[int]:
+# Fretted notes: the finger lands first (the default `fret = k` finger: 0 to 5 N over 5 ms),
+# then the pick pulls the string away from the neck and lets go.
+FINGER_SETTLES_S = 6e-3
+PULL_PERIODS = 2        # the pull lasts whole periods of the note: it leaves no swing of its own
+RELEASE_S = 1e-4
+
+
+def pick_gesture(neck: Neck, k: int, amplitude: float) -> Dict[str, object]:
+    """The pick of a fretted note: a force over the pluck's width, ramped up over whole periods
+    of the stopped string's fundamental (a linear ramp of m periods leaves an oscillator at rest
+    on its new equilibrium), to the force whose static deflection at the pluck point is
+    `amplitude`, F = A T L' / (a (L' - a)) on the stopped length L', then let go."""
+    length = neck.L - (neck.fret_x(k) if k else 0.0)
+    a = neck.pluck_x - (neck.fret_x(k) if k else 0.0)
+    force = amplitude * neck.T * length / (a * (length - a))
+    end = FINGER_SETTLES_S + PULL_PERIODS * 2.0 * length / neck.wave_speed
+    profile = [[0.0, 0.0], [FINGER_SETTLES_S, 0.0], [end, force], [end + RELEASE_S, 0.0]]
+    return {"type": "force", "position": neck.pluck_x, "width": neck.pluck_width, "direction": "up",
+            "force": profile}
+
+
+def pressed_shape(neck: Neck, k: int) -> Dict[str, object]:
+    """The string at rest pressed on fret k: straight from the nut to fret k's top (at the grid
+    point that carries it) and on to the bridge, so the finger lands on a string already
+    resting on the fret and sends no wave of its own down the note. The open string: at rest.
+    (A fret with a crown wider than a grid point is taken at its centre.)"""
+    if k == 0:
+        return {"type": "sine", "mode": 1, "amplitude": 0.0}
+    dx = neck.L / (neck.modes + 1)
+    at = [round(neck.fret_x(n) / dx) * dx for n in range(neck.N + 1)]  # the grid points of the frets
+    # The lowest triangle on fret k that clears every fret top (a high fret holds it up: the
+    # finger then presses it home); 1 pm up, so that round-off never puts it into a fret.
+    apex = max([neck.fret_top(k)] + [neck.fret_top(n) * at[k] / at[n] for n in range(1, k)] +
+               [neck.fret_top(n) * (neck.L - at[k]) / (neck.L - at[n]) for n in range(k + 1, neck.N + 1)])
+    return {"type": "triangle", "position": at[k], "amplitude": apex + 1e-12}
+
+
+def fingered_study_spec(neck: Neck, case: str, frets: Sequence[int], strengths: Sequence[float],
+                        fixed: Optional[Dict[str, object]] = None) -> str:
+    """The sweep spec of a set-up study with fretted notes: the whole neck, the string resting
+    on fret k (pressed_shape), a finger pressing it just behind fret k (`[[finger]] fret = k`,
+    the case files' default finger; none for the open string), then a pick (pick_gesture) pulling it by the static
+    amplitude `strength` and letting go. The set-up is written into the case's own keys. One run
+    per (fret, strength), zipped."""
+    notes = [(k, a) for k in frets for a in strengths]
+    lines = ["# A neck set-up study written by `fretbuzz setup --finger` (fretted notes: see the",
+             "# fretbuzz.neck module).", "[sweep]", f"case = {_toml(case)}", 'combine = "zip"', "audio = true", "",
+             "[set]"]
+    lines += [f"{_toml(key)} = {_toml(value)}" for key, value in {**neck.setup_values(), **(fixed or {})}.items()]
+    lines += ["", "[[parameter]]", 'key = "fret"', "label = true", f"values = {_toml([k for k, _ in notes])}", ""]
+    lines += ["[[parameter]]", 'key = "strength_m"', "label = true",
+              f"values = {_toml([float(a) for _, a in notes])}", ""]
+    fingers = ", ".join(f"[{{ fret = {k} }}]" if k else "[]" for k, _ in notes)
+    lines += ["[[parameter]]", 'key = "finger"', f"values = [{fingers}]", ""]
+    shapes = ", ".join(_toml(pressed_shape(neck, k)) for k, _ in notes)
+    lines += ["[[parameter]]", 'key = "excitation"', f"values = [{shapes}]", ""]
+    picks = ", ".join(f"[{_toml(pick_gesture(neck, k, a))}]" for k, a in notes)
+    lines += ["[[parameter]]", 'key = "gesture"', f"values = [{picks}]", ""]
+    return "\n".join(lines)
+
+
+def pluck_ends(neck: Neck, frets: Sequence[int]) -> float:
+    """When the last pick of a fretted study lets go (s)."""
+    return max(pick_gesture(neck, k, 1.0)["force"][-1][0] for k in frets)
+
+
+def _frets(text: str, neck: Neck, fingered: bool = False) -> List[int]:
     frets: List[int] = []
     for part in text.split(","):
         try:
@@ -192,7 +285,7 @@ def _frets(text: str, neck: Neck) -> List[int]:
     if not frets:
         raise InputError("--frets: empty")
     for k in frets:
-        neck.note(k)  # in range, pluck beyond it
+        neck.check_fingered(k) if fingered else neck.note(k)  # in range, pluck beyond it
     return frets
 
 
@@ -217,6 +310,9 @@ def main(argv=None) -> int:
     parser.add_argument("--action-last-fret", type=float, help="action at the last fret, m")
     parser.add_argument("--raise", dest="raised", action="append", default=[], metavar="FRET:M",
                         help="raise one fret's top by M metres (negative: lower), e.g. 7:0.05e-3; repeatable")
+    parser.add_argument("--finger", action="store_true",
+                        help="fretted notes: a finger presses the string behind each fret (slower); default: the "
+                             "string clamped on the fret's top")
     parser.add_argument("--fs", type=float)
     parser.add_argument("--duration", type=float)
     parser.add_argument("--compare", help="another study's output directory: both maps side by side")
@@ -253,12 +349,23 @@ def main(argv=None) -> int:
             if not 1 <= int(fret) <= neck.N or not -neck.fret_height <= float(height) <= 1e-3:
                 raise InputError(f"--raise {item!r} (obstacle.frets.height_offsets.{fret}): fret in [1, {neck.N}], "
                                  f"offset in [-{neck.fret_height:g} (down to the board), 0.001] m")
-        frets = _frets(a.frets, neck) if a.frets else list(range(neck.N))
+        if a.frets:
+            frets = _frets(a.frets, neck, a.finger)
+        else:
+            frets = list(range(neck.N + 1 if a.finger else neck.N))
+            if a.finger:
+                frets = [k for k in frets if k == 0 or neck.fret_x(k) < min([neck.pluck_x, *neck.observe])]
         strengths = _numbers(a.strength, "--strength") if a.strength else [neck.amplitude]
         fixed = {k: v for k, v in (("run.fs", a.fs), ("run.duration", a.duration)) if v is not None}
         if a.compare is not None and not os.path.exists(os.path.join(a.compare, "buzz_map.csv")):
             raise InputError(f"--compare {a.compare}: holds no buzz_map.csv (the --out of an earlier `fretbuzz setup`)")
-        spec_text = study_spec(neck, case, frets, strengths, fixed)
+        if a.finger:
+            duration = a.duration if a.duration is not None else float(tomllib.loads(text)["run"]["duration"])
+            if not duration > pluck_ends(neck, frets) + 0.01:
+                raise InputError(f"--duration {duration:g}: a fretted study lets the finger settle and pulls the "
+                                 f"string for whole periods first; give at least "
+                                 f"{pluck_ends(neck, frets) + 0.01:.3g} s")
+        spec_text = (fingered_study_spec if a.finger else study_spec)(neck, case, frets, strengths, fixed)
         spec = _core.SweepSpec.parse(spec_text, os.path.join(a.out, "sweep", "sweep.toml"), os.path.abspath(a.out))
         spec.check()  # every note's case, before anything is written
         progress = None if a.quiet else sweeps._line_printer()
@@ -268,8 +375,11 @@ def main(argv=None) -> int:
             print(file=sys.stderr)
         table = sweeps.read_table(os.path.join(a.out, "sweep"))
         notes = buzzmap.notes_from_table(table, "fret", os.path.join(a.out, "sweep"), a.out,
-                                         features_from_the_note=True)
-        buzzmap.write(a.out, notes, neck.parameters(), neck.S, neck.N, compare=a.compare)
+                                         features_from_the_note=not a.finger)
+        parameters = neck.parameters()
+        parameters["stopped notes"] = ("a finger behind the fret (--finger)" if a.finger
+                                       else "the string clamped on the fret's top (stand-in)")
+        buzzmap.write(a.out, notes, parameters, neck.S, neck.N, compare=a.compare)
     except InputError as e:
         print(f"fretbuzz: {e}", file=sys.stderr)
         return 2

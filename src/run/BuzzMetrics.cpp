@@ -8,6 +8,7 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
@@ -89,6 +90,13 @@ void BuzzMetrics::begin(const RunLayout& layout) {
     feature_impulse_.assign(features + 1, 0.0);
     touched_.assign(layout.source->mode_count(), 0);
     first_counted_ = first_buzz_point(*layout.source);
+    // The pads of fingers and gestures carry the hand's forces, not the obstacle's.
+    hand_.assign(layout.source->mode_count(), 0);
+    const auto mark = [&](double centre, double width) {
+        for (std::size_t i : pad_points(centre, width, dx_, hand_.size())) hand_[i] = 1;
+    };
+    for (const FingerSpec& f : layout.source->fingers) mark(f.position_m, f.width_m);
+    for (const ForceSpec& f : layout.source->forces) mark(f.position_m, f.width_m);
     signal_.clear();
     report_ = {};
 }
@@ -105,9 +113,9 @@ void BuzzMetrics::energy(double, double, double, double dissipated) {
 }
 
 void BuzzMetrics::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
-    if (first_counted_ > 0 &&
-        std::none_of(forces.begin(), forces.end(), [this](const auto& p) { return p.first >= first_counted_; }))
-        return;  // only fretting: no buzz at this step
+    const auto counted = [this](std::size_t i) { return i >= first_counted_ && hand_[i] == 0; };
+    if (std::none_of(forces.begin(), forces.end(), [&](const auto& p) { return counted(p.first); }))
+        return;  // only the hand's forces: no buzz at this step
     // A gap longer than episode_gap_s since the last contact step starts a new episode.
     if (report_.contact_steps == 0 || t - last_contact_t_ > std::max(episode_gap_s_, 1.5 * dt_)) ++report_.episodes;
     if (report_.contact_steps == 0) report_.first_contact_s = t;
@@ -117,7 +125,7 @@ void BuzzMetrics::contacts(double t, std::span<const std::pair<std::size_t, doub
     contact_since_energy_ = true;
     double total = 0.0;
     for (const auto& [i, f] : forces) {
-        if (i < first_counted_) continue;
+        if (!counted(i)) continue;
         total += f * dx_;
         touched_[i] = 1;
         feature_impulse_[feature_of_point_[i]] += f * dx_ * dt_;

@@ -70,6 +70,7 @@ private:
     double dt_ = 0.0, dx_ = 0.0, output_rate_ = 0.0;
     std::vector<std::size_t> feature_of_point_;
     std::size_t first_counted_ = 0;  // contacts before this grid point are fretting (first_buzz_point)
+    std::vector<char> hand_;         // pad points of fingers and force gestures: never counted
     std::vector<double> feature_impulse_;
     std::vector<char> touched_;
     std::vector<double> signal_;
