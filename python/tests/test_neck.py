@@ -1,7 +1,8 @@
-"""Neck set-up studies (stand-in stopped notes) and buzz maps: the rewritten cases put
-every fret top where the full neck has it, seen from the stopped string; a raised fret
-makes the notes just below it buzz more and the comparison marks them; bad options are
-refused with exit status 2 and nothing written."""
+"""Neck set-up studies and buzz maps: the rewritten cases of the clamped stand-in put every
+fret top where the full neck has it, seen from the stopped string; a raised fret makes the
+notes just below it buzz more (bass and guitar necks) and the comparison marks them; the
+clamped and the fretted (finger) notes agree on which notes buzz; `--raise` is the case key
+obstacle.frets.height_offsets; bad options are refused with exit status 2 and nothing written."""
 import csv
 import math
 import os
@@ -132,10 +133,78 @@ class SetupCommandTest(unittest.TestCase):
         for row in read_map(os.path.join(self.folder, "dask")).values():
             self.assertTrue(os.path.exists(os.path.join(self.folder, "dask", row["audio"])), row["audio"])
 
+    def test_offsets_in_the_case_and_raise_draw_the_same_map(self):
+        # `--raise 9:M` is the case key obstacle.frets.height_offsets = { 9 = M }.
+        with open(self.case) as f:
+            text = f.read()
+        raised_case = os.path.join(self.folder, "raised.toml")
+        with open(raised_case, "w") as f:
+            f.write(text.replace("crown_width = 0.0", "crown_width = 0.0\nheight_offsets = { 9 = 0.05e-3 }"))
+        r = self.setup("by-option", "--raise", "9:0.05e-3", frets="8-9")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.case = raised_case
+        r = self.setup("by-key", frets="8-9")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        by_option, by_key = read_map(os.path.join(self.folder, "by-option")), read_map(os.path.join(self.folder, "by-key"))
+        self.assertEqual(by_option, by_key)
+        self.assertEqual(by_key[8, 1e-3]["buzz_fret"], "9")
+
+    def test_guitar_neck_a_raised_fret_makes_the_note_below_it_buzz(self):
+        # guitar-neck on a 4 mm grid (161 modes), picked 0.5 mm: the nominal set-up clears
+        # every fret; fret 9 0.05 mm high, the note just below it buzzes against it, loudest
+        # of all, and the notes above it do not change.
+        text = fretbuzz.load_case("guitar-neck").source_text.replace("modes = 647", "modes = 161")
+        self.case = os.path.join(self.folder, "guitar.toml")
+        with open(self.case, "w") as f:
+            f.write(text)
+        maps = {}
+        for name, options in (("nominal", []), ("raised", ["--raise", "9:0.05e-3"])):
+            r = subprocess.run([CLI, "setup", self.case, "--out", os.path.join(self.folder, name), "--frets", "7-10",
+                                "--strength", "0.5e-3", "--fs", "400000", "--duration", "0.05", "--quiet", *options],
+                               capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            maps[name] = read_map(os.path.join(self.folder, name))
+        for k in range(7, 11):
+            self.assertEqual(maps["nominal"][k, 5e-4]["frets_touched"], "", k)
+        raised = maps["raised"]
+        self.assertEqual(raised[8, 5e-4]["buzz_fret"], "9")
+        loudest = max(range(7, 11), key=lambda k: float(raised[k, 5e-4]["buzz_dB"] or "-inf"))
+        self.assertEqual(loudest, 8)
+        for k in (9, 10):
+            self.assertEqual(raised[k, 5e-4], maps["nominal"][k, 5e-4])
+
+    def test_fretted_and_clamped_notes_agree_on_which_notes_buzz(self):
+        # Fret 9 0.05 mm high, notes 7-10 plucked 1 mm: with the string clamped on the fret
+        # and with a finger pressing it behind the fret, the note just below the high fret
+        # buzzes against it, loudest of all; the notes above it never touch. With the finger,
+        # raising the fret makes that note buzz more than on the nominal neck.
+        maps = {}
+        for name, options in (("clamped", []), ("fretted", ["--finger"]), ("fretted-nominal", ["--finger"])):
+            raised = [] if name == "fretted-nominal" else ["--raise", "9:0.05e-3"]
+            r = subprocess.run([CLI, "setup", self.case, "--out", os.path.join(self.folder, name), "--frets", "7-10",
+                                "--strength", "1e-3", "--fs", "400000", "--duration", "0.15", "--quiet",
+                                *options, *raised], capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            maps[name] = read_map(os.path.join(self.folder, name))
+        for name in ("clamped", "fretted"):
+            m = maps[name]
+            self.assertEqual(m[8, 1e-3]["buzz_fret"], "9", name)
+            loudest = max(range(7, 11), key=lambda k: float(m[k, 1e-3]["buzz_dB"] or "-inf"))
+            self.assertEqual(loudest, 8, name)
+            for k in (9, 10):
+                self.assertEqual(m[k, 1e-3]["frets_touched"], "", (name, k))
+        self.assertGreater(float(maps["fretted"][8, 1e-3]["buzz_dB"]),
+                           float(maps["fretted-nominal"][8, 1e-3]["buzz_dB"] or "-inf") + 1.0)
+        with open(os.path.join(self.folder, "fretted", "setup.json")) as f:
+            self.assertIn("finger", f.read())
+
     def test_bad_options_are_refused_and_nothing_is_written(self):
         for options, frets, named in ((["--raise", "40:1e-4"], "6-10", "--raise"), ([], "0-25", "--frets"),
                                       (["--relief", "0.5"], "6-10", "--relief"),
-                                      (["--compare", "nowhere"], "6-10", "--compare")):
+                                      (["--compare", "nowhere"], "6-10", "--compare"),
+                                      (["--finger", "--duration", "0.01"], "6-10", "--duration"),
+                                      (["--finger"], "0-21", "--frets"),
+                                      (["--raise", "9:-2e-3"], "6-10", "height_offsets.9")):
             r = self.setup("bad", *options, frets=frets)
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn(named, r.stderr)
