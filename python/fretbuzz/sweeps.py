@@ -80,10 +80,42 @@ def _progress_handler(progress: ProgressLike, total: int):
     return update, bar.close
 
 
-def read_table(directory: Union[str, "os.PathLike[str]"]):
-    """A sweep's results.csv as a pandas DataFrame (error and features as text)."""
+def read_table(directory: Union[str, "os.PathLike[str]"], hdf5: bool = False):
+    """A sweep's table as a pandas DataFrame (error and features as text): results.csv, or
+    with hdf5=True the same table from results.h5 (through h5py: pandas' own read_hdf reads
+    only the PyTables layout): the same frame."""
     import pandas
-    return pandas.read_csv(os.path.join(os.fspath(directory), "results.csv"),
+    if hdf5:
+        import h5py
+        with h5py.File(os.path.join(os.fspath(directory), "results.h5"), "r") as f:
+            group = f["table"]
+            order = group.attrs["columns"]
+            names = (order.decode() if isinstance(order, bytes) else str(order)).split(",")
+            columns = {}
+            for name in names:
+                values = group[name][()]
+                if values.dtype.kind in "OS":
+                    values = [v.decode() if isinstance(v, bytes) else str(v) for v in values]
+                columns[name] = values
+        table = pandas.DataFrame(columns)
+        text = {"status", "error", "features"}
+        parameters = set(names[1:names.index("status")])
+        for name in names:  # typed as pandas types the CSV: numbers where all are, whole ones as integers
+            if name not in text and table[name].dtype == object:
+                try:  # parameter values that are not all numbers, stored as their text
+                    table[name] = pandas.to_numeric(table[name])
+                except (ValueError, TypeError):
+                    pass
+                continue
+            column = table[name]
+            # The CSV writes whole numbers without exponent below 1e7 (parameters) or 1e17 (metrics).
+            limit = 1e7 if name in parameters else 1e17
+            if (column.dtype.kind == "f" and len(column) and column.notna().all() and
+                    (column == column.round()).all() and (column.abs() < limit).all()):
+                table[name] = column.astype("int64")
+        return table
+    # round_trip: pandas' default float parser can be tens of ulps off the CSV's exact text.
+    return pandas.read_csv(os.path.join(os.fspath(directory), "results.csv"), float_precision="round_trip",
                            dtype={"status": str, "error": str, "features": str},
                            keep_default_na=False, na_values={name: [""] for name in _core.sweep_metric_names()})
 

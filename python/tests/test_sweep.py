@@ -158,9 +158,13 @@ class SweepTest(unittest.TestCase):
         # The same numbers as the command line's table, read by pandas.
         import pandas
         self.local_table(spec)
-        cli_table = pandas.read_csv(os.path.join(self.folder, "local", "results.csv"))
+        cli_table = pandas.read_csv(os.path.join(self.folder, "local", "results.csv"), float_precision="round_trip")
         pandas.testing.assert_frame_equal(table.drop(columns=["error", "features"]),
                                           cli_table.drop(columns=["error", "features"]), check_exact=True)
+        # The HDF5 table, read into pandas, is the same frame as the CSV one, bit for bit.
+        out = os.path.join(self.folder, "local")
+        pandas.testing.assert_frame_equal(fretbuzz.read_table(out, hdf5=True), fretbuzz.read_table(out),
+                                          check_exact=True)
         # A contact stiffer or a pluck larger: harder contact.
         self.assertTrue((table["peak_contact_force_N"] > 0).all())
         big = table[table["excitation.amplitude"] == 2e-3]["peak_contact_force_N"].to_numpy()
