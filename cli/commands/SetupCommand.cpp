@@ -20,7 +20,7 @@ void add_setup_command(CLI::App& app, Action& action) {
     auto args = std::make_shared<Arguments>();
     CLI::App* cmd = app.add_subcommand(
         "setup", "Neck set-up study: play every fret of a string, write buzz_map.html and buzz_map.csv");
-    cmd->add_option("case", args->case_name, "A case with a fretboard obstacle and modelled modes (built-in: bass-neck)")
+    cmd->add_option("case", args->case_name, "A case with a fretboard obstacle and modelled modes (built-in: bass-neck, guitar-neck)")
         ->required();
     cmd->add_option("--out", args->out, "Output directory (the sweep in sweep/, the map in buzz_map.html)")->required();
     const std::vector<std::pair<std::string, std::string>> passed = {

@@ -5,9 +5,11 @@ of a case with a fretboard obstacle ([obstacle] type = "fretboard"; e.g. the bui
 bass-neck) at one or more plucking strengths, as one sweep, and draws the buzz map
 (fretbuzz.buzzmap) from its table.
 
-The stopped note here is a STAND-IN until fretted notes (a finger pressing the string on
-fret k) exist in the case files: the note of fret k is the string clamped on the top of
-fret k, i.e. a shorter string from fret k to the bridge over the frets beyond it. Its case
+Two models of the stopped note (docs/sweeps.md compares them). With `--finger`
+(fingered_study_spec) the note of fret k is the whole string resting on fret k, a finger
+pressing it just behind the fret and a pick pulling it and letting go: faithful, but about
+80 times the CPU time. By default (study_spec) the note of fret k is the string clamped on
+the top of fret k, i.e. a shorter string from fret k to the bridge over the frets beyond it. Its case
 is the open-string case rewritten in that frame (the fret positions of 12-TET from the
 scale length S' = S 2^(-k/12) are exactly x_(k+n) - x_k; the string at rest runs from fret
 k's top to the bridge, so every fret top is measured from that line). The fret tops are
