@@ -110,7 +110,7 @@ TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
     const std::string g = "\n[[gesture]]\ntype = \"force\"\nposition = 0.6\n";
     const std::pair<std::string, std::string> cases[] = {
         {g + "force = 2\n", ""},  // good
-        {"\n[[gesture]]\ntype = \"pluck\"\nposition = 0.6\nforce = 1\n", "gesture[0].type"},
+        {"\n[[gesture]]\ntype = \"bow\"\nposition = 0.6\nforce = 1\n", "gesture[0].type"},
         {"\n[[gesture]]\ntype = \"force\"\nposition = 0.0\nforce = 1\n", "gesture[0].position"},
         {"\n[[gesture]]\ntype = \"force\"\nposition = 1.0\nforce = 1\n", "gesture[0].position"},
         {g + "force = 1\nwidth = -0.01\n", "gesture[0].width"},

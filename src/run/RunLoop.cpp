@@ -24,7 +24,7 @@ RunLayout layout_of(const Case& c) {
     layout.output_stride = output_stride(c);
     layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
     layout.observation_points_m = c.observation_points_m;
-    layout.fingers = c.fingers.size() + c.forces.size();
+    layout.fingers = c.fingers.size() + c.forces.size() + c.plucks.size();
     return layout;
 }
 
@@ -72,7 +72,7 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
     summary_.fingers = c.fingers.size();
-    summary_.gestures = c.forces.size();
+    summary_.gestures = c.forces.size() + c.plucks.size();
     summary_.warnings = c.warnings;
     summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }

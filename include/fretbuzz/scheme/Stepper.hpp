@@ -19,6 +19,7 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Pluck.hpp"
 
 namespace fretbuzz {
 
@@ -77,7 +78,8 @@ public:
     double work() const;           // work of the external forces (pressing forces, gestures) so far
     const std::vector<Finger>& fingers() const { return fingers_; }
     // Whether fingers or gestures act (the balance then counts their work).
-    bool played() const { return !fingers_.empty() || !gestures_.empty(); }
+    bool played() const { return !fingers_.empty() || !gestures_.empty() || !plucks_.empty(); }
+    const std::vector<Pluck>& plucks() const { return plucks_; }
 
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
@@ -97,6 +99,7 @@ private:
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
+    void retire_plucker(const Pluck& pluck);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
 
     const Plan& plan_;
@@ -114,6 +117,8 @@ private:
     std::vector<std::pair<std::size_t, double>> forces_;
     std::vector<Finger> fingers_;
     std::vector<ForceProfile> gestures_;
+    std::vector<Pluck> plucks_;
+    std::vector<char> plucker_on_;        // per plucker: its pad is still claimed
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
