@@ -240,7 +240,15 @@ TEST(Finger, BuiltinFingerCasesPutTheirFingersWhereTheySay) {
         EXPECT_LT(f.position_m, c.fret_positions_m[fret - 1]);
         EXPECT_GT(f.position_m, fret > 1 ? c.fret_positions_m[fret - 2] : 0.0);
         EXPECT_EQ(f.force_profile.back()[1] > 0.0, name != "bass-fret5-lift");  // lifted: ends at 0 N
+        // Popped once the finger has settled: after its ramp to full force, at rest before.
+        ASSERT_EQ(c.plucks.size(), 1u);
+        EXPECT_TRUE(c.plucks.front().pop);
+        EXPECT_GT(c.plucks.front().start_s, 2.0 * f.force_profile[1][0]);
+        for (double q : c.initial_displacement) EXPECT_EQ(q, 0.0);
     }
+    const Case guitar = load_case("guitar-pluck");
+    ASSERT_EQ(guitar.plucks.size(), 1u);
+    EXPECT_GT(guitar.plucks.front().release_force_n, 0.0);  // the string slips off the plectrum
     const Case slap = load_case("bass-slap");
     EXPECT_NO_THROW(slap.validate());
     ASSERT_EQ(slap.fingers.size(), 1u);
