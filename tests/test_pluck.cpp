@@ -36,8 +36,10 @@ struct PluckRun {
     double height_at_release = 0.0;  // the plucker's, at the release level
     double string_at_release = 0.0;  // u at the pad's centre then
     bool losses_never_fall = true;
+    double contact_loss = 0.0;
     bool gone = false;
-    long contact_steps = 0;
+    long contact_steps = 0;  // with the obstacle
+    long played_steps = 0;   // with the plucker
 };
 
 PluckRun play(const Case& c, long steps) {
@@ -70,8 +72,10 @@ PluckRun play(const Case& c, long steps) {
                     s.work(), r.release_step, r.force_at_release, r.height_at_release, r.string_at_release,
                     s.statistics().contact_steps);
     r.work = s.work();
+    r.contact_loss = s.finger_loss();
     r.gone = s.plucks().front().stage() == Pluck::Stage::gone;
     r.contact_steps = s.statistics().contact_steps;
+    r.played_steps = s.statistics().played_steps;
     return r;
 }
 
@@ -95,7 +99,8 @@ TEST(Pluck, APopLetsGoAtItsDisplacementAndTheLosslessBalanceIsExact) {
                 0.05 * r.height_at_release);
     EXPECT_TRUE(r.gone);
     EXPECT_GT(r.work, 0.0);
-    EXPECT_GT(r.contact_steps, 1700);  // the plucker's 1600 steps, and the frets' after it let go
+    EXPECT_NEAR(static_cast<double>(r.played_steps), 1600.0, 3.0);  // touching from its first step to its release
+    EXPECT_GT(r.contact_steps, 100);                                  // and the frets after it let go
     EXPECT_LT(r.worst, 1e-10);
 }
 
@@ -114,6 +119,7 @@ TEST(Pluck, APluckDownLetsGoAtItsForceAndTheBalanceWithLossesIsExact) {
     EXPECT_GE(r.force_at_release, p.release_force_n);
     EXPECT_LT(r.force_before_release, p.release_force_n);
     EXPECT_TRUE(r.losses_never_fall);
+    EXPECT_GT(r.contact_loss, 0.0);
     EXPECT_TRUE(r.gone);
     EXPECT_GT(r.work, 0.0);
     EXPECT_LT(r.worst, 1e-10);
@@ -144,7 +150,7 @@ TEST(Pluck, ScreenedAndStraightforwardPathsAgree) {
     p.loss = 2.0;
     c.plucks.push_back(p);
     const testing::PathComparison r = testing::compare_paths(c, 20000);
-    EXPECT_GT(r.contact_steps, 400);
+    EXPECT_GT(r.contact_steps, 0);
     EXPECT_LT(r.relative_l2, 1e-9);
 }
 

@@ -151,8 +151,10 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     max_iterations_ = std::max(max_iterations_, it + 1);
 
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0;
+    touched_obstacle_ = false;
     for (std::size_t p = 0; p < count; ++p) {
         const Point& pt = pts[p];
+        touched_obstacle_ = touched_obstacle_ || pt.obstacle_force != 0.0;
         force[p] = pt.obstacle_force - pt.push;
         obstacle_psi += pt.obstacle_psi;
         psi_next += law_.potential(pt.y);

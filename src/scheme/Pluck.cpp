@@ -97,11 +97,13 @@ double Pluck::step(long n, std::span<const double> predicted, std::span<double> 
         rho_[p] = spec_.loss * law_.force(s_ * (p_curr_ - u_curr_[p])) / (2.0 * dt_);
 
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0, pushed = 0.0;
+    touched_obstacle_ = false;
     for (std::size_t p = 0; p < pad_.size(); ++p) {
         double obstacle_force = 0.0, push = 0.0;
         const double x = solve_point(p, predicted[p], p_next, obstacle_force, push);
         if (std::isfinite(g_[p])) obstacle_psi += obstacle_law_.potential(g_[p] - x);
         force[p] = obstacle_force + s_ * push;
+        touched_obstacle_ = touched_obstacle_ || obstacle_force != 0.0;
         if (stage_ != Stage::waiting) {
             const double y = s_ * (p_next - x);
             const double r = y - s_ * (p_prev_ - u_prev_[p]);

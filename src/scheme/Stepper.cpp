@@ -230,6 +230,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
     forces_.clear();
+    touched_obstacle_ = false;
     n_ += flown;
     dissipated_ += energy_before - modal_energy();
     stats_.free_flight_steps += flown;
@@ -312,6 +313,7 @@ void Stepper::wake_due_points() {
 
 void Stepper::solve_contacts() {
     forces_.clear();
+    touched_obstacle_ = false;
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
@@ -335,13 +337,17 @@ void Stepper::solve_contacts() {
         eta_curr_[i] = eta_next;
         psi_curr_ += law.potential(eta_next);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, s.iterations);
-        if (s.force != 0.0) forces_.emplace_back(i, s.force);
+        if (s.force != 0.0) {
+            forces_.emplace_back(i, s.force);
+            touched_obstacle_ = true;
+        }
     }
-    if (!forces_.empty()) ++stats_.contact_steps;
+    if (touched_obstacle_) ++stats_.contact_steps;
 }
 
 void Stepper::solve_fingers(bool use_transform) {
     const std::size_t n = q_.size();
+    bool acted = false;
     const auto solve = [&](auto& part) {
         pad_w_.clear();
         for (std::size_t i : part.pad())
@@ -349,6 +355,8 @@ void Stepper::solve_fingers(bool use_transform) {
         pad_f_.assign(pad_w_.size(), 0.0);
         psi_curr_ += part.step(n_, pad_w_, pad_f_);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
+        touched_obstacle_ = touched_obstacle_ || part.touched_obstacle();
+        acted = acted || part.acted();
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
@@ -363,6 +371,7 @@ void Stepper::solve_fingers(bool use_transform) {
         }
         solve(plucks_[p]);
     }
+    if (acted) ++stats_.played_steps;
 }
 
 void Stepper::retire_plucker(const Pluck& pluck) {

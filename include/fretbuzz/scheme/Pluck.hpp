@@ -57,6 +57,9 @@ public:
     double contact_force() const { return contact_force_; }    // on the string, N (last step)
     long release_step() const { return release_step_; }        // -1 until it lets go
     int max_iterations() const { return max_iterations_; }
+    // In the last step: whether the obstacle pushed on a pad point, and whether the plucker touched.
+    bool touched_obstacle() const { return touched_obstacle_; }
+    bool acted() const { return contact_force_ != 0.0; }
 
 private:
     double solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push);
@@ -75,6 +78,7 @@ private:
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     long release_step_ = -1;
     int max_iterations_ = 0;
+    bool touched_obstacle_ = false;
 };
 
 }  // namespace fretbuzz

@@ -24,7 +24,8 @@
 namespace fretbuzz {
 
 struct StepStatistics {
-    long contact_steps = 0;            // steps with a non-zero contact force somewhere
+    long contact_steps = 0;            // steps with a non-zero obstacle contact force somewhere
+    long played_steps = 0;             // steps where a finger, plucker or force gesture acted on the string
     int max_newton_iterations = 0;
     double points_solved = 0;          // sum over steps of the points solved
     long free_flight_steps = 0;        // steps jumped over by FreeFlight
@@ -81,6 +82,9 @@ public:
     bool played() const { return !fingers_.empty() || !gestures_.empty() || !plucks_.empty(); }
     const std::vector<Pluck>& plucks() const { return plucks_; }
 
+    // Whether the obstacle pushed on the string in the last step (forces() also holds the
+    // fingers' and gestures' forces at their pads).
+    bool touched_obstacle() const { return touched_obstacle_; }
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     const StepStatistics& statistics() const { return stats_; }
@@ -124,6 +128,7 @@ private:
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
+    bool touched_obstacle_ = false;
     long next_speed_refresh_ = 0;
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;
