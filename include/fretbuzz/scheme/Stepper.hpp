@@ -5,9 +5,10 @@
 // where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
 // scalar solve at each grid point that can touch (ContactScheduler says which). It also keeps
 // the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
-// H + dissipated is constant to round-off. Fingers (see Finger) are advanced with the string:
-// their pad points are solved every step, and the balance becomes
-// H - work + dissipated = constant (work: done by their pressing forces). Nothing here does I/O.
+// H + dissipated is constant to round-off. Fingers (see Finger), force gestures (ForceProfile)
+// and pluckers (Pluck) are advanced with the string: their pad points are solved every step
+// (a plucker's until it has left), and the balance becomes H - work + dissipated = constant
+// (work: done by the pressing forces, the gestures and the pluckers' motions). Nothing here does I/O.
 #include <cstddef>
 #include <span>
 #include <string>
