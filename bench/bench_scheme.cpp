@@ -8,7 +8,7 @@
 //   Window           the product's stepping over the same contact window as the two above;
 //   Outputs/None     a 3 s bass-pop with every output file (CSV, WAV, HDF5 with the contact
 //                    map) against the same run with no observer at all.
-//   Played           the open pop and the same pop stopped at fret 5 by a finger, whole runs
+//   Played           the open pop and the pop stopped at fret 5 by a finger (popped at 20 ms), whole runs
 //                    of the same length side by side (the finger's cost on the fast path).
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.

@@ -100,6 +100,34 @@ void check_finger(const FingerSpec& f, const Case& c) {
     check_force_profile(k, f.force_profile, c, f.default_force);
 }
 
+void require_in(const std::string& name, double value, double lo, double hi, const char* unit) {
+    require_finite(name, value);
+    if (!(value >= lo && value <= hi)) {
+        std::ostringstream allowed;
+        allowed << "must be in [" << lo << ", " << hi << "] " << unit;
+        throw InputError(out_of_range_message(name, value, allowed.str()));
+    }
+}
+
+void check_pluck(const PluckSpec& f, const Case& c) {
+    const std::string& k = f.key;
+    check_pad(k, f.position_m, f.width_m, false, c);
+    require_in(k + ".time (s)", f.start_s, 0.0, c.run.duration_s, "s (within the run)");
+    require_in(k + ".gap (m)", f.gap_m, 0.0, 0.05, "m");
+    require_positive(k + ".speed (m/s)", f.speed);
+    require_in(k + ".speed (m/s)", f.speed, 0.0, 100.0, "m/s");
+    require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
+    require_in(k + ".exponent", f.exponent, 1.0, 3.0, "");
+    require_non_negative(k + ".loss (s/m)", f.loss);
+    require_in(k + ".release_force (N)", f.release_force_n, 0.0, 1000.0, "N");
+    require_in(k + ".release_displacement (m)", f.release_displacement_m, 0.0, 0.05, "m");
+    if (!(f.release_force_n > 0.0 || f.release_displacement_m > 0.0))
+        throw InputError(k + ".release_force (N) and " + k +
+                         ".release_displacement (m): give at least one > 0 (when the plucker lets go)");
+    require_positive(k + ".withdraw_speed (m/s)", f.withdraw_speed);
+    require_in(k + ".withdraw_speed (m/s)", f.withdraw_speed, 0.0, 1000.0, "m/s");
+}
+
 void check_pads_apart(const Case& c) {
     struct Pad {
         const std::string* key;
@@ -108,6 +136,7 @@ void check_pads_apart(const Case& c) {
     std::vector<Pad> pads;
     for (const FingerSpec& f : c.fingers) pads.push_back({&f.key, f.position_m, f.width_m});
     for (const ForceSpec& f : c.forces) pads.push_back({&f.key, f.position_m, f.width_m});
+    for (const PluckSpec& f : c.plucks) pads.push_back({&f.key, f.position_m, f.width_m});
     for (std::size_t a = 0; a < pads.size(); ++a)
         for (std::size_t b = a + 1; b < pads.size(); ++b)
             if (std::abs(pads[a].position - pads[b].position) < 0.5 * (pads[a].width + pads[b].width) + c.grid_step())
@@ -257,6 +286,7 @@ void Case::validate() const {
         check_pad(f.key, f.position_m, f.width_m, true, *this);
         check_force_profile(f.key, f.force_profile, *this);
     }
+    for (const PluckSpec& f : plucks) check_pluck(f, *this);
     check_pads_apart(*this);
 }
 

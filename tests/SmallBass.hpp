@@ -2,8 +2,16 @@
 // Shared by the finger and gesture tests: the Jazz Bass of bass-pluck (its neck rebuilt by
 // the fretboard generator) on 255 modes, so that runs of 1e5 steps take a second, and the
 // comparison of the screened path with the straightforward one, step by step.
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "TestSupport.hpp"
 
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -46,6 +54,39 @@ inline PathComparison compare_paths(const Case& c, long steps) {
         }
     }
     return {std::sqrt(num / den), fast.statistics().contact_steps};
+}
+
+// The small bass's case text at 100 kHz for 10 ms (for runs of the command line), and a
+// check that each (extra text, key) is refused with exit 2 naming key and leaving no
+// output (an empty key: the case runs).
+inline std::string small_bass_text() {
+    std::string base = builtin_case_text("bass-pluck");
+    base.replace(base.find("modes = 862"), 11, "modes = 255");
+    base.replace(base.find("fs = 1e6"), 8, "fs = 100000");
+    base.replace(base.find("duration = 0.5"), 14, "duration = 0.01");
+    return base;
+}
+
+inline void expect_refused(const char* scratch_name, const std::string& base,
+                           const std::vector<std::pair<std::string, std::string>>& cases) {
+    ScratchDir scratch(scratch_name);
+    int k = 0;
+    for (const auto& [extra, key] : cases) {
+        std::string name = std::to_string(k++);
+        name += ".toml";  // (appending, not "g" + ...: GCC 12 warns falsely on that form)
+        const std::filesystem::path file = scratch.path() / name;
+        std::ofstream(file) << base << extra;
+        const std::filesystem::path out = scratch.path() / "out";
+        const auto r = run_cli("run " + file.string() + " --out " + out.string() + " -q");
+        if (key.empty()) {
+            EXPECT_EQ(r.exit_code, 0) << r.output;
+            std::filesystem::remove_all(out);
+            continue;
+        }
+        EXPECT_EQ(r.exit_code, 2) << extra << r.output;
+        EXPECT_NE(r.output.find(key), std::string::npos) << extra << " should name " << key << ": " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << extra;
+    }
 }
 
 }  // namespace fretbuzz::testing

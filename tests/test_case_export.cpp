@@ -3,6 +3,7 @@
 // reads back as a [modes] table giving the very same modes and motion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,6 +45,7 @@ Motion short_run(Case c, double duration) {
     };
     for (FingerSpec& f : c.fingers) cut(f.force_profile);
     for (ForceSpec& f : c.forces) cut(f.force_profile);
+    for (PluckSpec& p : c.plucks) p.start_s = std::min(p.start_s, duration);
     Motion m;
     RunObserver* observers[] = {&m};
     simulate(c, observers);

@@ -55,6 +55,25 @@ struct ForceSpec {
     std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
 };
 
+// A pluck or a pop: a plucker (fingertip or plectrum) on a prescribed path that drags the
+// string through a penalty contact of its own and lets it go (see scheme/Pluck.hpp).
+struct PluckSpec {
+    std::string key = "gesture";
+    bool pop = false;              // type = "pop": always away from the fretboard
+    double position_m = 0.0;       // pad centre, in (0, L)
+    double width_m = 0.008;        // pad length along the string, m
+    double direction = -1.0;       // +1 toward the fretboard ("down"), -1 away from it ("up")
+    double start_s = 0.0;          // when the plucker appears beside the string and starts to move
+    double gap_m = 0.0;            // distance from the string where it appears
+    double speed = 0.3;            // m/s along the direction until the release
+    double stiffness = 1e5;        // K_p of the whole pad, N/m^exponent
+    double exponent = 1.0;
+    double loss = 0.0;             // Hunt-Crossley, s/m
+    double release_force_n = 0.0;  // lets go once its contact force reaches this (0: never)
+    double release_displacement_m = 0.0;  // or once it is this far from the string's rest line (0: never)
+    double withdraw_speed = 20.0;  // m/s back along the direction after the release
+};
+
 struct RunSettings {
     double sample_rate_hz = 0.0;              // Fe
     double duration_s = 0.0;
@@ -86,6 +105,7 @@ struct Case {
     std::vector<double> fret_positions_m;
     std::vector<FingerSpec> fingers;
     std::vector<ForceSpec> forces;
+    std::vector<PluckSpec> plucks;
     // The case file text this Case was built from (kept in the outputs).
     std::string source_text;
     // What reading the case found doubtful but allowed (shown to the user, kept in summary.json).

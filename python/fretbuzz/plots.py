@@ -10,8 +10,8 @@ Writes into DIR:
   signal_all_points.png  every observation point (only when there are several)
   spectrogram.png        0-10 kHz spectrogram of the first observation point (Figure 3)
   energy.png             energy, contact energy, dissipated energy and the balance error
-  contactogram.png       x against t, coloured by the contact force
-  snapshots.png          string shapes over the obstacle     (when the run stored snapshots)
+  contactogram.png       x against t, coloured by the contact force (fingers' and gestures' pads marked)
+  snapshots.png          string shapes over the obstacle, with the fingers and pluckers (when the run stored snapshots)
   animation.gif / .mp4   the string moving over the obstacle (when the run stored snapshots)
 
 `fretbuzz plot DIR` runs this script with Debian's /usr/bin/python3 (numpy, matplotlib, h5py).
@@ -75,6 +75,15 @@ class Results:
             self.snapshot_time = f["snapshots/time"][()] if "snapshots" in f else np.empty(0)
             self.snapshots = f["snapshots/displacement"][()] if "snapshots" in f else np.empty((0, 0))
             self.summary = json.loads(f["summary"][()]) if "summary" in f else {}
+            # Fingers and gestures (only in runs that have them): kind, pad, height over time.
+            played = "played" in f
+            self.played_kind = [k.decode() if isinstance(k, bytes) else str(k) for k in f["played/kind"][()]] \
+                if played else []
+            self.played_position = f["played/position_m"][()] if played else np.empty(0)
+            self.played_width = f["played/width_m"][()] if played else np.empty(0)
+            self.played_height = f["played/height"][()] if played else np.empty((0, 0))
+            self.work = f["energy/work"][()] if played else None
+            self.finger_energy = f["energy/finger"][()] if played else None
 
 
 def contact_map_times(f, np):
@@ -192,9 +201,15 @@ def plot_spectrogram(r, plt, np, directory, written):
 def plot_energy(r, plt, np, directory, written):
     fig, (ax, err) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, layout="constrained",
                                   gridspec_kw={"height_ratios": [2, 1]})
+    # With fingers or gestures the balance is H - W + D (W: the work they did on the string).
+    work = r.work if r.work is not None and len(r.work) == len(r.energy) else np.zeros_like(r.energy)
     ax.plot(r.energy_time, r.energy, label="energy H", color="C2")
     ax.plot(r.energy_time, r.dissipated, label="dissipated so far", color="C3")
-    ax.plot(r.energy_time, r.energy + r.dissipated, label="H + dissipated", color="k", ls="--", lw=0.8)
+    if r.work is not None:
+        ax.plot(r.energy_time, work, label="work W of fingers and gestures", color="C4")
+        ax.plot(r.energy_time, r.finger_energy[:len(r.energy)], label="fingers' energy", color="C5", lw=0.8)
+    ax.plot(r.energy_time, r.energy - work + r.dissipated, label="H - W + dissipated" if r.work is not None
+            else "H + dissipated", color="k", ls="--", lw=0.8)
     ax.plot(r.energy_time, r.contact_energy, label="contact energy", color="C1")
     ax.set_ylabel("energy (J)")
     ax.legend(loc="center right")
@@ -202,9 +217,11 @@ def plot_energy(r, plt, np, directory, written):
     if len(r.energy):
         # The first energy row is one output interval in; the balance refers to H^{1/2}.
         initial = float(r.summary.get("energy_initial_J", r.energy[0] + r.dissipated[0]))
-        balance = np.abs(r.energy + r.dissipated - initial) / (initial if initial > 0 else 1.0)
+        # A string set going from rest is judged against the largest work done.
+        scale = max(initial, float(np.abs(work).max()) if len(work) else 0.0)
+        balance = np.abs(r.energy - work + r.dissipated - initial) / (scale if scale > 0 else 1.0)
         err.semilogy(r.energy_time, np.maximum(balance, 1e-18), color="k", lw=0.8)
-    err.set_ylabel("|H + D - H(1/2)| / H(1/2)")
+    err.set_ylabel("|H - W + D - H(1/2)| / max(H(1/2), |W|)" if r.work is not None else "|H + D - H(1/2)| / H(1/2)")
     err.set_xlabel("t (s)")
     save(fig, directory, "energy.png", written)
     plt.close(fig)
@@ -231,15 +248,62 @@ def plot_contactogram(r, plt, np, directory, written):
         bar.set_ticks(colour_ticks(low, high, np))
         bar.set_ticklabels([f"{v:.3g}" for v in colour_ticks(low, high, np)])
         margin = 0.02 * r.length
-        ax.set_ylim(max(0.0, r.grid_x[points].min() - margin), min(r.length, r.grid_x[points].max() + margin))
+        low = min([r.grid_x[points].min()] + list(r.played_position - r.played_width / 2))
+        high = max([r.grid_x[points].max()] + list(r.played_position + r.played_width / 2))
+        ax.set_ylim(max(0.0, low - margin), min(r.length, high + margin))
         # Contacts often last a fraction of the run (the pop: 80 ms of 3 s): show their span.
         last = r.map_time[rows].max()
         ax.set_xlim(0, min(r.map_time[-1], 1.1 * last + (r.map_time[1] - r.map_time[0] if len(r.map_time) > 1 else 0.0)))
+    draw_played_pads(ax, r)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("x (m)")
     ax.set_title(f"{r.case}: contactogram")
     save(fig, directory, "contactogram.png", written)
     plt.close(fig)
+
+
+PLAYED_COLOURS = {"finger": "C3", "pluck": "C1", "pop": "C1", "force": "C4"}
+
+
+def draw_played_pads(ax, r):
+    """The pads of the fingers and gestures as labelled bands across the contactogram (their
+    own forces are in the map there, beside the obstacle's)."""
+    for kind, x, w in zip(r.played_kind, r.played_position, r.played_width):
+        half = max(w / 2, 0.002 * r.length)  # a point force: a thin band
+        ax.axhspan(x - half, x + half, color=PLAYED_COLOURS.get(kind, "C7"), alpha=0.15, lw=0)
+        ax.text(0.995, x, f" {kind} ", transform=ax.get_yaxis_transform(), ha="right", va="center", fontsize=8,
+                color=PLAYED_COLOURS.get(kind, "C7"))
+
+
+def played_at(r, t, np):
+    """(kind, x, width, height in mm or None) of each finger and gesture at time t: the
+    height of the stored row nearest to t (None: a force gesture, or a plucker not there)."""
+    parts = []
+    rows = len(r.played_height)
+    k = int(np.argmin(np.abs(r.energy_time[:rows] - t))) if rows else -1
+    for p, (kind, x, w) in enumerate(zip(r.played_kind, r.played_position, r.played_width)):
+        h = r.played_height[k, p] if k >= 0 else float("nan")
+        parts.append((kind, x, w, None if not np.isfinite(h) else h * 1e3))
+    return parts
+
+
+def draw_played(ax, r, t, np, artists=None):
+    """Fingers' pads and pluckers as thick bars at their heights, force gestures as a
+    dashed line at their place; with `artists` (from a first call), moves those instead."""
+    made = []
+    for p, (kind, x, w, h) in enumerate(played_at(r, t, np)):
+        xs = [x - w / 2, x + w / 2]
+        ys = [h, h] if h is not None else [float("nan")] * 2
+        if artists is not None:
+            if kind != "force":
+                artists[p].set_data(xs, ys)
+            continue
+        if kind == "force":
+            made.append(ax.axvline(x, color=PLAYED_COLOURS["force"], ls="--", lw=0.8))
+        else:
+            made.append(ax.plot(xs, ys, color=PLAYED_COLOURS.get(kind, "C7"), lw=4, solid_capstyle="butt",
+                                label=kind)[0])
+    return made if artists is None else artists
 
 
 def colour_ticks(low, high, np):
@@ -285,10 +349,13 @@ def plot_snapshots(r, plt, np, directory, written):
     for ax, k in zip(axes[:, 0], chosen):
         draw_obstacle(ax, r, np, limits[0])
         ax.plot(*string_curve(r, r.snapshots[k], np), color="C0", lw=1.0)
+        draw_played(ax, r, r.snapshot_time[k], np)
         ax.set_ylim(*limits)
         ax.text(0.01, 0.85, f"t = {r.snapshot_time[k] * 1e3:.3f} ms", transform=ax.transAxes, fontsize=9)
         ax.set_ylabel("u (mm)")
     axes[0, 0].set_title(f"{r.case}: string shapes")
+    if any(kind != "force" for kind in r.played_kind):
+        axes[0, 0].legend(loc="upper right", fontsize=8)
     axes[-1, 0].set_xlabel("x (m)")
     axes[-1, 0].set_xlim(0, r.length)
     save(fig, directory, "snapshots.png", written)
@@ -305,6 +372,7 @@ def animate(r, plt, np, directory, written, form):
     draw_obstacle(ax, r, np, limits[0])
     line, = ax.plot(*string_curve(r, r.snapshots[frames[0]], np), color="C0", lw=1.2)
     label = ax.text(0.01, 0.9, "", transform=ax.transAxes)
+    pads = draw_played(ax, r, r.snapshot_time[frames[0]], np)
     ax.set_xlim(0, r.length)
     ax.set_ylim(*limits)
     ax.set_xlabel("x (m)")
@@ -314,7 +382,8 @@ def animate(r, plt, np, directory, written, form):
     def draw(k):
         line.set_ydata(string_curve(r, r.snapshots[k], np)[1])
         label.set_text(f"t = {r.snapshot_time[k] * 1e3:.3f} ms")
-        return line, label
+        draw_played(ax, r, r.snapshot_time[k], np, pads)
+        return (line, label, *pads)
 
     movie = animation.FuncAnimation(fig, draw, frames=frames, blit=True)
     if form == "mp4":

@@ -180,5 +180,64 @@ class ResultsFile(unittest.TestCase):
         self.assertEqual(colour_ticks(3.0, 4.0, np), [3.0, 4.0])
 
 
+class PlayedResults(unittest.TestCase):
+    """A plucked string (guitar-pluck: a plectrum pulls the string up at 0.2 m/s until it
+    slips off at 2 N): results.h5 carries the energy terms of energy.csv, the plucker's pad
+    and path, summary.json counts its contact apart from the obstacle's, and the figures
+    draw it."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.temp = tempfile.TemporaryDirectory(prefix="fretbuzz-played-test-")
+        cls.dir = cls.temp.name
+        subprocess.run([os.environ["FRETBUZZ_CLI"], "run", "guitar-pluck", "--duration", "0.012",
+                        "--snapshots", "2000", "-q", "--out", cls.dir], check=True)
+        cls.h5 = h5py.File(os.path.join(cls.dir, "results.h5"), "r")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.h5.close()
+        cls.temp.cleanup()
+
+    def test_finger_energy_columns_match_energy_csv_exactly(self):
+        energy = np.loadtxt(os.path.join(self.dir, "energy.csv"), delimiter=",", skiprows=1)
+        for column, name in enumerate(["finger", "work", "finger_loss"]):
+            np.testing.assert_array_equal(self.h5["energy/" + name][()], energy[:, 4 + column])
+        self.assertEqual(self.h5["energy/work"].attrs["units"], "J")
+
+    def test_the_plucker_follows_its_path_and_leaves(self):
+        self.assertEqual([k.decode() for k in self.h5["played/kind"][()]], ["pluck"])
+        np.testing.assert_array_equal(self.h5["played/position_m"][()], [0.85])
+        height = self.h5["played/height"][()][:, 0]
+        time = self.h5["energy/time"][()]
+        self.assertEqual(len(height), len(time))
+        dt = float(self.h5.attrs["dt_s"])
+        there = np.isfinite(height)
+        self.assertTrue(there[0] and not there[-1])  # there from the start, gone by the end
+        # Pulling: from the string at rest (u = 0) at step 1, 0.2 m/s, up to its peak.
+        peak = int(np.argmax(np.where(there, height, -np.inf)))
+        steps = np.round(time[:peak + 1] / dt + 0.5)
+        np.testing.assert_allclose(height[:peak + 1], 0.2 * (steps - 1) * dt, rtol=0, atol=1e-12)
+        # It let go at 2 N, about 1.4 mm up (F x (L - x) / (T L) at 0.85 m on the 1.002 m string).
+        self.assertAlmostEqual(height[peak] * 1e3, 2.0 * 0.85 * (1.002 - 0.85) / (180.5 * 1.002) * 1e3, delta=0.15)
+
+    def test_summary_counts_the_plucker_apart_from_the_obstacle(self):
+        with open(os.path.join(self.dir, "summary.json")) as f:
+            summary = json.load(f)
+        dt = float(self.h5.attrs["dt_s"])
+        pulled = np.sum(np.isfinite(self.h5["played/height"][()][:, 0])) * float(self.h5.attrs["output_stride"])
+        # The plucker touches for its whole pull (within one output row either way).
+        self.assertAlmostEqual(summary["finger_contact_steps"], pulled, delta=float(self.h5.attrs["output_stride"]))
+        self.assertLess(summary["contact_steps"], summary["steps"])
+        self.assertGreater(summary["first_contact_s"], dt)  # the obstacle's first touch, not the plucker's
+        self.assertGreater(summary["free_flight_fraction"], 0.0)  # once the plucker has left, the run flies
+
+    def test_figures_draw_the_plucker(self):
+        from fretbuzz.plots import plot_directory
+        written = plot_directory(self.dir, animation="gif")
+        names = {os.path.basename(p) for p in written}
+        self.assertTrue({"contactogram.png", "snapshots.png", "animation.gif", "energy.png"} <= names)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -48,6 +48,11 @@ constexpr std::pair<const char*, const char*> kUnits[] = {
     {"modes/source", "text"},
 };
 
+constexpr std::pair<const char*, const char*> kPlayedUnits[] = {
+    {"energy/finger", "J"},   {"energy/work", "J"},      {"played/kind", "text"},
+    {"energy/finger_loss", "J"}, {"played/position_m", "m"}, {"played/width_m", "m"}, {"played/height", "m"},
+};
+
 // Pads a dense map with zero rows until it has `rows` rows.
 void append_zero_rows(hdf5::GrowingDataset& dense, std::size_t rows) {
     if (dense.rows() >= rows) return;
@@ -63,9 +68,10 @@ long contact_interval_steps(const RunLayout& layout, double max_rate_hz) {
 }  // namespace
 
 struct Hdf5Writer::File {
-    hdf5::Handle file, case_group, observation, energy, grid, contact, snapshots;
+    hdf5::Handle file, case_group, observation, energy, grid, contact, snapshots, played;
     hdf5::GrowingDataset time, displacement;
     hdf5::GrowingDataset energy_time, energy_total, energy_contact, energy_dissipated;
+    hdf5::GrowingDataset energy_finger, energy_work, energy_finger_loss, played_height;
     hdf5::GrowingDataset map_row, map_point, map_force, dense_map;
     hdf5::GrowingDataset snapshot_time, snapshot_shape;
     hdf5::GrowingDataset bridge_force;
@@ -74,6 +80,37 @@ struct Hdf5Writer::File {
     std::vector<double> observation_points;
     const Case* source = nullptr;
 };
+
+// The fingers' and gestures' own datasets (see the header), created only when the case has some.
+void Hdf5Writer::begin_played(const Case& c) {
+    using namespace hdf5;
+    File& f = *file_;
+    f.energy_finger = GrowingDataset(f.energy.get(), "finger", 0, kSignalChunkRows);
+    f.energy_work = GrowingDataset(f.energy.get(), "work", 0, kSignalChunkRows);
+    f.energy_finger_loss = GrowingDataset(f.energy.get(), "finger_loss", 0, kSignalChunkRows);
+    f.played = create_group(f.file.get(), "played");
+    std::vector<std::string> kind;
+    std::vector<double> position, width;
+    for (const FingerSpec& s : c.fingers) {
+        kind.emplace_back("finger");
+        position.push_back(s.position_m);
+        width.push_back(s.width_m);
+    }
+    for (const ForceSpec& s : c.forces) {
+        kind.emplace_back("force");
+        position.push_back(s.position_m);
+        width.push_back(s.width_m);
+    }
+    for (const PluckSpec& s : c.plucks) {
+        kind.emplace_back(s.pop ? "pop" : "pluck");
+        position.push_back(s.position_m);
+        width.push_back(s.width_m);
+    }
+    write_strings(f.played.get(), "kind", kind);
+    write_array(f.played.get(), "position_m", position);
+    write_array(f.played.get(), "width_m", width);
+    f.played_height = GrowingDataset(f.played.get(), "height", kind.size(), kSignalChunkRows);
+}
 
 Hdf5Writer::Hdf5Writer(const std::filesystem::path& path, Hdf5WriterOptions options) : path_(path), options_(options) {}
 
@@ -138,6 +175,8 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     f.energy_contact = GrowingDataset(f.energy.get(), "contact", 0, kSignalChunkRows);
     f.energy_dissipated = GrowingDataset(f.energy.get(), "dissipated", 0, kSignalChunkRows);
 
+    if (layout.fingers > 0) begin_played(c);
+
     f.grid = create_group(root, "grid");
     std::vector<double> grid_x(grid_size);
     for (std::size_t i = 0; i < grid_size; ++i) grid_x[i] = c.grid_point(i);
@@ -193,6 +232,15 @@ void Hdf5Writer::energy(double t, double h, double contact, double dissipated) {
     f.energy_dissipated.append(dissipated);
 }
 
+void Hdf5Writer::finger_energy(double finger_energy, double work, double finger_loss) {
+    File& f = *file_;
+    f.energy_finger.append(finger_energy);
+    f.energy_work.append(work);
+    f.energy_finger_loss.append(finger_loss);
+}
+
+void Hdf5Writer::played_heights(std::span<const double> heights) { file_->played_height.append(heights); }
+
 void Hdf5Writer::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
     file_->map->add(std::lround(t / file_->dt), forces);
 }
@@ -209,7 +257,8 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     if (f.dense_map.id() >= 0) append_zero_rows(f.dense_map, static_cast<std::size_t>(f.map->total_rows()));
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
                               &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
-                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force})
+                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
+                              &f.energy_work, &f.energy_finger_loss, &f.played_height})
         if (d->id() >= 0) d->flush();
     const hid_t contact = f.contact.get();
     write_array(contact, "first_s", f.map->first_contact_s());
@@ -218,15 +267,18 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     write_array(contact, "peak_force", f.map->peak_force());
     write_string(f.file.get(), "summary", summary_json(summary, f.observation_points, f.source, &options_.extras));
     for (const auto& [path, unit] : kUnits) write_attribute_at(f.file.get(), path, "units", unit);
+    if (f.played.get() >= 0)
+        for (const auto& [path, unit] : kPlayedUnits) write_attribute_at(f.file.get(), path, "units", unit);
     // Close the file now, every object before the file and every status checked: a full
     // disk shows here, and a file left half-open would make HDF5's own shutdown crash.
     const std::string name = path_.string();
     flush_file(f.file.get(), name);
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
                               &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
-                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force})
+                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
+                              &f.energy_work, &f.energy_finger_loss, &f.played_height})
         d->close("write " + name);
-    for (Handle* h : {&f.case_group, &f.observation, &f.energy, &f.grid, &f.contact, &f.snapshots}) h->close("write " + name);
+    for (Handle* h : {&f.case_group, &f.observation, &f.energy, &f.grid, &f.contact, &f.snapshots, &f.played}) h->close("write " + name);
     f.file.close("write " + name);
     file_.reset();
 }

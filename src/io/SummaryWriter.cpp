@@ -56,6 +56,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
     if (s.fingers + s.gestures > 0) {  // the balance is then energy - work + dissipated = energy_initial
         json["fingers"] = s.fingers;
         json["gestures"] = s.gestures;
+        json["finger_contact_steps"] = s.finger_contact_steps;
         json["work_J"] = s.work_j;
         json["finger_energy_final_J"] = s.finger_energy_final_j;
         json["finger_loss_J"] = s.finger_loss_j;

@@ -24,7 +24,7 @@ RunLayout layout_of(const Case& c) {
     layout.output_stride = output_stride(c);
     layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
     layout.observation_points_m = c.observation_points_m;
-    layout.fingers = c.fingers.size() + c.forces.size();
+    layout.fingers = c.fingers.size() + c.forces.size() + c.plucks.size();
     return layout;
 }
 
@@ -72,7 +72,7 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
     summary_.fingers = c.fingers.size();
-    summary_.gestures = c.forces.size();
+    summary_.gestures = c.forces.size() + c.plucks.size();
     summary_.warnings = c.warnings;
     summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
@@ -151,8 +151,10 @@ bool RunLoop::snapshot_due_within(long steps) const {
 
 void RunLoop::after_step() {
     if (!stepper_.forces().empty()) {
-        if (summary_.first_contact_s < 0.0) summary_.first_contact_s = stepper_.time();
-        summary_.last_contact_s = stepper_.time();
+        if (stepper_.touched_obstacle()) {  // the fingers' and gestures' own forces are counted apart
+            if (summary_.first_contact_s < 0.0) summary_.first_contact_s = stepper_.time();
+            summary_.last_contact_s = stepper_.time();
+        }
         if (orientation_ > 0.0) {
             for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
         } else {
@@ -253,10 +255,21 @@ void RunLoop::report_output() {
     if (n_ % layout_.output_stride != 0) return;
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
-    if (stepper_.played())
-        for (RunObserver* o : observers_)
-            o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
+    if (stepper_.played()) report_played();
     for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
+}
+
+void RunLoop::report_played() {
+    for (RunObserver* o : observers_) o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
+    constexpr double none = std::numeric_limits<double>::quiet_NaN();
+    played_heights_.clear();
+    for (const Finger& f : stepper_.fingers()) played_heights_.push_back(orientation_ * f.height());
+    played_heights_.resize(played_heights_.size() + layout_.source->forces.size(), none);
+    for (const Pluck& p : stepper_.plucks()) {
+        const bool there = p.stage() == Pluck::Stage::pulling || p.stage() == Pluck::Stage::withdrawing;
+        played_heights_.push_back(there ? orientation_ * p.height() : none);
+    }
+    for (RunObserver* o : observers_) o->played_heights(played_heights_);
 }
 
 void RunLoop::report_progress() {
@@ -272,6 +285,7 @@ void RunLoop::finish_summary() {
     const StepStatistics& stats = stepper_.statistics();
     const double steps = static_cast<double>(layout_.steps);
     summary_.contact_steps = stats.contact_steps;
+    summary_.finger_contact_steps = stats.played_steps;
     summary_.max_newton_iterations = stats.max_newton_iterations;
     summary_.mean_points_solved = layout_.steps > 0 ? stats.points_solved / steps : 0.0;
     summary_.free_flight_fraction = layout_.steps > 0 ? static_cast<double>(stats.free_flight_steps) / steps : 0.0;

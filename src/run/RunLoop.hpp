@@ -37,6 +37,7 @@ private:
     void report_flight(long flown);
     void report_snapshots();
     void report_output();
+    void report_played();
     double audit_energy();  // H at this step, into the summary; throws SolverError if not finite
     void check_state(double h) const;
     void report_progress();
@@ -56,6 +57,7 @@ private:
     std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
     std::vector<double> bridge_;               // bridge force per unit q_j (see BridgeForce)
     std::vector<std::pair<std::size_t, double>> mirrored_forces_;
+    std::vector<double> played_heights_;
     std::vector<RunObserver*> per_step_;
     bool velocity_wanted_ = false;
     std::vector<SnapshotTap> snapshot_taps_;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "MonotoneRoot.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {
@@ -77,44 +78,30 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
     const double rho = rho_[p];
     const double z_next_minus_z = s;
     Point pt;
-    double slope_h = 1.0, psi_slope = 1.0;
     const auto evaluate = [&](double x) {
         pt.x = x;
         pt.y = (x - z_) - z_next_minus_z;
-        double residual_scale = std::abs(x) + std::abs(w);
-        double h = x - w;
-        psi_slope = 1.0;
+        detail::MonotoneValue v{x - w, std::abs(x) + std::abs(w), 1.0};
         pt.obstacle_force = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
             pt.obstacle_force = obstacle_law_.difference_quotient(a_o, r_o);
-            psi_slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, pt.obstacle_force);
-            h -= k_ * pt.obstacle_force;
-            residual_scale += k_ * pt.obstacle_force;
+            v.slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, pt.obstacle_force);
+            v.h -= k_ * pt.obstacle_force;
+            v.scale += k_ * pt.obstacle_force;
         }
+        const double psi_slope = v.slope;
         const double r_f = pt.y - c;
         const double q = law_.difference_quotient(c, r_f);
         const double push_slope = law_.slope_of_quotient(c, r_f, q) + rho;
         pt.push = q + rho * r_f;
-        h += k_ * pt.push;
-        residual_scale += k_ * std::abs(pt.push);
-        slope_h = psi_slope + k_ * push_slope;
-        pt.slope = -push_slope * psi_slope / slope_h;  // d(push)/dZ: dy/dZ = -psi'/h'
-        return std::pair{h, residual_scale};
+        v.h += k_ * pt.push;
+        v.scale += k_ * std::abs(pt.push);
+        v.slope = psi_slope + k_ * push_slope;
+        pt.slope = -push_slope * psi_slope / v.slope;  // d(push)/dZ: dy/dZ = -psi'/h'
+        return v;
     };
-    auto [h, scale] = evaluate(guess);
-    double lo = guess, hi = guess;
-    (h > 0.0 ? lo : hi) = guess - h;  // slope >= 1: the root lies within |h| of the guess
-    for (int it = 0; it < kMaxIterations; ++it) {
-        if (std::abs(h) <= 4.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
-        const double x = pt.x;
-        double next = x - h / slope_h;
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        std::tie(h, scale) = evaluate(next);
-        (h > 0.0 ? hi : lo) = next;
-        if (std::abs(next - x) <= kEps * std::abs(next)) break;
-        if (it + 1 == kMaxIterations) fail(spec_, "pad point", pt.x);
-    }
+    if (detail::monotone_root(evaluate, guess, kMaxIterations) < 0) fail(spec_, "pad point", pt.x);
     if (obstacle) pt.obstacle_psi = obstacle_law_.potential(g - pt.x);
     return pt;
 }
@@ -164,8 +151,10 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     max_iterations_ = std::max(max_iterations_, it + 1);
 
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0;
+    touched_obstacle_ = false;
     for (std::size_t p = 0; p < count; ++p) {
         const Point& pt = pts[p];
+        touched_obstacle_ = touched_obstacle_ || pt.obstacle_force != 0.0;
         force[p] = pt.obstacle_force - pt.push;
         obstacle_psi += pt.obstacle_psi;
         psi_next += law_.potential(pt.y);

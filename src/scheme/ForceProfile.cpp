@@ -27,6 +27,8 @@ void ForceProfile::start(std::span<const double> u0, std::span<const double> u1)
 double ForceProfile::step(long n, std::span<const double> predicted, std::span<double> force) {
     const double applied = -direction_ * force_.at(static_cast<double>(n) * dt_) / (static_cast<double>(pad_.size()) * dx_);
     double psi = 0.0, work = 0.0;
+    acted_ = applied != 0.0;
+    touched_obstacle_ = false;
     for (std::size_t p = 0; p < pad_.size(); ++p) {
         const double w = predicted[p] + k_ * applied;
         double u_next = w, obstacle_force = 0.0;
@@ -36,6 +38,7 @@ double ForceProfile::step(long n, std::span<const double> predicted, std::span<d
             const double eta_next = a + s.increment;
             u_next = g_[p] - eta_next;
             obstacle_force = s.force;
+            touched_obstacle_ = touched_obstacle_ || s.force != 0.0;
             psi += law_.potential(eta_next);
             max_iterations_ = std::max(max_iterations_, s.iterations);
         }

@@ -17,6 +17,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       obstacle_(c.obstacle_height_m),
       fingers_(c.fingers),
       forces_(c.forces),
+      plucks_(c.plucks),
       options_(options) {
     require_positive("time step dt (s)", dt);
     // Without an obstacle the modal update is exact at any dt: nothing can alias.

@@ -1,6 +1,7 @@
 #include "fretbuzz/scheme/Stepper.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
@@ -39,6 +40,12 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
         gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                                plan.force_to_displacement());
         claim_pad(gestures_.back().pad(), spec.key);
+    }
+    for (const PluckSpec& spec : plan.plucks()) {
+        plucks_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                             plan.force_to_displacement());
+        claim_pad(plucks_.back().pad(), spec.key);
+        plucker_on_.push_back(1);
     }
 }
 
@@ -128,18 +135,20 @@ double Stepper::modal_energy() const {
 
 double Stepper::energy() const {
     const double h = modal_energy() + contact_energy();
-    return fingers_.empty() ? h : h + finger_energy();
+    return played() ? h + finger_energy() : h;
 }
 
 double Stepper::finger_energy() const {
     double e = 0.0;
     for (const Finger& f : fingers_) e += f.energy();
+    for (const Pluck& p : plucks_) e += p.contact_energy();
     return e;
 }
 
 double Stepper::finger_loss() const {
     double e = 0.0;
     for (const Finger& f : fingers_) e += f.loss();
+    for (const Pluck& p : plucks_) e += p.loss();
     return e;
 }
 
@@ -147,6 +156,7 @@ double Stepper::work() const {
     double e = 0.0;
     for (const Finger& f : fingers_) e += f.work();
     for (const ForceProfile& g : gestures_) e += g.work();
+    for (const Pluck& p : plucks_) e += p.work();
     return e;
 }
 
@@ -176,7 +186,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
                           std::vector<double>& u, std::vector<double>* v) {
     const long steps = flight.steps();
     // A finger may touch at any time: its pad points are solved every step.
-    if (n_ == 0 || !screening_ || played() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
         return 0;
     scheduler_.refresh(q_, d_);
     const ModalPropagator& prop = plan_.propagator();
@@ -220,6 +230,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
     forces_.clear();
+    touched_obstacle_ = false;
     n_ += flown;
     dissipated_ += energy_before - modal_energy();
     stats_.free_flight_steps += flown;
@@ -250,6 +261,12 @@ void Stepper::first_step() {
         pad_f_ = pad_w_;
         pad_values(gesture.pad(), u0);
         gesture.start(pad_w_, pad_f_);
+    }
+    for (Pluck& pluck : plucks_) {
+        pad_values(pluck.pad(), grid_);
+        pad_f_ = pad_w_;
+        pad_values(pluck.pad(), u0);
+        pluck.start(pad_w_, pad_f_);
     }
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
@@ -296,10 +313,11 @@ void Stepper::wake_due_points() {
 
 void Stepper::solve_contacts() {
     forces_.clear();
+    touched_obstacle_ = false;
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
-    if (active_.empty() && !played()) return;
+    if (active_.empty() && pad_points_ == 0) return;
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
@@ -319,13 +337,17 @@ void Stepper::solve_contacts() {
         eta_curr_[i] = eta_next;
         psi_curr_ += law.potential(eta_next);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, s.iterations);
-        if (s.force != 0.0) forces_.emplace_back(i, s.force);
+        if (s.force != 0.0) {
+            forces_.emplace_back(i, s.force);
+            touched_obstacle_ = true;
+        }
     }
-    if (!forces_.empty()) ++stats_.contact_steps;
+    if (touched_obstacle_) ++stats_.contact_steps;
 }
 
 void Stepper::solve_fingers(bool use_transform) {
     const std::size_t n = q_.size();
+    bool acted = false;
     const auto solve = [&](auto& part) {
         pad_w_.clear();
         for (std::size_t i : part.pad())
@@ -333,11 +355,34 @@ void Stepper::solve_fingers(bool use_transform) {
         pad_f_.assign(pad_w_.size(), 0.0);
         psi_curr_ += part.step(n_, pad_w_, pad_f_);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
+        touched_obstacle_ = touched_obstacle_ || part.touched_obstacle();
+        acted = acted || part.acted();
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
     for (Finger& f : fingers_) solve(f);
     for (ForceProfile& g : gestures_) solve(g);
+    for (std::size_t p = 0; p < plucks_.size(); ++p) {
+        if (plucker_on_[p] == 0) continue;
+        if (plucks_[p].stage() == Pluck::Stage::gone) {
+            retire_plucker(plucks_[p]);
+            plucker_on_[p] = 0;
+            continue;
+        }
+        solve(plucks_[p]);
+    }
+    if (acted) ++stats_.played_steps;
+}
+
+void Stepper::retire_plucker(const Pluck& pluck) {
+    // The plucker has left the string: its pad points go back to the obstacle's own solve
+    // (the loop over active points that follows solves them in this same step).
+    const std::vector<std::size_t>& pad = pluck.pad();
+    for (std::size_t p = 0; p < pad.size(); ++p) {
+        on_pad_[pad[p]] = 0;
+        if (std::isfinite(plan_.obstacle()[pad[p]])) activate(pad[p], pluck.current()[p], pluck.previous()[p]);
+    }
+    pad_points_ -= pad.size();
 }
 
 void Stepper::apply_impulse() {

@@ -11,6 +11,13 @@
 //   /observation/bridge_force   force of the string on the bridge end x = L at t_k (N, along +u)
 //   /energy/{time,total,contact,dissipated}   H^{n-1/2}, its contact part and the
 //                           cumulative dissipated energy (J), at t = (n - 1/2) dt
+//   /energy/{finger,work,finger_loss}   with fingers or gestures: their part of total, the
+//                           work of the external forces and motions, their part of
+//                           dissipated (J), as energy.csv's finger_energy_J, work_J, finger_loss_J
+//   /played/{kind,position_m,width_m}   with fingers or gestures: each one's kind ("finger",
+//                           "force", "pluck", "pop"), pad centre and length (m)
+//   /played/height          rows = /energy/time, columns = /played/kind: each finger's pad
+//                           and each plucker's height (m), NaN where none
 //   /grid/x_m, /grid/obstacle_height_m        interior grid points and g(x_i) (-inf: none)
 //   /contact/{row,point,max_force}   the contact map, sparse: one entry per interval
 //                           (row r ends at step min((r+1) interval_steps, steps)) and grid
@@ -57,6 +64,8 @@ public:
     void observation(double t, std::span<const double> u) override;
     void bridge_force(double t, double force) override;
     void energy(double t, double h, double contact, double dissipated) override;
+    void finger_energy(double finger_energy, double work, double finger_loss) override;
+    void played_heights(std::span<const double> heights) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     double snapshot_rate_hz() const override { return options_.snapshot_rate_hz; }
     double snapshot_until_s() const override { return options_.snapshot_until_s; }
@@ -65,6 +74,7 @@ public:
 
 private:
     struct File;  // the open file and its datasets (keeps hdf5.h out of this header)
+    void begin_played(const Case& c);
     std::filesystem::path path_;
     Hdf5WriterOptions options_;
     std::unique_ptr<File> file_;

@@ -37,11 +37,11 @@ struct RunSummary {
     double dissipated_j = 0.0;
     double max_relative_energy_increase = 0.0;  // max over output samples of (H_k - H_{k-1}) / H^{1/2}
     double max_relative_balance_error = 0.0;    // max |H + dissipated - H^{1/2}| / H^{1/2}
-    long contact_steps = 0;
+    long contact_steps = 0;           // steps where the obstacle pushed on the string
     int max_newton_iterations = 0;
     double mean_points_solved = 0.0;  // contact solves per step
     double free_flight_fraction = 0.0;  // share of steps jumped over (no contact possible)
-    double first_contact_s = -1.0;
+    double first_contact_s = -1.0;  // of the obstacle's contacts
     double last_contact_s = -1.0;
     bool lossless = false;
     bool screened = true;
@@ -49,8 +49,9 @@ struct RunSummary {
     // With fingers: the balance is H - work + dissipated = H^{1/2} (dissipated_j includes
     // finger_loss_j); the terms at the end of the run.
     std::size_t fingers = 0;
-    std::size_t gestures = 0;       // force gestures
-    double work_j = 0.0;            // work of the pressing forces
+    std::size_t gestures = 0;       // force gestures, plucks and pops
+    long finger_contact_steps = 0;  // steps where a finger, plucker or force gesture acted
+    double work_j = 0.0;            // work of the pressing forces and the pluckers' motions
     double finger_energy_final_j = 0.0;
     double finger_loss_j = 0.0;
     // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
@@ -71,6 +72,10 @@ public:
     // With fingers, just before each energy(): the fingers' part of H, the work of the
     // external forces so far, and the fingers' part of the dissipated energy.
     virtual void finger_energy(double /*finger_energy*/, double /*work*/, double /*finger_loss*/) {}
+    // With fingers or gestures, with finger_energy(): the height of each finger's pad and of
+    // each plucker (m, the case's orientation), in the order fingers, force gestures,
+    // plucks; NaN where there is none (a force gesture, a plucker not yet there or gone).
+    virtual void played_heights(std::span<const double> /*heights*/) {}
     // Observers that return true receive u at every observation point at every time step
     // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
     virtual bool wants_every_step() const { return false; }

@@ -59,6 +59,9 @@ public:
     double loss() const { return loss_; }                    // contact loss so far (>= 0)
     double contact_force() const { return contact_force_; }  // total force on the finger, N (last step)
     int max_iterations() const { return max_iterations_; }
+    // In the last step: whether the obstacle pushed on a pad point, and whether the finger touched.
+    bool touched_obstacle() const { return touched_obstacle_; }
+    bool acted() const { return contact_force_ != 0.0; }
 
 private:
     struct Point {
@@ -85,6 +88,7 @@ private:
     std::vector<Point> points_;                    // scratch: the inner solutions
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     int max_iterations_ = 0;
+    bool touched_obstacle_ = false;
 };
 
 }  // namespace fretbuzz

@@ -30,6 +30,9 @@ public:
     double step(long n, std::span<const double> predicted, std::span<double> force);
     double work() const { return work_; }
     int max_iterations() const { return max_iterations_; }
+    // In the last step: whether the obstacle pushed on a pad point, and whether the force acted.
+    bool touched_obstacle() const { return touched_obstacle_; }
+    bool acted() const { return acted_; }
 
 private:
     TimeProfile force_;
@@ -39,6 +42,7 @@ private:
     std::vector<double> g_, u_curr_, u_prev_;
     double work_ = 0.0;
     int max_iterations_ = 0;
+    bool touched_obstacle_ = false, acted_ = false;
 };
 
 }  // namespace fretbuzz

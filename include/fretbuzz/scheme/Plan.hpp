@@ -69,6 +69,8 @@ public:
     const std::vector<FingerSpec>& fingers() const { return fingers_; }
     // Prescribed forces on the string (force gestures).
     const std::vector<ForceSpec>& forces() const { return forces_; }
+    // Plucks and pops (pluckers on prescribed paths).
+    const std::vector<PluckSpec>& plucks() const { return plucks_; }
 
     // Changes while a string sounds (a real-time instrument's controls). Neither allocates;
     // a Stepper on this plan must be told with Stepper::restart() before its next step.
@@ -91,6 +93,7 @@ private:
     std::vector<std::size_t> obstacle_points_;
     std::vector<FingerSpec> fingers_;
     std::vector<ForceSpec> forces_;
+    std::vector<PluckSpec> plucks_;
     PlanOptions options_;
     std::size_t transform_threshold_;
     std::vector<std::string> warnings_;

@@ -5,9 +5,10 @@
 // where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
 // scalar solve at each grid point that can touch (ContactScheduler says which). It also keeps
 // the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
-// H + dissipated is constant to round-off. Fingers (see Finger) are advanced with the string:
-// their pad points are solved every step, and the balance becomes
-// H - work + dissipated = constant (work: done by their pressing forces). Nothing here does I/O.
+// H + dissipated is constant to round-off. Fingers (see Finger), force gestures (ForceProfile)
+// and pluckers (Pluck) are advanced with the string: their pad points are solved every step
+// (a plucker's until it has left), and the balance becomes H - work + dissipated = constant
+// (work: done by the pressing forces, the gestures and the pluckers' motions). Nothing here does I/O.
 #include <cstddef>
 #include <span>
 #include <string>
@@ -19,11 +20,13 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Pluck.hpp"
 
 namespace fretbuzz {
 
 struct StepStatistics {
-    long contact_steps = 0;            // steps with a non-zero contact force somewhere
+    long contact_steps = 0;            // steps with a non-zero obstacle contact force somewhere
+    long played_steps = 0;             // steps where a finger, plucker or force gesture acted on the string
     int max_newton_iterations = 0;
     double points_solved = 0;          // sum over steps of the points solved
     long free_flight_steps = 0;        // steps jumped over by FreeFlight
@@ -77,8 +80,12 @@ public:
     double work() const;           // work of the external forces (pressing forces, gestures) so far
     const std::vector<Finger>& fingers() const { return fingers_; }
     // Whether fingers or gestures act (the balance then counts their work).
-    bool played() const { return !fingers_.empty() || !gestures_.empty(); }
+    bool played() const { return !fingers_.empty() || !gestures_.empty() || !plucks_.empty(); }
+    const std::vector<Pluck>& plucks() const { return plucks_; }
 
+    // Whether the obstacle pushed on the string in the last step (forces() also holds the
+    // fingers' and gestures' forces at their pads).
+    bool touched_obstacle() const { return touched_obstacle_; }
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     const StepStatistics& statistics() const { return stats_; }
@@ -97,6 +104,7 @@ private:
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
+    void retire_plucker(const Pluck& pluck);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
 
     const Plan& plan_;
@@ -114,11 +122,14 @@ private:
     std::vector<std::pair<std::size_t, double>> forces_;
     std::vector<Finger> fingers_;
     std::vector<ForceProfile> gestures_;
+    std::vector<Pluck> plucks_;
+    std::vector<char> plucker_on_;        // per plucker: its pad is still claimed
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
+    bool touched_obstacle_ = false;
     long next_speed_refresh_ = 0;
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;

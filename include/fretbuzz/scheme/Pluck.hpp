@@ -1,0 +1,84 @@
+#pragma once
+// A plucker (a fingertip or a plectrum) on a prescribed path: a pad of grid points whose
+// height p(t) is given, touching the string from one side through a penalty contact of its
+// own, f_i = K [y_i]_+^alpha per unit length (K = K_p / pad length), y_i = s (p - u_i) its
+// penetration, s = +1 when it pulls away from the fretboard (a pop, "up": it sits between
+// the string and the fretboard) and -1 when it pushes toward it ("down"), with a
+// Hunt-Crossley contact loss rho_i (y_i^{n+1} - y_i^{n-1}), rho_i = lambda K [y_i^n]_+^alpha / (2 dt).
+// Heights are in the solve's orientation (the fretboard below).
+//
+// Its path: it appears at start time beside the string (gap away from the pad's nearest
+// point at levels n - 1 and n, so its contact energy starts at 0), moves along s at a
+// constant speed, and lets go when its contact force reaches the release force or its
+// height from the string's rest line reaches the release displacement, whichever comes
+// first: it then withdraws (moves back at the withdraw speed), so the contact ends through
+// the contact law, and once it touches the string at neither level it leaves (its pad
+// points go back to the obstacle's solve): no energy jumps at any stage.
+//
+// Discretisation as the obstacle's and the finger's: the force is the discrete gradient of
+// the potential between levels n - 1 and n + 1, so that, with p prescribed,
+//     E^{n+1/2} - E^{n-1/2} = dx sum_i (Q_i + rho_i r_i) s (p^{n+1} - p^{n-1}) / 2 - dx sum_i rho_i r_i^2 / 2,
+// r_i = y_i^{n+1} - y_i^{n-1}, E the string's energy plus dx sum_i (Psi(y_i^{n+1}) + Psi(y_i^n)) / 2:
+// the first term is the work of the prescribed motion, the second the contact loss (>= 0).
+// Each pad point is one scalar increasing equation in u_i^{n+1} (the plucker's and the
+// obstacle's terms both increase with it): no global solve.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+
+namespace fretbuzz {
+
+class Pluck {
+public:
+    enum class Stage { waiting, pulling, withdrawing, gone };
+
+    // obstacle: heights at every grid point in the solve's orientation (-inf: none); k = dt^2/mu.
+    Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
+          double dt, double k);
+
+    const std::vector<std::size_t>& pad() const { return pad_; }
+    void start(std::span<const double> u0, std::span<const double> u1);
+    // Step n -> n + 1 from the pad points' free predictions w (pad order): writes the total
+    // force per unit length at each pad point (plucker and obstacle) and returns
+    // sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
+    double step(long n, std::span<const double> predicted, std::span<double> force);
+
+    Stage stage() const { return stage_; }
+    // u^n and u^{n-1} at the pad points (pad order): where the obstacle's solve takes over.
+    std::span<const double> current() const { return u_curr_; }
+    std::span<const double> previous() const { return u_prev_; }
+    double height() const { return p_curr_; }                  // p^n (solve orientation)
+    double contact_energy() const { return 0.5 * dx_ * (psi_curr_ + psi_prev_); }
+    double work() const { return work_; }                      // work of the prescribed motion so far
+    double loss() const { return loss_; }                      // contact loss so far (>= 0)
+    double contact_force() const { return contact_force_; }    // on the string, N (last step)
+    long release_step() const { return release_step_; }        // -1 until it lets go
+    int max_iterations() const { return max_iterations_; }
+    // In the last step: whether the obstacle pushed on a pad point, and whether the plucker touched.
+    bool touched_obstacle() const { return touched_obstacle_; }
+    bool acted() const { return contact_force_ != 0.0; }
+
+private:
+    double solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push);
+    void appear();
+
+    PluckSpec spec_;
+    double s_, dx_, dt_, k_;
+    long start_step_;
+    PenaltyContact law_;
+    const PenaltyContact& obstacle_law_;
+    std::vector<std::size_t> pad_;
+    std::vector<double> g_, u_curr_, u_prev_, rho_;
+    Stage stage_ = Stage::waiting;
+    double p_curr_ = 0.0, p_prev_ = 0.0;       // p^n, p^{n-1}
+    double psi_curr_ = 0.0, psi_prev_ = 0.0;   // sum_i Psi(y_i) at n and n - 1
+    double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
+    long release_step_ = -1;
+    int max_iterations_ = 0;
+    bool touched_obstacle_ = false;
+};
+
+}  // namespace fretbuzz

@@ -1,0 +1,137 @@
+#include "fretbuzz/scheme/Pluck.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "MonotoneRoot.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
+
+namespace fretbuzz {
+
+namespace {
+constexpr int kMaxIterations = 100;
+}  // namespace
+
+Pluck::Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
+             double dt, double k)
+    : spec_(spec),
+      s_(-spec.direction),  // +1: pulls away from the fretboard
+      dx_(dx),
+      dt_(dt),
+      k_(k),
+      start_step_(std::max(1L, std::lround(spec.start_s / dt))),
+      law_(1.0, 1.0),
+      obstacle_law_(obstacle_law),
+      pad_(pad_points(spec.position_m, spec.width_m, dx, obstacle.size())) {
+    law_ = PenaltyContact(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
+    for (std::size_t i : pad_) g_.push_back(obstacle[i]);
+    u_curr_.assign(pad_.size(), 0.0);
+    u_prev_.assign(pad_.size(), 0.0);
+    rho_.assign(pad_.size(), 0.0);
+}
+
+void Pluck::start(std::span<const double> u0, std::span<const double> u1) {
+    u_prev_.assign(u0.begin(), u0.end());
+    u_curr_.assign(u1.begin(), u1.end());
+}
+
+void Pluck::appear() {
+    // Beside the pad's nearest point over both levels, gap away: y <= 0 at n - 1 and n.
+    double nearest = s_ * u_curr_[0];
+    for (std::size_t p = 0; p < pad_.size(); ++p) nearest = std::min({nearest, s_ * u_curr_[p], s_ * u_prev_[p]});
+    p_curr_ = p_prev_ = s_ * (nearest - spec_.gap_m);
+    stage_ = Stage::pulling;
+}
+
+double Pluck::solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push) {
+    // h(x) = (x - w) - k Q_obstacle(x) - k s push(x), x = u^{n+1}: increasing, slope >= 1.
+    const double g = g_[p];
+    const bool obstacle = std::isfinite(g);
+    const double a_o = g - u_prev_[p];
+    const bool touching = stage_ == Stage::pulling || stage_ == Stage::withdrawing;
+    const double c = s_ * (p_prev_ - u_prev_[p]);  // y^{n-1}
+    double x_root = w;
+    const auto evaluate = [&](double x) {
+        x_root = x;
+        detail::MonotoneValue v{x - w, std::abs(x) + std::abs(w), 1.0};
+        obstacle_force = 0.0;
+        if (obstacle) {
+            const double r_o = u_prev_[p] - x;
+            obstacle_force = obstacle_law_.difference_quotient(a_o, r_o);
+            v.slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, obstacle_force);
+            v.h -= k_ * obstacle_force;
+            v.scale += k_ * obstacle_force;
+        }
+        push = 0.0;
+        if (touching) {
+            const double r = s_ * (p_next - x) - c;
+            const double q = law_.difference_quotient(c, r);
+            push = q + rho_[p] * r;
+            v.h -= k_ * s_ * push;
+            v.scale += k_ * std::abs(push);
+            v.slope += k_ * (law_.slope_of_quotient(c, r, q) + rho_[p]);
+        }
+        return v;
+    };
+    const int iterations = detail::monotone_root(evaluate, w, kMaxIterations);
+    if (iterations < 0) {
+        std::ostringstream msg;
+        msg.precision(17);
+        msg << spec_.key << ": the plucker's contact solve did not converge (pad point, " << x_root
+            << "); reduce its stiffness or the time step";
+        throw SolverError(msg.str());
+    }
+    max_iterations_ = std::max(max_iterations_, iterations + 1);
+    return x_root;
+}
+
+double Pluck::step(long n, std::span<const double> predicted, std::span<double> force) {
+    if (stage_ == Stage::waiting && n >= start_step_) appear();
+    double p_next = p_curr_;
+    if (stage_ == Stage::pulling) p_next += s_ * spec_.speed * dt_;
+    if (stage_ == Stage::withdrawing) p_next -= s_ * spec_.withdraw_speed * dt_;
+    // Hunt-Crossley coefficient at level n: each step's loss is >= 0 exactly.
+    for (std::size_t p = 0; p < pad_.size(); ++p)
+        rho_[p] = spec_.loss * law_.force(s_ * (p_curr_ - u_curr_[p])) / (2.0 * dt_);
+
+    double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0, pushed = 0.0;
+    touched_obstacle_ = false;
+    for (std::size_t p = 0; p < pad_.size(); ++p) {
+        double obstacle_force = 0.0, push = 0.0;
+        const double x = solve_point(p, predicted[p], p_next, obstacle_force, push);
+        if (std::isfinite(g_[p])) obstacle_psi += obstacle_law_.potential(g_[p] - x);
+        force[p] = obstacle_force + s_ * push;
+        touched_obstacle_ = touched_obstacle_ || obstacle_force != 0.0;
+        if (stage_ != Stage::waiting) {
+            const double y = s_ * (p_next - x);
+            const double r = y - s_ * (p_prev_ - u_prev_[p]);
+            psi_next += law_.potential(y);
+            lost += rho_[p] * r * r;
+            pushed += push;
+        }
+        u_prev_[p] = u_curr_[p];
+        u_curr_[p] = x;
+    }
+    contact_force_ = dx_ * pushed;
+    work_ += 0.5 * dx_ * pushed * s_ * (p_next - p_prev_);
+    loss_ += 0.5 * dx_ * lost;
+    psi_prev_ = psi_curr_;
+    psi_curr_ = psi_next;
+    p_prev_ = p_curr_;
+    p_curr_ = p_next;
+    if (stage_ == Stage::pulling) {
+        const bool slipped = spec_.release_force_n > 0.0 && contact_force_ >= spec_.release_force_n;
+        const bool reached = spec_.release_displacement_m > 0.0 && s_ * p_curr_ >= spec_.release_displacement_m;
+        if (slipped || reached) {
+            stage_ = Stage::withdrawing;
+            release_step_ = n + 1;
+        }
+    } else if (stage_ == Stage::withdrawing && psi_curr_ == 0.0 && psi_prev_ == 0.0) {
+        stage_ = Stage::gone;  // clear of the string at both levels: it leaves with no energy
+    }
+    return obstacle_psi;
+}
+
+}  // namespace fretbuzz
