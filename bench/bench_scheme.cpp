@@ -113,11 +113,20 @@ void per_step(benchmark::State& state, BenchCase b, long warmup_steps, long step
     };
     Scheme start = make();  // set up once (the dense matrices take a while)
     for (long n = 0; n < warmup_steps; ++n) start.step();
+    double points = 0.0, contact_steps = 0.0;
     for (auto _ : state) {
         state.PauseTiming();
         Scheme scheme = start;
         state.ResumeTiming();
         for (long n = 0; n < steps; ++n) scheme.step();
+        if constexpr (std::is_same_v<Scheme, Stepper>) {
+            points = scheme.statistics().points_solved - start.statistics().points_solved;
+            contact_steps = static_cast<double>(scheme.statistics().contact_steps - start.statistics().contact_steps);
+        }
+    }
+    if constexpr (std::is_same_v<Scheme, Stepper>) {
+        state.counters["points_per_step"] = points / static_cast<double>(steps);
+        state.counters["contact_steps"] = contact_steps;
     }
     state.counters["us_per_step"] = benchmark::Counter(static_cast<double>(steps) * 1e-6,
                                                        benchmark::Counter::kIsIterationInvariantRate |
