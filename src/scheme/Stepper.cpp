@@ -16,7 +16,6 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     : plan_(plan),
       scheduler_(plan),
       screening_(plan.options().screen_contacts),
-      fused_(plan.options().fused_kernels),
       q_(q0.begin(), q0.end()),
       d_(q0.size(), 0.0),
       v0_(v0.begin(), v0.end()),
@@ -31,8 +30,6 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     active_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
-    row_ptrs_.reserve(q0.size());
-    row_values_.reserve(q0.size());
     for (const FingerSpec& spec : plan.fingers()) {
         fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                               plan.force_to_displacement());
@@ -166,14 +163,9 @@ void Stepper::step() {
     advance_modes();
     if (screening_) {
         scheduler_.end_step();
-        if (!forces_.empty() && fused_) {
-            // The motion from here on is a new free motion: its bound grows by the impulse.
-            scheduler_.pushed(forces_, plan_.force_to_displacement() * plan_.basis().grid_step(), q_, d_);
-        } else if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
+        if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
             scheduler_.motion_changed(q_, d_);  // the motion from here on is a new free motion
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
-        } else {
-            scheduler_.tighten(q_, d_);  // the first step after a contact: the exact bound again
         }
         put_points_to_sleep();
     }
@@ -311,34 +303,21 @@ void Stepper::solve_contacts() {
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
-    // A few points, no finger: their predicted heights in one pass, the prediction not stored.
-    const bool fused = fused_ && !use_transform && !played();
-    if (fused) {
-        row_ptrs_.clear();
-        for (std::size_t i : active_) row_ptrs_.push_back(plan_.basis().row(i).data());
-        row_values_.resize(active_.size());
-        kernels::predicted_dots(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), row_ptrs_.data(),
-                                row_ptrs_.size(), row_values_.data(), n);
-    } else {
-        kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
-        if (use_transform) plan_.basis().to_grid(predicted_, grid_);
-    }
+    if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
     if (played()) solve_fingers(use_transform);
-    for (std::size_t at = 0; at < active_.size(); ++at) {
-        const std::size_t i = active_[at];
-        const double w = use_transform ? grid_[i]
-                         : fused       ? row_values_[at]
-                                       : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
+    for (std::size_t i : active_) {
+        const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
         const double a = eta_prev_[i];
         const ContactSolution s = law.solve(a, g[i] - w - a, k);
         const double eta_next = a + s.increment;
         eta_prev_[i] = eta_curr_[i];
         eta_curr_[i] = eta_next;
-        psi_curr_ += law.potential(eta_next);
+        psi_curr_ += law.potential(eta_next, s.root);  // sqrt(eta_next) as the solve left it
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, s.iterations);
         if (s.force != 0.0) forces_.emplace_back(i, s.force);
     }
@@ -362,7 +341,6 @@ void Stepper::solve_fingers(bool use_transform) {
 }
 
 void Stepper::apply_impulse() {
-    impulse_in_modes_ = false;
     if (forces_.empty()) return;
     // delta q = (dt^2/mu) dx S^T f: local in space (S delta = (dt^2/mu) f), spread over all modes.
     const double k = plan_.force_to_displacement();
@@ -370,35 +348,19 @@ void Stepper::apply_impulse() {
         std::fill(grid_.begin(), grid_.end(), 0.0);
         for (const auto& [i, f] : forces_) grid_[i] = k * f;
         plan_.basis().to_modes(grid_, impulse_);
-        impulse_in_modes_ = true;
-        return;
-    }
-    const double dx = plan_.basis().grid_step();
-    if (!fused_) {
+    } else {
         std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        const double dx = plan_.basis().grid_step();
         for (const auto& [i, f] : forces_)
             kernels::axpy(k * dx * f, plan_.basis().row(i).data(), impulse_.data(), impulse_.size());
-        impulse_in_modes_ = true;
-        return;
-    }
-    // A few rows of S: advance_modes adds them in its pass (kernels::advance_rows).
-    row_ptrs_.clear();
-    row_values_.clear();
-    for (const auto& [i, f] : forces_) {
-        row_ptrs_.push_back(plan_.basis().row(i).data());
-        row_values_.push_back(k * dx * f);
     }
 }
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
-    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
     const double losses =
-        forces_.empty() || impulse_in_modes_
-            ? kernels::advance(prop.decay().data(), prop.beta().data(), loss,
-                               forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), q_.size())
-            : kernels::advance_rows(prop.decay().data(), prop.beta().data(), loss, row_ptrs_.data(),
-                                    row_values_.data(), row_ptrs_.size(), q_.data(), d_.data(), q_.size());
+        kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
+                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), q_.size());
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
 }
 

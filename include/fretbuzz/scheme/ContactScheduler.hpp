@@ -34,19 +34,7 @@ public:
     // for refresh(). A string resting on a point obstacle then never pays for it.
     void motion_changed(std::span<const double> q, std::span<const double> d);
     void refresh(std::span<const double> q, std::span<const double> d) {
-        if (stale_ || loose_) update_speed(q, d);
-    }
-    // A contact step added the impulse delta q_j = sum_f c_f S_{i_f j} (c_f = coefficient x
-    // force f at point i_f) to the state (q^n, d^n) it leaves. Mode j's free amplitude then
-    // grows by at most |delta q_j| R_j(1, 1) (R is a seminorm of (q, d) and a free motion's R
-    // never grows), so the bounds grow by sums over the forced points of constants computed
-    // once per point: no pass over the modes. The bound is recomputed from the state when
-    // it has grown by half since it was last computed, and by tighten() after the contact.
-    void pushed(std::span<const std::pair<std::size_t, double>> forces, double coefficient, std::span<const double> q,
-                std::span<const double> d);
-    // Recomputes a bound that pushed() loosened (a no-op otherwise).
-    void tighten(std::span<const double> q, std::span<const double> d) {
-        if (loose_) update_speed(q, d);
+        if (stale_) update_speed(q, d);
     }
     double speed() const { return speed_; }
     // A cheap look at a point uses only the first head_modes() modes: the others move it by
@@ -82,15 +70,6 @@ private:
     std::size_t head_;
     double tail_ = 0.0;
     std::vector<double> amplitude_;  // R_j at the last update_speed
-    // Since update_speed, pushed() has grown speed_, slack_ and tail_ (amplitude_ is behind).
-    bool loose_ = false;
-    double computed_speed_ = 0.0;  // speed_ as update_speed left it
-    // Per grid point i, computed when first forced: sum_j w_j R_j(1,1) |S_ij| with w_j the
-    // speed factor, 1, and 1 beyond the default head (NaN: not yet).
-    std::vector<double> unit_amplitude_;  // R_j(1, 1)
-    std::vector<double> point_speed_, point_reach_, point_tail_;
-    std::size_t default_head_;
-    void compute_point(std::size_t i);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
 };
 

@@ -19,18 +19,6 @@ void predict(const double* e, const double* beta, const double* q, const double*
 // or 0 when loss is null (lossless).
 double advance(const double* e, const double* beta, const double* loss, const double* impulse, double* q, double* d,
                std::size_t n);
-// out_r = sum_j rows_r[j] p_j with the free prediction p of predict() formed on the fly (not
-// stored): the rows of several contact points in one pass over the modal state. Each out_r
-// equals dot(rows_r, p) to the last bit (same partial sums, same order).
-void predicted_dots(const double* e, const double* beta, const double* q, const double* d, const double* const* rows,
-                    std::size_t count, double* out, std::size_t n);
-// advance() with impulse_j = sum_r coefficients_r rows_r[j] (summed in the order of r, as
-// axpy into a zeroed vector would) formed on the fly: the same q, d and losses to the last
-// bit, one pass instead of three. If probe is not null, *probed = dot(probe, q^{n+1}), again
-// to the last bit (an observation point read in the same pass).
-double advance_rows(const double* e, const double* beta, const double* loss, const double* const* rows,
-                    const double* coefficients, std::size_t count, double* q, double* d, std::size_t n,
-                    const double* probe = nullptr, double* probed = nullptr);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.

@@ -31,11 +31,6 @@ struct PlanOptions {
     // Closed-form contact quotients for alpha = 1, 3/2, 2, 3; false: pow/expm1/log1p for
     // every exponent (the reference they are tested against).
     bool closed_form_contact = true;
-    // Contact steps at a few points read the rows of S inside the passes over the modal
-    // state (prediction and row products in one pass, impulse and advance in another);
-    // false: separate predict, dot, axpy and advance passes (the reference they are tested
-    // against; the same sums, equal to round-off).
-    bool fused_kernels = true;
 };
 
 // Screening pays by skipping points that cannot touch and by free flight between contacts.

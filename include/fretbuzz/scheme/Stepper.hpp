@@ -102,7 +102,6 @@ private:
     const Plan& plan_;
     ContactScheduler scheduler_;
     const bool screening_;
-    const bool fused_;  // PlanOptions::fused_kernels
     long n_ = 0;
     std::vector<double> q_, d_;            // q^n and q^n - q^{n-1}
     std::vector<double> v0_;               // initial modal velocity (first step only)
@@ -113,12 +112,6 @@ private:
     std::vector<std::size_t> active_;      // points solved every step
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
-    // Scratch for the fused kernels: rows of S at a few points, and a value per row
-    // (predicted heights, then impulse coefficients). impulse_ holds the impulse only when
-    // it went through a sine transform (many points).
-    std::vector<const double*> row_ptrs_;
-    std::vector<double> row_values_;
-    bool impulse_in_modes_ = false;
     std::vector<Finger> fingers_;
     std::vector<ForceProfile> gestures_;
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
