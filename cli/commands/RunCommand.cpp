@@ -86,11 +86,13 @@ void print_progress(const Progress& p) {
     std::fflush(stderr);
 }
 
-// A lower --fs than the case was written for (say 48 kHz) would put its upper modes above
-// fs/2, where contact aliases them: keep the modes below fs/2, say so, and record it.
-// The case's own rate, or --allow-aliasing, keeps every mode.
+// A lower --fs than the case was written for (say 48 kHz) can put a mode so near a multiple
+// of fs that contact aliases it onto a very low frequency, which would refuse the run: keep
+// the modes below fs/2 instead, say so, and record it. A rate at which the modes above fs/2
+// only warn keeps them all, as before; so does --allow-aliasing.
 void keep_modes_in_band(const RunArguments& a, Case& c) {
     if (!a.fs || c.run.allow_aliasing || !c.has_obstacle()) return;
+    if (check_sampling(c.modes, c.run.sample_rate_hz).hazardous.empty()) return;
     const std::size_t given = c.mode_count();
     const std::size_t kept = modes_below_nyquist(c.modes, c.run.sample_rate_hz);
     if (kept == given || kept == 0) return;
