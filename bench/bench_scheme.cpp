@@ -13,13 +13,17 @@
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
-// the sampling rate and the extent of the obstacle, with fitted exponents.
+// the sampling rate and the extent of the obstacle, with fitted exponents;
+// `fretbuzz_bench --contact [repetitions]` the cost of contact steps and of audio-rate runs
+// (see print_contact_table).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -31,6 +35,7 @@
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
 namespace {
@@ -113,11 +118,20 @@ void per_step(benchmark::State& state, BenchCase b, long warmup_steps, long step
     };
     Scheme start = make();  // set up once (the dense matrices take a while)
     for (long n = 0; n < warmup_steps; ++n) start.step();
+    double points = 0.0, contact_steps = 0.0;
     for (auto _ : state) {
         state.PauseTiming();
         Scheme scheme = start;
         state.ResumeTiming();
         for (long n = 0; n < steps; ++n) scheme.step();
+        if constexpr (std::is_same_v<Scheme, Stepper>) {
+            points = scheme.statistics().points_solved - start.statistics().points_solved;
+            contact_steps = static_cast<double>(scheme.statistics().contact_steps - start.statistics().contact_steps);
+        }
+    }
+    if constexpr (std::is_same_v<Scheme, Stepper>) {
+        state.counters["points_per_step"] = points / static_cast<double>(steps);
+        state.counters["contact_steps"] = contact_steps;
     }
     state.counters["us_per_step"] = benchmark::Counter(static_cast<double>(steps) * 1e-6,
                                                        benchmark::Counter::kIsIterationInvariantRate |
@@ -258,6 +272,112 @@ int print_scaling_table() {
     return 0;
 }
 
+// --- Contact steps -----------------------------------------------------------------------
+// `fretbuzz_bench --contact`: the cost of steps with contact (windows of the bass pop, the
+// flat obstacle at its onset, the audio-rate instruments) and of whole audio-rate runs
+// stepping only; thread CPU time (what the step costs, whatever else the machine runs) and
+// wall time, medians over the repetitions. Compare builds by running each in turn.
+struct Timing {
+    double cpu_s = 0.0, wall_s = 0.0;
+};
+
+template <class F>
+Timing timed(F&& f) {
+    timespec c0{}, c1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);
+    const auto w0 = std::chrono::steady_clock::now();
+    f();
+    const auto w1 = std::chrono::steady_clock::now();
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
+    return {static_cast<double>(c1.tv_sec - c0.tv_sec) + 1e-9 * static_cast<double>(c1.tv_nsec - c0.tv_nsec),
+            std::chrono::duration<double>(w1 - w0).count()};
+}
+
+double median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// A case at an audio rate with only its modes below fs/2 (as `fretbuzz run --fs` keeps them).
+Case in_band(const std::string& name, double fs, std::size_t modes = 0) {
+    const std::size_t kept = modes > 0 ? modes : modes_below_nyquist(load_case(name).modes, fs);
+    Case c = with_mode_count(read_case_text(name), kept);
+    c.run.sample_rate_hz = fs;
+    return c;
+}
+
+// The first step with a contact force, stepping from the start.
+long first_contact_step(const Case& c, double fs) {
+    const Plan plan(c, 1.0 / fs);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    while (s.statistics().contact_steps == 0 && s.step_index() < 100000000L) s.step();
+    return s.step_index();
+}
+
+struct ContactRow {
+    std::string label;
+    Case c;
+    double fs;
+    long from, steps;  // stepping window: steps [from, from + steps)
+};
+
+int print_contact_table(int repetitions) {
+    std::vector<ContactRow> rows;
+    rows.push_back({"bass-pop, 4 MHz, 862 modes, window", load_case("bass-pop"), 4e6, 14800, 2000});
+    const Case flat = load_case("flat-obstacle");
+    const long onset = first_contact_step(flat, 1e4);
+    rows.push_back({"flat-obstacle, 10 kHz, window", flat, 1e4, 9000, 2000});
+    rows.push_back({"flat-obstacle, 10 kHz, onset (20 steps)", flat, 1e4, onset - 1, 20});
+    for (const char* name : {"tanpura", "sitar"}) {
+        Case c = in_band(name, 48000.0);
+        rows.push_back({std::string(name) + ", 48 kHz, " + std::to_string(c.mode_count()) + " modes, 0.1 s", c, 48000.0,
+                        1, 4800});
+    }
+    std::printf("Steps with contact: us per step, medians of %d repetitions (thread CPU / wall)\n", repetitions);
+    std::printf("| window | points/step | CPU | wall |\n|---|---|---|---|\n");
+    for (const ContactRow& row : rows) {
+        const Plan plan(row.c, 1.0 / row.fs);
+        Stepper start(plan, row.c.initial_displacement, row.c.initial_velocity);
+        for (long n = 0; n < row.from; ++n) start.step();
+        std::vector<double> cpu, wall;
+        double points = 0.0;
+        for (int r = 0; r < repetitions; ++r) {
+            Stepper s = start;
+            const Timing t = timed([&] {
+                for (long n = 0; n < row.steps; ++n) s.step();
+            });
+            cpu.push_back(t.cpu_s * 1e6 / static_cast<double>(row.steps));
+            wall.push_back(t.wall_s * 1e6 / static_cast<double>(row.steps));
+            points = (s.statistics().points_solved - start.statistics().points_solved) / static_cast<double>(row.steps);
+        }
+        std::printf("| %s | %.1f | %.3f | %.3f |\n", row.label.c_str(), points, median_of(cpu), median_of(wall));
+        std::fflush(stdout);
+    }
+    // Stepping only, whole runs: the audio-rate instruments and a 120-mode string on a bridge.
+    std::printf("\nWhole runs with no output (stepping only), s per simulated second, medians of %d\n", repetitions);
+    std::printf("| run | CPU | wall |\n|---|---|---|\n");
+    std::vector<std::pair<std::string, Case>> runs;
+    for (const char* name : {"tanpura", "sitar"}) {
+        Case c = in_band(name, 48000.0);
+        c.run.duration_s = 1.0;
+        runs.emplace_back(std::string(name) + ", 48 kHz, " + std::to_string(c.mode_count()) + " modes, 1 s", c);
+    }
+    Case bridge = in_band("sitar", 48000.0, 120);
+    bridge.run.duration_s = 1.0;
+    runs.emplace_back("sitar bridge, 48 kHz, 120 modes, 1 s", bridge);
+    for (const auto& [label, c] : runs) {
+        std::vector<double> cpu, wall;
+        for (int r = 0; r < repetitions; ++r) {
+            const Timing t = timed([&] { benchmark::DoNotOptimize(simulate(c, {}).energy_final_j); });
+            cpu.push_back(t.cpu_s / c.run.duration_s);
+            wall.push_back(t.wall_s / c.run.duration_s);
+        }
+        std::printf("| %s | %.4f | %.4f |\n", label.c_str(), median_of(cpu), median_of(wall));
+        std::fflush(stdout);
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -292,8 +412,10 @@ int main(int argc, char** argv) {
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)
             ->UseRealTime();
-    for (int i = 1; i < argc; ++i)
+    for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--scaling") return print_scaling_table();
+        if (std::string(argv[i]) == "--contact") return print_contact_table(i + 1 < argc ? std::atoi(argv[i + 1]) : 9);
+    }
     std::vector<char*> args(argv, argv + argc);
     std::string repetitions = "--benchmark_repetitions=5";
     bool has_repetitions = false;

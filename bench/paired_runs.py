@@ -14,6 +14,7 @@ Each run writes into a fresh scratch directory (--out is added), removed afterwa
 """
 import argparse
 import json
+import resource
 import shlex
 import statistics
 import subprocess
@@ -24,14 +25,19 @@ from pathlib import Path
 
 
 def run_once(command, out_dir):
+    # CPU time (user + system of the child) as well: on a shared machine wall time also
+    # counts the waits for a core.
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = subprocess.run(command + ["--out", str(out_dir)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True)
     wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if result.returncode != 0:
         sys.exit(f"{shlex.join(command)} failed ({result.returncode}): {result.stderr.strip()}")
     summary = json.loads((out_dir / "summary.json").read_text())
-    return wall, summary
+    return wall, cpu, summary
 
 
 def main():
@@ -44,20 +50,26 @@ def main():
         label, _, command = text.partition("=")
         variants.append((label, shlex.split(command)))
     walls = {label: [] for label, _ in variants}
+    cpus = {label: [] for label, _ in variants}
     simulated = {}
     with tempfile.TemporaryDirectory(prefix="fretbuzz-bench-") as scratch:
         for rep in range(args.reps):
             for v, (label, command) in enumerate(variants):
                 out_dir = Path(scratch) / f"{rep}-{v}"
-                wall, summary = run_once(command, out_dir)
+                wall, cpu, summary = run_once(command, out_dir)
                 walls[label].append(wall)
+                cpus[label].append(cpu)
                 simulated[label] = summary.get("duration", float("nan"))
                 subprocess.run(["rm", "-rf", str(out_dir)], check=True)
     first = statistics.median(walls[variants[0][0]])
-    print(f"{'variant':<24} {'median wall s':>14} {'s per sim s':>12} {'ratio':>7}   (medians of {args.reps} paired runs)")
+    first_cpu = statistics.median(cpus[variants[0][0]])
+    print(f"{'variant':<24} {'median wall s':>14} {'s per sim s':>12} {'ratio':>7} {'median CPU s':>13} "
+          f"{'CPU per sim s':>14} {'ratio':>7}   (medians of {args.reps} paired runs)")
     for label, _ in variants:
         median = statistics.median(walls[label])
-        print(f"{label:<24} {median:14.3f} {median / simulated[label]:12.4f} {median / first:7.2f}")
+        cpu = statistics.median(cpus[label])
+        print(f"{label:<24} {median:14.3f} {median / simulated[label]:12.4f} {median / first:7.2f} {cpu:13.3f} "
+              f"{cpu / simulated[label]:14.4f} {cpu / first_cpu:7.2f}")
 
 
 if __name__ == "__main__":

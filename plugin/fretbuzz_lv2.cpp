@@ -35,6 +35,8 @@ constexpr std::size_t kChunk = 4096;
 constexpr double kFullStrength = 1.5;  // m/s at MIDI velocity 127
 
 enum Port : uint32_t { kMidiIn, kOut, kPluck, kPickup, kBuzz, kDamping, kPortCount };
+// An output control after the inputs: the latency the host compensates (lv2:latency).
+constexpr uint32_t kLatencyPort = kPortCount;
 
 struct Control {
     const char* name;
@@ -67,6 +69,8 @@ struct Instrument {
     std::array<const float*, kPortCount> controls{};
     const LV2_Atom_Sequence* midi = nullptr;
     float* out = nullptr;
+    float* latency = nullptr;      // the latency port, if the host connected it
+    float latency_samples = 0.0f;  // the voices' decimation delay (the same for all)
     std::array<float, kPortCount> last{};  // raw values last seen, to warn once per change
     std::array<float, kChunk> scratch{};
     LV2_URID midi_event = 0;
@@ -132,6 +136,7 @@ struct Instrument {
     }
 
     void run(uint32_t frames) {
+        if (latency != nullptr) *latency = latency_samples;
         std::fill(out, out + frames, 0.0f);
         std::array<float, kPortCount> now{};
         for (uint32_t p = kPluck; p < kPortCount; ++p) now[p] = control(p);
@@ -187,6 +192,8 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
             v.engine = std::make_unique<Engine>(c, options);
             v.applied = {0, 0, -1, -1, 0, 1};  // the engine's own pickup; buzz 0; damping 1
         }
+        // Whole frames, as hosts compensate them (the filter's delay is (length - 1) / 2M).
+        instrument->latency_samples = static_cast<float>(std::round(instrument->voices[0].engine->latency_samples()));
     } catch (const std::exception& e) {
         lv2_log_error(&instrument->logger, "fretbuzz: cannot prepare %s: %s\n", descriptor->URI, e.what());
         return nullptr;
@@ -203,6 +210,8 @@ void connect_port(LV2_Handle handle, uint32_t port, void* data) {
         self->out = static_cast<float*>(data);
     else if (port < kPortCount)
         self->controls[port] = static_cast<const float*>(data);
+    else if (port == kLatencyPort)
+        self->latency = static_cast<float*>(data);
 }
 
 void run(LV2_Handle handle, uint32_t frames) { static_cast<Instrument*>(handle)->run(frames); }

@@ -1,12 +1,14 @@
 // `fretbuzz run`: load a case, apply command-line overrides, simulate, write the outputs.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/RunOutputs.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
@@ -83,10 +86,41 @@ void print_progress(const Progress& p) {
     std::fflush(stderr);
 }
 
+// A lower --fs than the case was written for (say 48 kHz) can put a mode so near a multiple
+// of fs that contact aliases it onto a very low frequency, which would refuse the run: keep
+// the modes below fs/2 instead, say so, and record it. A rate at which the modes above fs/2
+// only warn keeps them all, as before; so does --allow-aliasing.
+void keep_modes_in_band(const RunArguments& a, Case& c) {
+    if (!a.fs || c.run.allow_aliasing || !c.has_obstacle()) return;
+    if (check_sampling(c.modes, c.run.sample_rate_hz).hazardous.empty()) return;
+    const std::size_t given = c.mode_count();
+    const std::size_t kept = modes_below_nyquist(c.modes, c.run.sample_rate_hz);
+    if (kept == given || kept == 0) return;
+    std::string how = "the case read again with string.modes = " + std::to_string(kept);
+    try {
+        Case in_band = with_mode_count(read_case_text(a.case_name), kept);
+        apply_overrides(a, in_band);
+        c = std::move(in_band);
+    } catch (const InputError&) {
+        // Data tied to the mode count (a modal excitation table): truncate the modal state,
+        // the obstacle sampled on the coarser grid.
+        c = stopped_string(c, 0.0, kept);
+        how = "the first " + std::to_string(kept) + " modes of the case's initial state, the obstacle on their grid";
+    }
+    std::ostringstream why;
+    why << "automatic: the " << kept << " modes at or below fs/2 = " << 0.5 * c.run.sample_rate_hz << " Hz of the case's "
+        << given << ", " << how << " (--allow-aliasing keeps them all)";
+    c.mode_choice = why.str();
+    c.warnings.push_back("--fs " + std::to_string(std::lround(c.run.sample_rate_hz)) + ": string.modes = " +
+                         std::to_string(kept) + ", the modes below fs/2 (the case has " + std::to_string(given) +
+                         "; --allow-aliasing keeps them all, aliased under contact)");
+}
+
 int run_command(const RunArguments& a) {
     stop_cleanly_on_signals();
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
+    keep_modes_in_band(a, c);
     c.validate();  // before anything is created on disk
     // Refuses a sampling rate at which modes alias onto low frequencies (as planning does).
     const SamplingReport sampling =

@@ -110,6 +110,8 @@ struct Case {
     std::string source_text;
     // What reading the case found doubtful but allowed (shown to the user, kept in summary.json).
     std::vector<std::string> warnings;
+    // Why the mode count differs from the case file's (empty: as the file says).
+    std::string mode_choice;
 
     std::size_t mode_count() const { return modes.size(); }
     double grid_step() const { return string.length_m / static_cast<double>(mode_count() + 1); }

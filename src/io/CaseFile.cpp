@@ -201,4 +201,13 @@ Case load_case(const std::string& name_or_path) {
     return parse_case(source.text, source.source_name, source.data);
 }
 
+Case with_mode_count(const CaseText& source, std::size_t modes) {
+    toml::table root = parse_toml_document(source.text, source.source_name);
+    if (toml::table* string = root["string"].as_table())
+        string->insert_or_assign("modes", static_cast<std::int64_t>(modes));
+    std::ostringstream text;
+    text << root;
+    return parse_case(text.str(), source.source_name, source.data);
+}
+
 }  // namespace fretbuzz

@@ -16,6 +16,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         {"duration", s.duration_s},
         {"steps", s.steps},
         {"modes", s.modes},
+        {"modes_choice", s.mode_choice},
         {"output_rate", s.output_rate_hz},
         {"wall_seconds", s.wall_seconds},
         {"steps_per_second", s.steps_per_second},

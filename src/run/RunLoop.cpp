@@ -71,6 +71,7 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     summary_.lossless = plan_.propagator().lossless();
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
+    summary_.mode_choice = c.mode_choice.empty() ? "as the case gives" : c.mode_choice;
     summary_.fingers = c.fingers.size();
     summary_.gestures = c.forces.size() + c.plucks.size();
     summary_.warnings = c.warnings;

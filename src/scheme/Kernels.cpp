@@ -1,7 +1,8 @@
 #include "fretbuzz/scheme/Kernels.hpp"
 
-// Both variants compute the same sums in the same order (no fused multiply-add
-// contraction in ISO C++ mode), so results do not depend on the machine.
+// Both variants compute the same sums in the same order. GCC contracts a * b + c into a
+// fused multiply-add in C++ even in ISO mode (-ffp-contract=fast is its C++ default), so
+// the AVX2 variant may differ from the baseline one in the last bits.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define FRETBUZZ_MULTIVERSION __attribute__((target_clones("default", "arch=x86-64-v3")))
 #else

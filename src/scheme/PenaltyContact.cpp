@@ -43,8 +43,9 @@ double PenaltyContact::power(double eta) const {
     return std::pow(eta, alpha_);
 }
 
-double PenaltyContact::potential(double eta) const {
+double PenaltyContact::potential(double eta, double root) const {
     if (!(eta > 0.0)) return 0.0;
+    if (law_ == Law::three_halves && root != kNoRoot) return k_ / (alpha_ + 1.0) * ((eta * root) * eta);
     return law_ == Law::general ? k_ / (alpha_ + 1.0) * std::pow(eta, alpha_ + 1.0)
                                 : k_ / (alpha_ + 1.0) * (power(eta) * eta);
 }
@@ -58,7 +59,7 @@ double PenaltyContact::anchor(double a) const {
     return law_ == Law::general ? std::pow(a, alpha_ + 1.0) : 0.0;
 }
 
-double PenaltyContact::quotient_inside(double a, double r, double anchor_a) const {
+double PenaltyContact::quotient_inside(double a, double r, double anchor_a, double& root) const {
     // ((a + r)^(alpha+1) - a^(alpha+1)) / r factored so that every term is positive.
     switch (law_) {
         case Law::linear: return k_ * (a + 0.5 * r);
@@ -69,6 +70,7 @@ double PenaltyContact::quotient_inside(double a, double r, double anchor_a) cons
         }
         case Law::three_halves: {  // s^5 - t^5 over s^2 - t^2, s = sqrt(a + r), t = sqrt(a)
             const double s = std::sqrt(a + r), t = anchor_a;
+            root = s;  // the slope at r and the potential of a + r use it again
             const double t2 = t * t;
             const double numerator = t2 * t2 + s * (t2 * t + s * (t2 + s * (t + s)));
             return 0.4 * k_ * numerator / (s + t);
@@ -80,16 +82,24 @@ double PenaltyContact::quotient_inside(double a, double r, double anchor_a) cons
     return k_ / (alpha_ + 1.0) * anchor_a * growth / r;
 }
 
-double PenaltyContact::quotient(double a, double r, double anchor_a) const {
+double PenaltyContact::quotient(double a, double r, double anchor_a, double& root) const {
+    root = kNoRoot;
     if (r == 0.0) return force(a);
-    if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a);
+    if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a, root);
     // At most one of the two potentials is non-zero here: no cancellation.
     return (potential(a + r) - potential(a)) / r;
 }
 
-double PenaltyContact::difference_quotient(double a, double r) const { return quotient(a, r, anchor(a)); }
+double PenaltyContact::difference_quotient(double a, double r) const {
+    double root = kNoRoot;
+    return quotient(a, r, anchor(a), root);
+}
 
 double PenaltyContact::slope_of_quotient(double a, double r, double quotient_value) const {
+    return slope(a, r, quotient_value, a > 0.0 ? std::sqrt(a) : 0.0, kNoRoot);
+}
+
+double PenaltyContact::slope(double a, double r, double quotient_value, double sqrt_a, double root) const {
     // d/dr of the difference quotient. The closed forms differentiate exactly; otherwise
     // (Psi'(a+r) - quotient) / r, with its limit Psi''(a + r/2) / 2 when r is too small
     // against a for the difference to be accurate.
@@ -101,8 +111,8 @@ double PenaltyContact::slope_of_quotient(double a, double r, double quotient_val
                 const double e = a + r;
                 return 0.25 * k_ * (a * a + 2.0 * a * e + 3.0 * e * e);
             }
-            case Law::three_halves: {
-                const double s = std::sqrt(a + r), t = std::sqrt(a);
+            case Law::three_halves: {  // sqrt(a + r) as the quotient at r found it, if it did
+                const double s = root == kNoRoot ? std::sqrt(a + r) : root, t = sqrt_a;
                 const double sum = s + t;
                 return 0.2 * k_ * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
             }
@@ -129,8 +139,10 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
     // phi(r) = r + k F(r) - b is increasing and convex. phi(b) = k F(b) >= 0 and, F being
     // non-decreasing, phi(b - k F(b)) <= 0: the root lies in [b - k F(b), b].
     const double anchor_a = anchor(a);
+    const double sqrt_a = law_ == Law::three_halves ? anchor_a : 0.0;  // only the 3/2 slope reads it
+    double root = kNoRoot, root_next = kNoRoot, root_mid = kNoRoot;  // sqrt(a + r) where known
     double hi = b;
-    double f_hi = quotient(a, hi, anchor_a);
+    double f_hi = quotient(a, hi, anchor_a, root);
     double lo = b - k * f_hi;
     if (a <= 0.0) lo = std::max(lo, -a);  // no force while a + r <= 0, so phi < 0 there
     double r = hi;
@@ -142,13 +154,14 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
         if (std::abs(residual) <= 4.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) {
             s.increment = r;
             s.force = f;
+            s.root = root;
             return s;
         }
-        const double slope = 1.0 + k * slope_of_quotient(a, r, f);
+        const double slope = 1.0 + k * this->slope(a, r, f, sqrt_a, root);
         double next = r - residual / slope;
         // Keep inside the bracket; bisect when Newton would leave it or stalls.
         if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);
-        const double f_next = quotient(a, next, anchor_a);
+        const double f_next = quotient(a, next, anchor_a, root_next);
         const double residual_next = next + k * f_next - b;
         if (residual_next > 0.0)
             hi = next;
@@ -157,24 +170,27 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
         if (std::abs(next - r) <= kEps * std::abs(next) || residual_next == 0.0) {
             s.increment = next;
             s.force = f_next;
+            s.root = root_next;
             s.iterations = it;
             return s;
         }
         // If Newton crawls (a strongly curved law from far away), halve the bracket too.
         if (hi - lo > 0.0 && std::abs(residual_next) > 0.5 * std::abs(residual) && it % 4 == 0) {
             const double mid = 0.5 * (lo + hi);
-            const double f_mid = quotient(a, mid, anchor_a);
+            const double f_mid = quotient(a, mid, anchor_a, root_mid);
             const double residual_mid = mid + k * f_mid - b;
             (residual_mid > 0.0 ? hi : lo) = mid;
             if (std::abs(residual_mid) < std::abs(residual_next)) {
                 r = mid;
                 f = f_mid;
+                root = root_mid;
                 residual = residual_mid;
                 continue;
             }
         }
         r = next;
         f = f_next;
+        root = root_next;
         residual = residual_next;
     }
     std::ostringstream msg;

@@ -90,4 +90,10 @@ SamplingReport require_sampling(const ModeTable& modes, double fs, bool allow_al
     throw InputError(out.str());
 }
 
+std::size_t modes_below_nyquist(const ModeTable& modes, double fs) {
+    std::size_t n = 0;
+    while (n < modes.size() && !(modes.frequency_hz[n] > 0.5 * fs)) ++n;
+    return n;
+}
+
 }  // namespace fretbuzz

@@ -335,7 +335,7 @@ void Stepper::solve_contacts() {
         const double eta_next = a + s.increment;
         eta_prev_[i] = eta_curr_[i];
         eta_curr_[i] = eta_next;
-        psi_curr_ += law.potential(eta_next);
+        psi_curr_ += law.potential(eta_next, s.root);  // sqrt(eta_next) as the solve left it
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, s.iterations);
         if (s.force != 0.0) {
             forces_.emplace_back(i, s.force);

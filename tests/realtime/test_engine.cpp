@@ -222,6 +222,25 @@ TEST(Decimator, PassesTheBandAndStopsWhatWouldAlias) {
     for (double f : {0.5, 0.7, 1.5, 3.9}) EXPECT_LT(d.gain_at(f / 8.0), 1e-4) << f;
 }
 
+TEST(Decimator, ReportsTheDelayOfItsImpulseResponse) {
+    // Linear phase: the centroid of the whole impulse response (every input phase s of the
+    // impulse together) lies group_delay() output samples after the impulse.
+    for (int m : {1, 2, 4, 8}) {
+        double moment = 0.0, area = 0.0;  // in input samples
+        for (int s = 0; s < m; ++s) {
+            Decimator d(m, 64, 0.45);
+            for (int n = 0; n < 64 + 4; ++n) {
+                for (int k = 0; k < m; ++k) d.push(n * m + k == s ? 1.0 : 0.0);
+                const double lag = n * m + m - 1 - s;  // output n comes after input n M + M - 1
+                moment += lag * d.output();
+                area += d.output();
+            }
+        }
+        EXPECT_NEAR(moment / area / m, Decimator(m, 64, 0.45).group_delay(), 1e-9) << "M=" << m;
+    }
+    EXPECT_NEAR(Decimator(8, 64, 0.45).group_delay(), (512.0 - 1.0) / 16.0, 1e-12);
+}
+
 TEST(StoppedString, FretTwelveSoundsAnOctaveHigher) {
     const Case open = load_case("bass-pluck");
     const double x12 = fret_position(open.string.length_m, 12);

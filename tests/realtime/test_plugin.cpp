@@ -87,6 +87,7 @@ public:
         midi_.clear();
         lilv_instance_connect_port(instance_, 0, midi_.bytes);
         for (uint32_t p = 2; p < 6; ++p) lilv_instance_connect_port(instance_, p, &controls_[p]);
+        lilv_instance_connect_port(instance_, 6, &latency_);
         lilv_instance_activate(instance_);
     }
     ~PluginHost() {
@@ -99,6 +100,7 @@ public:
     bool ready() const { return instance_ != nullptr; }
     MidiBuffer& midi() { return midi_; }
     float& control(uint32_t port) { return controls_[port]; }
+    float latency() const { return latency_; }  // the latency port, as the last run left it
     // Runs `frames` samples in blocks of 256 (events go in the first block), appending to out.
     void run(std::size_t frames, std::vector<float>& out) {
         for (std::size_t done = 0; done < frames; done += 256) {
@@ -125,6 +127,7 @@ private:
     LV2_Feature log_feature_{LV2_LOG__log, &log_};
     std::vector<const LV2_Feature*> features_;
     std::vector<float> controls_;
+    float latency_ = -1.0f;
     MidiBuffer midi_;
 };
 
@@ -179,6 +182,13 @@ TEST(Lv2Plugin, NoteSoundsAtItsPitchAndNoteOffMutesIt) {
     const double held = rms(out, 4800, 48000);
     EXPECT_GT(held, 1e-4);
     EXPECT_LT(rms(out, 60000, 72000), 1e-3 * held);
+    // The host is told the decimation filter's delay (whole frames): the guitar runs at 4x.
+    fretbuzz::EngineOptions options;
+    options.host_rate_hz = rate;
+    options.max_oversampling = 4;
+    const fretbuzz::Engine engine(open, options);
+    EXPECT_GT(engine.latency_samples(), 0.0);
+    EXPECT_EQ(host.latency(), std::round(engine.latency_samples()));
 }
 
 TEST(Lv2Plugin, ClampsOutOfRangeControlsWithAWarning) {

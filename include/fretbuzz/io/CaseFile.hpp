@@ -45,5 +45,8 @@ struct CaseText {
 CaseText read_case_text(const std::string& name_or_path);
 // A built-in case name, or a path to a .toml file.
 Case load_case(const std::string& name_or_path);
+// The case read again with string.modes = modes: its grid, obstacle, excitation and modes
+// all follow from the file as they would had it said so.
+Case with_mode_count(const CaseText& source, std::size_t modes);
 
 }  // namespace fretbuzz

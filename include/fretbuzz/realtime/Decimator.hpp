@@ -23,6 +23,9 @@ public:
         if (++position_ == taps_.size()) position_ = 0;
     }
     double output() const;
+    // The filter is linear-phase (symmetric taps): every output lags the input by this many
+    // output samples, (length - 1) / (2 M).
+    double group_delay() const { return 0.5 * static_cast<double>(taps_.size() - 1) / static_cast<double>(factor_); }
     void reset();
     // The filter's gain at frequency f (as a fraction of the input rate), for tests.
     double gain_at(double f) const;

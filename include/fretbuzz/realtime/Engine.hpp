@@ -79,6 +79,10 @@ public:
     void set_obstacle_offset(double offset_m);  // in [-5 mm, 1 mm]
 
     int oversampling() const { return factor_; }
+    // The output lags the string by the decimation filter's group delay: this many host
+    // samples (a plugin reports it to its host), and in seconds.
+    double latency_samples() const { return decimator_.group_delay(); }
+    double latency_s() const { return latency_samples() / options_.host_rate_hz; }
     double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
     std::size_t mode_count() const { return case_.mode_count(); }
     const Case& voice_case() const { return case_; }

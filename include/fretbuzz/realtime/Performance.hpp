@@ -62,6 +62,7 @@ struct RenderedPerformance {
         std::size_t modes;
         long resets;
         long clamped;
+        double latency_samples;  // the decimation filter's group delay (host samples)
     };
     std::vector<Voice> voices;
     double wall_seconds = 0.0;

@@ -46,6 +46,7 @@ struct RunSummary {
     bool lossless = false;
     bool screened = true;
     std::string screening;  // whether and why contact screening ran (see choose_screening)
+    std::string mode_choice;  // why the mode count differs from the case file's (Case::mode_choice)
     // With fingers: the balance is H - work + dissipated = H^{1/2} (dissipated_j includes
     // finger_loss_j); the terms at the end of the run.
     std::size_t fingers = 0;

@@ -12,10 +12,16 @@
 // contact solve is where contact-heavy runs spend their time.
 namespace fretbuzz {
 
+// Marks a square root not computed (a real one is never negative).
+inline constexpr double kNoRoot = -1.0;
+
 struct ContactSolution {
     double increment = 0.0;  // r
     double force = 0.0;      // f = (Psi(a + r) - Psi(a)) / r  (force per unit length, N/m)
     int iterations = 0;
+    // sqrt(a + r) where the solve computed it (alpha = 3/2 in contact), else kNoRoot:
+    // potential(a + r, root) then needs no square root of its own.
+    double root = kNoRoot;
 };
 
 class PenaltyContact {
@@ -28,7 +34,8 @@ public:
 
     double stiffness() const { return k_; }
     double exponent() const { return alpha_; }
-    double potential(double eta) const;  // Psi(eta)
+    // Psi(eta); root = sqrt(eta) if known (ContactSolution::root), the same value either way.
+    double potential(double eta, double root = kNoRoot) const;
     double force(double eta) const;      // Psi'(eta)
     // (Psi(a + r) - Psi(a)) / r without cancellation; Psi'(a) at r = 0.
     double difference_quotient(double a, double r) const;
@@ -41,8 +48,11 @@ private:
     enum class Law { general, linear, three_halves, quadratic, cubic };
     // (Psi(a + r) - Psi(a)) / r and its slope in r where a > 0 and a + r > 0.
     double anchor(double a) const;
-    double quotient(double a, double r, double anchor_a) const;
-    double quotient_inside(double a, double r, double anchor_a) const;
+    // The solve's Newton steps evaluate the quotient at r and then its slope at the same r:
+    // at alpha = 3/2 both need sqrt(a + r) and sqrt(a), computed once (root out, sqrt_a in).
+    double quotient(double a, double r, double anchor_a, double& root) const;
+    double quotient_inside(double a, double r, double anchor_a, double& root) const;
+    double slope(double a, double r, double quotient_value, double sqrt_a, double root) const;
     double power(double eta) const;  // eta^alpha for eta > 0
 
     double k_;

@@ -43,5 +43,7 @@ SamplingReport check_sampling(const ModeTable& modes, double fs);
 // check_sampling, then InputError naming the hazardous modes unless allow_aliasing (their
 // warning is kept in the report instead).
 SamplingReport require_sampling(const ModeTable& modes, double fs, bool allow_aliasing);
+// How many leading modes lie at or below fs/2: the mode count that keeps every mode in band.
+std::size_t modes_below_nyquist(const ModeTable& modes, double fs);
 
 }  // namespace fretbuzz
