@@ -5,10 +5,12 @@
 // libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
 // what a magnetic pickup senses.
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "fretbuzz/io/Resampler.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
@@ -52,6 +54,11 @@ public:
     double every_step_band_hz() const override { return 0.6 * rate_; }
     bool wants_velocity() const override { return signal_ == AudioSignal::velocity; }
     void every_step(std::span<const double> u, std::span<const double> velocity) override;
+    // Where no contact can act the run writes the band-limited signal itself (see RunObserver).
+    const Resampler* resampler() const override { return resampler_.get(); }
+    void begin_segment(long step, long first_sample) override;
+    void end_segment(long last_sample) override;
+    void band_samples(long first_sample, std::span<const double> u, std::span<const double> velocity) override;
     void finish(const RunSummary&) override;
 
     // The resampled signal of one point before normalisation (available after finish()).
@@ -66,6 +73,7 @@ public:
 
 private:
     void drain(bool flush);
+    void place(long sample, const double* frame);  // one output frame at its sample index
     void write_channel(std::size_t point);
 
     std::vector<std::filesystem::path> paths_;
@@ -73,9 +81,11 @@ private:
     AudioSignal signal_;
     AudioFades fades_;
     std::vector<double> full_scale_;
-    void* resampler_ = nullptr;
+    std::unique_ptr<Resampler> resampler_;
     std::vector<double> input_;   // interleaved, one frame per time step
     std::vector<double> block_;   // interleaved resampler output
+    long segment_sample_ = 0;     // sample index of the current segment's next output frame
+    long keep_from_ = 0;          // the segment's outputs before this sample are dropped
     std::vector<std::vector<double>> channels_;
 };
 
