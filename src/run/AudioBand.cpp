@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
@@ -13,6 +14,16 @@ namespace {
 constexpr long kReachMargin = 2;
 
 long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// a_j *= w_j for complex values held as parts (vectorises: no sum).
+void rotate(double* __restrict ar, double* __restrict ai, const double* __restrict wr, const double* __restrict wi,
+            std::size_t n) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double re = ar[j] * wr[j] - ai[j] * wi[j];
+        ai[j] = ar[j] * wi[j] + ai[j] * wr[j];
+        ar[j] = re;
+    }
+}
 }  // namespace
 
 bool AudioBand::applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
@@ -71,12 +82,18 @@ AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagat
         difference_.im[j] = diff.imag() / dt_;
     }
     shape_.resize(points_ * head);
+    shape_velocity_.re.resize(points_ * head);
+    shape_velocity_.im.resize(points_ * head);
     for (Phasors* p : {&gain_u_, &gain_v_}) {
         p->re.resize(points_ * band_);
         p->im.resize(points_ * band_);
     }
     for (std::size_t p = 0; p < points_; ++p) {
         std::copy_n(shapes[p].begin(), head, shape_.begin() + static_cast<std::ptrdiff_t>(p * head));
+        for (std::size_t j = 0; j < head; ++j) {
+            shape_velocity_.re[p * head + j] = shapes[p][j] * difference_.re[j];
+            shape_velocity_.im[p * head + j] = shapes[p][j] * difference_.im[j];
+        }
         for (std::size_t j = 0; j < band_; ++j) {
             const std::complex<double> g = shapes[p][j] * r.gain(z_[j]);
             const std::complex<double> gv = g * std::complex<double>(difference_.re[j], difference_.im[j]);
@@ -133,25 +150,14 @@ void AudioBand::emit(long up_to_step) {
     const double* wr = rate_turn_.re.data();
     const double* wi = rate_turn_.im.data();
     for (std::size_t k = 0; k < count; ++k) {
+        // Re(g a) summed over the modes, in the kernels' vectorised sums.
         for (std::size_t p = 0; p < points_; ++p) {
-            const double* gr = gain_u_.re.data() + p * b;
-            const double* gi = gain_u_.im.data() + p * b;
-            double sum = 0.0;
-            for (std::size_t j = 0; j < b; ++j) sum += gr[j] * ar[j] - gi[j] * ai[j];
-            u_[k * points_ + p] = sum;
-            if (velocity_) {
-                const double* hr = gain_v_.re.data() + p * b;
-                const double* hi = gain_v_.im.data() + p * b;
-                double vs = 0.0;
-                for (std::size_t j = 0; j < b; ++j) vs += hr[j] * ar[j] - hi[j] * ai[j];
-                v_[k * points_ + p] = vs;
-            }
+            u_[k * points_ + p] = kernels::dot(gain_u_.re.data() + p * b, ar, b) - kernels::dot(gain_u_.im.data() + p * b, ai, b);
+            if (velocity_)
+                v_[k * points_ + p] =
+                    kernels::dot(gain_v_.re.data() + p * b, ar, b) - kernels::dot(gain_v_.im.data() + p * b, ai, b);
         }
-        for (std::size_t j = 0; j < b; ++j) {
-            const double re = ar[j] * wr[j] - ai[j] * wi[j];
-            ai[j] = ar[j] * wi[j] + ai[j] * wr[j];
-            ar[j] = re;
-        }
+        rotate(ar, ai, wr, wi, b);
     }
     for (RunObserver* o : observers_) o->band_samples(next_sample_, u_, v_);
     next_sample_ = last + 1;
@@ -171,23 +177,13 @@ void AudioBand::resume(long n, std::span<const double> q, std::span<const double
     std::vector<double> frame_u(points_), frame_v(velocity_ ? points_ : 0);
     for (long m = start; m <= n; ++m) {
         for (std::size_t p = 0; p < points_; ++p) {
-            const double* phi = shape_.data() + p * h;
-            double sum = 0.0;
-            for (std::size_t j = 0; j < h; ++j) sum += phi[j] * b.re[j];
-            frame_u[p] = sum;
-            if (velocity_) {
-                double vs = 0.0;
-                for (std::size_t j = 0; j < h; ++j)
-                    vs += phi[j] * (difference_.re[j] * b.re[j] - difference_.im[j] * b.im[j]);
-                frame_v[p] = vs;
-            }
+            frame_u[p] = kernels::dot(shape_.data() + p * h, b.re.data(), h);
+            if (velocity_)
+                frame_v[p] = kernels::dot(shape_velocity_.re.data() + p * h, b.re.data(), h) -
+                             kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
         }
         for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
-        for (std::size_t j = 0; j < h; ++j) {
-            const double re = b.re[j] * step_.re[j] - b.im[j] * step_.im[j];
-            b.im[j] = b.re[j] * step_.im[j] + b.im[j] * step_.re[j];
-            b.re[j] = re;
-        }
+        rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
     }
     in_band_ = false;
     free_since_ = n;

@@ -60,6 +60,7 @@ private:
     bool velocity_;
     std::vector<std::complex<double>> z_;
     std::vector<double> shape_;           // points x head: mode shapes at the points
+    Phasors shape_velocity_;              // the same x difference
     Phasors step_, rate_turn_;            // e^{z dt}, e^{z / rate}
     Phasors difference_;                  // (1 - e^{-z dt}) / dt: velocity of the per-step signal
     Phasors gain_u_, gain_v_;             // points x band: shape x gain (x difference)

@@ -182,6 +182,7 @@ void RunLoop::after_step() {
 }
 
 void RunLoop::report_observation() {
+    if (observers_.empty()) return;  // the probe products only when someone reads them
     for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
     const double force = stepper_.displacement(bridge_);
