@@ -10,6 +10,7 @@
 #include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {
@@ -26,18 +27,21 @@ double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
 
 struct Audio {
     std::vector<std::vector<double>> u, v;
+    RecordedRun recorded;  // the output-rate rows (CSV and HDF5 signals)
     RunSummary summary;
 };
 
 Audio audio_of(const Case& c, bool closed_form, bool free_flight = true) {
     std::vector<std::filesystem::path> paths(c.observation_points_m.size(), "/dev/null");
     AudioWriter u(paths, c.run.audio_rate_hz), v(paths, c.run.audio_rate_hz, AudioSignal::velocity);
-    RunObserver* observers[] = {&u, &v};
+    ResultRecorder recorder;
+    RunObserver* observers[] = {&u, &v, &recorder};
     RunOptions options;
     options.closed_form_audio = closed_form;
     options.free_flight = free_flight;
     Audio a;
     a.summary = simulate(c, observers, options);
+    a.recorded = recorder.take();
     for (std::size_t p = 0; p < paths.size(); ++p) {
         a.u.push_back(u.samples(p));
         a.v.push_back(v.samples(p));
@@ -79,6 +83,13 @@ void expect_same_audio(const Case& c, double displacement_tolerance, double velo
     // at other steps; the motion is the same free motion).
     EXPECT_NEAR(fast.summary.energy_final_j, reference.summary.energy_final_j, 1e-12 * reference.summary.energy_initial_j);
     EXPECT_EQ(fast.summary.contact_steps, reference.summary.contact_steps);
+    // The output-rate rows are the same samples of the same motion: only round-off apart (the
+    // flights step fewer modes one by one and jump the others).
+    ASSERT_EQ(fast.recorded.time, reference.recorded.time);
+    EXPECT_LT(relative_l2(fast.recorded.observation, reference.recorded.observation), 1e-12);
+    EXPECT_LT(relative_l2(fast.recorded.energy, reference.recorded.energy), 1e-13);
+    EXPECT_LT(relative_l2(fast.recorded.dissipated, reference.recorded.dissipated), 1e-11);
+    EXPECT_LT(relative_l2(fast.recorded.peak_contact_force, reference.recorded.peak_contact_force), 1e-9);
     for (std::size_t p = 0; p < fast.u.size(); ++p) {
         ASSERT_EQ(fast.u[p].size(), reference.u[p].size());
         ASSERT_EQ(fast.v[p].size(), reference.v[p].size());
