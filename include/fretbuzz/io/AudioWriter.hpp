@@ -1,8 +1,9 @@
 #pragma once
 // Audio files, one mono WAV per observation point: the signal taken at every time step,
 // band-limited and resampled to the audio rate by libsoxr (streaming, so a long run never
-// holds its full-rate signal), peak-normalised per file and written as 24-bit PCM WAV by
-// libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
+// holds its full-rate signal; over long contact-free stretches the run writes the resampled
+// signal itself in closed form, see RunObserver::resampler), peak-normalised per file and
+// written as 24-bit PCM WAV by libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
 // what a magnetic pickup senses.
 #include <filesystem>
 #include <memory>
