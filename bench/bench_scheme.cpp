@@ -7,7 +7,9 @@
 //                    products per step), compiled with the same flags.
 //   Window           the product's stepping over the same contact window as the two above;
 //   Outputs/None     a 3 s bass-pop with every output file (CSV, WAV, HDF5 with the contact
-//                    map) against the same run with no observer at all.
+//                    map) against the same run with no observer at all; PerStepAudio is
+//                    Outputs with the audio resampled from the per-step signal throughout
+//                    (no closed form in long flights: how outputs were written before).
 //   Played           the open pop and the pop stopped at fret 5 by a finger (popped at 20 ms), whole runs
 //                    of the same length side by side (the finger's cost on the fast path).
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
@@ -27,6 +29,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "fretbuzz/io/AudioWriter.hpp"
@@ -82,7 +85,7 @@ void fast(benchmark::State& state, BenchCase b) {
 }
 
 // A whole 3 s bass-pop at 4 MHz, with every output file or with none.
-void whole_run(benchmark::State& state, bool outputs) {
+void whole_run(benchmark::State& state, bool outputs, bool closed_form_audio) {
     Case c = load_case("bass-pop");
     c.run.duration_s = 3.0;
     const long steps = std::lround(c.run.sample_rate_hz * c.run.duration_s);
@@ -91,7 +94,9 @@ void whole_run(benchmark::State& state, bool outputs) {
         std::filesystem::remove_all(dir);
         if (outputs) {
             RunOutputs files(dir, c);
-            benchmark::DoNotOptimize(simulate(c, files.observers()).energy_final_j);
+            RunOptions options;
+            options.closed_form_audio = closed_form_audio;
+            benchmark::DoNotOptimize(simulate(c, files.observers(), options).energy_final_j);
             files.commit();
         } else {
             benchmark::DoNotOptimize(simulate(c, {}).energy_final_j);
@@ -169,8 +174,12 @@ public:
         }
         const auto outputs = median_us_.find("Outputs/bass-pop-3s"), none = median_us_.find("None/bass-pop-3s");
         if (outputs != median_us_.end() && none != median_us_.end())
-            std::printf("  bass-pop 3 s at 4 MHz: every output %.2f s, no output %.2f s (%.2fx)\n",
+            std::printf("  bass-pop 3 s at 4 MHz: every output %.3f s, no output %.3f s (%.2fx)\n",
                         outputs->second * 12.0, none->second * 12.0, outputs->second / none->second);
+        const auto per_step = median_us_.find("PerStepAudio/bass-pop-3s");
+        if (per_step != median_us_.end() && none != median_us_.end())
+            std::printf("  %-14s every output, audio resampled from every step: %.3f s (%.2fx no output)\n", "",
+                        per_step->second * 12.0, per_step->second / none->second);
         const auto played = [&](const char* name) {
             const auto it = median_us_.find(std::string("Played/") + name);
             return it == median_us_.end() ? std::nan("") : it->second;
@@ -402,8 +411,10 @@ int main(int argc, char** argv) {
             ->Iterations(2)
             ->UseRealTime();
     }
-    for (bool outputs : {true, false})
-        benchmark::RegisterBenchmark(outputs ? "Outputs/bass-pop-3s" : "None/bass-pop-3s", whole_run, outputs)
+    for (const auto& [name, outputs, closed_form] : {std::tuple{"Outputs/bass-pop-3s", true, true},
+                                                     std::tuple{"PerStepAudio/bass-pop-3s", true, false},
+                                                     std::tuple{"None/bass-pop-3s", false, true}})
+        benchmark::RegisterBenchmark(name, whole_run, outputs, closed_form)
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)
             ->UseRealTime();

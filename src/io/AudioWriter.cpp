@@ -1,7 +1,6 @@
 #include "fretbuzz/io/AudioWriter.hpp"
 
 #include <sndfile.h>
-#include <soxr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +15,6 @@ namespace fretbuzz {
 
 namespace {
 constexpr std::size_t kBlockFrames = 1 << 14;
-soxr_t as_soxr(void* p) { return static_cast<soxr_t>(p); }
 }  // namespace
 
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m) {
@@ -45,24 +43,17 @@ AudioWriter::AudioWriter(std::vector<std::filesystem::path> paths, double audio_
         throw std::invalid_argument("AudioWriter: fades must be >= 0 s");
 }
 
-AudioWriter::~AudioWriter() {
-    if (resampler_ != nullptr) soxr_delete(as_soxr(resampler_));
-}
+AudioWriter::~AudioWriter() = default;
 
 void AudioWriter::begin(const RunLayout& layout) {
     const std::size_t points = layout.observation_points_m.size();
     if (paths_.size() != points)
         throw std::logic_error("AudioWriter: " + std::to_string(paths_.size()) + " file paths for " +
                                std::to_string(points) + " observation points");
-    const double input_rate = 1.0 / layout.dt;
-    soxr_error_t error = nullptr;
-    const soxr_io_spec_t io = soxr_io_spec(SOXR_FLOAT64_I, SOXR_FLOAT64_I);
-    // Very high quality: 28-bit precision, linear phase; its anti-aliasing filter is the band limit.
-    const soxr_quality_spec_t quality = soxr_quality_spec(SOXR_VHQ, 0);
-    resampler_ = soxr_create(input_rate, rate_, static_cast<unsigned>(points), &error, &io, &quality, nullptr);
-    if (error != nullptr) throw std::runtime_error(std::string("libsoxr: ") + error);
+    resampler_ = std::make_unique<Resampler>(1.0 / layout.dt, rate_, points);
     input_.reserve(kBlockFrames * points);
-    block_.resize(kBlockFrames * points);
+    block_.reserve(kBlockFrames * points);
+    segment_sample_ = keep_from_ = 0;
     channels_.assign(points, {});
     const auto expected = static_cast<std::size_t>(static_cast<double>(layout.steps) * layout.dt * rate_) + 16;
     for (auto& channel : channels_) channel.reserve(expected);
@@ -76,28 +67,39 @@ void AudioWriter::every_step(std::span<const double> u, std::span<const double> 
 
 void AudioWriter::drain(bool flush) {
     const std::size_t width = channels_.size();
-    auto process = [&](const double* in, std::size_t frames, std::size_t& consumed) {
-        std::size_t produced = 0;
-        const soxr_error_t error =
-            soxr_process(as_soxr(resampler_), in, frames, &consumed, block_.data(), kBlockFrames, &produced);
-        if (error != nullptr) throw std::runtime_error(std::string("libsoxr: ") + error);
-        for (std::size_t f = 0; f < produced; ++f)
-            for (std::size_t p = 0; p < width; ++p) channels_[p].push_back(block_[f * width + p]);
-        return produced;
-    };
-    const std::size_t frames = input_.size() / width;
-    std::size_t offset = 0;
-    while (offset < frames) {
-        std::size_t consumed = 0;
-        process(input_.data() + offset * width, frames - offset, consumed);
-        offset += consumed;
-    }
+    block_.clear();
+    resampler_->process(input_, block_, flush);
     input_.clear();
-    if (flush) {  // end of input: drain the filter's tail
-        std::size_t consumed = 0;
-        while (process(nullptr, 0, consumed) > 0) {
-        }
+    for (std::size_t f = 0; f < block_.size() / width; ++f, ++segment_sample_)
+        if (segment_sample_ >= keep_from_) place(segment_sample_, block_.data() + f * width);
+}
+
+void AudioWriter::place(long sample, const double* frame) {
+    const auto k = static_cast<std::size_t>(sample);
+    for (std::size_t p = 0; p < channels_.size(); ++p) {
+        std::vector<double>& channel = channels_[p];
+        if (k >= channel.size()) channel.resize(k + 1, 0.0);  // later sources overwrite earlier ones
+        channel[k] = frame[p];
     }
+}
+
+void AudioWriter::begin_segment(long step, long first_sample) {
+    resampler_->clear();
+    segment_sample_ = step / resampler_->input_period() * resampler_->output_period();
+    keep_from_ = first_sample;
+}
+
+void AudioWriter::end_segment(long last_sample) {
+    drain(true);
+    for (auto& channel : channels_)
+        if (channel.size() > static_cast<std::size_t>(last_sample) + 1) channel.resize(static_cast<std::size_t>(last_sample) + 1);
+}
+
+void AudioWriter::band_samples(long first_sample, std::span<const double> u, std::span<const double> velocity) {
+    const std::span<const double> frames = signal_ == AudioSignal::velocity ? velocity : u;
+    const std::size_t width = channels_.size();
+    for (std::size_t f = 0; f < frames.size() / width; ++f)
+        place(first_sample + static_cast<long>(f), frames.data() + f * width);
 }
 
 void AudioWriter::finish(const RunSummary& summary) {

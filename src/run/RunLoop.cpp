@@ -92,10 +92,14 @@ RunSummary RunLoop::run() {
             report_flight(flown);
             continue;
         }
+        if (band_) band_->resume(n_, stepper_.modal_displacement(), stepper_.modal_difference());
         stepper_.step();
         ++n_;
+        if (band_) band_->stepped(n_);
         after_step();
     }
+    // The last segment ends at the run's end, as a single stream would.
+    if (band_) band_->resume(n_, stepper_.modal_displacement(), stepper_.modal_difference());
     // The summary's final energy is the state's at the last step, whatever the output rate.
     if (n_ > 0 && audited_step_ != n_) audit_energy();
     finish_summary();
@@ -129,17 +133,23 @@ void RunLoop::plan_free_flight() {
     }
     if (!allowed) return;
     while (head_ < case_.mode_count() && case_.modes.frequency_hz[head_] < band_hz) ++head_;
-    head_ = std::max(head_, std::min(kMinimumFlightModes, case_.mode_count()));
+    check_head_ = std::min(kMinimumFlightModes, case_.mode_count());
+    head_ = std::max(head_, check_head_);
     flight_.emplace(plan_.propagator(), layout_.output_stride);
+    if (options_.closed_form_audio && AudioBand::applies(per_step_, plan_.propagator(), head_, layout_.output_stride))
+        band_.emplace(per_step_, plan_.propagator(), head_, shapes_, velocity_wanted_, layout_.output_stride);
 }
 
 long RunLoop::fly() {
     const long stride = layout_.output_stride;
     if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
     // Per-step probe signals only for the observers that read them.
-    const std::span<const std::vector<double>> probes =
-        per_step_.empty() ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes_);
-    return stepper_.free_flight(*flight_, head_, probes, flight_u_, velocity_wanted_ ? &flight_v_ : nullptr);
+    const bool in_band = band_ && band_->in_band();
+    const std::span<const std::vector<double>> probes = per_step_.empty() || in_band
+                                                            ? std::span<const std::vector<double>>()
+                                                            : std::span<const std::vector<double>>(shapes_);
+    return stepper_.free_flight(*flight_, in_band ? check_head_ : head_, probes, flight_u_,
+                                velocity_wanted_ ? &flight_v_ : nullptr);
 }
 
 bool RunLoop::snapshot_due_within(long steps) const {
@@ -175,6 +185,7 @@ void RunLoop::after_step() {
 }
 
 void RunLoop::report_observation() {
+    if (observers_.empty()) return;  // the probe products only when someone reads them
     for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
     const double force = stepper_.displacement(bridge_);
@@ -188,6 +199,26 @@ void RunLoop::report_step() {
 }
 
 void RunLoop::report_flight(long flown) {
+    const bool complete = flown == layout_.output_stride;  // a complete flight ends on an output step
+    const std::span<const double> q = stepper_.modal_displacement(), d = stepper_.modal_difference();
+    if (band_ && band_->in_band()) {
+        // No probe rows were taken; cut short, contact may come: the per-step signal resumes here.
+        if (complete)
+            band_->flown(n_, true, q, d);
+        else
+            band_->resume(n_, q, d);
+    } else {
+        report_flight_rows(flown);
+        if (band_) band_->flown(n_, complete, q, d);
+    }
+    if (complete) {
+        report_snapshots();
+        report_output();
+    }
+    if (options_.progress) report_progress();
+}
+
+void RunLoop::report_flight_rows(long flown) {
     const std::size_t width = shapes_.size();
     // Without per-step observers the flight records no probe rows (the buffers stay empty).
     for (long m = 0; m < flown && !per_step_.empty(); ++m) {
@@ -197,11 +228,6 @@ void RunLoop::report_flight(long flown) {
             velocity_wanted_ ? std::span<const double>(flight_v_.data() + row, width) : std::span<const double>();
         for (RunObserver* o : per_step_) o->every_step(row_u, row_v);
     }
-    if (flown == layout_.output_stride) {  // a complete flight ends on an output step
-        report_snapshots();
-        report_output();
-    }
-    if (options_.progress) report_progress();
 }
 
 void RunLoop::report_snapshots() {

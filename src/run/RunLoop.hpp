@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "AudioBand.hpp"
 #include "EnergyAudit.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
@@ -35,6 +36,7 @@ private:
     void report_observation();
     void report_step();
     void report_flight(long flown);
+    void report_flight_rows(long flown);
     void report_snapshots();
     void report_output();
     void report_played();
@@ -66,6 +68,8 @@ private:
 
     std::optional<FreeFlight> flight_;
     std::size_t head_ = 0;  // modes stepped one by one during free flight
+    std::size_t check_head_ = 0;  // the same while the audio band is written in closed form
+    std::optional<AudioBand> band_;
 
     EnergyAudit audit_;
     long audited_step_ = -1;

@@ -102,6 +102,15 @@ double ModalPropagator::scaled_modal_energy(std::span<const double> q, std::span
     return kernels::modal_energy(decay_.data(), beta_.data(), q.data(), d.data(), size());
 }
 
+bool ModalPropagator::free_phasor(std::size_t j, double q, double d, std::complex<double>& c,
+                                  std::complex<double>& z) const {
+    if (!underdamped_[j] || std::abs(sin_step_[j]) < kAliasingLimit) return false;
+    // q(t) = e^{-s t} (q cos wd t + c2 sin wd t) = Re((q - i c2) e^{(-s + i wd) t}), c2 as in free_amplitudes.
+    c = {q, -(amplitude_q_[j] * q + amplitude_d_[j] * d)};
+    z = {-sigma_[j], rate_[j]};
+    return true;
+}
+
 double ModalPropagator::free_amplitude(std::size_t j, double q, double d) const {
     if (std::abs(sin_step_[j]) < kAliasingLimit) return (q == 0.0 && d == 0.0) ? 0.0 : kInfinity;
     const double h = half_decay_[j];

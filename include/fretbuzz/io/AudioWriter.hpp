@@ -1,14 +1,17 @@
 #pragma once
 // Audio files, one mono WAV per observation point: the signal taken at every time step,
 // band-limited and resampled to the audio rate by libsoxr (streaming, so a long run never
-// holds its full-rate signal), peak-normalised per file and written as 24-bit PCM WAV by
-// libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
+// holds its full-rate signal; over long contact-free stretches the run writes the resampled
+// signal itself in closed form, see RunObserver::resampler), peak-normalised per file and
+// written as 24-bit PCM WAV by libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
 // what a magnetic pickup senses.
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "fretbuzz/io/Resampler.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
@@ -52,6 +55,11 @@ public:
     double every_step_band_hz() const override { return 0.6 * rate_; }
     bool wants_velocity() const override { return signal_ == AudioSignal::velocity; }
     void every_step(std::span<const double> u, std::span<const double> velocity) override;
+    // Where no contact can act the run writes the band-limited signal itself (see RunObserver).
+    const Resampler* resampler() const override { return resampler_.get(); }
+    void begin_segment(long step, long first_sample) override;
+    void end_segment(long last_sample) override;
+    void band_samples(long first_sample, std::span<const double> u, std::span<const double> velocity) override;
     void finish(const RunSummary&) override;
 
     // The resampled signal of one point before normalisation (available after finish()).
@@ -66,6 +74,7 @@ public:
 
 private:
     void drain(bool flush);
+    void place(long sample, const double* frame);  // one output frame at its sample index
     void write_channel(std::size_t point);
 
     std::vector<std::filesystem::path> paths_;
@@ -73,9 +82,11 @@ private:
     AudioSignal signal_;
     AudioFades fades_;
     std::vector<double> full_scale_;
-    void* resampler_ = nullptr;
+    std::unique_ptr<Resampler> resampler_;
     std::vector<double> input_;   // interleaved, one frame per time step
     std::vector<double> block_;   // interleaved resampler output
+    long segment_sample_ = 0;     // sample index of the current segment's next output frame
+    long keep_from_ = 0;          // the segment's outputs before this sample are dropped
     std::vector<std::vector<double>> channels_;
 };
 

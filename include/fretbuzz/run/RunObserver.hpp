@@ -13,6 +13,8 @@
 
 namespace fretbuzz {
 
+class Resampler;
+
 struct RunLayout {
     const Case* source = nullptr;
     double dt = 0.0;
@@ -85,6 +87,17 @@ public:
     // stretches where no contact is possible (lets the run jump over them); 0: never.
     virtual double every_step_band_hz() const { return 0.0; }
     virtual void every_step(std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
+    // Per-step observers that only resample their signal (audio files) may name their resampler:
+    // over long stretches where no contact can act, the run then writes the resampled signal
+    // itself at its rate in closed form (band_samples, the free modes through the resampler's
+    // gain), and hands out per-step frames only in segments around contacts. Output sample k
+    // stands for t = k / rate. A segment starts at `step` (a multiple of the resampler's input
+    // period; its outputs before `first_sample` are dropped) and ends after its last frame
+    // (its outputs after `last_sample` dropped); where sources overlap, the later one counts.
+    virtual const Resampler* resampler() const { return nullptr; }
+    virtual void begin_segment(long /*step*/, long /*first_sample*/) {}
+    virtual void end_segment(long /*last_sample*/) {}
+    virtual void band_samples(long /*first_sample*/, std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
     // Every step with a non-zero contact force: (grid index, force per length in N/m).
     virtual void contacts(double /*t*/, std::span<const std::pair<std::size_t, double>> /*forces*/) {}
     // String shapes on the grid at this rate (Hz), from t = 0 up to snapshot_until_s(); 0 for none.

@@ -20,6 +20,9 @@ struct RunOptions {
     PlanOptions plan;
     // Jump over output intervals where no contact is possible (see Stepper::free_flight).
     bool free_flight = true;
+    // During long flights, write the resampled audio in closed form rather than resampling the
+    // per-step signal (see AudioBand); false: the per-step path throughout (the reference).
+    bool closed_form_audio = true;
     // Called about twice a second of wall time, if set.
     std::function<void(const Progress&)> progress;
 };

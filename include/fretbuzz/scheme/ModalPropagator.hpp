@@ -7,6 +7,7 @@
 // The same coefficients give the discrete energy of section 3 in closed form
 // (C1 = (1+e)/2, C2 = beta/dt^2, C3 = (1-e)/dt once the paper's theta_j and sigma*_j are
 // substituted), and bounds on the free motion used to rule out contact.
+#include <complex>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -44,6 +45,10 @@ public:
     double free_amplitude(std::size_t j, double q, double d) const;
     // free_amplitude for every mode at once (vectorised for the usual underdamped modes).
     void free_amplitudes(std::span<const double> q, std::span<const double> d, std::span<double> amplitude) const;
+    // The free motion through (q^n, d^n) as the continuous q(t_n + t) = Re(c e^{z t}), z = -sigma + i omega_d,
+    // of which the steps are samples. False (c, z untouched) for a mode it does not describe:
+    // overdamped, or aliased onto a multiple of the Nyquist frequency.
+    bool free_phasor(std::size_t j, double q, double d, std::complex<double>& c, std::complex<double>& z) const;
     // Per-mode factor turning an amplitude into the largest |dq_j/dt| of that free motion:
     // omega_j when underdamped (q = Re(c e^{z t}), |z| = omega), sigma_j + gamma_j otherwise.
     std::span<const double> speed_factor() const { return speed_factor_; }

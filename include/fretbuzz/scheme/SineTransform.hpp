@@ -1,8 +1,10 @@
 #pragma once
 // The type-I discrete sine transform that maps modal coordinates to the string
-// shape on the grid and back (u = S q, q = dx S^T u). Like FFTW itself, the
-// costly planning happens once in the constructor; apply() is the cheap part.
+// shape on the grid and back (u = S q, q = dx S^T u). FFTW plans once per process for
+// each length (later transforms of that length share the plan); apply() is the cheap part.
+// Measured plans (measure = true) keep FFTW's wisdom in a cache file across processes.
 #include <cstddef>
+#include <filesystem>
 #include <mutex>
 #include <span>
 
@@ -12,10 +14,17 @@ namespace fretbuzz {
 // destroyed anywhere in fretbuzz holds this lock.
 std::mutex& fftw_planner_mutex();
 
+// Where FFTW's wisdom is kept: $XDG_CACHE_HOME/fretbuzz/fftw-wisdom, else
+// ~/.cache/fretbuzz/fftw-wisdom (empty: no cache). Read at the first plan of a process.
+std::filesystem::path fftw_wisdom_path();
+// Distinct sine-transform plans made so far in this process.
+std::size_t fftw_plans_made();
+
 class SineTransform {
 public:
     // Plans an unnormalised RODFT00 of length n: y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)).
-    // measure = true lets FFTW time candidate algorithms (slower to plan, faster to run).
+    // measure = true lets FFTW time candidate algorithms (slower to plan, faster to run; the
+    // wisdom cache makes that a one-off per machine).
     explicit SineTransform(std::size_t n, bool measure = false);
     ~SineTransform();
     SineTransform(const SineTransform&) = delete;

@@ -1,0 +1,192 @@
+#include "AudioBand.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
+
+namespace fretbuzz {
+
+namespace {
+// Output samples added to the measured reach: the closed form and the segments overlap a little.
+constexpr long kReachMargin = 2;
+
+long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// a_j *= w_j for complex values held as parts (vectorises: no sum).
+void rotate(double* __restrict ar, double* __restrict ai, const double* __restrict wr, const double* __restrict wi,
+            std::size_t n) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double re = ar[j] * wr[j] - ai[j] * wi[j];
+        ai[j] = ar[j] * wi[j] + ai[j] * wr[j];
+        ar[j] = re;
+    }
+}
+}  // namespace
+
+bool AudioBand::applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+                        long output_stride) {
+    if (per_step.empty() || output_stride <= 1) return false;
+    const Resampler* first = per_step.front()->resampler();
+    for (RunObserver* o : per_step) {
+        const Resampler* r = o->resampler();
+        if (r == nullptr || r->input_period() <= 0 || r->input_rate_hz() != first->input_rate_hz() ||
+            r->output_rate_hz() != first->output_rate_hz())
+            return false;
+    }
+    std::complex<double> c, z;
+    for (std::size_t j = 0; j < head; ++j)
+        if (!propagator.free_phasor(j, 1.0, 0.0, c, z)) return false;
+    return true;
+}
+
+AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+                     std::span<const std::vector<double>> shapes, bool velocity, long output_stride)
+    : observers_(per_step),
+      propagator_(propagator),
+      dt_(propagator.dt()),
+      head_(head),
+      points_(shapes.size()),
+      velocity_(velocity) {
+    const Resampler& r = *per_step.front()->resampler();
+    rate_ = r.output_rate_hz();
+    input_period_ = r.input_period();
+    output_period_ = r.output_period();
+    reach_ = r.reach() + kReachMargin;
+    reach_steps_ = static_cast<long>(std::ceil(static_cast<double>(reach_) / rate_ / dt_));
+    entry_steps_ = 2 * reach_steps_ + input_period_ + output_stride;
+    z_.resize(head);
+    std::complex<double> c;
+    for (std::size_t j = 0; j < head; ++j) propagator.free_phasor(j, 1.0, 0.0, c, z_[j]);
+    // Modes with a gain: below the output Nyquist frequency (the stopband starts there).
+    band_ = 0;
+    while (band_ < head && z_[band_].imag() < std::numbers::pi * rate_) ++band_;
+    for (Phasors* p : {&step_, &rate_turn_, &difference_}) {
+        p->re.resize(head);
+        p->im.resize(head);
+    }
+    for (std::size_t j = 0; j < head; ++j) {
+        const std::complex<double> step = std::exp(z_[j] * dt_), turn = std::exp(z_[j] / rate_);
+        // 1 - e^{-z dt} = -expm1(-z dt), its real part without cancellation
+        const double decay = std::expm1(-z_[j].real() * dt_);  // e^{sigma dt} - 1
+        const double wt = z_[j].imag() * dt_;
+        const std::complex<double> diff{-(decay - 2.0 * (1.0 + decay) * std::sin(0.5 * wt) * std::sin(0.5 * wt)),
+                                        (1.0 + decay) * std::sin(wt)};
+        step_.re[j] = step.real();
+        step_.im[j] = step.imag();
+        rate_turn_.re[j] = turn.real();
+        rate_turn_.im[j] = turn.imag();
+        difference_.re[j] = diff.real() / dt_;
+        difference_.im[j] = diff.imag() / dt_;
+    }
+    shape_.resize(points_ * head);
+    shape_velocity_.re.resize(points_ * head);
+    shape_velocity_.im.resize(points_ * head);
+    for (Phasors* p : {&gain_u_, &gain_v_}) {
+        p->re.resize(points_ * band_);
+        p->im.resize(points_ * band_);
+    }
+    for (std::size_t p = 0; p < points_; ++p) {
+        std::copy_n(shapes[p].begin(), head, shape_.begin() + static_cast<std::ptrdiff_t>(p * head));
+        for (std::size_t j = 0; j < head; ++j) {
+            shape_velocity_.re[p * head + j] = shapes[p][j] * difference_.re[j];
+            shape_velocity_.im[p * head + j] = shapes[p][j] * difference_.im[j];
+        }
+        for (std::size_t j = 0; j < band_; ++j) {
+            const std::complex<double> g = shapes[p][j] * r.gain(z_[j]);
+            const std::complex<double> gv = g * std::complex<double>(difference_.re[j], difference_.im[j]);
+            gain_u_.re[p * band_ + j] = g.real();
+            gain_u_.im[p * band_ + j] = g.imag();
+            gain_v_.re[p * band_ + j] = gv.real();
+            gain_v_.im[p * band_ + j] = gv.imag();
+        }
+    }
+}
+
+void AudioBand::anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
+                       Phasors& out) const {
+    out.re.resize(count);
+    out.im.resize(count);
+    std::complex<double> c, z;
+    for (std::size_t j = 0; j < count; ++j) {
+        propagator_.free_phasor(j, q[j], d[j], c, z);
+        const std::complex<double> a = c * std::exp(z * t_minus_tn);
+        out.re[j] = a.real();
+        out.im[j] = a.imag();
+    }
+}
+
+void AudioBand::flown(long n, bool complete, std::span<const double> q, std::span<const double> d) {
+    if (in_band_) {
+        if (complete) emit(n);
+        return;
+    }
+    if (complete && n - free_since_ >= entry_steps_) enter(n, q, d);
+}
+
+void AudioBand::enter(long n, std::span<const double> q, std::span<const double> d) {
+    // The last output at or before t_n, less the reach: the segment's outputs up to there never
+    // felt its end; the closed form's from there on never feel the stretch's start.
+    const long last = floor_div(n * output_period_, input_period_) - reach_;
+    for (RunObserver* o : observers_) o->end_segment(last);
+    next_sample_ = last + 1;
+    anchor(q, d, static_cast<double>(next_sample_) / rate_ - static_cast<double>(n) * dt_, band_, now_);
+    in_band_ = true;
+    emit(n);
+}
+
+void AudioBand::emit(long up_to_step) {
+    // Samples at or before t = up_to_step dt: k input_period <= up_to_step output_period.
+    const long last = floor_div(up_to_step * output_period_, input_period_);
+    if (last < next_sample_) return;
+    const auto count = static_cast<std::size_t>(last - next_sample_ + 1);
+    u_.assign(count * points_, 0.0);
+    v_.assign(velocity_ ? count * points_ : 0, 0.0);
+    const std::size_t b = band_;
+    double* ar = now_.re.data();
+    double* ai = now_.im.data();
+    const double* wr = rate_turn_.re.data();
+    const double* wi = rate_turn_.im.data();
+    for (std::size_t k = 0; k < count; ++k) {
+        // Re(g a) summed over the modes, in the kernels' vectorised sums.
+        for (std::size_t p = 0; p < points_; ++p) {
+            u_[k * points_ + p] = kernels::dot(gain_u_.re.data() + p * b, ar, b) - kernels::dot(gain_u_.im.data() + p * b, ai, b);
+            if (velocity_)
+                v_[k * points_ + p] =
+                    kernels::dot(gain_v_.re.data() + p * b, ar, b) - kernels::dot(gain_v_.im.data() + p * b, ai, b);
+        }
+        rotate(ar, ai, wr, wi, b);
+    }
+    for (RunObserver* o : observers_) o->band_samples(next_sample_, u_, v_);
+    next_sample_ = last + 1;
+}
+
+void AudioBand::resume(long n, std::span<const double> q, std::span<const double> d) {
+    if (!in_band_) return;
+    // A fresh stream from a step on the output grid, 2 reach before n: its outputs are valid
+    // from 1 reach after its start, while the closed form's still are.
+    const long start = std::max(0L, floor_div(n - 2 * reach_steps_, input_period_) * input_period_);
+    const long first_valid = start / input_period_ * output_period_ + reach_;
+    for (RunObserver* o : observers_) o->begin_segment(start, first_valid);
+    // The free motion of the modes the flights feed, step by step from `start` to n.
+    Phasors b;
+    anchor(q, d, static_cast<double>(start - n) * dt_, head_, b);
+    const std::size_t h = head_;
+    std::vector<double> frame_u(points_), frame_v(velocity_ ? points_ : 0);
+    for (long m = start; m <= n; ++m) {
+        for (std::size_t p = 0; p < points_; ++p) {
+            frame_u[p] = kernels::dot(shape_.data() + p * h, b.re.data(), h);
+            if (velocity_)
+                frame_v[p] = kernels::dot(shape_velocity_.re.data() + p * h, b.re.data(), h) -
+                             kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
+        }
+        for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
+        rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
+    }
+    in_band_ = false;
+    free_since_ = n;
+}
+
+}  // namespace fretbuzz

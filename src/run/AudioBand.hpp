@@ -1,0 +1,74 @@
+#pragma once
+// The resampled (audio) signal of a run without stepping the audio band at the simulation
+// rate where that is exact. While no contact can act, every mode moves freely: q_j(t) =
+// Re(c_j e^{z_j t}), and the resampler turns e^{z t} into gain(z) e^{z t} at its output
+// instants (away from a stream's ends). So over long free stretches the output samples are
+// written in closed form, sample by sample at the output rate, and the resampler gets the
+// per-step signal only in segments around contacts. A segment ends `reach` output samples
+// before the end of its input (later outputs would feel the cut); the closed form starts
+// there, `reach` samples after the free stretch began. A segment that starts again (contact
+// may come) begins 2 reach before that step with the free motion regenerated step by step,
+// so its outputs are valid before the closed-form ones stop being. At the run's end the last
+// segment is flushed as the resampler always was.
+#include <complex>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/run/RunObserver.hpp"
+#include "fretbuzz/scheme/ModalPropagator.hpp"
+
+namespace fretbuzz {
+
+class AudioBand {
+public:
+    // Whether the per-step observers all take band samples from one kind of resampler, and the
+    // modes fed to them during flights (the first `head`) all have a closed form.
+    static bool applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+                        long output_stride);
+    AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+              std::span<const std::vector<double>> shapes, bool velocity, long output_stride);
+
+    // True while the observers want no per-step frames.
+    bool in_band() const { return in_band_; }
+    // After a flight that reached step n with state (q, d); complete: it ran to an output step.
+    void flown(long n, bool complete, std::span<const double> q, std::span<const double> d);
+    // After a step taken by the scheme (contact may have acted).
+    void stepped(long n) { free_since_ = n; }
+    // Per-step frames again from step n (state (q, d)) on; the frames up to n are regenerated.
+    void resume(long n, std::span<const double> q, std::span<const double> d);
+
+private:
+    struct Phasors {  // one complex value per mode, split into parts (vectorises)
+        std::vector<double> re, im;
+    };
+    void enter(long n, std::span<const double> q, std::span<const double> d);
+    void emit(long up_to_step);
+    // c_j e^{z_j (t - t_n)} for the first `count` modes, from the state at step n.
+    void anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
+                Phasors& out) const;
+
+    std::span<RunObserver* const> observers_;
+    const ModalPropagator& propagator_;
+    double dt_, rate_;
+    long input_period_, output_period_;  // steps and output samples spanning the same time
+    long reach_;                          // output samples, with a margin
+    long reach_steps_;
+    long entry_steps_;                    // free steps before the closed form takes over
+    std::size_t head_, band_;             // modes regenerated (the flights' head) / with a gain
+    std::size_t points_;
+    bool velocity_;
+    std::vector<std::complex<double>> z_;
+    std::vector<double> shape_;           // points x head: mode shapes at the points
+    Phasors shape_velocity_;              // the same x difference
+    Phasors step_, rate_turn_;            // e^{z dt}, e^{z / rate}
+    Phasors difference_;                  // (1 - e^{-z dt}) / dt: velocity of the per-step signal
+    Phasors gain_u_, gain_v_;             // points x band: shape x gain (x difference)
+    Phasors now_;                         // the closed form at sample next_sample_
+    bool in_band_ = false;
+    long free_since_ = 0;
+    long next_sample_ = 0;
+    std::vector<double> u_, v_;
+};
+
+}  // namespace fretbuzz

@@ -1,0 +1,126 @@
+// The audio written in closed form during long flights equals the per-step signal through the
+// resampler, and the resampler's measured gain predicts its output for damped sinusoids.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "fretbuzz/io/AudioWriter.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
+#include "fretbuzz/run/Simulation.hpp"
+
+namespace fretbuzz {
+namespace {
+
+double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+    double diff = 0.0, norm = 0.0;
+    for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) {
+        diff += (a[k] - b[k]) * (a[k] - b[k]);
+        norm += b[k] * b[k];
+    }
+    return std::sqrt(diff / norm);
+}
+
+struct Audio {
+    std::vector<std::vector<double>> u, v;
+    RecordedRun recorded;  // the output-rate rows (CSV and HDF5 signals)
+    RunSummary summary;
+};
+
+Audio audio_of(const Case& c, bool closed_form, bool free_flight = true) {
+    std::vector<std::filesystem::path> paths(c.observation_points_m.size(), "/dev/null");
+    AudioWriter u(paths, c.run.audio_rate_hz), v(paths, c.run.audio_rate_hz, AudioSignal::velocity);
+    ResultRecorder recorder;
+    RunObserver* observers[] = {&u, &v, &recorder};
+    RunOptions options;
+    options.closed_form_audio = closed_form;
+    options.free_flight = free_flight;
+    Audio a;
+    a.summary = simulate(c, observers, options);
+    a.recorded = recorder.take();
+    for (std::size_t p = 0; p < paths.size(); ++p) {
+        a.u.push_back(u.samples(p));
+        a.v.push_back(v.samples(p));
+    }
+    return a;
+}
+
+TEST(AudioBand, ResamplerGainPredictsItsOutputForDampedSinusoids) {
+    const double fs = 4e6, rate = 48000.0;
+    Resampler r(fs, rate, 1);
+    ASSERT_EQ(r.input_period(), 250);
+    ASSERT_EQ(r.output_period(), 3);
+    EXPECT_NEAR(std::abs(r.gain(0.0)), 1.0, 1e-8);
+    for (double f : {41.0, 3000.0, 15000.0, 21000.0, 22500.0}) {
+        const std::complex<double> s(-40.0, 2.0 * std::numbers::pi * f), c(0.3, -0.8);
+        std::vector<double> x(250 * 2000), y;
+        for (std::size_t n = 0; n < x.size(); ++n) x[n] = std::real(c * std::exp(s * (static_cast<double>(n) / fs)));
+        r.clear();
+        r.process(x, y, true);
+        ASSERT_GE(y.size(), 6000u);
+        std::vector<double> expected, got;
+        const std::complex<double> g = r.gain(s);
+        for (long k = 1000; k < 5000; ++k) {
+            expected.push_back(std::real(g * c * std::exp(s * (static_cast<double>(k) / rate))));
+            got.push_back(y[static_cast<std::size_t>(k)]);
+        }
+        EXPECT_LT(relative_l2(got, expected), 1e-8) << f << " Hz";
+    }
+}
+
+// The closed form against the per-step flights it replaces (both resampled by the same filter),
+// and both against every mode stepped every step: the closed form adds nothing to the error
+// the flights already make (modes above 0.6 x the audio rate left out near contacts).
+void expect_same_audio(const Case& c, double displacement_tolerance, double velocity_tolerance) {
+    const Audio fast = audio_of(c, true), reference = audio_of(c, false), stepped = audio_of(c, false, false);
+    ASSERT_GT(fast.summary.free_flight_fraction, 0.5);
+    std::printf("last contact %.4f s, free flight %.3f\n", fast.summary.last_contact_s, fast.summary.free_flight_fraction);
+    // The string itself moves as it did (flights with fewer modes checked one by one may stop
+    // at other steps; the motion is the same free motion).
+    EXPECT_NEAR(fast.summary.energy_final_j, reference.summary.energy_final_j, 1e-12 * reference.summary.energy_initial_j);
+    EXPECT_EQ(fast.summary.contact_steps, reference.summary.contact_steps);
+    // The output-rate rows are the same samples of the same motion: only round-off apart (the
+    // flights step fewer modes one by one and jump the others).
+    ASSERT_EQ(fast.recorded.time, reference.recorded.time);
+    EXPECT_LT(relative_l2(fast.recorded.observation, reference.recorded.observation), 1e-12);
+    EXPECT_LT(relative_l2(fast.recorded.energy, reference.recorded.energy), 1e-13);
+    EXPECT_LT(relative_l2(fast.recorded.dissipated, reference.recorded.dissipated), 1e-11);
+    EXPECT_LT(relative_l2(fast.recorded.peak_contact_force, reference.recorded.peak_contact_force), 1e-9);
+    for (std::size_t p = 0; p < fast.u.size(); ++p) {
+        ASSERT_EQ(fast.u[p].size(), reference.u[p].size());
+        ASSERT_EQ(fast.v[p].size(), reference.v[p].size());
+        const double eu = relative_l2(fast.u[p], reference.u[p]), ev = relative_l2(fast.v[p], reference.v[p]);
+        const double fu = relative_l2(fast.u[p], stepped.u[p]), fv = relative_l2(fast.v[p], stepped.v[p]);
+        const double ru = relative_l2(reference.u[p], stepped.u[p]), rv = relative_l2(reference.v[p], stepped.v[p]);
+        std::printf("%s point %zu: closed form vs per-step flights %.3g (displacement), %.3g (velocity); "
+                    "against every step: closed form %.3g / %.3g, per-step flights %.3g / %.3g\n",
+                    c.name.c_str(), p, eu, ev, fu, fv, ru, rv);
+        EXPECT_LT(eu, displacement_tolerance);
+        EXPECT_LT(ev, velocity_tolerance);
+        EXPECT_LT(fu, 1.01 * ru + displacement_tolerance);
+        EXPECT_LT(fv, 1.01 * rv + velocity_tolerance);
+    }
+}
+
+TEST(AudioBand, ClosedFormAudioEqualsTheResampledPerStepSignalOnTheBassPop) {
+    Case c = load_case("bass-pop");
+    c.run.duration_s = 0.3;
+    c.observation_points_m.push_back(0.3);
+    expect_same_audio(c, 1e-7, 5e-6);
+}
+
+TEST(AudioBand, ClosedFormAudioEqualsTheResampledPerStepSignalOnAPointObstacle) {
+    // Lowered so that the string touches it during its first periods only; then it flies.
+    Case c = load_case("guitar-point");
+    c.run.duration_s = 0.3;
+    for (double& h : c.obstacle_height_m)
+        if (std::isfinite(h)) h -= 1.2e-3;
+    expect_same_audio(c, 1e-7, 5e-6);
+}
+
+}  // namespace
+}  // namespace fretbuzz
