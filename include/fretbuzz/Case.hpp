@@ -55,6 +55,23 @@ struct ForceSpec {
     std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
 };
 
+// The second transverse polarisation (y, parallel to the fretboard) and the friction that
+// couples it to the contacts along z (see scheme/SecondPolarisation.hpp). count = 1 keeps the
+// one-polarisation scheme untouched.
+struct PolarisationSettings {
+    int count = 1;                   // 1: z only; 2: z and y
+    double angle_deg = 0.0;          // excitation direction, from z (0) toward y (90)
+    // The y mode table: `table` when given (a measured table, as many modes as z), else the
+    // z table with nu_y = frequency_scale nu_z and sigma_y = damping_scale sigma_z.
+    ModeTable table;
+    double frequency_scale = 1.0;
+    double damping_scale = 1.0;
+    double friction = 0.0;            // Coulomb coefficient mu_f (contact.friction)
+    double friction_velocity = 1e-3;  // regularisation v_eps, m/s (contact.friction_velocity)
+    double pickup_angle_deg = 0.0;    // direction of the pickup audio (audio.pickup_angle)
+    bool pickup_angle_given = false;
+};
+
 struct RunSettings {
     double sample_rate_hz = 0.0;              // Fe
     double duration_s = 0.0;
@@ -79,6 +96,7 @@ struct Case {
     std::vector<double> initial_displacement;
     std::vector<double> initial_velocity;
     ContactLaw contact;
+    PolarisationSettings polarisation;
     RunSettings run;
     std::vector<double> observation_points_m;
     // Fret positions (m, from the nut) found on the obstacle: where it stands out above both
@@ -99,6 +117,10 @@ struct Case {
     double contact_orientation() const { return obstacle_above ? -1.0 : 1.0; }
     // Whether any grid point has an obstacle to touch.
     bool has_obstacle() const;
+
+    bool two_polarisations() const { return polarisation.count == 2; }
+    // The y polarisation's modes (see PolarisationSettings).
+    ModeTable y_modes() const;
 
     // Removes all losses (sigma_j = 0), for energy-conservation studies.
     void make_lossless();

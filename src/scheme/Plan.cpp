@@ -14,11 +14,13 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
+      friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
       fingers_(c.fingers),
       forces_(c.forces),
       options_(options) {
     require_positive("time step dt (s)", dt);
+    if (c.two_polarisations()) propagator_y_.emplace(c.y_modes(), dt);
     // Without an obstacle the modal update is exact at any dt: nothing can alias.
     if (c.has_obstacle()) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).

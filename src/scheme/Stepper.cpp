@@ -42,6 +42,12 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     }
 }
 
+void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
+    if (n_ != 0 || !plan_.two_polarisations())
+        throw std::logic_error("Stepper::add_second_polarisation: only at n = 0 on a plan with two polarisations");
+    y_ = std::make_unique<SecondPolarisation>(plan_, q0, v0);
+}
+
 void Stepper::perturb(std::span<const double> displacement, std::span<const double> velocity) {
     const double dt = plan_.dt();
     if (n_ == 0) {
@@ -62,6 +68,7 @@ void Stepper::silence() {
     std::fill(q_.begin(), q_.end(), 0.0);
     std::fill(d_.begin(), d_.end(), 0.0);
     std::fill(v0_.begin(), v0_.end(), 0.0);
+    if (y_) y_->silence();
     restart();
 }
 
@@ -127,7 +134,7 @@ double Stepper::modal_energy() const {
 }
 
 double Stepper::energy() const {
-    const double h = modal_energy() + contact_energy();
+    const double h = modal_energy() + contact_energy() + (y_ ? y_->energy() : 0.0);
     return fingers_.empty() ? h : h + finger_energy();
 }
 
@@ -155,12 +162,14 @@ double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() 
 void Stepper::step() {
     if (n_ == 0) {
         first_step();
+        if (y_) y_->first_step();
         return;
     }
     wake_due_points();
     solve_contacts();
     apply_impulse();
     advance_modes();
+    if (y_) y_->step(forces_, on_pad_);  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
@@ -219,6 +228,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     }
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
+    if (y_) y_->fly(flown, steps, head, probes);
     forces_.clear();
     n_ += flown;
     dissipated_ += energy_before - modal_energy();

@@ -6,11 +6,13 @@
 // Planning refuses a sampling rate at which modes alias onto low frequencies under contact.
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/Friction.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
@@ -53,6 +55,11 @@ public:
     const ModalBasis& basis() const { return basis_; }
     const ModalPropagator& propagator() const { return propagator_; }
     const PenaltyContact& contact() const { return contact_; }
+    // The second polarisation (y), planned only for a case with two: its exact per-mode
+    // propagator and the friction law at the contacts (see SecondPolarisation).
+    bool two_polarisations() const { return propagator_y_.has_value(); }
+    const ModalPropagator& propagator_y() const { return *propagator_y_; }
+    const Friction& friction() const { return friction_; }
     const std::vector<double>& obstacle() const { return obstacle_; }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
@@ -86,6 +93,8 @@ private:
     ModalBasis basis_;
     ModalPropagator propagator_;
     PenaltyContact contact_;
+    std::optional<ModalPropagator> propagator_y_;
+    Friction friction_;
     std::vector<double> obstacle_;
     std::vector<double> planned_obstacle_;  // obstacle_ at zero offset
     std::vector<std::size_t> obstacle_points_;
