@@ -206,6 +206,14 @@ void check_polarisations(const Case& c) {
                              ": both polarisations share one modal basis and need the same mode count");
         p.table.validate();
     }
+    for (const ForceSpec& f : c.forces) {
+        require_finite(f.key + ".angle (degrees)", f.angle_deg);
+        if (std::abs(f.angle_deg) > 360.0)
+            throw InputError(out_of_range_message(f.key + ".angle (degrees)", f.angle_deg, "must be in [-360, 360]"));
+        if (f.angle_deg != 0.0 && !c.two_polarisations())
+            throw InputError(f.key + ".angle = " + std::to_string(f.angle_deg) +
+                             " needs string.polarisations = 2 (or --polarisations 2)");
+    }
     if (c.two_polarisations()) return;
     const auto needs_two = [](const std::string& key) {
         return InputError(key + " needs string.polarisations = 2 (or --polarisations 2)");

@@ -307,3 +307,43 @@ TEST(Polarisations, BadInputIsRefusedWithoutFiles) {
 
 }  // namespace
 }  // namespace fretbuzz
+
+namespace fretbuzz {
+namespace {
+
+TEST(Polarisations, AGestureAtAnAngleKeepsTheBalance) {
+    // The string at rest, pushed at 60 degrees (half of it along z, toward the frets) and
+    // let go: the balance H - W + D = H(1/2) over both polarisations, friction included.
+    Case c = testing::small_bass(400000.0, 0.25, 0.0);
+    c.polarisation.count = 2;
+    c.polarisation.friction = 0.3;
+    ForceSpec push;
+    push.key = "gesture[0]";
+    push.position_m = 0.5;
+    push.width_m = 0.01;
+    push.angle_deg = 60.0;
+    push.force_profile = {{0.0, 0.0}, {0.01, 20.0}, {0.0101, 0.0}};
+    c.forces.push_back(push);
+    c.validate();
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    s.add_second_polarisation(c.initial_displacement, c.initial_velocity);
+    double worst = 0.0, largest = 0.0;
+    s.step();
+    const double h0 = s.energy();
+    for (long n = 1; n < 100000; ++n) {
+        s.step();
+        largest = std::max({largest, std::abs(s.work()), h0});
+        worst = std::max(worst, std::abs(s.energy() - s.work() + s.dissipated() - h0));
+    }
+    const SecondPolarisation& y = *s.second_polarisation();
+    EXPECT_GT(y.work(), 0.0);  // the y part did work
+    EXPECT_GT(s.statistics().contact_steps, 100);
+    EXPECT_GT(y.friction_dissipated(), 0.0);
+    EXPECT_LT(worst / largest, 1e-10);
+    std::printf("[ numbers  ] gesture at 60 degrees, friction 0.3, 1e5 steps: balance %.3g of %.3g J work\n",
+                worst / largest, largest);
+}
+
+}  // namespace
+}  // namespace fretbuzz

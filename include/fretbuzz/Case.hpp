@@ -52,6 +52,9 @@ struct ForceSpec {
     double position_m = 0.0;   // pad centre, in (0, L)
     double width_m = 0.0;      // 0: the nearest grid point
     double direction = 1.0;    // +1 toward the fretboard ("down"), -1 away from it ("up")
+    // Two polarisations: the force leans by this angle from z toward +y, cos(angle) of it
+    // along z (with `direction`), sin(angle) along y.
+    double angle_deg = 0.0;
     std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
 };
 

@@ -18,6 +18,36 @@ SecondPolarisation::SecondPolarisation(const Plan& plan, std::span<const double>
       grid_(q0.size(), 0.0),
       before_(q0.size(), 0.0) {
     forces_.reserve(q0.size());
+    const double dx = plan.basis().grid_step();
+    for (const ForceSpec& spec : plan.forces()) {
+        const double share = polarisation_share(spec.angle_deg, true);
+        if (share == 0.0) continue;
+        std::vector<std::size_t> pad = pad_points(spec.position_m, spec.width_m, dx, q0.size());
+        const double per_point = share / (static_cast<double>(pad.size()) * dx);
+        gestures_.push_back({TimeProfile(spec.force_profile), per_point, std::move(pad)});
+    }
+}
+
+void SecondPolarisation::add_gesture_forces(long n) {
+    // Explicit, as along z: f_i = sin(angle) F(t_n) / (pad dx), its work over the step
+    // dx f_i (y_i^{n+1} - y_i^{n-1}) / 2 with y_i^{n+1} = w_i + k f_i (no friction on a pad).
+    const ModalPropagator& prop = plan_.propagator_y();
+    const std::size_t size = q_.size();
+    const double k = plan_.force_to_displacement();
+    const double dx = plan_.basis().grid_step();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), size);
+    for (const Gesture& g : gestures_) {
+        const double f = g.share * g.force.at(static_cast<double>(n) * plan_.dt());
+        if (f == 0.0) continue;
+        for (std::size_t i : g.pad) {
+            const double* row = plan_.basis().row(i).data();
+            double y_now = 0.0, y_before = 0.0;
+            kernels::dot_current_previous(row, q_.data(), d_.data(), size, y_now, y_before);
+            const double w = kernels::dot(row, predicted_.data(), size);
+            work_ += 0.5 * dx * f * (w + k * f - y_before);
+            forces_.emplace_back(i, f);
+        }
+    }
 }
 
 void SecondPolarisation::first_step() {
@@ -26,11 +56,13 @@ void SecondPolarisation::first_step() {
     q_ = std::move(q1);
 }
 
-void SecondPolarisation::step(std::span<const std::pair<std::size_t, double>> normal, const std::vector<char>& on_pad) {
+void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal,
+                              const std::vector<char>& on_pad) {
     const ModalPropagator& prop = plan_.propagator_y();
     const Friction& law = plan_.friction();
     const std::size_t n = q_.size();
     forces_.clear();
+    if (!gestures_.empty()) add_gesture_forces(step);
     if (law.coefficient() > 0.0 && !normal.empty()) {
         const double dt = plan_.dt();
         const double k = plan_.force_to_displacement();
@@ -60,8 +92,8 @@ void SecondPolarisation::step(std::span<const std::pair<std::size_t, double>> no
             friction_ -= dx * s.force * s.velocity * dt;
             if (s.force != 0.0) forces_.emplace_back(i, s.force);
         }
-        spread_forces();
     }
+    spread_forces();
     const double losses =
         kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
                          forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
@@ -125,11 +157,15 @@ double SecondPolarisation::energy() const {
     return scale * plan_.propagator_y().scaled_modal_energy(q_, d_);
 }
 
-std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y) {
+double polarisation_share(double angle_deg, bool y) {
     const double angle = angle_deg * std::numbers::pi / 180.0;
-    double share = y ? std::sin(angle) : std::cos(angle);
+    const double share = y ? std::sin(angle) : std::cos(angle);
     // Along an axis exactly (0, 90, 180, ... degrees): the other component is exactly zero.
-    if (std::fmod(angle_deg, 90.0) == 0.0) share = std::round(share);
+    return std::fmod(angle_deg, 90.0) == 0.0 ? std::round(share) : share;
+}
+
+std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y) {
+    const double share = polarisation_share(angle_deg, y);
     std::vector<double> out(v);
     for (double& x : out) x *= share;
     return out;

@@ -154,7 +154,7 @@ double Stepper::work() const {
     double e = 0.0;
     for (const Finger& f : fingers_) e += f.work();
     for (const ForceProfile& g : gestures_) e += g.work();
-    return e;
+    return y_ ? e + y_->work() : e;
 }
 
 double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
@@ -169,7 +169,7 @@ void Stepper::step() {
     solve_contacts();
     apply_impulse();
     advance_modes();
-    if (y_) y_->step(forces_, on_pad_);  // friction from this step's normal forces
+    if (y_) y_->step(n_, forces_, on_pad_);  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {

@@ -19,6 +19,7 @@
 
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
@@ -32,7 +33,8 @@ public:
     // n -> n + 1 after the normal solve of the same step: `normal` holds (grid point, F_n)
     // of every point with a normal force; points with on_pad[i] != 0 (under a finger or a
     // gesture) get no friction.
-    void step(std::span<const std::pair<std::size_t, double>> normal, const std::vector<char>& on_pad);
+    // Force gestures with an angle push y too (known at step n, explicit as along z).
+    void step(long n, std::span<const std::pair<std::size_t, double>> normal, const std::vector<char>& on_pad);
     // Free flight over `flown` steps of a flight planned for `planned` (no contact meanwhile):
     // with probes, the first `head` modes are stepped one by one and u_y at the probes kept
     // per step (flight_rows()); the other modes jump in closed form when flown == planned.
@@ -48,11 +50,18 @@ public:
     double energy() const;               // H_y^{n-1/2}: the y modes' discrete energy
     double damping_dissipated() const { return damping_; }
     double friction_dissipated() const { return friction_; }
+    double work() const { return work_; }  // of the gestures' y parts so far
     // Points with a non-zero friction force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     int max_iterations() const { return max_iterations_; }
 
 private:
+    struct Gesture {  // the y part of a force gesture
+        TimeProfile force;
+        double share;  // sin(angle) / (pad points dx): force density per newton
+        std::vector<std::size_t> pad;
+    };
+    void add_gesture_forces(long n);
     void spread_forces();
 
     const Plan& plan_;
@@ -63,11 +72,15 @@ private:
     std::optional<FreeFlight> flight_;
     double damping_ = 0.0;
     double friction_ = 0.0;
+    double work_ = 0.0;
+    std::vector<Gesture> gestures_;
     int max_iterations_ = 0;
 };
 
 // The initial modal displacement or velocity of a case along one polarisation: cos(angle) v
 // along z, sin(angle) v along y (v itself along z with one polarisation, untouched).
 std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y);
+// cos(angle) (z) or sin(angle) (y), exact (0 or +-1) at multiples of 90 degrees.
+double polarisation_share(double angle_deg, bool y);
 
 }  // namespace fretbuzz
