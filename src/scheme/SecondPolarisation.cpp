@@ -101,19 +101,7 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
 }
 
 void SecondPolarisation::spread_forces() {
-    if (forces_.empty()) return;
-    // delta q = (dt^2/mu) dx S^T f, as along z.
-    const double k = plan_.force_to_displacement();
-    if (forces_.size() > plan_.transform_threshold()) {
-        std::fill(grid_.begin(), grid_.end(), 0.0);
-        for (const auto& [i, f] : forces_) grid_[i] = k * f;
-        plan_.basis().to_modes(grid_, impulse_);
-    } else {
-        std::fill(impulse_.begin(), impulse_.end(), 0.0);
-        const double dx = plan_.basis().grid_step();
-        for (const auto& [i, f] : forces_)
-            kernels::axpy(k * dx * f, plan_.basis().row(i).data(), impulse_.data(), impulse_.size());
-    }
+    if (!forces_.empty()) plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void SecondPolarisation::fly(long flown, long planned, std::size_t head, std::span<const std::vector<double>> probes) {

@@ -352,18 +352,7 @@ void Stepper::solve_fingers(bool use_transform) {
 
 void Stepper::apply_impulse() {
     if (forces_.empty()) return;
-    // delta q = (dt^2/mu) dx S^T f: local in space (S delta = (dt^2/mu) f), spread over all modes.
-    const double k = plan_.force_to_displacement();
-    if (forces_.size() > plan_.transform_threshold()) {
-        std::fill(grid_.begin(), grid_.end(), 0.0);
-        for (const auto& [i, f] : forces_) grid_[i] = k * f;
-        plan_.basis().to_modes(grid_, impulse_);
-    } else {
-        std::fill(impulse_.begin(), impulse_.end(), 0.0);
-        const double dx = plan_.basis().grid_step();
-        for (const auto& [i, f] : forces_)
-            kernels::axpy(k * dx * f, plan_.basis().row(i).data(), impulse_.data(), impulse_.size());
-    }
+    plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void Stepper::advance_modes() {

@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
@@ -66,6 +67,10 @@ public:
     // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
     // transform FFTW plans at `transform_flops` operations.
     static std::size_t default_transform_threshold(std::size_t modes, double transform_flops);
+    // The modal impulse (dt^2/mu) dx S^T f of forces per unit length f at grid points (i, f_i),
+    // by rows of S or, for many points, one sine transform (grid: scratch of the grid's size).
+    void forces_to_modes(std::span<const std::pair<std::size_t, double>> forces, std::span<double> grid,
+                         std::span<double> impulse) const;
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
