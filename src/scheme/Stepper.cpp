@@ -45,7 +45,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
 void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
     if (n_ != 0 || !plan_.two_polarisations())
         throw std::logic_error("Stepper::add_second_polarisation: only at n = 0 on a plan with two polarisations");
-    y_ = std::make_unique<SecondPolarisation>(plan_, q0, v0);
+    y_.emplace(plan_, q0, v0);
 }
 
 void Stepper::perturb(std::span<const double> displacement, std::span<const double> velocity) {

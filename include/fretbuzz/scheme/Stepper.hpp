@@ -9,7 +9,7 @@
 // their pad points are solved every step, and the balance becomes
 // H - work + dissipated = constant (work: done by their pressing forces). Nothing here does I/O.
 #include <cstddef>
-#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -52,7 +52,7 @@ public:
     // modal displacement and velocity at n = 0; before the first step. Without it the
     // stepper runs z alone, exactly as it always has.
     void add_second_polarisation(std::span<const double> q0, std::span<const double> v0);
-    const SecondPolarisation* second_polarisation() const { return y_.get(); }
+    const SecondPolarisation* second_polarisation() const { return y_ ? &*y_ : nullptr; }
 
     // Adds a displacement and a velocity (modal, dq/dt) to the current state, as an external
     // impulse between two steps would: q^n += dq, q^{n-1} += dq - dv dt. The energy H^{n-1/2}
@@ -133,7 +133,7 @@ private:
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
-    std::unique_ptr<SecondPolarisation> y_;  // null with one polarisation
+    std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
 
 }  // namespace fretbuzz
