@@ -15,7 +15,19 @@ bool Case::has_obstacle() const {
     return std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
 }
 
-void Case::make_lossless() { std::fill(modes.sigma_per_s.begin(), modes.sigma_per_s.end(), 0.0); }
+void Case::make_lossless() {
+    std::fill(modes.sigma_per_s.begin(), modes.sigma_per_s.end(), 0.0);
+    std::fill(polarisation.table.sigma_per_s.begin(), polarisation.table.sigma_per_s.end(), 0.0);
+    if (std::isfinite(polarisation.damping_scale)) polarisation.damping_scale = 0.0;
+}
+
+ModeTable Case::y_modes() const {
+    if (polarisation.table.size() > 0) return polarisation.table;
+    ModeTable y = modes;
+    for (double& f : y.frequency_hz) f *= polarisation.frequency_scale;
+    for (double& s : y.sigma_per_s) s *= polarisation.damping_scale;
+    return y;
+}
 
 namespace {
 
@@ -193,6 +205,53 @@ void check_derived_quantities(const Case& c) {
             "with this initial displacement and velocity the initial energy overflows; must keep the energy finite"));
 }
 
+// Two polarisations (see PolarisationSettings): every key that needs the second one is refused
+// without it, rather than silently ignored.
+void check_polarisations(const Case& c) {
+    const PolarisationSettings& p = c.polarisation;
+    if (p.count != 1 && p.count != 2)
+        throw InputError(out_of_range_message("string.polarisations", p.count, "must be 1 or 2"));
+    require_finite("excitation.angle (degrees)", p.angle_deg);
+    if (std::abs(p.angle_deg) > 360.0)
+        throw InputError(out_of_range_message("excitation.angle (degrees)", p.angle_deg, "must be in [-360, 360]"));
+    require_finite("audio.pickup_angle (degrees)", p.pickup_angle_deg);
+    if (std::abs(p.pickup_angle_deg) > 360.0)
+        throw InputError(out_of_range_message("audio.pickup_angle (degrees)", p.pickup_angle_deg, "must be in [-360, 360]"));
+    require_finite("contact.friction", p.friction);
+    if (!(p.friction >= 0.0 && p.friction <= 10.0))
+        throw InputError(out_of_range_message("contact.friction (Coulomb coefficient)", p.friction, "must be in [0, 10]"));
+    require_finite("contact.friction_velocity (m/s)", p.friction_velocity);
+    if (!(p.friction_velocity >= 1e-9 && p.friction_velocity <= 10.0))
+        throw InputError(out_of_range_message("contact.friction_velocity (m/s)", p.friction_velocity,
+                                              "must be in [1e-9, 10]"));
+    if (!(p.frequency_scale >= 0.5 && p.frequency_scale <= 2.0))
+        throw InputError(out_of_range_message("polarisation_y.frequency_scale", p.frequency_scale, "must be in [0.5, 2]"));
+    if (!(p.damping_scale >= 0.0 && p.damping_scale <= 100.0))
+        throw InputError(out_of_range_message("polarisation_y.damping_scale", p.damping_scale, "must be in [0, 100]"));
+    if (p.table.size() > 0) {
+        if (p.table.size() != c.mode_count())
+            throw InputError("polarisation_y.table has " + std::to_string(p.table.size()) +
+                             " modes but string.modes = " + std::to_string(c.mode_count()) +
+                             ": both polarisations share one modal basis and need the same mode count");
+        p.table.validate();
+    }
+    for (const ForceSpec& f : c.forces) {
+        require_finite(f.key + ".angle (degrees)", f.angle_deg);
+        if (std::abs(f.angle_deg) > 360.0)
+            throw InputError(out_of_range_message(f.key + ".angle (degrees)", f.angle_deg, "must be in [-360, 360]"));
+        if (f.angle_deg != 0.0 && !c.two_polarisations())
+            throw InputError(f.key + ".angle = " + std::to_string(f.angle_deg) +
+                             " needs string.polarisations = 2 (or --polarisations 2)");
+    }
+    if (c.two_polarisations()) return;
+    const auto needs_two = [](const std::string& key) {
+        return InputError(key + " needs string.polarisations = 2 (or --polarisations 2)");
+    };
+    if (p.angle_deg != 0.0) throw needs_two("excitation.angle = " + std::to_string(p.angle_deg));
+    if (p.friction != 0.0) throw needs_two("contact.friction = " + std::to_string(p.friction));
+    if (p.pickup_angle_given) throw needs_two("audio.pickup_angle");
+}
+
 }  // namespace
 
 std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
@@ -288,6 +347,7 @@ void Case::validate() const {
     }
     for (const PluckSpec& f : plucks) check_pluck(f, *this);
     check_pads_apart(*this);
+    check_polarisations(*this);
 }
 
 }  // namespace fretbuzz

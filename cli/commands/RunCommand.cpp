@@ -31,6 +31,8 @@ struct RunArguments {
     bool allow_aliasing = false;
     std::vector<double> observe;
     std::optional<long> fret;
+    std::optional<long> polarisations;
+    std::optional<double> angle, pickup_angle;
     std::optional<std::string> output_rate;
     std::optional<double> audio_rate;
     bool velocity_audio = false;
@@ -72,6 +74,16 @@ void apply_overrides(const RunArguments& a, Case& c) {
             c.run.output_rate_hz.reset();
         else
             c.run.output_rate_hz = parse_rate(*a.output_rate);
+    }
+    if (a.polarisations) {
+        if (*a.polarisations != 1 && *a.polarisations != 2)
+            throw InputError(out_of_range_message("--polarisations", static_cast<double>(*a.polarisations), "must be 1 or 2"));
+        c.polarisation.count = static_cast<int>(*a.polarisations);
+    }
+    if (a.angle) c.polarisation.angle_deg = *a.angle;
+    if (a.pickup_angle) {
+        c.polarisation.pickup_angle_deg = *a.pickup_angle;
+        c.polarisation.pickup_angle_given = true;
     }
     if (a.fret) {
         if (*a.fret < 1)
@@ -184,6 +196,11 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_option("--observe", args->observe, "Add an observation point x in m (repeatable)");
     cmd->add_option("--fret", args->fret,
                     "Stop the string with a finger just behind fret K (default finger: 5 g, 5 N after 5 ms)");
+    cmd->add_option("--polarisations", args->polarisations,
+                    "1: the string moves along z only; 2: along y (parallel to the fretboard) too");
+    cmd->add_option("--angle", args->angle, "Direction of the initial shape in degrees from z toward y (needs 2 polarisations)");
+    cmd->add_option("--pickup-angle", args->pickup_angle,
+                    "Also write audio_pickup.wav: the displacement along this direction in degrees from z (2 polarisations)");
     cmd->add_option("--output-rate", args->output_rate, "Rows per second of the CSV outputs, or 'native'");
     cmd->add_option("--audio-rate", args->audio_rate, "Sample rate of the WAV files in Hz (default: the case's, 48000)");
     cmd->add_option("--fade-in", args->fades.in_s, "Raised-cosine fade-in of the WAV files in s (no click at the start)")

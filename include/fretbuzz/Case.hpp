@@ -52,6 +52,9 @@ struct ForceSpec {
     double position_m = 0.0;   // pad centre, in (0, L)
     double width_m = 0.0;      // 0: the nearest grid point
     double direction = 1.0;    // +1 toward the fretboard ("down"), -1 away from it ("up")
+    // Two polarisations: the force leans by this angle from z toward +y, cos(angle) of it
+    // along z (with `direction`), sin(angle) along y.
+    double angle_deg = 0.0;
     std::vector<std::array<double, 2>> force_profile;  // (t s, F N >= 0), linear in between
 };
 
@@ -72,6 +75,23 @@ struct PluckSpec {
     double release_force_n = 0.0;  // lets go once its contact force reaches this (0: never)
     double release_displacement_m = 0.0;  // or once it is this far from the string's rest line (0: never)
     double withdraw_speed = 20.0;  // m/s back along the direction after the release
+};
+
+// The second transverse polarisation (y, parallel to the fretboard) and the friction that
+// couples it to the contacts along z (see scheme/SecondPolarisation.hpp). count = 1 keeps the
+// one-polarisation scheme untouched.
+struct PolarisationSettings {
+    int count = 1;                   // 1: z only; 2: z and y
+    double angle_deg = 0.0;          // excitation direction, from z (0) toward y (90)
+    // The y mode table: `table` when given (a measured table, as many modes as z), else the
+    // z table with nu_y = frequency_scale nu_z and sigma_y = damping_scale sigma_z.
+    ModeTable table;
+    double frequency_scale = 1.0;
+    double damping_scale = 1.0;
+    double friction = 0.0;            // Coulomb coefficient mu_f (contact.friction)
+    double friction_velocity = 1e-3;  // regularisation v_eps, m/s (contact.friction_velocity)
+    double pickup_angle_deg = 0.0;    // direction of the pickup audio (audio.pickup_angle)
+    bool pickup_angle_given = false;
 };
 
 struct RunSettings {
@@ -98,6 +118,7 @@ struct Case {
     std::vector<double> initial_displacement;
     std::vector<double> initial_velocity;
     ContactLaw contact;
+    PolarisationSettings polarisation;
     RunSettings run;
     std::vector<double> observation_points_m;
     // Fret positions (m, from the nut) found on the obstacle: where it stands out above both
@@ -121,6 +142,10 @@ struct Case {
     double contact_orientation() const { return obstacle_above ? -1.0 : 1.0; }
     // Whether any grid point has an obstacle to touch.
     bool has_obstacle() const;
+
+    bool two_polarisations() const { return polarisation.count == 2; }
+    // The y polarisation's modes (see PolarisationSettings).
+    ModeTable y_modes() const;
 
     // Removes all losses (sigma_j = 0), for energy-conservation studies.
     void make_lossless();

@@ -9,6 +9,9 @@ Writes into DIR:
                          (the layout of Figure 2 in Issanchou et al. 2017)
   signal_all_points.png  every observation point (only when there are several)
   spectrogram.png        0-10 kHz spectrogram of the first observation point (Figure 3)
+  spectrogram_y.png      the same for the y polarisation        (two polarisations)
+  orbit.png              y against z at the first observation point over the zoomed
+                         windows (two polarisations)
   energy.png             energy, contact energy, dissipated energy and the balance error
   contactogram.png       x against t, coloured by the contact force (fingers' and gestures' pads marked)
   snapshots.png          string shapes over the obstacle, with the fingers and pluckers (when the run stored snapshots)
@@ -65,6 +68,8 @@ class Results:
             self.time = f["time"][()]
             self.points = f["observation/points_m"][()]
             self.displacement = f["observation/displacement"][()]
+            # Two polarisations: y (parallel to the fretboard) at the same points.
+            self.displacement_y = f["observation/displacement_y"][()] if "observation/displacement_y" in f else None
             self.energy_time = f["energy/time"][()]
             self.energy = f["energy/total"][()]
             self.contact_energy = f["energy/contact"][()]
@@ -171,8 +176,9 @@ def plot_all_points(r, plt, directory, written):
     plt.close(fig)
 
 
-def plot_spectrogram(r, plt, np, directory, written):
-    t, u = r.time, r.displacement[:, 0]
+def plot_spectrogram(r, plt, np, directory, written, polarisation="z"):
+    t = r.time
+    u = r.displacement_y[:, 0] if polarisation == "y" else r.displacement[:, 0]
     rate = 1.0 / (t[1] - t[0]) if len(t) > 1 else 1.0
     nfft = 2 ** round(math.log2(max(64.0, 0.04 * rate)))  # about 40 ms windows
     while nfft > 64 and nfft > len(u) // 4:
@@ -193,8 +199,33 @@ def plot_spectrogram(r, plt, np, directory, written):
     ax.set_ylim(0, min(OPTIONS["max_frequency"], rate / 2))
     ax.set_xlabel("t (s)")
     ax.set_ylabel("frequency (Hz)")
-    ax.set_title(f"{r.case}: spectrogram at x = {r.points[0]:g} m")
-    save(fig, directory, "spectrogram.png", written)
+    along = " (y, along the fretboard)" if polarisation == "y" else (" (z)" if r.displacement_y is not None else "")
+    ax.set_title(f"{r.case}: spectrogram at x = {r.points[0]:g} m{along}")
+    save(fig, directory, "spectrogram_y.png" if polarisation == "y" else "spectrogram.png", written)
+    plt.close(fig)
+
+
+def plot_orbit(r, plt, np, directory, written):
+    """y against z at the first observation point: the whole run faint, each zoomed window on top."""
+    t, z, y = r.time, r.displacement[:, 0] * 1e3, r.displacement_y[:, 0] * 1e3
+    duration = t[-1] if len(t) else 0.0
+    windows = OPTIONS["zoom"] or zoom_windows(duration, float(r.summary.get("first_contact_s", -1.0)))
+    fig, axes = plt.subplots(1, len(windows), figsize=(4 * len(windows), 4.4), layout="constrained", squeeze=False)
+    reach = max(np.abs(z).max(), np.abs(y).max(), 1e-12) * 1.05 if len(t) else 1.0
+    for k, (a, b) in enumerate(windows):
+        ax = axes[0, k]
+        inside = (t >= a) & (t <= b)
+        ax.plot(z, y, lw=0.3, color="0.8")
+        ax.plot(z[inside], y[inside], lw=0.8, color=f"C{k}")
+        ax.set_xlim(-reach, reach)
+        ax.set_ylim(-reach, reach)
+        ax.set_aspect("equal")
+        ax.set_title(f"{a * 1e3:.1f}-{b * 1e3:.1f} ms", fontsize=9)
+        ax.set_xlabel("z, across the fretboard (mm)")
+        if k == 0:
+            ax.set_ylabel("y, along the fretboard (mm)")
+    fig.suptitle(f"{r.case}: orbit at x = {r.points[0]:g} m")
+    save(fig, directory, "orbit.png", written)
     plt.close(fig)
 
 
@@ -442,6 +473,11 @@ def plot_directory(directory, animation="none", formats=("png",), quiet=True, zo
     else:
         remove_stale(directory, ["signal_all_points.png"])
     plot_spectrogram(r, plt, np, directory, written)
+    if r.displacement_y is not None:
+        plot_spectrogram(r, plt, np, directory, written, polarisation="y")
+        plot_orbit(r, plt, np, directory, written)
+    else:
+        remove_stale(directory, ["spectrogram_y.png", "orbit.png"])
     plot_energy(r, plt, np, directory, written)
     plot_contactogram(r, plt, np, directory, written)
     if len(r.snapshot_time):

@@ -48,6 +48,7 @@ void read_contact_section(TomlSection s, Case& c) {
     c.contact.stiffness = s.positive("K");
     c.contact.exponent = s.number("alpha");
     require_at_least(s.key_path("alpha"), c.contact.exponent, 1.0);
+    read_friction(s, c);
     s.finish();
 }
 
@@ -112,6 +113,7 @@ void read_observe_section(TomlSection s, Case& c) {
 
 void read_audio_section(TomlSection s, Case& c) {
     c.run.audio_rate_hz = s.optional_positive("rate").value_or(c.run.audio_rate_hz);
+    read_pickup_angle(s, c);
     s.finish();
 }
 
@@ -128,6 +130,7 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     {
         TomlSection section = top.section("string");
         string = read_string_section(section, c);
+        read_polarisation_count(section, c);
         section.finish();
     }
     {
@@ -148,6 +151,7 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     {
         TomlSection excitation = top.section("excitation");
         read_excitation_section(excitation, data, c);
+        read_excitation_angle(excitation, c);
         excitation.finish();
     }
     read_contact_section(top.section("contact"), c);
@@ -156,6 +160,10 @@ Case parse_case(std::string_view toml_text, const std::string& source_name, cons
     read_fingers(top, c);
     read_gestures(top, c);
     if (auto audio = top.optional_section("audio")) read_audio_section(*audio, c);
+    if (auto y = top.optional_section("polarisation_y")) {
+        read_polarisation_y_section(*y, data, c);
+        if (root["run"]["lossless"].value_or(false)) c.make_lossless();  // the y table too
+    }
     top.finish();
     return c;
 }

@@ -46,6 +46,14 @@ void read_fingers(TomlSection& top, Case& c);
 // [[gesture]] (after [run], like the fingers).
 void read_gestures(TomlSection& top, Case& c);
 
+// Keys of the second polarisation (PolarisationSection.cpp): string.polarisations,
+// [polarisation_y], excitation.angle, contact.friction(_velocity), audio.pickup_angle.
+void read_polarisation_count(TomlSection& string_section, Case& c);
+void read_polarisation_y_section(TomlSection& section, const DataSource& data, Case& c);
+void read_excitation_angle(TomlSection& excitation, Case& c);
+void read_friction(TomlSection& contact, Case& c);
+void read_pickup_angle(TomlSection& audio, Case& c);
+
 // The CSV file named by section.key; any error in it names the key.
 CsvTable read_section_table(TomlSection& section, std::string_view key, const DataSource& data,
                             std::size_t min_columns);

@@ -50,14 +50,26 @@ void ObservationCsvWriter::begin(const RunLayout& layout) {
         line_ += ',';  // the column is named by the point's x in metres
         append_number(line_, x);
     }
+    if (layout.polarisations == 2)
+        for (double x : layout.observation_points_m) {
+            line_ += ",y_";  // y at that point
+            append_number(line_, x);
+        }
+    y_.clear();
     line_ += '\n';
     out_ << line_;
 }
+
+void ObservationCsvWriter::observation_y(double, std::span<const double> y) { y_.assign(y.begin(), y.end()); }
 
 void ObservationCsvWriter::observation(double t, std::span<const double> u) {
     line_.clear();
     append_number(line_, t);
     for (double v : u) {
+        line_ += ',';
+        append_number(line_, v);
+    }
+    for (double v : y_) {
         line_ += ',';
         append_number(line_, v);
     }
@@ -76,7 +88,17 @@ void EnergyCsvWriter::begin(const RunLayout& layout) {
     // With fingers: energy_J includes finger_energy_J, dissipated_J includes finger_loss_J,
     // and energy_J - work_J + dissipated_J is constant.
     if (fingers_) out_ << ",finger_energy_J,work_J,finger_loss_J";
+    // With two polarisations: energy_J = energy_z_J + energy_y_J + contact (+ fingers), and
+    // dissipated_J includes damping_y_J and friction_J.
+    two_polarisations_ = layout.polarisations == 2;
+    if (two_polarisations_) out_ << ",energy_z_J,energy_y_J,damping_y_J,friction_J";
     out_ << '\n';
+}
+
+void EnergyCsvWriter::polarisation_energy(double energy_y, double damping_y, double friction) {
+    y_terms_[0] = energy_y;
+    y_terms_[1] = damping_y;
+    y_terms_[2] = friction;
 }
 
 void EnergyCsvWriter::finger_energy(double finger_energy, double work, double finger_loss) {
@@ -96,6 +118,13 @@ void EnergyCsvWriter::energy(double t, double h, double contact, double dissipat
             line_ += ',';
             append_number(line_, v);
         }
+    if (two_polarisations_) {
+        const double z = h - contact - y_terms_[0] - (fingers_ ? finger_terms_[0] : 0.0);
+        for (double v : {z, y_terms_[0], y_terms_[1], y_terms_[2]}) {
+            line_ += ',';
+            append_number(line_, v);
+        }
+    }
     line_ += '\n';
     out_ << line_;
 }

@@ -1,9 +1,10 @@
 // [[gesture]] tables: gestures in time. type = "force": a prescribed force F(t) at a point
 // or over a pad: position (m), width (m, default 0: the nearest grid point), direction
-// ("down", toward the fretboard, the default, or "up"), force (N: a number, or
-// [[t_s, F_N], ...] linear in between). type = "pluck" (direction "up" or "down", required)
-// or "pop" (always "up"): a plucker on a prescribed path, see PluckSpec and scheme/Pluck.hpp
-// for its keys. Ranges are checked with the rest of the case (Case::validate), naming these keys.
+// ("down", toward the fretboard, the default, or "up"), angle (degrees from z toward y, two
+// polarisations), force (N: a number, or [[t_s, F_N], ...] linear in between). type = "pluck"
+// (direction "up" or "down", required) or "pop" (always "up"): a plucker on a prescribed path,
+// see PluckSpec and scheme/Pluck.hpp for its keys. Ranges are checked with the rest of the
+// case (Case::validate), naming these keys.
 #include "CaseSections.hpp"
 #include "fretbuzz/Error.hpp"
 
@@ -68,6 +69,7 @@ void read_gestures(TomlSection& top, Case& c) {
         if (direction != "down" && direction != "up")
             throw InputError(s.key_path("direction") + " = \"" + direction + "\": must be \"down\" or \"up\"");
         f.direction = direction == "down" ? 1.0 : -1.0;
+        f.angle_deg = s.optional_number("angle").value_or(0.0);
         if (const toml::node* force = s.node("force"); force != nullptr && force->is_array())
             f.force_profile = s.number_pairs("force");
         else

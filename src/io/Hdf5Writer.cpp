@@ -75,6 +75,8 @@ struct Hdf5Writer::File {
     hdf5::GrowingDataset map_row, map_point, map_force, dense_map;
     hdf5::GrowingDataset snapshot_time, snapshot_shape;
     hdf5::GrowingDataset bridge_force;
+    // Two polarisations: y at the observation points and the y energy terms.
+    hdf5::GrowingDataset displacement_y, energy_y, damping_y, friction;
     std::optional<ContactMapRows> map;
     double dt = 0.0;
     std::vector<double> observation_points;
@@ -174,6 +176,16 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     f.energy_total = GrowingDataset(f.energy.get(), "total", 0, kSignalChunkRows);
     f.energy_contact = GrowingDataset(f.energy.get(), "contact", 0, kSignalChunkRows);
     f.energy_dissipated = GrowingDataset(f.energy.get(), "dissipated", 0, kSignalChunkRows);
+    if (layout.polarisations == 2) {
+        f.displacement_y = GrowingDataset(f.observation.get(), "displacement_y", points, kSignalChunkRows);
+        f.energy_y = GrowingDataset(f.energy.get(), "y", 0, kSignalChunkRows);
+        f.damping_y = GrowingDataset(f.energy.get(), "damping_y", 0, kSignalChunkRows);
+        f.friction = GrowingDataset(f.energy.get(), "friction", 0, kSignalChunkRows);
+        const Handle modes = create_group(root, "modes_y");
+        const ModeTable y = c.y_modes();
+        write_array(modes.get(), "frequency_hz", y.frequency_hz);
+        write_array(modes.get(), "sigma_per_s", y.sigma_per_s);
+    }
 
     if (layout.fingers > 0) begin_played(c);
 
@@ -222,6 +234,15 @@ void Hdf5Writer::observation(double t, std::span<const double> u) {
     file_->displacement.append(u);
 }
 
+void Hdf5Writer::observation_y(double, std::span<const double> y) { file_->displacement_y.append(y); }
+
+void Hdf5Writer::polarisation_energy(double energy_y, double damping_y, double friction) {
+    File& f = *file_;
+    f.energy_y.append(energy_y);
+    f.damping_y.append(damping_y);
+    f.friction.append(friction);
+}
+
 void Hdf5Writer::bridge_force(double, double force) { file_->bridge_force.append(force); }
 
 void Hdf5Writer::energy(double t, double h, double contact, double dissipated) {
@@ -258,7 +279,8 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
                               &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
                               &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
-                              &f.energy_work, &f.energy_finger_loss, &f.played_height})
+                              &f.energy_work, &f.energy_finger_loss, &f.played_height, &f.displacement_y,
+                              &f.energy_y, &f.damping_y, &f.friction})
         if (d->id() >= 0) d->flush();
     const hid_t contact = f.contact.get();
     write_array(contact, "first_s", f.map->first_contact_s());
@@ -276,7 +298,8 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
                               &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
                               &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
-                              &f.energy_work, &f.energy_finger_loss, &f.played_height})
+                              &f.energy_work, &f.energy_finger_loss, &f.played_height, &f.displacement_y,
+                              &f.energy_y, &f.damping_y, &f.friction})
         d->close("write " + name);
     for (Handle* h : {&f.case_group, &f.observation, &f.energy, &f.grid, &f.contact, &f.snapshots, &f.played}) h->close("write " + name);
     f.file.close("write " + name);

@@ -33,6 +33,10 @@ constexpr Figure kFigures[] = {
     {"signal_all_points.png", "fig-signal-all", "Displacement at every observation point."},
     {"spectrogram.png", "fig-spectrogram", "Spectrogram of the displacement at the first observation point, 0-10 kHz "
                                            "(as in Figure 3)."},
+    {"spectrogram_y.png", "fig-spectrogram-y", "Spectrogram of the second polarisation (y, parallel to the fretboard) "
+                                               "at the first observation point."},
+    {"orbit.png", "fig-orbit", "Orbit of the string at the first observation point: y against z over the zoomed "
+                               "windows (two polarisations)."},
     {"energy.png", "fig-energy", "Energy of the string, its contact part, the energy dissipated so far, and the "
                                  "balance error."},
     {"contactogram.png", "fig-contactogram", "Contactogram: where (x) and when (t) the string touches the obstacle, "

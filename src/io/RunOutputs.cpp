@@ -7,6 +7,7 @@
 #include "fretbuzz/io/CsvWriters.hpp"
 #include "fretbuzz/io/Hdf5Writer.hpp"
 #include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/io/PolarisedAudio.hpp"
 #include "fretbuzz/io/Provenance.hpp"
 #include "fretbuzz/io/SummaryWriter.hpp"
 
@@ -20,10 +21,29 @@ std::vector<std::filesystem::path> staged_audio_paths(OutputDirectory& out, Audi
     return paths;
 }
 
+// With two polarisations: audio_y*.wav (y alone) and, if a pickup angle is given,
+// audio_pickup*.wav (the displacement along it).
+std::vector<std::unique_ptr<PolarisedAudio>> polarised_audio(OutputDirectory& out, const Case& c,
+                                                              const RunOutputOptions& o) {
+    std::vector<std::unique_ptr<PolarisedAudio>> writers;
+    if (!c.two_polarisations()) return writers;
+    const auto add = [&](const std::string& stem, double angle) {
+        std::vector<std::filesystem::path> paths;
+        for (const std::string& name : polarised_audio_file_names(stem, c.observation_points_m))
+            paths.push_back(out.staged(name));
+        writers.push_back(std::make_unique<PolarisedAudio>(std::move(paths), c.run.audio_rate_hz, angle, o.fades));
+    };
+    add("audio_y", 90.0);
+    if (c.polarisation.pickup_angle_given) add("audio_pickup", c.polarisation.pickup_angle_deg);
+    return writers;
+}
+
 SummaryExtras summary_extras(const RunOutputOptions& o, const AudioWriter& audio,
-                             const std::optional<AudioWriter>& velocity_audio) {
+                             const std::optional<AudioWriter>& velocity_audio,
+                             const std::vector<std::unique_ptr<PolarisedAudio>>& polarised) {
     SummaryExtras extras{current_provenance(o.command_line.empty() ? "(library call)" : o.command_line), {&audio}};
     if (velocity_audio) extras.audio.push_back(&*velocity_audio);
+    for (const auto& p : polarised) extras.audio.push_back(&p->writer());
     return extras;
 }
 
@@ -43,12 +63,13 @@ struct RunOutputs::Writers {
                                                 staged_audio_paths(out, AudioSignal::velocity, c))
                                           : std::nullopt,
                          c.run.audio_rate_hz, o.fades),
+          polarised(polarised_audio(out, c, o)),
           results(out.staged("results.h5"),
                   {.snapshot_rate_hz = o.snapshot_rate_hz,
                    .snapshot_until_s = o.snapshot_until_s,
                    .dense_contact_map = o.dense_contact_map,
-                   .extras = summary_extras(o, audio, velocity_audio.writer)}),
-          summary(out.staged("summary.json"), summary_extras(o, audio, velocity_audio.writer)) {}
+                   .extras = summary_extras(o, audio, velocity_audio.writer, polarised)}),
+          summary(out.staged("summary.json"), summary_extras(o, audio, velocity_audio.writer, polarised)) {}
     // The velocity WAVs, when asked for.
     struct OptionalAudio {
         OptionalAudio(std::optional<std::vector<std::filesystem::path>> paths, double rate, const AudioFades& fades) {
@@ -62,6 +83,7 @@ struct RunOutputs::Writers {
     BridgeForceCsvWriter bridge_force;
     AudioWriter audio;
     OptionalAudio velocity_audio;
+    std::vector<std::unique_ptr<PolarisedAudio>> polarised;
     Hdf5Writer results;
     SummaryWriter summary;
 };
@@ -72,6 +94,7 @@ RunOutputs::RunOutputs(const std::filesystem::path& dir, const Case& c, const Ru
     // Observers finish in this order: the WAVs (and their gains) before results and summary.
     observers_ = {&w.observation, &w.energy, &w.audio};
     if (w.velocity_audio.writer) observers_.push_back(&*w.velocity_audio.writer);
+    for (const auto& p : w.polarised) observers_.push_back(p.get());
     observers_.insert(observers_.end(), {&w.results, &w.summary, &w.bridge_force});
 }
 

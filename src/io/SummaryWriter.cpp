@@ -61,7 +61,16 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         json["work_J"] = s.work_j;
         json["finger_energy_final_J"] = s.finger_energy_final_j;
         json["finger_loss_J"] = s.finger_loss_j;
-        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j;
+        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j - s.damping_y_j - s.friction_j;
+    }
+    if (s.polarisations == 2) {  // energy_final_J and dissipated_J hold these terms too
+        json["polarisations"] = 2;
+        json["energy_z_final_J"] = s.energy_final_j - s.energy_y_final_j - s.finger_energy_final_j;  // with contact
+        json["energy_y_final_J"] = s.energy_y_final_j;
+        json["damping_z_J"] = s.dissipated_j - s.finger_loss_j - s.damping_y_j - s.friction_j;
+        json["damping_y_J"] = s.damping_y_j;
+        json["friction_dissipated_J"] = s.friction_j;
+        json["max_friction_iterations"] = s.max_friction_iterations;
     }
     return json.dump(2);
 }

@@ -35,6 +35,16 @@ void ResultRecorder::energy(double t, double h, double contact, double dissipate
     run_.dissipated.push_back(dissipated);
 }
 
+void ResultRecorder::observation_y(double, std::span<const double> y) {
+    run_.observation_y.insert(run_.observation_y.end(), y.begin(), y.end());
+}
+
+void ResultRecorder::polarisation_energy(double energy_y, double damping_y, double friction) {
+    run_.energy_y.push_back(energy_y);
+    run_.damping_y.push_back(damping_y);
+    run_.friction.push_back(friction);
+}
+
 void ResultRecorder::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
     for (const auto& [i, force] : forces) {
         if (std::isnan(run_.first_contact_s[i])) run_.first_contact_s[i] = t;

@@ -25,6 +25,7 @@ RunLayout layout_of(const Case& c) {
     layout.output_rate_hz = c.run.sample_rate_hz / static_cast<double>(layout.output_stride);
     layout.observation_points_m = c.observation_points_m;
     layout.fingers = c.fingers.size() + c.forces.size() + c.plucks.size();
+    layout.polarisations = c.polarisation.count;
     return layout;
 }
 
@@ -39,6 +40,11 @@ std::vector<double> oriented(const std::vector<double>& v, double orientation) {
     for (double& x : out) x *= orientation;
     return out;
 }
+
+// The initial state along z: all of it with one polarisation, its z share with two.
+std::vector<double> along_z(const std::vector<double>& v, const Case& c) {
+    return c.two_polarisations() ? along_polarisation(v, c.polarisation.angle_deg, false) : v;
+}
 }  // namespace
 
 RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options)
@@ -50,14 +56,22 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
       screening_(choose_screening(c, options.plan, options.free_flight && output_stride(c) > 1)),
       plan_(c, 1.0 / c.run.sample_rate_hz, with_screening(options.plan, screening_.screen)),
       layout_(layout_of(c)),
-      stepper_(plan_, oriented(c.initial_displacement, c.contact_orientation()),
-               oriented(c.initial_velocity, c.contact_orientation())),
+      stepper_(plan_, oriented(along_z(c.initial_displacement, c), c.contact_orientation()),
+               oriented(along_z(c.initial_velocity, c), c.contact_orientation())),
       orientation_(c.contact_orientation()) {
     // Signals are linear in q: mirroring their coefficients mirrors them back.
     for (double x : c.observation_points_m) shapes_.push_back(oriented(plan_.basis().mode_shapes_at(x), orientation_));
     bridge_ = oriented(bridge_force_coefficients(c), orientation_);
     u_.resize(shapes_.size());
     step_u_.resize(shapes_.size());
+    if (c.two_polarisations()) {
+        stepper_.add_second_polarisation(along_polarisation(c.initial_displacement, c.polarisation.angle_deg, true),
+                                         along_polarisation(c.initial_velocity, c.polarisation.angle_deg, true));
+        // y is never mirrored: its shapes are the plain mode shapes.
+        for (double x : c.observation_points_m) shapes_y_.push_back(plan_.basis().mode_shapes_at(x));
+        y_.resize(shapes_.size());
+        summary_.polarisations = 2;
+    }
     grid_x_.resize(c.mode_count());
     grid_u_.resize(c.mode_count());
     for (std::size_t i = 0; i < grid_x_.size(); ++i) grid_x_[i] = plan_.basis().grid_point(i);
@@ -136,7 +150,8 @@ void RunLoop::plan_free_flight() {
     check_head_ = std::min(kMinimumFlightModes, case_.mode_count());
     head_ = std::max(head_, check_head_);
     flight_.emplace(plan_.propagator(), layout_.output_stride);
-    if (options_.closed_form_audio && AudioBand::applies(per_step_, plan_.propagator(), head_, layout_.output_stride))
+    // The band synthesises z only: with a second polarisation, y's audio comes from per-step rows.
+    if (options_.closed_form_audio && case_.polarisation.count == 1 && AudioBand::applies(per_step_, plan_.propagator(), head_, layout_.output_stride))
         band_.emplace(per_step_, plan_.propagator(), head_, shapes_, velocity_wanted_, layout_.output_stride);
 }
 
@@ -186,6 +201,10 @@ void RunLoop::after_step() {
 
 void RunLoop::report_observation() {
     if (observers_.empty()) return;  // the probe products only when someone reads them
+    if (const SecondPolarisation* y = stepper_.second_polarisation()) {
+        for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
+        for (RunObserver* o : observers_) o->observation_y(stepper_.time(), y_);
+    }
     for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
     const double force = stepper_.displacement(bridge_);
@@ -193,6 +212,10 @@ void RunLoop::report_observation() {
 }
 
 void RunLoop::report_step() {
+    if (const SecondPolarisation* y = stepper_.second_polarisation()) {
+        for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
+        for (RunObserver* o : per_step_) o->every_step_y(y_);
+    }
     for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
     for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
     for (RunObserver* o : per_step_) o->every_step(step_u_, step_v_);
@@ -226,6 +249,8 @@ void RunLoop::report_flight_rows(long flown) {
         const std::span<const double> row_u(flight_u_.data() + row, width);
         const std::span<const double> row_v =
             velocity_wanted_ ? std::span<const double>(flight_v_.data() + row, width) : std::span<const double>();
+        if (const SecondPolarisation* y = stepper_.second_polarisation())
+            for (RunObserver* o : per_step_) o->every_step_y(std::span<const double>(y->flight_rows().data() + row, width));
         for (RunObserver* o : per_step_) o->every_step(row_u, row_v);
     }
 }
@@ -253,6 +278,12 @@ double RunLoop::audit_energy() {
         summary_.work_j = stepper_.work();
         summary_.finger_energy_final_j = stepper_.finger_energy();
         summary_.finger_loss_j = stepper_.finger_loss();
+    }
+    if (const SecondPolarisation* y = stepper_.second_polarisation()) {
+        summary_.energy_y_final_j = y->energy();
+        summary_.damping_y_j = y->damping_dissipated();
+        summary_.friction_j = y->friction_dissipated();
+        summary_.max_friction_iterations = y->max_iterations();
     }
     audited_step_ = n_;
     return h;
@@ -283,6 +314,9 @@ void RunLoop::report_output() {
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
     if (stepper_.played()) report_played();
+    if (const SecondPolarisation* y = stepper_.second_polarisation())
+        for (RunObserver* o : observers_)
+            o->polarisation_energy(y->energy(), y->damping_dissipated(), y->friction_dissipated());
     for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
 }
 

@@ -58,6 +58,8 @@ private:
 
     std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
     std::vector<double> bridge_;               // bridge force per unit q_j (see BridgeForce)
+    std::vector<std::vector<double>> shapes_y_;  // the same for y (two polarisations)
+    std::vector<double> y_;                    // y at the observation points
     std::vector<std::pair<std::size_t, double>> mirrored_forces_;
     std::vector<double> played_heights_;
     std::vector<RunObserver*> per_step_;

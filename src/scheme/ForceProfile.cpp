@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fretbuzz/scheme/SecondPolarisation.hpp"
+
 namespace fretbuzz {
 
 ForceProfile::ForceProfile(const ForceSpec& spec, double dx, const std::vector<double>& obstacle,
                            const PenaltyContact& law, double dt, double k)
     : force_(spec.force_profile),
-      direction_(spec.direction),
+      direction_(spec.direction * polarisation_share(spec.angle_deg, false)),  // its z part
       dx_(dx),
       dt_(dt),
       k_(k),

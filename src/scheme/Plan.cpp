@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
@@ -14,12 +15,14 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
+      friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
       fingers_(c.fingers),
       forces_(c.forces),
       plucks_(c.plucks),
       options_(options) {
     require_positive("time step dt (s)", dt);
+    if (c.two_polarisations()) propagator_y_.emplace(c.y_modes(), dt);
     // Without an obstacle the modal update is exact at any dt: nothing can alias.
     if (c.has_obstacle()) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).
@@ -35,6 +38,21 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
 
 void Plan::set_obstacle_offset(double offset) {
     for (std::size_t i : obstacle_points_) obstacle_[i] = planned_obstacle_[i] + offset;
+}
+
+void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> forces, std::span<double> grid,
+                           std::span<double> impulse) const {
+    // Local in space (S delta = (dt^2/mu) f), spread over all modes.
+    const double k = force_to_displacement();
+    if (forces.size() > transform_threshold_) {
+        std::fill(grid.begin(), grid.end(), 0.0);
+        for (const auto& [i, f] : forces) grid[i] = k * f;
+        basis_.to_modes(grid, impulse);
+    } else {
+        std::fill(impulse.begin(), impulse.end(), 0.0);
+        const double dx = basis_.grid_step();
+        for (const auto& [i, f] : forces) kernels::axpy(k * dx * f, basis_.row(i).data(), impulse.data(), impulse.size());
+    }
 }
 
 void Plan::prepare_rows() const {

@@ -49,6 +49,12 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     }
 }
 
+void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
+    if (n_ != 0 || !plan_.two_polarisations())
+        throw std::logic_error("Stepper::add_second_polarisation: only at n = 0 on a plan with two polarisations");
+    y_.emplace(plan_, q0, v0);
+}
+
 void Stepper::perturb(std::span<const double> displacement, std::span<const double> velocity) {
     const double dt = plan_.dt();
     if (n_ == 0) {
@@ -69,6 +75,7 @@ void Stepper::silence() {
     std::fill(q_.begin(), q_.end(), 0.0);
     std::fill(d_.begin(), d_.end(), 0.0);
     std::fill(v0_.begin(), v0_.end(), 0.0);
+    if (y_) y_->silence();
     restart();
 }
 
@@ -134,7 +141,7 @@ double Stepper::modal_energy() const {
 }
 
 double Stepper::energy() const {
-    const double h = modal_energy() + contact_energy();
+    const double h = modal_energy() + contact_energy() + (y_ ? y_->energy() : 0.0);
     return played() ? h + finger_energy() : h;
 }
 
@@ -157,7 +164,7 @@ double Stepper::work() const {
     for (const Finger& f : fingers_) e += f.work();
     for (const ForceProfile& g : gestures_) e += g.work();
     for (const Pluck& p : plucks_) e += p.work();
-    return e;
+    return y_ ? e + y_->work() : e;
 }
 
 double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
@@ -165,12 +172,14 @@ double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() 
 void Stepper::step() {
     if (n_ == 0) {
         first_step();
+        if (y_) y_->first_step();
         return;
     }
     wake_due_points();
     solve_contacts();
     apply_impulse();
     advance_modes();
+    if (y_) y_->step(n_, forces_, on_pad_);  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
@@ -229,6 +238,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     }
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
+    if (y_) y_->fly(flown, steps, head, probes);
     forces_.clear();
     touched_obstacle_ = false;
     n_ += flown;
@@ -387,18 +397,7 @@ void Stepper::retire_plucker(const Pluck& pluck) {
 
 void Stepper::apply_impulse() {
     if (forces_.empty()) return;
-    // delta q = (dt^2/mu) dx S^T f: local in space (S delta = (dt^2/mu) f), spread over all modes.
-    const double k = plan_.force_to_displacement();
-    if (forces_.size() > plan_.transform_threshold()) {
-        std::fill(grid_.begin(), grid_.end(), 0.0);
-        for (const auto& [i, f] : forces_) grid_[i] = k * f;
-        plan_.basis().to_modes(grid_, impulse_);
-    } else {
-        std::fill(impulse_.begin(), impulse_.end(), 0.0);
-        const double dx = plan_.basis().grid_step();
-        for (const auto& [i, f] : forces_)
-            kernels::axpy(k * dx * f, plan_.basis().row(i).data(), impulse_.data(), impulse_.size());
-    }
+    plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void Stepper::advance_modes() {

@@ -1,12 +1,15 @@
 #pragma once
 // Streaming CSV writers: observation.csv (t_s, one column per observation point) and
-// energy.csv (t_s, energy_J, contact_energy_J, dissipated_J), bridge_force.csv. Rows go straight to disk;
+// energy.csv (t_s, energy_J, contact_energy_J, dissipated_J), bridge_force.csv. With two
+// polarisations observation.csv adds y_<x> columns, energy.csv the energy_z_J, energy_y_J,
+// damping_y_J and friction_J terms (energy_J and dissipated_J hold their sums). Rows go straight to disk;
 // numbers are written in shortest round-trip form, so nothing is lost.
 #include <filesystem>
 #include <fstream>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fretbuzz/run/RunObserver.hpp"
 
@@ -17,12 +20,14 @@ public:
     explicit ObservationCsvWriter(const std::filesystem::path& path);
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
+    void observation_y(double t, std::span<const double> y) override;
     void finish(const RunSummary&) override;
 
 private:
     std::filesystem::path path_;
     std::ofstream out_;
     std::string line_;
+    std::vector<double> y_;  // the row's y values (two polarisations)
 };
 
 class EnergyCsvWriter : public RunObserver {
@@ -31,6 +36,7 @@ public:
     void begin(const RunLayout& layout) override;
     void energy(double t, double h, double contact, double dissipated) override;
     void finger_energy(double finger_energy, double work, double finger_loss) override;
+    void polarisation_energy(double energy_y, double damping_y, double friction) override;
     void finish(const RunSummary&) override;
 
 private:
@@ -38,7 +44,9 @@ private:
     std::ofstream out_;
     std::string line_;
     bool fingers_ = false;
+    bool two_polarisations_ = false;
     double finger_terms_[3] = {0.0, 0.0, 0.0};
+    double y_terms_[3] = {0.0, 0.0, 0.0};
 };
 
 // bridge_force.csv (t_s, bridge_force_N): the force of the string on its bridge end.

@@ -18,6 +18,9 @@
 //                           "force", "pluck", "pop"), pad centre and length (m)
 //   /played/height          rows = /energy/time, columns = /played/kind: each finger's pad
 //                           and each plucker's height (m), NaN where none
+//   two polarisations: /observation/displacement_y (y, like displacement), /energy/{y,
+//                           damping_y,friction} (J; total and dissipated include them),
+//                           /modes_y/{frequency_hz,sigma_per_s}
 //   /grid/x_m, /grid/obstacle_height_m        interior grid points and g(x_i) (-inf: none)
 //   /contact/{row,point,max_force}   the contact map, sparse: one entry per interval
 //                           (row r ends at step min((r+1) interval_steps, steps)) and grid
@@ -62,6 +65,8 @@ public:
 
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
+    void observation_y(double t, std::span<const double> y) override;
+    void polarisation_energy(double energy_y, double damping_y, double friction) override;
     void bridge_force(double t, double force) override;
     void energy(double t, double h, double contact, double dissipated) override;
     void finger_energy(double finger_energy, double work, double finger_loss) override;

@@ -18,6 +18,8 @@ struct RecordedRun {
     std::vector<double> energy;         // H^{n-1/2} (J)
     std::vector<double> contact_energy; // its contact part (J)
     std::vector<double> dissipated;     // cumulative dissipated energy (J)
+    // Two polarisations: y like observation, and the y energy terms like energy (J).
+    std::vector<double> observation_y, energy_y, damping_y, friction;
     std::vector<double> grid_x;         // interior grid points (m)
     std::vector<double> obstacle_height;
     // Per grid point: first and last contact times (NaN: never), peak force (N/m).
@@ -36,6 +38,8 @@ public:
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
     void energy(double t, double h, double contact, double dissipated) override;
+    void observation_y(double t, std::span<const double> y) override;
+    void polarisation_energy(double energy_y, double damping_y, double friction) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
     double snapshot_rate_hz() const override { return snapshot_rate_; }
     void snapshot(double t, std::span<const double> x, std::span<const double> u) override;

@@ -23,6 +23,7 @@ struct RunLayout {
     double output_rate_hz = 0.0;  // fs / output_stride
     std::vector<double> observation_points_m;
     std::size_t fingers = 0;      // fingers and gestures on the string (their energy terms are reported)
+    int polarisations = 1;        // 2: y is reported too (observation_y, every_step_y, polarisation_energy)
 };
 
 struct RunSummary {
@@ -57,6 +58,13 @@ struct RunSummary {
     double work_j = 0.0;            // work of the pressing forces and the pluckers' motions
     double finger_energy_final_j = 0.0;
     double finger_loss_j = 0.0;
+    // With two polarisations: energy_final_j includes the y modes' energy, dissipated_j their
+    // damping and the friction; the terms at the end of the run.
+    int polarisations = 1;
+    double energy_y_final_j = 0.0;     // H_y
+    double damping_y_j = 0.0;          // damping losses of the y modes
+    double friction_j = 0.0;           // friction dissipation (>= 0)
+    int max_friction_iterations = 0;
     // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
     std::vector<std::string> warnings;
 };
@@ -72,6 +80,11 @@ public:
     virtual void bridge_force(double, double) {}
     // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
     virtual void energy(double, double, double, double) {}
+    // With two polarisations, just before each observation(), every_step() and energy():
+    // y at each observation point (m; never mirrored), and the y energy terms (J).
+    virtual void observation_y(double, std::span<const double>) {}
+    virtual void every_step_y(std::span<const double>) {}
+    virtual void polarisation_energy(double /*energy_y*/, double /*damping_y*/, double /*friction*/) {}
     // With fingers, just before each energy(): the fingers' part of H, the work of the
     // external forces so far, and the fingers' part of the dissipated energy.
     virtual void finger_energy(double /*finger_energy*/, double /*work*/, double /*finger_loss*/) {}

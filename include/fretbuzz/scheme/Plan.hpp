@@ -6,11 +6,14 @@
 // Planning refuses a sampling rate at which modes alias onto low frequencies under contact.
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/Friction.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
@@ -53,12 +56,21 @@ public:
     const ModalBasis& basis() const { return basis_; }
     const ModalPropagator& propagator() const { return propagator_; }
     const PenaltyContact& contact() const { return contact_; }
+    // The second polarisation (y), planned only for a case with two: its exact per-mode
+    // propagator and the friction law at the contacts (see SecondPolarisation).
+    bool two_polarisations() const { return propagator_y_.has_value(); }
+    const ModalPropagator& propagator_y() const { return *propagator_y_; }
+    const Friction& friction() const { return friction_; }
     const std::vector<double>& obstacle() const { return obstacle_; }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
     // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
     // transform FFTW plans at `transform_flops` operations.
     static std::size_t default_transform_threshold(std::size_t modes, double transform_flops);
+    // The modal impulse (dt^2/mu) dx S^T f of forces per unit length f at grid points (i, f_i),
+    // by rows of S or, for many points, one sine transform (grid: scratch of the grid's size).
+    void forces_to_modes(std::span<const std::pair<std::size_t, double>> forces, std::span<double> grid,
+                         std::span<double> impulse) const;
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
@@ -88,6 +100,8 @@ private:
     ModalBasis basis_;
     ModalPropagator propagator_;
     PenaltyContact contact_;
+    std::optional<ModalPropagator> propagator_y_;
+    Friction friction_;
     std::vector<double> obstacle_;
     std::vector<double> planned_obstacle_;  // obstacle_ at zero offset
     std::vector<std::size_t> obstacle_points_;

@@ -10,6 +10,7 @@
 // (a plucker's until it has left), and the balance becomes H - work + dissipated = constant
 // (work: done by the pressing forces, the gestures and the pluckers' motions). Nothing here does I/O.
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -21,6 +22,7 @@
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Pluck.hpp"
+#include "fretbuzz/scheme/SecondPolarisation.hpp"
 
 namespace fretbuzz {
 
@@ -49,6 +51,12 @@ public:
     long free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                      std::vector<double>& u, std::vector<double>* v);
 
+    // Gives the string its second polarisation y (plan.two_polarisations() must hold), from
+    // modal displacement and velocity at n = 0; before the first step. Without it the
+    // stepper runs z alone, exactly as it always has.
+    void add_second_polarisation(std::span<const double> q0, std::span<const double> v0);
+    const SecondPolarisation* second_polarisation() const { return y_ ? &*y_ : nullptr; }
+
     // Adds a displacement and a velocity (modal, dq/dt) to the current state, as an external
     // impulse between two steps would: q^n += dq, q^{n-1} += dq - dv dt. The energy H^{n-1/2}
     // changes by the work done; the caller reads it with energy() before and after.
@@ -72,8 +80,9 @@ public:
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
     double energy() const;          // H^{n-1/2}: string, obstacle contact and fingers
     double contact_energy() const;  // dx (Psi(eta^n) + Psi(eta^{n-1})) / 2
-    // Losses since H^{1/2}: modal damping plus the fingers' contact losses.
-    double dissipated() const { return dissipated_ + finger_loss(); }
+    // Losses since H^{1/2}: modal damping plus the fingers' contact losses (and with two
+    // polarisations the y modes' damping and the friction).
+    double dissipated() const { return y_ ? dissipated_ + finger_loss() + y_losses() : dissipated_ + finger_loss(); }
     double damping_dissipated() const { return dissipated_; }
     double finger_energy() const;  // kinetic and contact energy of the fingers
     double finger_loss() const;    // their contact losses so far (>= 0)
@@ -92,6 +101,7 @@ public:
 
 private:
     double modal_energy() const;  // H^{n-1/2} without the contact part, cached per step
+    double y_losses() const { return y_->damping_dissipated() + y_->friction_dissipated(); }
     void first_step();
     // Looks at every obstacle point for the state with u^n, u^{n-1} on the grid.
     void classify_points(std::span<const double> u_now, std::span<const double> u_before);
@@ -134,6 +144,7 @@ private:
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
+    std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
 
 }  // namespace fretbuzz

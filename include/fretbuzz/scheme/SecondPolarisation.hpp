@@ -1,0 +1,86 @@
+#pragma once
+// The string's second transverse polarisation y (parallel to the fretboard), on the same
+// modal basis and grid as z, with a mode table of its own (Plan::propagator_y), advanced by
+// its exact modal update
+//     y-modes: q^{n+1} = C q^n - C~ q^{n-1} + (dt^2/mu) dx S^T f_y^n.
+// The obstacle acts along z only: the Stepper solves the normal contact from z exactly as
+// with one polarisation, then hands the normal forces here. At each obstacle point with a
+// non-zero normal force F_n, a friction force f_y opposes the sliding (see Friction): a
+// scalar solve per point, since S dx S^T = I makes the force at point i move y at point i
+// only. Its work per step, dx sum_i f_y (y^{n+1} - y^{n-1}) / 2, is never positive and is
+// kept as the friction dissipation, so that
+//     H_z + H_y + contact - work + damping(z) + damping(y) + friction = constant
+// to round-off. Nothing here does I/O; a one-polarisation run never creates this object.
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "fretbuzz/scheme/FreeFlight.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
+
+namespace fretbuzz {
+
+class SecondPolarisation {
+public:
+    // Starts at n = 0 from modal displacement q0 and velocity v0 of y.
+    SecondPolarisation(const Plan& plan, std::span<const double> q0, std::span<const double> v0);
+
+    // n = 0 -> 1: the exact free motion (no contact acts on the first step, as along z).
+    void first_step();
+    // n -> n + 1 after the normal solve of the same step: `normal` holds (grid point, F_n)
+    // of every point with a normal force; points with on_pad[i] != 0 (under a finger or a
+    // gesture) get no friction.
+    // Force gestures with an angle push y too (known at step n, explicit as along z).
+    void step(long n, std::span<const std::pair<std::size_t, double>> normal, const std::vector<char>& on_pad);
+    // Free flight over `flown` steps of a flight planned for `planned` (no contact meanwhile):
+    // with probes, the first `head` modes are stepped one by one and u_y at the probes kept
+    // per step (flight_rows()); the other modes jump in closed form when flown == planned.
+    void fly(long flown, long planned, std::size_t head, std::span<const std::vector<double>> probes);
+    const std::vector<double>& flight_rows() const { return rows_; }
+    // Puts y at rest, keeping the losses so far.
+    void silence();
+
+    std::span<const double> modal_displacement() const { return q_; }
+    double displacement(std::span<const double> mode_shapes) const;
+    double velocity(std::span<const double> mode_shapes) const;
+    // Energy terms of the interval (t_{n-1}, t_n) (J), n >= 1.
+    double energy() const;               // H_y^{n-1/2}: the y modes' discrete energy
+    double damping_dissipated() const { return damping_; }
+    double friction_dissipated() const { return friction_; }
+    double work() const { return work_; }  // of the gestures' y parts so far
+    // Points with a non-zero friction force in the last step and that force (N/m).
+    std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
+    int max_iterations() const { return max_iterations_; }
+
+private:
+    struct Gesture {  // the y part of a force gesture
+        TimeProfile force;
+        double share;  // sin(angle) / (pad points dx): force density per newton
+        std::vector<std::size_t> pad;
+    };
+    void add_gesture_forces(long n);
+    void spread_forces();
+
+    const Plan& plan_;
+    std::vector<double> q_, d_, v0_;
+    std::vector<double> predicted_, impulse_, grid_, before_;
+    std::vector<std::pair<std::size_t, double>> forces_;
+    std::vector<double> rows_;
+    std::optional<FreeFlight> flight_;
+    double damping_ = 0.0;
+    double friction_ = 0.0;
+    double work_ = 0.0;
+    std::vector<Gesture> gestures_;
+    int max_iterations_ = 0;
+};
+
+// The initial modal displacement or velocity of a case along one polarisation: cos(angle) v
+// along z, sin(angle) v along y (v itself along z with one polarisation, untouched).
+std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y);
+// cos(angle) (z) or sin(angle) (y), exact (0 or +-1) at multiples of 90 degrees.
+double polarisation_share(double angle_deg, bool y);
+
+}  // namespace fretbuzz

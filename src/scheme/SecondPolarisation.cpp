@@ -1,0 +1,162 @@
+#include "fretbuzz/scheme/SecondPolarisation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "fretbuzz/scheme/Kernels.hpp"
+
+namespace fretbuzz {
+
+SecondPolarisation::SecondPolarisation(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
+    : plan_(plan),
+      q_(q0.begin(), q0.end()),
+      d_(q0.size(), 0.0),
+      v0_(v0.begin(), v0.end()),
+      predicted_(q0.size(), 0.0),
+      impulse_(q0.size(), 0.0),
+      grid_(q0.size(), 0.0),
+      before_(q0.size(), 0.0) {
+    forces_.reserve(q0.size());
+    const double dx = plan.basis().grid_step();
+    for (const ForceSpec& spec : plan.forces()) {
+        const double share = polarisation_share(spec.angle_deg, true);
+        if (share == 0.0) continue;
+        std::vector<std::size_t> pad = pad_points(spec.position_m, spec.width_m, dx, q0.size());
+        const double per_point = share / (static_cast<double>(pad.size()) * dx);
+        gestures_.push_back({TimeProfile(spec.force_profile), per_point, std::move(pad)});
+    }
+}
+
+void SecondPolarisation::add_gesture_forces(long n) {
+    // Explicit, as along z: f_i = sin(angle) F(t_n) / (pad dx), its work over the step
+    // dx f_i (y_i^{n+1} - y_i^{n-1}) / 2 with y_i^{n+1} = w_i + k f_i (no friction on a pad).
+    const ModalPropagator& prop = plan_.propagator_y();
+    const std::size_t size = q_.size();
+    const double k = plan_.force_to_displacement();
+    const double dx = plan_.basis().grid_step();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), size);
+    for (const Gesture& g : gestures_) {
+        const double f = g.share * g.force.at(static_cast<double>(n) * plan_.dt());
+        if (f == 0.0) continue;
+        for (std::size_t i : g.pad) {
+            const double* row = plan_.basis().row(i).data();
+            double y_now = 0.0, y_before = 0.0;
+            kernels::dot_current_previous(row, q_.data(), d_.data(), size, y_now, y_before);
+            const double w = kernels::dot(row, predicted_.data(), size);
+            work_ += 0.5 * dx * f * (w + k * f - y_before);
+            forces_.emplace_back(i, f);
+        }
+    }
+}
+
+void SecondPolarisation::first_step() {
+    std::vector<double> q1(q_.size());
+    plan_.propagator_y().first_step(q_, v0_, q1, d_);
+    q_ = std::move(q1);
+}
+
+void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal,
+                              const std::vector<char>& on_pad) {
+    const ModalPropagator& prop = plan_.propagator_y();
+    const Friction& law = plan_.friction();
+    const std::size_t n = q_.size();
+    forces_.clear();
+    if (!gestures_.empty()) add_gesture_forces(step);
+    if (law.coefficient() > 0.0 && !normal.empty()) {
+        const double dt = plan_.dt();
+        const double k = plan_.force_to_displacement();
+        const double dx = plan_.basis().grid_step();
+        kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+        const bool use_transform = normal.size() > plan_.transform_threshold();
+        if (use_transform) {
+            for (std::size_t j = 0; j < n; ++j) impulse_[j] = q_[j] - d_[j];
+            plan_.basis().to_grid(predicted_, grid_);
+            plan_.basis().to_grid(impulse_, before_);
+        }
+        for (const auto& [i, f_n] : normal) {
+            if (on_pad[i] != 0) continue;
+            double w = 0.0, y_before = 0.0;
+            if (use_transform) {
+                w = grid_[i];
+                y_before = before_[i];
+            } else {
+                const double* row = plan_.basis().row(i).data();
+                double y_now = 0.0;
+                w = kernels::dot(row, predicted_.data(), n);
+                kernels::dot_current_previous(row, q_.data(), d_.data(), n, y_now, y_before);
+            }
+            const FrictionSolution s = law.solve((w - y_before) / (2.0 * dt), f_n, k, dt);
+            max_iterations_ = std::max(max_iterations_, s.iterations);
+            // -dx f (y^{n+1} - y^{n-1}) / 2 with y^{n+1} - y^{n-1} = 2 dt v: >= 0 exactly.
+            friction_ -= dx * s.force * s.velocity * dt;
+            if (s.force != 0.0) forces_.emplace_back(i, s.force);
+        }
+    }
+    spread_forces();
+    const double losses =
+        kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
+                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+    damping_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
+}
+
+void SecondPolarisation::spread_forces() {
+    if (!forces_.empty()) plan_.forces_to_modes(forces_, grid_, impulse_);
+}
+
+void SecondPolarisation::fly(long flown, long planned, std::size_t head, std::span<const std::vector<double>> probes) {
+    const ModalPropagator& prop = plan_.propagator_y();
+    const double before = energy();
+    const std::size_t width = probes.size();
+    if (width == 0) head = 0;  // nobody reads per-step values: every mode may jump
+    rows_.resize(static_cast<std::size_t>(flown) * width);
+    for (long m = 0; m < flown && head > 0; ++m) {
+        kernels::advance(prop.decay().data(), prop.beta().data(), nullptr, nullptr, q_.data(), d_.data(), head);
+        for (std::size_t p = 0; p < width; ++p)
+            rows_[static_cast<std::size_t>(m) * width + p] = kernels::dot(probes[p].data(), q_.data(), head);
+    }
+    if (flown == planned) {
+        if (!flight_ || flight_->steps() != planned) flight_.emplace(prop, planned);
+        flight_->jump(q_, d_, head);
+    } else {
+        for (long m = 0; m < flown; ++m)
+            kernels::advance(prop.decay().data() + head, prop.beta().data() + head, nullptr, nullptr, q_.data() + head,
+                             d_.data() + head, q_.size() - head);
+    }
+    damping_ += before - energy();
+}
+
+void SecondPolarisation::silence() {
+    std::fill(q_.begin(), q_.end(), 0.0);
+    std::fill(d_.begin(), d_.end(), 0.0);
+    std::fill(v0_.begin(), v0_.end(), 0.0);
+}
+
+double SecondPolarisation::displacement(std::span<const double> mode_shapes) const {
+    return kernels::dot(mode_shapes.data(), q_.data(), q_.size());
+}
+
+double SecondPolarisation::velocity(std::span<const double> mode_shapes) const {
+    return kernels::dot(mode_shapes.data(), d_.data(), d_.size()) / plan_.dt();
+}
+
+double SecondPolarisation::energy() const {
+    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
+    return scale * plan_.propagator_y().scaled_modal_energy(q_, d_);
+}
+
+double polarisation_share(double angle_deg, bool y) {
+    const double angle = angle_deg * std::numbers::pi / 180.0;
+    const double share = y ? std::sin(angle) : std::cos(angle);
+    // Along an axis exactly (0, 90, 180, ... degrees): the other component is exactly zero.
+    return std::fmod(angle_deg, 90.0) == 0.0 ? std::round(share) : share;
+}
+
+std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y) {
+    const double share = polarisation_share(angle_deg, y);
+    std::vector<double> out(v);
+    for (double& x : out) x *= share;
+    return out;
+}
+
+}  // namespace fretbuzz
