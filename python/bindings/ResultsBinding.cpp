@@ -61,6 +61,12 @@ void bind_results(py::module_& m) {
     vector_property(cls, "energy", &RecordedRun::energy, "discrete energy H^{n-1/2} (J)");
     vector_property(cls, "contact_energy", &RecordedRun::contact_energy, "contact part of the energy (J)");
     vector_property(cls, "dissipated", &RecordedRun::dissipated, "energy dissipated since the start (J)");
+    // Two polarisations (empty with one): y and its energy terms.
+    table_property(cls, "observation_y", &RecordedRun::observation_y, &RecordedRun::point_count,
+                   "displacement along y (m), samples x observation points");
+    vector_property(cls, "energy_y", &RecordedRun::energy_y, "energy of the y modes (J), part of energy");
+    vector_property(cls, "damping_y", &RecordedRun::damping_y, "damping losses of the y modes so far (J)");
+    vector_property(cls, "friction", &RecordedRun::friction, "friction dissipation so far (J)");
     vector_property(cls, "grid_x", &RecordedRun::grid_x, "interior grid points (m)");
     vector_property(cls, "obstacle_height", &RecordedRun::obstacle_height, "obstacle height at the grid points (m)");
     vector_property(cls, "first_contact", &RecordedRun::first_contact_s, "first contact time per grid point (s; NaN: never)");

@@ -23,7 +23,8 @@ class Results:
     """The outputs of a run, as read-only NumPy arrays in SI units.
 
     Arrays: time (s), observation (m, samples x points), points (m), energy_time (s),
-    energy, contact_energy, dissipated (J), grid_x (m), obstacle_height (m), first_contact,
+    energy, contact_energy, dissipated (J), with two polarisations observation_y (m), energy_y,
+    damping_y, friction (J), grid_x (m), obstacle_height (m), first_contact,
     last_contact (s, NaN: never), peak_contact_force (N/m), snapshot_time (s), snapshots (m),
     and any others the run records. summary: the run summary (as summary.json), a dict.
     case: the Case that ran (with the run's overrides). directory: where its files are, if

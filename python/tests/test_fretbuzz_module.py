@@ -35,6 +35,16 @@ class RunResults(unittest.TestCase):
         self.assertAlmostEqual(r.time[-1], DURATION, places=12)
         self.assertTrue(np.all(np.diff(r.time) > 0))
 
+    def test_two_polarisations_record_y_and_its_energy_terms(self):
+        two = fretbuzz.run("bass-pop-30", fs=FS, duration=DURATION)
+        self.assertEqual(two.observation_y.shape, two.observation.shape)
+        self.assertEqual(len(two.friction), len(two.energy))
+        self.assertTrue(np.all(np.diff(two.friction) >= 0))  # friction only dissipates
+        # energy includes y, dissipated includes its damping and the friction: their sum holds.
+        balance = two.energy + two.dissipated - two.summary["energy_initial_J"]
+        self.assertLess(np.max(np.abs(balance)) / two.summary["energy_initial_J"], 1e-10)
+        self.assertEqual(self.results.observation_y.shape[0], 0)  # one polarisation: no y
+
     def test_energy_plus_dissipated_energy_is_constant(self):
         r = self.results
         initial = r.summary["energy_initial_J"]
