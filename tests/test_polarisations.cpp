@@ -347,3 +347,57 @@ TEST(Polarisations, AGestureAtAnAngleKeepsTheBalance) {
 
 }  // namespace
 }  // namespace fretbuzz
+
+namespace fretbuzz {
+namespace {
+
+TEST(Polarisations, FrictionUnderAFingerKeepsTheBalanceAndDragsY) {
+    // The small bass stopped at fret 5 by the default finger and plucked at 45 degrees: the
+    // string rubs under the finger's pad and on the fret it presses onto. The balance holds
+    // with the finger's work and losses, friction never adds energy, and the y motion loses
+    // more with friction than without.
+    const auto run = [](double friction, double& worst, double& smallest_step) {
+        Case c = testing::small_bass(400000.0, 0.25, 1e-3);
+        c.polarisation.count = 2;
+        c.polarisation.angle_deg = 45.0;
+        c.polarisation.friction = friction;
+        c.add_fret_finger(5, "fret");
+        c.validate();
+        TwoPolarisations two(c);
+        Stepper& s = two.stepper;
+        s.step();
+        const double h0 = s.energy();
+        double largest = h0, before = 0.0;
+        worst = 0.0;
+        smallest_step = std::numeric_limits<double>::infinity();
+        for (long n = 1; n < 40000; ++n) {
+            s.step();
+            largest = std::max({largest, std::abs(s.work()), s.energy()});
+            worst = std::max(worst, std::abs(s.energy() - s.work() + s.dissipated() - h0));
+            const double f = two.y().friction_dissipated();
+            smallest_step = std::min(smallest_step, f - before);
+            before = f;
+        }
+        worst /= largest;
+        const Finger& finger = s.fingers().front();
+        bool pressed = false;  // the pad presses on the string, so it rubs there too
+        for (std::size_t p = 0; p < finger.pad().size(); ++p) pressed = pressed || finger.normal_force(p) > 0.0;
+        EXPECT_TRUE(pressed);
+        return std::pair{two.y().friction_dissipated(), two.y().energy()};
+    };
+    double worst = 0.0, smallest = 0.0, worst_free = 0.0, smallest_free = 0.0;
+    const auto [friction, y_energy] = run(0.5, worst, smallest);
+    const auto [no_friction, y_energy_free] = run(0.0, worst_free, smallest_free);
+    EXPECT_EQ(no_friction, 0.0);
+    EXPECT_GT(friction, 0.0);
+    EXPECT_GE(smallest, 0.0);
+    EXPECT_LT(worst, 1e-10);
+    EXPECT_LT(worst_free, 1e-10);
+    EXPECT_LT(y_energy, y_energy_free);  // the pad and the fret hold y back
+    std::printf("[ numbers  ] finger at fret 5, 45 degrees, friction 0.5, 4e4 steps: balance %.3g, friction %.3g J, "
+                "y energy %.3g J (%.3g J without friction)\n",
+                worst, friction, y_energy, y_energy_free);
+}
+
+}  // namespace
+}  // namespace fretbuzz

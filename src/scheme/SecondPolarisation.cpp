@@ -56,8 +56,7 @@ void SecondPolarisation::first_step() {
     q_ = std::move(q1);
 }
 
-void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal,
-                              const std::vector<char>& on_pad) {
+void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal) {
     const ModalPropagator& prop = plan_.propagator_y();
     const Friction& law = plan_.friction();
     const std::size_t n = q_.size();
@@ -75,7 +74,6 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
             plan_.basis().to_grid(impulse_, before_);
         }
         for (const auto& [i, f_n] : normal) {
-            if (on_pad[i] != 0) continue;
             double w = 0.0, y_before = 0.0;
             if (use_transform) {
                 w = grid_[i];

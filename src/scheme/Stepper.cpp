@@ -31,6 +31,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     active_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
+    rubbing_.reserve(q0.size());
     for (const FingerSpec& spec : plan.fingers()) {
         fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                               plan.force_to_displacement());
@@ -179,7 +180,7 @@ void Stepper::step() {
     solve_contacts();
     apply_impulse();
     advance_modes();
-    if (y_) y_->step(n_, forces_, on_pad_);  // friction from this step's normal forces
+    if (y_) y_->step(n_, rubbing_points());  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
         if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
@@ -416,6 +417,20 @@ void Stepper::put_points_to_sleep() {
         scheduler_.refresh(q_, d_);  // the speed bound is kept current only while some point sleeps
         return scheduler_.sleep(i, -eta_curr_[i]);
     });
+}
+
+std::span<const std::pair<std::size_t, double>> Stepper::rubbing_points() {
+    // Friction along y acts where the string is pressed along z: on the obstacle, and under a
+    // finger (which does not move along y) with the finger's push plus the obstacle's. Force
+    // gestures and pluckers drag nothing sideways.
+    if (pad_points_ == 0) return forces_;
+    rubbing_.clear();
+    for (const auto& [i, f] : forces_)
+        if (on_pad_[i] == 0) rubbing_.emplace_back(i, f);
+    for (const Finger& finger : fingers_)
+        for (std::size_t p = 0; p < finger.pad().size(); ++p)
+            if (const double f = finger.normal_force(p); f > 0.0) rubbing_.emplace_back(finger.pad()[p], f);
+    return rubbing_;
 }
 
 }  // namespace fretbuzz

@@ -24,6 +24,7 @@
 // z^{n+1} (the contact force on it can only fall as it rises). Both are solved by Newton's
 // method inside a bracket (the slopes are at least 1 and M/dt^2), with the finger's slope
 // from the inner solutions: a nested scalar solve, no global system. Failure throws.
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -62,6 +63,12 @@ public:
     // In the last step: whether the obstacle pushed on a pad point, and whether the finger touched.
     bool touched_obstacle() const { return touched_obstacle_; }
     bool acted() const { return contact_force_ != 0.0; }
+
+private:
+public:
+    // Normal force per unit length on pad point p in the last step: the finger's push plus the
+    // obstacle's (friction along y, with two polarisations, acts on their sum).
+    double normal_force(std::size_t p) const { return std::max(points_[p].push, 0.0) + points_[p].obstacle_force; }
 
 private:
     struct Point {

@@ -31,10 +31,10 @@ public:
     // n = 0 -> 1: the exact free motion (no contact acts on the first step, as along z).
     void first_step();
     // n -> n + 1 after the normal solve of the same step: `normal` holds (grid point, F_n)
-    // of every point with a normal force; points with on_pad[i] != 0 (under a finger or a
-    // gesture) get no friction.
+    // of every point that rubs, with its normal force per unit length (the obstacle's, or
+    // under a finger the finger's push plus the obstacle's).
     // Force gestures with an angle push y too (known at step n, explicit as along z).
-    void step(long n, std::span<const std::pair<std::size_t, double>> normal, const std::vector<char>& on_pad);
+    void step(long n, std::span<const std::pair<std::size_t, double>> normal);
     // Free flight over `flown` steps of a flight planned for `planned` (no contact meanwhile):
     // with probes, the first `head` modes are stepped one by one and u_y at the probes kept
     // per step (flight_rows()); the other modes jump in closed form when flown == planned.

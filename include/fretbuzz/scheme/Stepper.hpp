@@ -113,6 +113,7 @@ private:
     void advance_modes();
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
+    std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire_plucker(const Pluck& pluck);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
@@ -137,6 +138,7 @@ private:
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
+    std::vector<std::pair<std::size_t, double>> rubbing_;  // scratch: where friction acts, F_n
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     double dissipated_ = 0.0;
     bool touched_obstacle_ = false;
