@@ -21,10 +21,11 @@ std::mutex& fftw_planner_mutex() {
 namespace {
 // One plan per length and kind for the whole process: every SineTransform of that length
 // executes it on its own buffer (FFTW's new-array execution; fftw_alloc_real aligns them all
-// alike). Plans live until the process ends.
+// alike). Plans live until the process ends: the registry is never destroyed, so that a
+// transform used during exit still finds its plan and the plans stay reachable (not leaks).
 std::map<std::pair<std::size_t, bool>, fftw_plan>& plans() {
-    static std::map<std::pair<std::size_t, bool>, fftw_plan> registry;
-    return registry;
+    static auto* registry = new std::map<std::pair<std::size_t, bool>, fftw_plan>;
+    return *registry;
 }
 
 // FFTW's wisdom (what measuring planners learnt) is read once per process from the cache
