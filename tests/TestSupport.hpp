@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the tests: running the fretbuzz program, scratch directories,
 // and small synthetic cases built in code.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -10,6 +12,16 @@
 #include "fretbuzz/Case.hpp"
 
 namespace fretbuzz::testing {
+
+// ||a - b|| / ||b|| over the samples both have.
+inline double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+    double diff = 0.0, norm = 0.0;
+    for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) {
+        diff += (a[k] - b[k]) * (a[k] - b[k]);
+        norm += b[k] * b[k];
+    }
+    return std::sqrt(diff / norm);
+}
 
 struct CommandResult {
     int exit_code = 0;

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "TestSupport.hpp"
 #include "fretbuzz/io/AudioWriter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/io/Resampler.hpp"
@@ -16,14 +17,7 @@
 namespace fretbuzz {
 namespace {
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double diff = 0.0, norm = 0.0;
-    for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) {
-        diff += (a[k] - b[k]) * (a[k] - b[k]);
-        norm += b[k] * b[k];
-    }
-    return std::sqrt(diff / norm);
-}
+using testing::relative_l2;
 
 struct Audio {
     std::vector<std::vector<double>> u, v;

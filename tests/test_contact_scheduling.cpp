@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "TestSupport.hpp"
 #include "fretbuzz/geometry/InitialShape.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
@@ -40,14 +41,7 @@ Outcome simulate_with(const Case& c, bool screen) {
     return o;
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double num = 0.0, den = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        num += (a[k] - b[k]) * (a[k] - b[k]);
-        den += b[k] * b[k];
-    }
-    return std::sqrt(num / den);
-}
+using testing::relative_l2;
 
 void expect_same_results(const Case& c) {
     const Outcome fast = simulate_with(c, true);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "TestSupport.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -109,14 +110,7 @@ TEST(Energy, ClosedFormContactLawsConserveEnergyAndMatchTheGeneralLaw) {
     }
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double diff = 0.0, norm = 0.0;
-    for (std::size_t n = 0; n < a.size(); ++n) {
-        diff += std::pow(a[n] - b[n], 2);
-        norm += std::pow(b[n], 2);
-    }
-    return std::sqrt(diff / norm);
-}
+using testing::relative_l2;
 
 TEST(Energy, BridgeAtAnAudioRateConservesEnergyAtEveryCommonExponent) {
     // Several points of a bridge in contact at once, at 48 kHz with the modes below 24 kHz:

@@ -241,14 +241,7 @@ TEST(Polarisations, OrbitCyclesWithThePeriodOfTheFrequencyDifference) {
                 100.0 * std::abs(period * df - 1.0));
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double num = 0.0, den = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        num += (a[k] - b[k]) * (a[k] - b[k]);
-        den += b[k] * b[k];
-    }
-    return std::sqrt(num / den);
-}
+using testing::relative_l2;
 
 TEST(Polarisations, FastPathEqualsTheStraightforwardPath) {
     Case c = two_polarisation_bass(400000.0, 30.0, 0.3);

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "../TestSupport.hpp"
 #include "AllocationCounter.hpp"
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/realtime/Decimator.hpp"
@@ -18,14 +19,7 @@
 namespace fretbuzz {
 namespace {
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double num = 0.0, den = 0.0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        num += (a[i] - b[i]) * (a[i] - b[i]);
-        den += b[i] * b[i];
-    }
-    return std::sqrt(num / den);
-}
+using testing::relative_l2;
 
 // The offline run of `c` at rate fs, one row per step, at the case's first observation point.
 std::vector<double> offline_signal(Case c, double fs, long steps) {
