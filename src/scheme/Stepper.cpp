@@ -261,24 +261,16 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, grid_);
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
-    for (Finger& f : fingers_) {
-        pad_values(f.pad(), grid_);
+    // Each played part starts from the string under its pad at levels 0 and 1.
+    const auto start = [&](auto& part) {
+        pad_values(part.pad(), grid_);
         pad_f_ = pad_w_;
-        pad_values(f.pad(), u0);
-        f.start(pad_w_, pad_f_);
-    }
-    for (ForceProfile& gesture : gestures_) {
-        pad_values(gesture.pad(), grid_);
-        pad_f_ = pad_w_;
-        pad_values(gesture.pad(), u0);
-        gesture.start(pad_w_, pad_f_);
-    }
-    for (Pluck& pluck : plucks_) {
-        pad_values(pluck.pad(), grid_);
-        pad_f_ = pad_w_;
-        pad_values(pluck.pad(), u0);
-        pluck.start(pad_w_, pad_f_);
-    }
+        pad_values(part.pad(), u0);
+        part.start(pad_w_, pad_f_);
+    };
+    for (Finger& f : fingers_) start(f);
+    for (ForceProfile& gesture : gestures_) start(gesture);
+    for (Pluck& pluck : plucks_) start(pluck);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
