@@ -1,9 +1,12 @@
 #include "fretbuzz/io/CsvWriters.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
 #include <stdexcept>
+
+#include "CsvFile.hpp"
 
 namespace fretbuzz {
 
@@ -43,56 +46,54 @@ void write_text_file(const std::filesystem::path& path, std::string_view text) {
 
 ObservationCsvWriter::ObservationCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
+ObservationCsvWriter::~ObservationCsvWriter() = default;
+
 void ObservationCsvWriter::begin(const RunLayout& layout) {
-    open_for_writing(out_, path_);
-    line_ = "t_s";
+    std::string header = "t_s";
     for (double x : layout.observation_points_m) {
-        line_ += ',';  // the column is named by the point's x in metres
-        append_number(line_, x);
+        header += ',';  // the column is named by the point's x in metres
+        append_number(header, x);
     }
-    if (layout.polarisations == 2)
-        for (double x : layout.observation_points_m) {
-            line_ += ",y_";  // y at that point
-            append_number(line_, x);
-        }
-    y_.clear();
-    line_ += '\n';
-    out_ << line_;
+    y_count_ = layout.polarisations == 2 ? layout.observation_points_m.size() : 0;
+    for (std::size_t p = 0; p < y_count_; ++p) {
+        header += ",y_";  // y at that point
+        append_number(header, layout.observation_points_m[p]);
+    }
+    header += '\n';
+    row_.assign(1 + layout.observation_points_m.size() + y_count_, 0.0);
+    file_ = std::make_unique<CsvFile>(path_, header, row_.size());
 }
 
-void ObservationCsvWriter::observation_y(double, std::span<const double> y) { y_.assign(y.begin(), y.end()); }
+void ObservationCsvWriter::observation_y(double, std::span<const double> y) {
+    std::copy(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(std::min(y.size(), y_count_)), row_.end() - static_cast<std::ptrdiff_t>(y_count_));
+}
 
 void ObservationCsvWriter::observation(double t, std::span<const double> u) {
-    line_.clear();
-    append_number(line_, t);
-    for (double v : u) {
-        line_ += ',';
-        append_number(line_, v);
-    }
-    for (double v : y_) {
-        line_ += ',';
-        append_number(line_, v);
-    }
-    line_ += '\n';
-    out_ << line_;
+    if (u.size() + y_count_ + 1 != row_.size()) throw std::logic_error("ObservationCsvWriter: a row of the wrong width");
+    row_[0] = t;
+    std::copy(u.begin(), u.end(), row_.begin() + 1);
+    file_->row(row_);
 }
 
-void ObservationCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
+void ObservationCsvWriter::finish(const RunSummary&) { file_->close(); }
 
 EnergyCsvWriter::EnergyCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
+EnergyCsvWriter::~EnergyCsvWriter() = default;
+
 void EnergyCsvWriter::begin(const RunLayout& layout) {
-    open_for_writing(out_, path_);
+    std::string header = "t_s,energy_J,contact_energy_J,dissipated_J";
     fingers_ = layout.fingers > 0;
-    out_ << "t_s,energy_J,contact_energy_J,dissipated_J";
     // With fingers: energy_J includes finger_energy_J, dissipated_J includes finger_loss_J,
     // and energy_J - work_J + dissipated_J is constant.
-    if (fingers_) out_ << ",finger_energy_J,work_J,finger_loss_J";
+    if (fingers_) header += ",finger_energy_J,work_J,finger_loss_J";
     // With two polarisations: energy_J = energy_z_J + energy_y_J + contact (+ fingers), and
     // dissipated_J includes damping_y_J and friction_J.
     two_polarisations_ = layout.polarisations == 2;
-    if (two_polarisations_) out_ << ",energy_z_J,energy_y_J,damping_y_J,friction_J";
-    out_ << '\n';
+    if (two_polarisations_) header += ",energy_z_J,energy_y_J,damping_y_J,friction_J";
+    header += '\n';
+    row_.assign(4 + (fingers_ ? 3 : 0) + (two_polarisations_ ? 4 : 0), 0.0);
+    file_ = std::make_unique<CsvFile>(path_, header, row_.size());
 }
 
 void EnergyCsvWriter::polarisation_energy(double energy_y, double damping_y, double friction) {
@@ -108,45 +109,29 @@ void EnergyCsvWriter::finger_energy(double finger_energy, double work, double fi
 }
 
 void EnergyCsvWriter::energy(double t, double h, double contact, double dissipated) {
-    line_.clear();
-    for (double v : {t, h, contact, dissipated}) {
-        if (!line_.empty()) line_ += ',';
-        append_number(line_, v);
-    }
-    if (fingers_)
-        for (double v : finger_terms_) {
-            line_ += ',';
-            append_number(line_, v);
-        }
+    auto at = row_.begin();
+    for (double v : {t, h, contact, dissipated}) *at++ = v;
+    if (fingers_) at = std::copy(std::begin(finger_terms_), std::end(finger_terms_), at);
     if (two_polarisations_) {
         const double z = h - contact - y_terms_[0] - (fingers_ ? finger_terms_[0] : 0.0);
-        for (double v : {z, y_terms_[0], y_terms_[1], y_terms_[2]}) {
-            line_ += ',';
-            append_number(line_, v);
-        }
+        for (double v : {z, y_terms_[0], y_terms_[1], y_terms_[2]}) *at++ = v;
     }
-    line_ += '\n';
-    out_ << line_;
+    file_->row(row_);
 }
 
-void EnergyCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
+void EnergyCsvWriter::finish(const RunSummary&) { file_->close(); }
 
 BridgeForceCsvWriter::BridgeForceCsvWriter(const std::filesystem::path& path) : path_(path) {}
 
-void BridgeForceCsvWriter::begin(const RunLayout&) {
-    open_for_writing(out_, path_);
-    out_ << "t_s,bridge_force_N\n";
-}
+BridgeForceCsvWriter::~BridgeForceCsvWriter() = default;
+
+void BridgeForceCsvWriter::begin(const RunLayout&) { file_ = std::make_unique<CsvFile>(path_, "t_s,bridge_force_N\n", 2); }
 
 void BridgeForceCsvWriter::bridge_force(double t, double force) {
-    line_.clear();
-    append_number(line_, t);
-    line_ += ',';
-    append_number(line_, force);
-    line_ += '\n';
-    out_ << line_;
+    const double row[] = {t, force};
+    file_->row(row);
 }
 
-void BridgeForceCsvWriter::finish(const RunSummary&) { close_checked(out_, path_); }
+void BridgeForceCsvWriter::finish(const RunSummary&) { file_->close(); }
 
 }  // namespace fretbuzz

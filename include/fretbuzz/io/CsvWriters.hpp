@@ -2,10 +2,12 @@
 // Streaming CSV writers: observation.csv (t_s, one column per observation point) and
 // energy.csv (t_s, energy_J, contact_energy_J, dissipated_J), bridge_force.csv. With two
 // polarisations observation.csv adds y_<x> columns, energy.csv the energy_z_J, energy_y_J,
-// damping_y_J and friction_J terms (energy_J and dissipated_J hold their sums). Rows go straight to disk;
-// numbers are written in shortest round-trip form, so nothing is lost.
+// damping_y_J and friction_J terms (energy_J and dissipated_J hold their sums). Numbers are
+// written in shortest round-trip form, so nothing is lost; a thread of each file formats
+// and writes the rows while the run goes on (see src/io/CsvFile.hpp).
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -15,9 +17,12 @@
 
 namespace fretbuzz {
 
+class CsvFile;
+
 class ObservationCsvWriter : public RunObserver {
 public:
     explicit ObservationCsvWriter(const std::filesystem::path& path);
+    ~ObservationCsvWriter() override;
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
     void observation_y(double t, std::span<const double> y) override;
@@ -25,14 +30,15 @@ public:
 
 private:
     std::filesystem::path path_;
-    std::ofstream out_;
-    std::string line_;
-    std::vector<double> y_;  // the row's y values (two polarisations)
+    std::unique_ptr<CsvFile> file_;
+    std::vector<double> row_;
+    std::size_t y_count_ = 0;  // y values (two polarisations), stored at the row's end before its u
 };
 
 class EnergyCsvWriter : public RunObserver {
 public:
     explicit EnergyCsvWriter(const std::filesystem::path& path);
+    ~EnergyCsvWriter() override;
     void begin(const RunLayout& layout) override;
     void energy(double t, double h, double contact, double dissipated) override;
     void finger_energy(double finger_energy, double work, double finger_loss) override;
@@ -41,8 +47,8 @@ public:
 
 private:
     std::filesystem::path path_;
-    std::ofstream out_;
-    std::string line_;
+    std::unique_ptr<CsvFile> file_;
+    std::vector<double> row_;
     bool fingers_ = false;
     bool two_polarisations_ = false;
     double finger_terms_[3] = {0.0, 0.0, 0.0};
@@ -53,14 +59,14 @@ private:
 class BridgeForceCsvWriter : public RunObserver {
 public:
     explicit BridgeForceCsvWriter(const std::filesystem::path& path);
+    ~BridgeForceCsvWriter() override;
     void begin(const RunLayout& layout) override;
     void bridge_force(double t, double force) override;
     void finish(const RunSummary&) override;
 
 private:
     std::filesystem::path path_;
-    std::ofstream out_;
-    std::string line_;
+    std::unique_ptr<CsvFile> file_;
 };
 
 // Checked file writing: each throws runtime_error naming the file (and the system's
