@@ -86,7 +86,10 @@ void CsvFile::work() {
     std::unique_lock lock(mutex_);
     while (true) {
         changed_.wait(lock, [this] { return !pending_.empty() || stopping_; });
-        if (pending_.empty()) return;  // stopping, and nothing left
+        if (pending_.empty()) {  // stopping, and nothing left: start writeback of the tail too
+            if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
+            return;
+        }
         lock.unlock();
         std::exception_ptr failure;
         try {

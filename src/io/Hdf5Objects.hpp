@@ -37,6 +37,9 @@ void silence_error_printing();
 Handle create_file(const std::string& path);
 // Writes everything the library holds for the file to disk; throws naming path on failure.
 void flush_file(hid_t file, const std::string& path);
+// Asks the kernel to start writing what is already written to the file to disk, so
+// that the fsync at the end finds little left to wait for.
+void start_writeback(hid_t file);
 Handle create_group(hid_t parent, const std::string& name);
 
 void write_array(hid_t parent, const std::string& name, std::span<const double> values);
@@ -75,6 +78,7 @@ private:
     std::size_t row_width_ = 1;  // numbers per row
     std::size_t chunk_rows_ = 1;
     std::size_t written_ = 0;
+    bool direct_ = false;  // whole chunks written as they are (see the constructor)
     std::vector<double> buffer_;
 };
 

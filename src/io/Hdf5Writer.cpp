@@ -17,6 +17,7 @@ constexpr std::size_t kSignalChunkRows = 4096;
 constexpr std::size_t kMapChunkRows = 64;
 constexpr std::size_t kMapChunkEntries = 4096;
 constexpr std::size_t kSnapshotChunkRows = 16;
+constexpr std::size_t kWritebackRows = 16 * kSignalChunkRows;
 
 // The unit of every dataset the writer makes.
 constexpr std::pair<const char*, const char*> kUnits[] = {
@@ -232,6 +233,9 @@ void Hdf5Writer::begin(const RunLayout& layout) {
 void Hdf5Writer::observation(double t, std::span<const double> u) {
     file_->time.append(t);
     file_->displacement.append(u);
+    // Every few chunks of rows (about 3 MB at audio rates), writeback of what HDF5 has
+    // written so far, overlapping the run.
+    if (file_->time.rows() % kWritebackRows == 0) hdf5::start_writeback(file_->file.get());
 }
 
 void Hdf5Writer::observation_y(double, std::span<const double> y) { file_->displacement_y.append(y); }
@@ -295,6 +299,7 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     // disk shows here, and a file left half-open would make HDF5's own shutdown crash.
     const std::string name = path_.string();
     flush_file(f.file.get(), name);
+    start_writeback(f.file.get());
     for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
                               &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
                               &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,

@@ -205,7 +205,10 @@ void RunLoop::report_observation() {
         for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
         for (RunObserver* o : observers_) o->observation_y(stepper_.time(), y_);
     }
-    for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
+    if (step_u_at_ == n_)
+        u_ = step_u_;  // at an output rate equal to fs, the per-step products of this very step
+    else
+        for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
     const double force = stepper_.displacement(bridge_);
     for (RunObserver* o : observers_) o->bridge_force(stepper_.time(), force);
@@ -217,6 +220,7 @@ void RunLoop::report_step() {
         for (RunObserver* o : per_step_) o->every_step_y(y_);
     }
     for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
+    step_u_at_ = n_;
     for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
     for (RunObserver* o : per_step_) o->every_step(step_u_, step_v_);
 }

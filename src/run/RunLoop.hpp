@@ -67,6 +67,7 @@ private:
     std::vector<SnapshotTap> snapshot_taps_;
     std::vector<double> grid_x_, grid_u_;
     std::vector<double> u_, step_u_, step_v_, flight_u_, flight_v_;
+    long step_u_at_ = -1;  // the step whose probe products step_u_ holds (an output row reuses them)
 
     std::optional<FreeFlight> flight_;
     std::size_t head_ = 0;  // modes stepped one by one during free flight
