@@ -32,13 +32,13 @@ CsvFile::CsvFile(const std::filesystem::path& path, const std::string& header, s
     if (fd_ < 0) write_failure(path_, errno);
     try {
         write_all(header.data(), header.size());
+        filling_.reserve(block_values_);
+        pending_.reserve(block_values_);
+        thread_ = std::thread([this] { work(); });
     } catch (...) {
         ::close(fd_);
         throw;
     }
-    filling_.reserve(block_values_);
-    pending_.reserve(block_values_);
-    thread_ = std::thread([this] { work(); });
 }
 
 CsvFile::~CsvFile() {
