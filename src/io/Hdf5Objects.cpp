@@ -209,15 +209,23 @@ void GrowingDataset::append(std::span<const double> row) {
 void GrowingDataset::flush() {
     const std::size_t rows = pending_rows();
     if (rows == 0) return;
+    // Writes of rows can fail on a full disk: the message names the file (looked up only then).
+    const auto checked = [this](herr_t status, const char* what) {
+        if (status >= 0) return;
+        const ssize_t size = H5Fget_name(dataset_.get(), nullptr, 0);
+        std::string file(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
+        if (size > 0) H5Fget_name(dataset_.get(), file.data(), file.size() + 1);
+        throw std::runtime_error("cannot write " + file + ": HDF5 could not " + what);
+    };
     const int rank = width_ == 0 ? 1 : 2;
     const auto rank_size = static_cast<std::size_t>(rank);
     const hsize_t new_dims[] = {written_ + rows, width_};
-    check_status(H5Dset_extent(dataset_.get(), new_dims), "extend a dataset");
+    checked(H5Dset_extent(dataset_.get(), new_dims), "extend a dataset");
     if (direct_ && rows == chunk_rows_ && written_ % chunk_rows_ == 0) {
         const hsize_t offset[] = {written_, 0};
-        check_status(H5Dwrite_chunk(dataset_.get(), transfer_properties(), 0, offset, buffer_.size() * sizeof(double),
-                                    buffer_.data()),
-                     "write a chunk of a dataset");
+        checked(H5Dwrite_chunk(dataset_.get(), transfer_properties(), 0, offset, buffer_.size() * sizeof(double),
+                               buffer_.data()),
+                "write a chunk of a dataset");
         written_ += rows;
         buffer_.clear();
         return;
@@ -225,12 +233,12 @@ void GrowingDataset::flush() {
     const Handle file_space(H5Dget_space(dataset_.get()), H5Sclose, "get a dataset's space");
     const hsize_t start[] = {written_, 0};
     const hsize_t count[] = {rows, width_};
-    check_status(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
-                 "select rows of a dataset");
+    checked(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+            "select rows of a dataset");
     const Handle memory_space = simple_space(std::span(count, rank_size));
-    check_status(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), transfer_properties(),
-                          buffer_.data()),
-                 "write rows of a dataset");
+    checked(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), transfer_properties(),
+                     buffer_.data()),
+            "write rows of a dataset");
     written_ += rows;
     buffer_.clear();
 }
