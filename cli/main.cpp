@@ -1,8 +1,6 @@
 // The fretbuzz command: a thin layer that parses arguments and calls the library.
 // Exit status: 0 success, 2 bad input (command line or case), 1 an I/O failure (a full
 // disk, an unreadable output), 3 a numerical failure, 128 + the signal when interrupted.
-#include <malloc.h>
-
 #include <csignal>
 #include <iostream>
 #include <string>
@@ -33,11 +31,6 @@ const std::string& command_line() { return invocation; }
 
 int main(int argc, char** argv) {
     using namespace fretbuzz;
-    // The output writers allocate and free blocks of a few hundred KiB at a high rate
-    // (zlib's state for every compressed chunk, HDF5's chunk buffers): keep freed memory
-    // for reuse rather than give it back and fault it in again each time.
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);
-    mallopt(M_TRIM_THRESHOLD, 128 << 20);
     for (int k = 0; k < argc; ++k) cli::invocation.append(k > 0 ? " " : "").append(argv[k]);
     CLI::App app{"fretbuzz: strings vibrating against obstacles (modal scheme, exact energy balance)"};
     app.require_subcommand(1);
