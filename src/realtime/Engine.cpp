@@ -6,6 +6,7 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
 
 #if defined(__x86_64__) || defined(__SSE2__)
 #include <xmmintrin.h>
@@ -92,6 +93,12 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
     orientation_ = case_.contact_orientation();
     plan_ = std::make_unique<Plan>(case_, 1.0 / internal_rate_hz());
     plan_->prepare_rows();
+    // The rows of every pad the finger may take (a row is built the first time it is used).
+    std::vector<std::size_t> pad;
+    for (const auto& [centre, width] : fret_pads_) {
+        pad_points(centre, width, case_.grid_step(), case_.mode_count(), pad);
+        for (std::size_t i : pad) plan_->basis().row(i);
+    }
     stepper_ = std::make_unique<Stepper>(*plan_, oriented(case_.initial_displacement, orientation_, options.start_from_case),
                                          oriented(case_.initial_velocity, orientation_, options.start_from_case));
     stepper_->step();  // the first step is special (exact free motion); from here on, the scheme
