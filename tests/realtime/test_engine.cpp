@@ -294,6 +294,21 @@ TEST(StoppedString, FretTwelveSoundsAnOctaveHigher) {
     EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m[0]));
 }
 
+TEST(StoppedString, KeepsEveryFretOnACoarserGrid) {
+    // With half the modes the grid step doubles: a fret one open grid step wide would fall
+    // between points. Each fret keeps its top, at the point nearest to it.
+    const Case open = load_case("bass-pluck");
+    const Case coarse = stopped_string(open, 0.0, open.mode_count() / 2);
+    ASSERT_EQ(coarse.fret_positions_m.size(), open.fret_positions_m.size());
+    for (std::size_t k = 0; k < open.fret_positions_m.size(); ++k) {
+        EXPECT_NEAR(coarse.fret_positions_m[k], open.fret_positions_m[k], 0.5 * coarse.grid_step()) << k;
+        const auto at = [](const Case& c, double x) {
+            return c.obstacle_height_m[static_cast<std::size_t>(std::lround(x / c.grid_step())) - 1];
+        };
+        EXPECT_EQ(at(coarse, coarse.fret_positions_m[k]), at(open, open.fret_positions_m[k])) << k;
+    }
+}
+
 TEST(StoppedString, SitarIsStoppedAtTheFarEndAndKeepsItsBridge) {
     const Case open = load_case("sitar");  // the bridge lies at x in [0, 25 mm]
     ASSERT_TRUE(stops_at_far_end(open));

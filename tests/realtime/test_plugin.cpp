@@ -139,12 +139,20 @@ TEST(Lv2Plugin, NoteSoundsAtItsPitchAndNoteOffMutesIt) {
     const double rate = 48000.0;
     PluginHost host("urn:fretbuzz:guitar", rate);
     ASSERT_TRUE(host.ready());
-    const fretbuzz::Case open = fretbuzz::load_case("guitar-point");
+    const fretbuzz::Case open = fretbuzz::load_case("guitar-neck");
+    // The plugin's string as it runs it (4x oversampling): its own fundamental and fret.
+    fretbuzz::EngineOptions options;
+    options.host_rate_hz = rate;
+    options.max_oversampling = 4;
+    const fretbuzz::Engine engine(open, options);
     const int fret = 5;
     const auto note = static_cast<unsigned char>(fretbuzz::open_string_note(open) + fret);
-    const double expected = open.modes.frequency_hz.front() * std::exp2(fret / 12.0);
-    // The obstacle (a point level with the string at mid-length) lowered 2 mm: no contact, so
-    // the pitch is the stopped string's own. (Touching it raises the pitch: that is the buzz.)
+    const double length = engine.length_m();
+    const double expected =
+        engine.voice_case().modes.frequency_hz.front() * length / (length - engine.fret_position_m(fret));
+    // The neck lowered 2 mm: the finger presses the string onto fret 5 and the string rings
+    // clear of the frets beyond it, so the pitch is the stopped string's own (touching them
+    // raises it: that is the buzz).
     host.control(4) = -2.0f;
     const long before = fretbuzz::testing::allocations();
     std::vector<float> out;
@@ -160,10 +168,6 @@ TEST(Lv2Plugin, NoteSoundsAtItsPitchAndNoteOffMutesIt) {
     EXPECT_GT(held, 1e-4);
     EXPECT_LT(rms(out, 60000, 72000), 1e-3 * held);
     // The host is told the decimation filter's delay (whole frames): the guitar runs at 4x.
-    fretbuzz::EngineOptions options;
-    options.host_rate_hz = rate;
-    options.max_oversampling = 4;
-    const fretbuzz::Engine engine(open, options);
     EXPECT_GT(engine.latency_samples(), 0.0);
     EXPECT_EQ(host.latency(), std::round(engine.latency_samples()));
 }
