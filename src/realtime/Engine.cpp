@@ -161,7 +161,8 @@ bool Engine::finger_down(int fret) {
         finger_up();
         return true;
     }
-    const auto [centre, width] = fret_pads_[static_cast<std::size_t>(k - 1)];
+    const double centre = fret_pads_[static_cast<std::size_t>(k - 1)][0];
+    const double width = fret_pads_[static_cast<std::size_t>(k - 1)][1];
     bool placed = false;
     change([&] {
         placed = stepper_->place_finger(finger_, centre, width);
