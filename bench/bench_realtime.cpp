@@ -3,7 +3,11 @@
 // of 256 samples, struck at the start of every iteration, one thread; times are the thread's
 // CPU time (the machine is shared: wall time would count other processes). Side by side:
 // the engine as shipped (free flight between contacts) and the same engine stepping every
-// mode every step (the straightforward path). Counters (medians over the repetitions):
+// mode every step (the straightforward path). Fretted notes are played with the engine's
+// finger (one engine per string, the finger pressed behind the fret before every strike);
+// beside them, the former stand-in: an engine per fret on the string stopped at that fret
+// (StoppedString, no finger), the cost of the same notes without the finger's solve.
+// Counters (medians over the repetitions):
 //   x_realtime      audio seconds per CPU second
 //   worst_block_pct the longest single 256-sample block (CPU time), in % of its 5.33 ms
 #include <benchmark/benchmark.h>
@@ -30,6 +34,8 @@ struct Voice {
     double pluck;  // fraction of the sounding length
 };
 
+enum class Fretting { finger, stopped_string };
+
 // CPU time of this thread: on a shared machine, wall time also counts other processes' turns.
 double thread_seconds() {
     timespec t{};
@@ -37,25 +43,33 @@ double thread_seconds() {
     return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-std::unique_ptr<Engine> make_voice(const Voice& v, bool free_flight, int max_oversampling) {
+std::unique_ptr<Engine> make_voice(const Voice& v, bool free_flight, int max_oversampling, Fretting fretting) {
     const Case open = load_case(v.name);
     EngineOptions o;
     o.host_rate_hz = kRate;
     o.free_flight = free_flight;
     o.max_oversampling = max_oversampling;
-    const Case c = v.fret == 0 ? open : stopped_string(open, fret_position(open.string.length_m, v.fret), open.mode_count());
-    return std::make_unique<Engine>(c, o);
+    if (v.fret == 0 || fretting == Fretting::finger) return std::make_unique<Engine>(open, o);
+    return std::make_unique<Engine>(stopped_string(open, open.fret_positions_m.at(static_cast<std::size_t>(v.fret) - 1),
+                                                   open.mode_count()),
+                                    o);
 }
 
-void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight, int max_oversampling) {
+void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight, int max_oversampling,
+            Fretting fretting) {
     std::vector<std::unique_ptr<Engine>> engines;
-    for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight, max_oversampling));
+    for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight, max_oversampling, fretting));
     std::vector<float> block(kBlock);
     const long blocks = static_cast<long>(kRate) / static_cast<long>(kBlock);
     double worst = 0.0;
     for (auto _ : state) {
-        for (std::size_t i = 0; i < engines.size(); ++i)
-            engines[i]->strike({voices[i].pluck * engines[i]->length_m(), 1.0, 0.01, false});
+        for (std::size_t i = 0; i < engines.size(); ++i) {
+            Engine& e = *engines[i];
+            const bool finger = fretting == Fretting::finger && voices[i].fret > 0;
+            if (finger) e.finger_down(voices[i].fret);
+            const double stop = finger ? e.fret_position_m(voices[i].fret) : 0.0;
+            e.strike({stop + voices[i].pluck * (e.length_m() - stop), 1.0, 0.01, false});
+        }
         for (long b = 0; b < blocks; ++b) {
             const double t0 = thread_seconds();
             for (auto& e : engines) e->process(block);
@@ -73,8 +87,9 @@ void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight
 }
 
 void register_all() {
-    const std::vector<Voice> chord = {{"guitar-point", 0, 0.8}, {"guitar-point", 2, 0.8}, {"guitar-point", 2, 0.8},
-                                      {"guitar-point", 1, 0.8}, {"guitar-point", 0, 0.8}, {"guitar-point", 3, 0.8}};
+    // Six strings of the guitar-neck case (its low E, with frets), fingered as an open C chord.
+    const std::vector<Voice> chord = {{"guitar-neck", 0, 0.8}, {"guitar-neck", 3, 0.8}, {"guitar-neck", 2, 0.8},
+                                      {"guitar-neck", 0, 0.8}, {"guitar-neck", 1, 0.8}, {"guitar-neck", 0, 0.8}};
     // The default (at most 8x oversampling), and at most 4x: fewer modes (those below 86 kHz
     // at 48 kHz) at half the rate, the trade a host with many voices may prefer.
     const struct {
@@ -85,6 +100,7 @@ void register_all() {
         {"tanpura", {{"tanpura", 0, 0.3}}, 8},
         {"sitar", {{"sitar", 0, 0.3}}, 8},
         {"bass_fret5", {{"bass-pluck", 5, 0.8}}, 8},
+        {"bass_fret5_M4", {{"bass-pluck", 5, 0.8}}, 4},
         {"guitar_chord_6_voices", chord, 8},
         {"tanpura_M4", {{"tanpura", 0, 0.3}}, 4},
         {"sitar_M4", {{"sitar", 0, 0.3}}, 4},
@@ -95,16 +111,22 @@ void register_all() {
         {"sitar_M2", {{"sitar", 0, 0.3}}, 2},
         {"guitar_chord_6_voices_M2", chord, 2},
     };
-    for (const auto& s : sets)
+    const auto add = [](const std::string& name, const std::vector<Voice>& voices, bool flight, int m, Fretting f) {
+        benchmark::RegisterBenchmark(name.c_str(), [voices, flight, m, f](benchmark::State& st) {
+            render(st, voices, flight, m, f);
+        })
+            ->Unit(benchmark::kMillisecond)
+            ->Repetitions(5)
+            ->ReportAggregatesOnly(true)
+            ->Iterations(1);
+    };
+    for (const auto& s : sets) {
+        const bool fretted = std::any_of(s.voices.begin(), s.voices.end(), [](const Voice& v) { return v.fret > 0; });
         for (const bool flight : {true, false})
-            benchmark::RegisterBenchmark((std::string(s.label) + (flight ? "/engine" : "/step_every_mode")).c_str(),
-                                         [voices = s.voices, flight, m = s.max_oversampling](benchmark::State& st) {
-                                             render(st, voices, flight, m);
-                                         })
-                ->Unit(benchmark::kMillisecond)
-                ->Repetitions(5)
-                ->ReportAggregatesOnly(true)
-                ->Iterations(1);
+            add(std::string(s.label) + (flight ? "/engine" : "/step_every_mode"), s.voices, flight, s.max_oversampling,
+                Fretting::finger);
+        if (fretted) add(std::string(s.label) + "/stopped_string", s.voices, true, s.max_oversampling, Fretting::stopped_string);
+    }
 }
 
 }  // namespace

@@ -272,7 +272,9 @@ std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
     return frets;
 }
 
-void Case::add_fret_finger(std::size_t k, const std::string& key) {
+void Case::add_fret_finger(std::size_t k, const std::string& key) { fingers.push_back(fret_finger(k, key)); }
+
+FingerSpec Case::fret_finger(std::size_t k, const std::string& key) const {
     if (fret_positions_m.empty())
         throw InputError(key + " = " + std::to_string(k) +
                          ": this case has no frets (its obstacle has no fret standing out of the fingerboard); "
@@ -290,7 +292,7 @@ void Case::add_fret_finger(std::size_t k, const std::string& key) {
     f.position_m = fret - 0.15 * spacing - 0.5 * f.width_m;
     f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), 5.0}};
     f.default_force = true;
-    fingers.push_back(std::move(f));
+    return f;
 }
 
 void Case::validate() const {

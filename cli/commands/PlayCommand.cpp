@@ -1,5 +1,6 @@
 // `fretbuzz play CASE --notes FILE.toml|--midi FILE.mid --out out.wav`: a performance rendered
 // offline through the real-time engine, block by block as a plugin host would.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -36,7 +37,8 @@ int play(const PlayArguments& a) {
     if (a.open_note > 127) throw InputError(out_of_range_message("--open-note", a.open_note, "0 to 127"));
     const Case c = load_case(a.case_name);
     const int open_note = a.open_note >= 0 ? a.open_note : open_string_note(c);
-    const Performance p = a.notes.empty() ? load_midi(a.midi, open_note) : load_note_list(a.notes);
+    const int frets = std::min(kMaxFret, static_cast<int>(c.fret_positions_m.size()));
+    const Performance p = a.notes.empty() ? load_midi(a.midi, open_note, frets) : load_note_list(a.notes);
     for (const std::string& w : p.warnings) std::fprintf(stderr, "fretbuzz: warning: %s\n", w.c_str());
     EngineOptions options;
     options.host_rate_hz = a.rate;
@@ -44,12 +46,11 @@ int play(const PlayArguments& a) {
     options.max_oversampling = a.max_oversampling;
     RenderedPerformance r = render_performance(c, p, options, a.block);
     const double seconds = static_cast<double>(r.audio.size()) / a.rate;
-    for (const auto& v : r.voices) {
-        std::printf("fret %2d: %zu modes at %d x %.0f Hz, latency %.1f samples (%.3f ms, the decimation filter's delay)\n",
-                    v.fret, v.modes, v.oversampling, a.rate, v.latency_samples, 1e3 * v.latency_samples / a.rate);
-        if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: the energy guard silenced the voice %ld times\n", v.fret, v.resets);
-        if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: %ld values clamped into range\n", v.fret, v.clamped);
-    }
+    const RenderedPerformance::Voice& v = r.voice;
+    std::printf("%s: %zu modes at %d x %.0f Hz, %d frets, latency %.1f samples (%.3f ms, the decimation filter's delay)\n",
+                c.name.c_str(), v.modes, v.oversampling, a.rate, v.frets, v.latency_samples, 1e3 * v.latency_samples / a.rate);
+    if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: the energy guard silenced the string %ld times\n", v.resets);
+    if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: %ld values clamped into range\n", v.clamped);
     write_normalised_audio(a.out, std::move(r.audio), a.rate, a.bits);
     std::printf("%s: %.2f s of audio, %zu notes, rendered in %.2f s (%.1f x real time)\n", a.out.c_str(), seconds,
                 p.notes.size(), r.wall_seconds, seconds / r.wall_seconds);

@@ -152,6 +152,8 @@ struct Case {
     // Adds a finger with the default parameters just behind fret k (1-based); `key` names the
     // setting in messages ("fret", "--fret"). Throws InputError on a case without that fret.
     void add_fret_finger(std::size_t k, const std::string& key);
+    // That finger, without adding it (a real-time engine places it at run time).
+    FingerSpec fret_finger(std::size_t k, const std::string& key) const;
     // Checks every field; throws InputError naming the first bad one.
     void validate() const;
 

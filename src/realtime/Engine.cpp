@@ -6,6 +6,7 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/scheme/TimeProfile.hpp"
 
 #if defined(__x86_64__) || defined(__SSE2__)
 #include <xmmintrin.h>
@@ -88,13 +89,21 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
     factor_ = rate.factor;
     case_ = rate.modes == c.mode_count() ? c : stopped_string(c, 0.0, rate.modes);
     case_.run.sample_rate_hz = internal_rate_hz();
+    add_finger_room();
     orientation_ = case_.contact_orientation();
     plan_ = std::make_unique<Plan>(case_, 1.0 / internal_rate_hz());
     plan_->prepare_rows();
+    // The rows of every pad the finger may take (a row is built the first time it is used).
+    std::vector<std::size_t> pad;
+    for (const auto& [centre, width] : fret_pads_) {
+        pad_points(centre, width, case_.grid_step(), case_.mode_count(), pad);
+        for (std::size_t i : pad) plan_->basis().row(i);
+    }
     stepper_ = std::make_unique<Stepper>(*plan_, oriented(case_.initial_displacement, orientation_, options.start_from_case),
                                          oriented(case_.initial_velocity, orientation_, options.start_from_case));
     stepper_->step();  // the first step is special (exact free motion); from here on, the scheme
-    injected_ = energy() + dissipated();
+    if (finger_ != kNoFinger) stepper_->lift_finger(finger_);  // off the string until a note
+    injected_ = ledger();
     peak_ = injected_;
 
     const std::size_t n = case_.mode_count();
@@ -114,6 +123,72 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
     zero_.assign(n, 0.0);
     base_sigma_ = case_.modes.sigma_per_s;
     sigma_ = base_sigma_;
+}
+
+void Engine::add_finger_room() {
+    // One finger, the default of `fret = k`: its pad for every fret is known now, and the
+    // stepper is given the finger (lifted right after the first step) so that its room exists
+    // before any note. Its pad is as wide as any fret's, so moving it allocates nothing.
+    if (case_.fret_positions_m.empty()) return;
+    const std::size_t frets = case_.fret_positions_m.size();
+    FingerSpec spare = case_.fret_finger(1, "the engine's finger: fret");
+    for (std::size_t k = 1; k <= frets; ++k) {
+        const FingerSpec f = case_.fret_finger(k, "fret");
+        fret_pads_.push_back({f.position_m, f.width_m});
+        spare.width_m = std::max(spare.width_m, f.width_m);
+    }
+    // The pressing force of `fret = k`: a ramp from 0 to its last value.
+    finger_force_ = spare.force_profile.back()[1];
+    finger_ramp_steps_ = std::max(1L, std::lround(spare.force_profile.back()[0] * internal_rate_hz()));
+    spare.force_profile.clear();
+    spare.default_force = false;
+    finger_ = case_.fingers.size();
+    case_.fingers.push_back(std::move(spare));
+}
+
+double Engine::fret_position_m(int fret) const {
+    if (fret <= 0 || fret > fret_count()) return 0.0;
+    return case_.fret_positions_m[static_cast<std::size_t>(fret - 1)];
+}
+
+bool Engine::finger_down(int fret) {
+    if (finger_ == kNoFinger) {
+        ++health_.clamped;
+        return false;
+    }
+    const int k = static_cast<int>(clamp(fret, 0.0, fret_count()));
+    if (k == 0) {
+        finger_up();
+        return true;
+    }
+    const double centre = fret_pads_[static_cast<std::size_t>(k - 1)][0];
+    const double width = fret_pads_[static_cast<std::size_t>(k - 1)][1];
+    bool placed = false;
+    change([&] {
+        placed = stepper_->place_finger(finger_, centre, width);
+        if (placed) stepper_->press_finger(finger_, finger_force_, finger_ramp_steps_);
+    });
+    fret_ = placed ? k : 0;
+    lifting_ = false;
+    return placed;
+}
+
+void Engine::finger_up() {
+    if (finger_ == kNoFinger || !stepper_->finger_on(finger_) || lifting_) return;
+    stepper_->press_finger(finger_, 0.0, finger_ramp_steps_);  // changes no energy now
+    lifting_ = true;
+    lifted_at_ = stepper_->step_index() + finger_ramp_steps_;
+    fret_ = 0;
+}
+
+void Engine::retire_lifted_finger() {
+    // Once its force is gone and it has left the string, the finger stops being stepped: the
+    // open string may fly again. Its kinetic energy leaves with it (counted).
+    if (!lifting_ || stepper_->step_index() < lifted_at_) return;
+    const Finger& finger = stepper_->fingers()[finger_];
+    if (finger.acted() || finger.contact_energy() != 0.0) return;
+    lifting_ = false;
+    change([&] { stepper_->lift_finger(finger_); });
 }
 
 double Engine::clamp(double value, double low, double high) {
@@ -149,6 +224,7 @@ void Engine::process(std::span<float> out) {
         silence();
         return;
     }
+    retire_lifted_finger();
     guard();
 }
 
@@ -174,23 +250,27 @@ void Engine::render_host_sample() {
 
 template <class Change>
 void Engine::change(Change&& f) {
-    const double before = energy() + dissipated();
+    const double before = ledger();
     f();
-    injected_ += energy() + dissipated() - before;
+    injected_ += ledger() - before;
     guard();
 }
 
 void Engine::guard() {
-    const double total = energy() + dissipated();
-    if (std::isfinite(total) && total <= injected_ + kGuardTolerance * std::max(std::abs(injected_), peak_)) return;
+    const double total = ledger();
+    const double scale = std::max({std::abs(injected_), peak_, std::abs(work())});
+    if (std::isfinite(total) && total <= injected_ + kGuardTolerance * scale) return;
     ++health_.resets;
     silence();
 }
 
 void Engine::silence() {
+    if (finger_ != kNoFinger) stepper_->lift_finger(finger_);
+    fret_ = 0;
+    lifting_ = false;
     stepper_->silence();
     decimator_.reset();
-    injected_ = energy() + dissipated();
+    injected_ = ledger();
 }
 
 void Engine::strike(const Strike& s) {

@@ -12,7 +12,6 @@
 
 #include "../io/TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 
 namespace fretbuzz {
 
@@ -64,7 +63,7 @@ int open_string_note(const Case& c) {
     return static_cast<int>(std::lround(69.0 + 12.0 * std::log2(c.modes.frequency_hz.front() / 440.0)));
 }
 
-Performance load_midi(const std::filesystem::path& path, int open_note) {
+Performance load_midi(const std::filesystem::path& path, int open_note, int max_fret) {
     smf_t* smf = smf_load(path.c_str());
     if (smf == nullptr) throw InputError("--midi: " + path.string() + " is not a readable standard MIDI file");
     Performance p;
@@ -84,7 +83,7 @@ Performance load_midi(const std::filesystem::path& path, int open_note) {
             const auto it = sounding.find(key);
             if (it == sounding.end()) continue;
             const int fret = (key & 0x7F) - open_note;
-            if (fret < 0 || fret > kMaxFret) {
+            if (fret < 0 || fret > max_fret) {
                 ++skipped;
             } else {
                 PlayedNote note;
@@ -100,7 +99,7 @@ Performance load_midi(const std::filesystem::path& path, int open_note) {
     smf_delete(smf);
     if (skipped > 0)
         p.warnings.push_back(std::to_string(skipped) + " MIDI notes outside the string's range (MIDI " +
-                             std::to_string(open_note) + " to " + std::to_string(open_note + kMaxFret) + ") skipped");
+                             std::to_string(open_note) + " to " + std::to_string(open_note + max_fret) + ") skipped");
     if (p.notes.empty()) throw InputError("--midi: " + path.string() + " holds no note the string can play");
     std::sort(p.notes.begin(), p.notes.end(), [](const auto& a, const auto& b) { return a.time_s < b.time_s; });
     return p;
@@ -110,16 +109,15 @@ RenderedPerformance render_performance(const Case& open, const Performance& p, c
                                        std::size_t block) {
     const auto start = std::chrono::steady_clock::now();
     const double rate = options.host_rate_hz;
-    // One voice per fret, prepared before anything sounds.
-    std::map<int, std::unique_ptr<Engine>> voices;
-    for (const PlayedNote& n : p.notes) {
-        if (voices.contains(n.fret)) continue;
-        const Case c = n.fret == 0 ? open
-                                   : stopped_string(open, fret_position(open.string.length_m, n.fret), open.mode_count());
-        EngineOptions o = options;
-        if (p.pickup > 0.0) o.pickup_m = p.pickup * c.string.length_m;
-        voices.emplace(n.fret, std::make_unique<Engine>(c, o));
-    }
+    // One voice: the string, its finger moved from note to note.
+    EngineOptions o = options;
+    if (p.pickup > 0.0) o.pickup_m = p.pickup * open.string.length_m;
+    Engine voice(open, o);
+    for (const PlayedNote& n : p.notes)
+        if (n.fret > voice.fret_count())
+            throw InputError(out_of_range_message("note at t = " + std::to_string(n.time_s) + " s: fret", n.fret,
+                                                  "0 (the open string) to " + std::to_string(voice.fret_count()) +
+                                                      ", the frets of " + open.name));
     struct Event {
         long sample;
         bool on;
@@ -139,35 +137,36 @@ RenderedPerformance render_performance(const Case& open, const Performance& p, c
     RenderedPerformance out;
     out.audio.assign(static_cast<std::size_t>(total), 0.0);
     std::vector<float> buffer(block);
-    std::map<int, int> held;  // notes sounding per fret
+    const PlayedNote* sounding = nullptr;  // the note the string plays now (the last struck)
     long now = 0;
     std::size_t next = 0;
     while (now < total) {
         while (next < events.size() && events[next].sample <= now) {
             const Event& e = events[next++];
-            Engine& voice = *voices.at(e.note->fret);
-            int& count = held[e.note->fret];
             if (e.on) {
-                ++count;
+                // One string: a new note moves the finger (or lifts it for the open string) and plucks.
+                sounding = e.note;
                 voice.mute(false);
-                voice.strike({e.note->position * voice.length_m(), e.note->velocity * p.strength_m_per_s, p.width_m, false});
-            } else if (--count == 0) {
+                voice.finger_down(e.note->fret);
+                const double stop = voice.fret_position_m(e.note->fret);
+                voice.strike({stop + e.note->position * (voice.length_m() - stop),
+                              e.note->velocity * p.strength_m_per_s, p.width_m, false});
+            } else if (e.note == sounding) {
                 voice.mute(true);
+                voice.finger_up();
+                sounding = nullptr;
             }
         }
         const long until = next < events.size() ? std::min(total, events[next].sample) : total;
         const auto size = static_cast<std::size_t>(std::min<long>(until - now, static_cast<long>(block)));
         if (size == 0) continue;
         const std::span<float> view(buffer.data(), size);
-        for (auto& [fret, voice] : voices) {
-            voice->process(view);
-            for (std::size_t i = 0; i < size; ++i) out.audio[static_cast<std::size_t>(now) + i] += view[i];
-        }
+        voice.process(view);
+        for (std::size_t i = 0; i < size; ++i) out.audio[static_cast<std::size_t>(now) + i] = view[i];
         now += static_cast<long>(size);
     }
-    for (const auto& [fret, voice] : voices)
-        out.voices.push_back({fret, voice->oversampling(), voice->mode_count(), voice->health().resets,
-                              voice->health().clamped, voice->latency_samples()});
+    out.voice = {voice.fret_count(), voice.oversampling(), voice.mode_count(), voice.health().resets,
+                 voice.health().clamped, voice.latency_samples()};
     out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }

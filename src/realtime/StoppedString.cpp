@@ -88,11 +88,27 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
         if (!(stop_height > -kFarBelow)) stop_height = 0.0;
     }
     const double dx = sounding / static_cast<double>(n + 1);
+    // A fret one open grid step wide may fall between the points of a coarser grid: the point
+    // whose cell holds a fret takes the highest open height in its cell (the fret's top), and
+    // the fret moves to that point (at most dx / 2).
+    std::vector<double> frets;
+    for (double x : open.fret_positions_m)
+        if (x - stop_m >= 1.5 * dx_open) frets.push_back(x - stop_m);
+    const double toward = open.contact_orientation();
+    const auto top_of_cell = [&](double s) {
+        double best = open.obstacle_height_m[nearest(stop_m + s)];
+        for (std::size_t k = nearest(stop_m + s - 0.5 * dx); k <= nearest(stop_m + s + 0.5 * dx); ++k)
+            if (toward * open.obstacle_height_m[k] > toward * best) best = open.obstacle_height_m[k];
+        return best;
+    };
+    c.fret_positions_m.clear();
     c.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
     for (std::size_t i = 0; i < n; ++i) {
         const double s = static_cast<double>(i + 1) * dx;
         if (stop_m > 0.0 && s < 1.5 * dx_open) continue;  // the fret under the finger is the new nut
-        const double g = open.obstacle_height_m[nearest(stop_m + s)];
+        const bool fret = std::any_of(frets.begin(), frets.end(), [&](double x) { return x - s > -0.5 * dx && x - s <= 0.5 * dx; });
+        if (fret) c.fret_positions_m.push_back(s);
+        const double g = fret ? top_of_cell(s) : open.obstacle_height_m[nearest(stop_m + s)];
         if (std::isfinite(g)) c.obstacle_height_m[i] = g - stop_height * (1.0 - s / sounding);
     }
     c.observation_points_m.clear();

@@ -39,6 +39,11 @@ Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obs
     law_ = PenaltyContact(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
     for (std::size_t i : pad_) g_.push_back(obstacle[i]);
     const std::size_t n = pad_.size();
+    // Room for a pad of the same width anywhere on the grid (place() must not allocate).
+    const auto room = std::max(n, static_cast<std::size_t>(spec.width_m / dx) + 2);
+    for (auto* v : {&u_curr_, &u_prev_, &guess_, &c_, &rho_, &g_}) v->reserve(room);
+    pad_.reserve(room);
+    points_.reserve(room);
     u_curr_.assign(n, 0.0);
     u_prev_.assign(n, 0.0);
     guess_.assign(n, 0.0);
@@ -48,7 +53,43 @@ Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obs
 
 double Finger::pressing_force(double t) const { return pressing_.at(t); }
 
-double Finger::pressing_force_at_step(long n) const { return pressing_force(static_cast<double>(n) * dt_); }
+double Finger::pressing_force_at_step(long n) const {
+    if (!live_) return pressing_force(static_cast<double>(n) * dt_);
+    if (n >= ramp_end_) return ramp_to_;
+    if (n <= ramp_start_) return ramp_from_;
+    return ramp_from_ + (ramp_to_ - ramp_from_) * static_cast<double>(n - ramp_start_) /
+                            static_cast<double>(ramp_end_ - ramp_start_);
+}
+
+void Finger::place(double centre_m, double width_m, const std::vector<double>& obstacle) {
+    const double width = std::min(width_m, spec_.width_m);
+    pad_points(centre_m, width, dx_, obstacle.size(), pad_);
+    spec_.position_m = centre_m;
+    law_.set(spec_.stiffness / (static_cast<double>(pad_.size()) * dx_), spec_.exponent);
+    const std::size_t n = pad_.size();
+    for (auto* v : {&u_curr_, &u_prev_, &guess_, &c_, &rho_}) v->assign(n, 0.0);
+    read_obstacle(obstacle);
+}
+
+void Finger::read_obstacle(const std::vector<double>& obstacle) {
+    g_.clear();
+    for (std::size_t i : pad_) g_.push_back(obstacle[i]);
+}
+
+void Finger::press(double force_n, long from, long ramp_steps) {
+    ramp_from_ = pressing_force_at_step(from);
+    ramp_to_ = force_n;
+    ramp_start_ = from;
+    ramp_end_ = from + std::max(ramp_steps, 1L);
+    live_ = true;
+}
+
+void Finger::rest() {
+    z_ = dz_ = 0.0;
+    psi_curr_ = psi_prev_ = 0.0;
+    contact_force_ = 0.0;
+    touched_obstacle_ = false;
+}
 
 double Finger::energy() const {
     const double v = dz_ / dt_;

@@ -23,7 +23,10 @@ int monotone_root(Evaluate&& evaluate, double guess, int max_iterations) {
     double x = guess, lo = guess, hi = guess;
     (v.h > 0.0 ? lo : hi) = guess - v.h;  // slope >= 1: the root lies within |h| of the guess
     for (int it = 0; it < max_iterations; ++it) {
-        if (std::abs(v.h) <= 4.0 * eps * v.scale || hi - lo <= 2.0 * eps * std::max(std::abs(lo), std::abs(hi)))
+        // Round-off in h: its terms', and the slope times the rounding of x (a steep h can
+        // otherwise stay above the terms' round-off at every double next to the root).
+        if (std::abs(v.h) <= 4.0 * eps * (v.scale + v.slope * std::abs(x)) ||
+            hi - lo <= 2.0 * eps * std::max(std::abs(lo), std::abs(hi)))
             return it;
         double next = x - v.h / v.slope;
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);

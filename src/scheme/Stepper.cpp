@@ -32,10 +32,13 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
     rubbing_.reserve(q0.size());
+    pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
+    pad_f_.reserve(q0.size());
     for (const FingerSpec& spec : plan.fingers()) {
         fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                               plan.force_to_displacement());
         claim_pad(fingers_.back().pad(), spec.key);
+        finger_on_.push_back(1);
     }
     for (const ForceSpec& spec : plan.forces()) {
         gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
@@ -94,8 +97,40 @@ void Stepper::restart() {
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
+    for (std::size_t f = 0; f < fingers_.size(); ++f)
+        if (finger_on_[f] != 0) fingers_[f].read_obstacle(plan_.obstacle());
     classify_points(grid_, impulse_);
 }
+
+void Stepper::lift_finger(std::size_t f) {
+    if (finger_on_.at(f) == 0) return;
+    for (std::size_t i : fingers_[f].pad()) on_pad_[i] = 0;
+    pad_points_ -= fingers_[f].pad().size();
+    finger_on_[f] = 0;
+    fingers_[f].rest();
+    restart();  // its pad points go back to the obstacle's own solve
+}
+
+bool Stepper::place_finger(std::size_t f, double centre_m, double width_m) {
+    if (n_ == 0) throw std::logic_error("Stepper::place_finger: only after the first step");
+    lift_finger(f);
+    Finger& finger = fingers_[f];
+    finger.place(centre_m, width_m, plan_.obstacle());
+    for (std::size_t i : finger.pad())
+        if (on_pad_[i] != 0) return false;  // another part acts there: the finger stays off
+    for (std::size_t i : finger.pad()) on_pad_[i] = 1;
+    pad_points_ += finger.pad().size();
+    finger_on_[f] = 1;
+    restart();  // u^n in grid_, u^{n-1} in impulse_; the pad leaves the obstacle's solve
+    // The finger lands at rest on the highest pad point, as at the first step.
+    pad_values(finger.pad(), grid_);
+    pad_f_ = pad_w_;
+    pad_values(finger.pad(), impulse_);
+    finger.start(pad_w_, pad_f_);
+    return true;
+}
+
+void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) { fingers_.at(f).press(force_n, n_, ramp_steps); }
 
 void Stepper::classify_points(std::span<const double> u_now, std::span<const double> u_before) {
     const std::vector<double>& g = plan_.obstacle();
@@ -363,7 +398,8 @@ void Stepper::solve_fingers(bool use_transform) {
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
-    for (Finger& f : fingers_) solve(f);
+    for (std::size_t f = 0; f < fingers_.size(); ++f)
+        if (finger_on_[f] != 0) solve(fingers_[f]);
     for (ForceProfile& g : gestures_) solve(g);
     for (std::size_t p = 0; p < plucks_.size(); ++p) {
         if (plucker_on_[p] == 0) continue;
@@ -419,9 +455,12 @@ std::span<const std::pair<std::size_t, double>> Stepper::rubbing_points() {
     rubbing_.clear();
     for (const auto& [i, f] : forces_)
         if (on_pad_[i] == 0) rubbing_.emplace_back(i, f);
-    for (const Finger& finger : fingers_)
+    for (std::size_t k = 0; k < fingers_.size(); ++k) {
+        if (finger_on_[k] == 0) continue;
+        const Finger& finger = fingers_[k];
         for (std::size_t p = 0; p < finger.pad().size(); ++p)
             if (const double f = finger.normal_force(p); f > 0.0) rubbing_.emplace_back(finger.pad()[p], f);
+    }
     return rubbing_;
 }
 

@@ -20,6 +20,12 @@ double TimeProfile::at(double t) const {
 
 std::vector<std::size_t> pad_points(double centre, double width, double dx, std::size_t points) {
     std::vector<std::size_t> pad;
+    pad_points(centre, width, dx, points, pad);
+    return pad;
+}
+
+void pad_points(double centre, double width, double dx, std::size_t points, std::vector<std::size_t>& pad) {
+    pad.clear();
     const double half = 0.5 * width * (1.0 + 1e-12);
     for (std::size_t i = 0; i < points; ++i)
         if (std::abs(static_cast<double>(i + 1) * dx - centre) <= half) pad.push_back(i);
@@ -27,7 +33,6 @@ std::vector<std::size_t> pad_points(double centre, double width, double dx, std:
         const double nearest = std::clamp(std::round(centre / dx), 1.0, static_cast<double>(points));
         pad.push_back(static_cast<std::size_t>(nearest) - 1);
     }
-    return pad;
 }
 
 }  // namespace fretbuzz

@@ -50,10 +50,39 @@ TEST(RealtimeEngine, EqualsTheOfflineRunBeforeDecimation) {
         std::vector<double> live(static_cast<std::size_t>(steps));
         engine.render_internal(live);
         // The engine took the first step at set-up: its samples are steps 2, 3, ...
-        const std::vector<double> offline = offline_signal(engine.voice_case(), engine.internal_rate_hz(), steps + 1);
+        Case same = engine.voice_case();
+        if (engine.fret_count() > 0) same.fingers.pop_back();  // the engine's finger, lifted
+        const std::vector<double> offline = offline_signal(same, engine.internal_rate_hz(), steps + 1);
         const std::vector<double> reference(offline.begin() + 2, offline.begin() + 2 + steps);
         EXPECT_LT(relative_l2(live, reference), 1e-9);
     }
+}
+
+TEST(RealtimeEngine, FrettedNoteEqualsTheOfflineRunWithTheSameFinger) {
+    // finger_down(5) right after set-up (step 1) lands the finger as the offline run starts
+    // the same finger (at rest on the string at step 1) with its force ramped from then on.
+    const Case c = load_case("bass-pop");
+    EngineOptions o;
+    o.start_from_case = true;
+    o.free_flight = false;
+    o.oversampling = 8;  // 384 kHz
+    Engine engine(c, o);
+    ASSERT_TRUE(engine.finger_down(5));
+    const long steps = 20000;
+    std::vector<double> live(static_cast<std::size_t>(steps));
+    engine.render_internal(live);
+    Case offline_case = engine.voice_case();
+    offline_case.fingers.pop_back();  // the engine's own (lifted) finger ...
+    FingerSpec finger = offline_case.fret_finger(5, "fret");  // ... as `fret = 5` puts it
+    const double dt = 1.0 / engine.internal_rate_hz();
+    const double ramp = finger.force_profile.back()[0];
+    finger.force_profile = {{dt, 0.0}, {dt + ramp, finger.force_profile.back()[1]}};
+    finger.default_force = false;
+    offline_case.fingers.push_back(finger);
+    const std::vector<double> offline = offline_signal(offline_case, engine.internal_rate_hz(), steps + 1);
+    const std::vector<double> reference(offline.begin() + 2, offline.begin() + 2 + steps);
+    EXPECT_LT(relative_l2(live, reference), 1e-9);
+    EXPECT_GT(engine.work(), 0.0);  // the finger pressed
 }
 
 TEST(RealtimeEngine, ChoosesTheRateThatKeepsEveryModeBelowNyquist) {
@@ -160,6 +189,20 @@ TEST(RealtimeEngine, AudioPathNeverAllocates) {
         engine.process(block);
         engine.mute(false);
         engine.process(std::span<float>(block).first(7));
+        // Fingering: a note on fret 5, a new note on fret 7 (the finger moves), a lift, fret 1.
+        engine.finger_down(5);
+        engine.strike({0.7, 1.0, 0.01, false});
+        engine.process(std::span<float>(block).first(512));
+        engine.finger_down(7);
+        engine.process(std::span<float>(block).first(300));
+        engine.set_obstacle_offset(0.1e-3);
+        engine.finger_up();
+        engine.process(block);
+        engine.process(block);
+        engine.finger_down(1);
+        engine.process(std::span<float>(block).first(256));
+        engine.finger_down(0);
+        engine.process(std::span<float>(block).first(256));
     }
     EXPECT_EQ(testing::allocations() - before, 0);
 }
@@ -187,13 +230,15 @@ TEST(RealtimeEngine, FuzzedEventsStayFiniteAndNeverAllocate) {
                     if (r < 0.2) return low - (high - low) * unit(random) * 10.0;
                     return low + (high - low) * unit(random) * 1.2;
                 };
-                switch (static_cast<int>(unit(random) * 7.0)) {
+                switch (static_cast<int>(unit(random) * 9.0)) {
                     case 0: engine.strike({wild(0.0, 1.0), wild(-2.0, 2.0), wild(0.0, 0.05), unit(random) < 0.3}); break;
                     case 1: engine.mute(unit(random) < 0.5); break;
                     case 2: engine.set_damping_scale(wild(0.0, 5.0)); break;
                     case 3: engine.set_contact_law(std::pow(10.0, wild(6.0, 15.0)), wild(1.0, 3.0)); break;
                     case 4: engine.set_pickup(wild(0.0, 1.0)); break;
                     case 5: engine.set_obstacle_offset(wild(-1e-3, 1e-3)); break;
+                    case 6: engine.finger_down(static_cast<int>(unit(random) * 30.0) - 3); break;
+                    case 7: engine.finger_up(); break;
                     default: break;
                 }
                 const auto size = static_cast<std::size_t>(1 + unit(random) * 4095.0);
@@ -247,6 +292,21 @@ TEST(StoppedString, FretTwelveSoundsAnOctaveHigher) {
         if (std::isfinite(g)) highest = std::max(highest, g);
     EXPECT_LT(highest, 0.0);
     EXPECT_FALSE(std::isfinite(stopped.obstacle_height_m[0]));
+}
+
+TEST(StoppedString, KeepsEveryFretOnACoarserGrid) {
+    // With half the modes the grid step doubles: a fret one open grid step wide would fall
+    // between points. Each fret keeps its top, at the point nearest to it.
+    const Case open = load_case("bass-pluck");
+    const Case coarse = stopped_string(open, 0.0, open.mode_count() / 2);
+    ASSERT_EQ(coarse.fret_positions_m.size(), open.fret_positions_m.size());
+    for (std::size_t k = 0; k < open.fret_positions_m.size(); ++k) {
+        EXPECT_NEAR(coarse.fret_positions_m[k], open.fret_positions_m[k], 0.5 * coarse.grid_step()) << k;
+        const auto at = [](const Case& c, double x) {
+            return c.obstacle_height_m[static_cast<std::size_t>(std::lround(x / c.grid_step())) - 1];
+        };
+        EXPECT_EQ(at(coarse, coarse.fret_positions_m[k]), at(open, open.fret_positions_m[k])) << k;
+    }
 }
 
 TEST(StoppedString, SitarIsStoppedAtTheFarEndAndKeepsItsBridge) {

@@ -92,7 +92,9 @@ velocity = 0.50393700787401574
     }
     EXPECT_GT(norm, 0.0);
     EXPECT_LT(std::sqrt(diff / norm), 1e-6);
-    EXPECT_EQ(a.voices.size(), 2u);  // one prepared voice per fret played
+    // One string: the finger went down on fret 3, moved off for the open note, the guard never fired.
+    EXPECT_EQ(a.voice.frets, 20);
+    EXPECT_EQ(a.voice.resets, 0);
 
     const testing::CommandResult r = testing::run_cli("play bass-pluck --midi " + (dir / "riff.mid").string() + " --out " +
                                     (dir / "riff.wav").string());
@@ -112,6 +114,11 @@ TEST(Play, RefusesBadInputWithoutWritingAnything) {
     r = testing::run_cli("play sitar --notes " + (dir / "typo.toml").string() + " --out " + (dir / "x.wav").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("velocty"), std::string::npos) << r.output;
+    // The sitar case has a bridge and no frets: only its open string can be played.
+    std::ofstream(dir / "fretted.toml") << "[[note]]\ntime = 0.5\nfret = 2\n";
+    r = testing::run_cli("play sitar --notes " + (dir / "fretted.toml").string() + " --out " + (dir / "x.wav").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("fret = 2"), std::string::npos) << r.output;
     r = testing::run_cli("play sitar --out " + (dir / "x.wav").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.wav"));

@@ -9,10 +9,16 @@
 // signal by M through a band-limited FIR (Decimator). While no point can touch, it flies over
 // each host sample stepping only the modes below the host's Nyquist frequency (FreeFlight).
 //
+// On a case with frets a finger plays notes: the library's Finger (scheme/Finger.hpp, the
+// finger that `fret = k` puts on the string offline), placed just behind fret k and pressed
+// at run time, lifted again to let the open string ring.
+//
 // The audio path (process and every event) allocates nothing and takes no lock; denormals
 // are flushed to zero while it runs. The discrete energy is the guard: without input it can
-// only decrease, so if H + dissipated ever exceeds the energy put in (every pluck, and every
-// parameter change, counted), or a sample is not finite, the voice is silenced and counted.
+// only decrease, so if H + dissipated - W (W: the pressing force's work; dissipated counts the
+// finger's contact loss) ever exceeds the energy put in (every pluck, and every parameter
+// change, counted), or a sample is not finite, the voice is silenced and counted.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -77,6 +83,14 @@ public:
     void set_pickup(double x_m);           // in (0, L)
     // Raises the obstacle (frets, bridge) by `offset` metres toward the string: more buzz.
     void set_obstacle_offset(double offset_m);  // in [-5 mm, 1 mm]
+    // Fingering (fret_count() > 0): finger_down(k) lands the finger at rest on the string just
+    // behind fret k (where `fret = k` puts it) and ramps its pressing force up as `fret = k`
+    // does; a finger already down moves there (a new note). k = 0 lifts it; k outside
+    // [0, fret_count()] is clamped. finger_up ramps the force down over the same time: the
+    // string throws the finger off, and once it has left (checked after each block) it is taken
+    // off the string, which rings open again. False if the case has no frets.
+    bool finger_down(int fret);
+    void finger_up();
 
     int oversampling() const { return factor_; }
     // The output lags the string by the decimation filter's group delay: this many host
@@ -85,11 +99,20 @@ public:
     double latency_s() const { return latency_samples() / options_.host_rate_hz; }
     double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
     std::size_t mode_count() const { return case_.mode_count(); }
+    int fret_count() const { return static_cast<int>(fret_pads_.size()); }
+    int fret() const { return fret_; }  // the fret pressed; 0: none (open, or lifting)
+    bool finger_on_string() const { return finger_ != kNoFinger && stepper_->finger_on(finger_); }
+    // Where fret k stands (m from x = 0; 0: the nut), so that front ends pluck the sounding part.
+    double fret_position_m(int fret) const;
     const Case& voice_case() const { return case_; }
     double length_m() const { return case_.string.length_m; }
-    // Discrete energy H (J), energy dissipated by damping, and energy put in since set-up.
+    // Discrete energy H (J, the finger's included), energy dissipated (damping and the
+    // finger's contact loss), the pressing force's work, and the energy the events put in since
+    // set-up: H + dissipated - work = injected, to round-off.
     double energy() const { return stepper_->energy(); }
     double dissipated() const { return stepper_->dissipated(); }
+    double work() const { return stepper_->work(); }
+    double finger_loss() const { return stepper_->finger_loss(); }
     double injected() const { return injected_; }
     bool sounding() const;
     const EngineHealth& health() const { return health_; }
@@ -102,6 +125,10 @@ private:
     void apply_damping();
     void guard();
     void silence();
+    double ledger() const { return energy() + dissipated() - work(); }
+    void retire_lifted_finger();
+    void add_finger_room();
+    static constexpr std::size_t kNoFinger = static_cast<std::size_t>(-1);
     // Runs a change of state or plan, counting the energy it adds or removes as input.
     template <class Change>
     void change(Change&& f);
@@ -123,6 +150,13 @@ private:
     bool muted_ = false;
     double injected_ = 0.0;
     double peak_ = 0.0;  // largest energy after a strike: the scale of "silent"
+    std::size_t finger_ = kNoFinger;            // the engine's finger among the stepper's
+    std::vector<std::array<double, 2>> fret_pads_;  // per fret: pad centre and width (m)
+    double finger_force_ = 0.0;                 // N, once pressed
+    long finger_ramp_steps_ = 1;                // steps to press it or to let it go
+    int fret_ = 0;
+    bool lifting_ = false;
+    long lifted_at_ = 0;                        // the step its force reaches zero
     EngineHealth health_;
 };
 

@@ -53,6 +53,18 @@ public:
     double step(long n, std::span<const double> predicted, std::span<double> force);
 
     double pressing_force(double t) const;
+
+    // Run-time use (a real-time engine); none of these allocates.
+    // Moves the pad to the grid points within width/2 of centre_m (width at most the spec's: the
+    // pad's room is reserved for it) and reads the obstacle there again. start() must follow.
+    void place(double centre_m, double width_m, const std::vector<double>& obstacle);
+    // Reads the obstacle at the pad again (after its heights changed).
+    void read_obstacle(const std::vector<double>& obstacle);
+    // From step `from` on, the pressing force goes linearly from its value then to force_n over
+    // `ramp_steps` steps and stays there (the spec's profile no longer counts).
+    void press(double force_n, long from, long ramp_steps);
+    // Forgets the finger's motion and contact (off the string); its work and loss so far stay.
+    void rest();
     double height() const { return z_; }                     // z^n (solve orientation)
     double energy() const;                                   // kinetic + contact, (n-1, n)
     double contact_energy() const { return 0.5 * dx_ * (psi_curr_ + psi_prev_); }
@@ -96,6 +108,10 @@ private:
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     int max_iterations_ = 0;
     bool touched_obstacle_ = false;
+    // The run-time pressing force (press): a ramp over steps [ramp_start_, ramp_end_].
+    bool live_ = false;
+    long ramp_start_ = 0, ramp_end_ = 0;
+    double ramp_from_ = 0.0, ramp_to_ = 0.0;
 };
 
 }  // namespace fretbuzz

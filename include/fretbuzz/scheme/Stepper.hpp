@@ -67,6 +67,18 @@ public:
     void restart();
     // Puts the string at rest (q = d = 0), keeping the step count and the losses so far.
     void silence();
+    // Fingers at run time (a real-time engine), after the first step; none allocates, and the
+    // caller counts the energy each adds or removes (the finger's own, and the restart's).
+    // lift_finger: finger f leaves the string at once (its motion and contact are forgotten,
+    // its pad points go back to the obstacle's solve, it is no longer stepped).
+    void lift_finger(std::size_t f);
+    // place_finger: finger f (lifted first if it was on) lands at rest on the string with its
+    // pad centred at centre_m (width at most its spec's). False, and the finger stays off, if
+    // the pad would overlap another finger's or gesture's.
+    bool place_finger(std::size_t f, double centre_m, double width_m);
+    // press_finger: from this step on, its pressing force ramps to force_n over ramp_steps steps.
+    void press_finger(std::size_t f, double force_n, long ramp_steps);
+    bool finger_on(std::size_t f) const { return finger_on_.at(f) != 0; }
 
     long step_index() const { return n_; }
     double time() const { return static_cast<double>(n_) * plan_.dt(); }
@@ -135,6 +147,7 @@ private:
     std::vector<ForceProfile> gestures_;
     std::vector<Pluck> plucks_;
     std::vector<char> plucker_on_;        // per plucker: its pad is still claimed
+    std::vector<char> finger_on_;         // per finger: on the string (place_finger / lift_finger)
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad

@@ -19,5 +19,7 @@ private:
 // The grid points (x_i = (i + 1) dx, i < points) within width/2 of centre, or the nearest
 // one when none is: where a finger or a gesture acts.
 std::vector<std::size_t> pad_points(double centre, double width, double dx, std::size_t points);
+// The same into `pad` (cleared first: no allocation within its capacity).
+void pad_points(double centre, double width, double dx, std::size_t points, std::vector<std::size_t>& pad);
 
 }  // namespace fretbuzz
