@@ -1,10 +1,8 @@
 // The fretbuzz LV2 instrument: a thin shell over the real-time Engine. One string of a preset
-// (bass, guitar, sitar, tanpura), so one note at a time, as on a real string: MIDI note n puts
-// the engine's finger down behind fret n - (the open string's note) (the open note lifts it)
-// and plucks; velocity sets the pluck strength; the note-off of the note sounding mutes the
-// string and lifts the finger. Notes beyond the preset's frets are ignored (the sitar and the
-// tanpura presets have a bridge and no frets: they play their open string). run() allocates
-// nothing and takes no lock.
+// (bass, guitar, sitar, tanpura); MIDI note n plays fret n - (the open string's note), velocity
+// sets the pluck strength, note-off mutes. Each fret is a voice prepared at instantiation (the
+// string stopped at that fret: a stand-in for a modelled finger); at most kPolyphony notes
+// sound at once (the oldest is muted to make room). run() allocates nothing and takes no lock.
 #include <lv2/atom/atom.h>
 #include <lv2/atom/util.h>
 #include <lv2/core/lv2.h>
@@ -25,11 +23,14 @@
 #include "fretbuzz/io/CaseFile.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
+#include "fretbuzz/realtime/StoppedString.hpp"
 
 namespace {
 
 using namespace fretbuzz;
 
+constexpr int kPolyphony = 6;  // held notes at once
+constexpr int kFrets = kMaxFret + 1;
 constexpr std::size_t kChunk = 4096;
 constexpr double kFullStrength = 1.5;  // m/s at MIDI velocity 127
 
@@ -50,21 +51,26 @@ struct Preset {
     const char* case_name;
 };
 constexpr std::array<Preset, 4> kPresets = {{{"urn:fretbuzz:bass", "bass-pluck"},
-                                             {"urn:fretbuzz:guitar", "guitar-neck"},
+                                             {"urn:fretbuzz:guitar", "guitar-point"},
                                              {"urn:fretbuzz:sitar", "sitar"},
                                              {"urn:fretbuzz:tanpura", "tanpura"}}};
 
-struct Instrument {
-    std::unique_ptr<Engine> engine;           // the string
-    std::array<float, kPortCount> applied{};  // control values the engine last took
-    int held = -1;                            // the MIDI note sounding; -1: none held
+struct Voice {
+    std::unique_ptr<Engine> engine;
+    std::array<float, kPortCount> applied{};  // control values this voice last took
+    long started = -1;                        // note-on order; -1: not held
     bool active = false;                      // sounding (held or ringing out)
+};
+
+struct Instrument {
+    std::array<Voice, kFrets> voices;
     int open_note = 40;
+    long notes = 0;
     std::array<const float*, kPortCount> controls{};
     const LV2_Atom_Sequence* midi = nullptr;
     float* out = nullptr;
     float* latency = nullptr;      // the latency port, if the host connected it
-    float latency_samples = 0.0f;  // the engine's decimation delay
+    float latency_samples = 0.0f;  // the voices' decimation delay (the same for all)
     std::array<float, kPortCount> last{};  // raw values last seen, to warn once per change
     std::array<float, kChunk> scratch{};
     LV2_URID midi_event = 0;
@@ -82,41 +88,49 @@ struct Instrument {
         return value;
     }
 
-    void sync(const std::array<float, kPortCount>& now) {
-        Engine& e = *engine;
-        if (now[kPickup] != applied[kPickup]) e.set_pickup(now[kPickup] * e.length_m());
-        if (now[kBuzz] != applied[kBuzz]) e.set_obstacle_offset(now[kBuzz] * 1e-3);
-        if (now[kDamping] != applied[kDamping]) e.set_damping_scale(now[kDamping]);
-        applied = now;
+    void sync(Voice& v, const std::array<float, kPortCount>& now) {
+        Engine& e = *v.engine;
+        if (now[kPickup] != v.applied[kPickup]) e.set_pickup(now[kPickup] * e.length_m());
+        if (now[kBuzz] != v.applied[kBuzz]) e.set_obstacle_offset(now[kBuzz] * 1e-3);
+        if (now[kDamping] != v.applied[kDamping]) e.set_damping_scale(now[kDamping]);
+        v.applied = now;
     }
 
-    void note_on(int note, int velocity, const std::array<float, kPortCount>& now) {
-        const int fret = note - open_note;
-        if (fret < 0 || fret > engine->fret_count()) return;  // not on this string
-        sync(now);
-        Engine& e = *engine;
-        e.mute(false);
-        e.finger_down(fret);  // moves the finger from the last note's fret; 0 lifts it
-        const double stop = e.fret_position_m(fret);
-        e.strike({stop + now[kPluck] * (e.length_m() - stop), kFullStrength * velocity / 127.0, 0.01, false});
-        held = note;
-        active = true;
+    void note_on(int fret, int velocity, const std::array<float, kPortCount>& now) {
+        Voice& v = voices[static_cast<std::size_t>(fret)];
+        if (v.started < 0) {
+            // Room for one more: mute the oldest held note beyond the polyphony.
+            int held = 0;
+            Voice* oldest = nullptr;
+            for (Voice& o : voices)
+                if (o.started >= 0) {
+                    ++held;
+                    if (oldest == nullptr || o.started < oldest->started) oldest = &o;
+                }
+            if (held >= kPolyphony && oldest != nullptr) note_off(*oldest);
+        }
+        sync(v, now);
+        v.engine->mute(false);
+        v.engine->strike({now[kPluck] * v.engine->length_m(), kFullStrength * velocity / 127.0, 0.01, false});
+        v.started = notes++;
+        v.active = true;
     }
 
-    void note_off(int note) {
-        if (note != held) return;  // a later note took the string over
-        engine->mute(true);
-        engine->finger_up();
-        held = -1;
+    static void note_off(Voice& v) {
+        v.engine->mute(true);
+        v.started = -1;
     }
 
     void render(uint32_t from, uint32_t to) {
-        while (from < to && active) {
+        while (from < to) {
             const uint32_t n = std::min<uint32_t>(to - from, kChunk);
             const std::span<float> chunk(scratch.data(), n);
-            engine->process(chunk);
-            for (uint32_t i = 0; i < n; ++i) out[from + i] += chunk[i];
-            if (held < 0 && !engine->sounding()) active = false;
+            for (Voice& v : voices) {
+                if (!v.active) continue;
+                v.engine->process(chunk);
+                for (uint32_t i = 0; i < n; ++i) out[from + i] += chunk[i];
+                if (v.started < 0 && !v.engine->sounding()) v.active = false;
+            }
             from += n;
         }
     }
@@ -126,7 +140,8 @@ struct Instrument {
         std::fill(out, out + frames, 0.0f);
         std::array<float, kPortCount> now{};
         for (uint32_t p = kPluck; p < kPortCount; ++p) now[p] = control(p);
-        if (active) sync(now);
+        for (Voice& v : voices)
+            if (v.active) sync(v, now);
         uint32_t done = 0;
         LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
             if (ev->body.type != midi_event) continue;
@@ -135,10 +150,13 @@ struct Instrument {
             render(done, at);
             done = at;
             const uint8_t status = lv2_midi_message_type(msg);
+            const int fret = msg[1] - open_note;
+            if (fret < 0 || fret >= kFrets) continue;
+            Voice& v = voices[static_cast<std::size_t>(fret)];
             if (status == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0)
-                note_on(msg[1], msg[2], now);
-            else if (status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON)
-                note_off(msg[1]);
+                note_on(fret, msg[2], now);
+            else if ((status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON) && v.started >= 0)
+                note_off(v);
         }
         render(done, frames);
     }
@@ -165,13 +183,17 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
         EngineOptions options;
         options.host_rate_hz = rate;
         options.gain_per_m = 300.0;
-        // At most 4x oversampling: a host may run six of these (six strings) on one core
-        // (bench/bench_realtime.cpp, guitar_chord_6_voices_M4).
+        // At most 4x oversampling: six voices must keep up with the host (measured by
+        // bench/bench_realtime.cpp: 6 guitar voices 2.2x real time at 4x, 0.7x at 8x on one core).
         options.max_oversampling = 4;
-        instrument->engine = std::make_unique<Engine>(open, options);
-        instrument->applied = {0, 0, -1, -1, 0, 1};  // the engine's own pickup; buzz 0; damping 1
+        for (int k = 0; k < kFrets; ++k) {
+            const Case c = k == 0 ? open : stopped_string(open, fret_position(open.string.length_m, k), open.mode_count());
+            Voice& v = instrument->voices[static_cast<std::size_t>(k)];
+            v.engine = std::make_unique<Engine>(c, options);
+            v.applied = {0, 0, -1, -1, 0, 1};  // the engine's own pickup; buzz 0; damping 1
+        }
         // Whole frames, as hosts compensate them (the filter's delay is (length - 1) / 2M).
-        instrument->latency_samples = static_cast<float>(std::round(instrument->engine->latency_samples()));
+        instrument->latency_samples = static_cast<float>(std::round(instrument->voices[0].engine->latency_samples()));
     } catch (const std::exception& e) {
         lv2_log_error(&instrument->logger, "fretbuzz: cannot prepare %s: %s\n", descriptor->URI, e.what());
         return nullptr;
