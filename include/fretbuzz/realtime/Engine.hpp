@@ -84,6 +84,7 @@ public:
     double latency_samples() const { return decimator_.group_delay(); }
     double latency_s() const { return latency_samples() / options_.host_rate_hz; }
     double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
+    double host_rate_hz() const { return options_.host_rate_hz; }
     std::size_t mode_count() const { return case_.mode_count(); }
     const Case& voice_case() const { return case_; }
     double length_m() const { return case_.string.length_m; }
