@@ -128,6 +128,29 @@ FRETBUZZ_MULTIVERSION double sum(const double* x, std::size_t n) {
     return total;
 }
 
+FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n,
+                                             double& by_w, double& by_s) {
+    double pw[kLanes] = {}, ps[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            const double a = __builtin_fabs(x[j + l]);
+            pw[l] += w[j + l] * a;
+            ps[l] += s[j + l] * a;
+        }
+    double tw = 0.0, ts = 0.0;
+    for (; j < n; ++j) {
+        tw += w[j] * __builtin_fabs(x[j]);
+        ts += s[j] * __builtin_fabs(x[j]);
+    }
+    for (std::size_t l = 0; l < kLanes; ++l) {
+        tw += pw[l];
+        ts += ps[l];
+    }
+    by_w = tw;
+    by_s = ts;
+}
+
 FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_t n) {
     for (std::size_t j = 0; j < n; ++j) y[j] += c * x[j];
 }

@@ -183,9 +183,12 @@ void Stepper::step() {
     if (y_) y_->step(n_, rubbing_points());  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
-        if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
-            scheduler_.motion_changed(q_, d_);  // the motion from here on is a new free motion
+        if (n_ + 1 >= next_speed_refresh_) {
+            scheduler_.motion_changed(q_, d_);  // the modes have decayed: a tighter bound
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
+        } else if (!forces_.empty()) {
+            // the motion from here on is a new free motion
+            scheduler_.pushed(q_, d_, forces_, plan_.force_to_displacement() * plan_.basis().grid_step());
         }
         put_points_to_sleep();
     }
@@ -198,7 +201,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     // A finger may touch at any time: its pad points are solved every step.
     if (n_ == 0 || !screening_ || pad_points_ != 0 || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
         return 0;
-    scheduler_.refresh(q_, d_);
+    scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
