@@ -15,6 +15,11 @@ constexpr double kSlack = 1e-9;
 constexpr double kMinimumSteps = 2.0;
 // Modes used by a cheap look at a point (the low modes carry most of the motion).
 constexpr std::size_t kHeadModes = 48;
+// A grown speed bound is recomputed in full once it exceeds the last full one by this factor
+// (a loose bound wakes sleeping points early: more checks, same results).
+constexpr double kLooseness = 1.25;
+// At most this many points get their push weight computed in one step (else a full update).
+constexpr std::size_t kNewPointsPerPush = 2;
 }  // namespace
 
 ContactScheduler::ContactScheduler(const Plan& plan)
@@ -65,7 +70,11 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
         return;
     }
     // The cached tails are beyond the default head (the only one while contact steps run).
-    if (stale_ || head_ != std::min(kHeadModes, plan_.mode_count())) {
+    // A point's weight costs one pass over its row the first time: with many new points
+    // (a flat obstacle's onset), the four passes of a full update are cheaper.
+    std::size_t unknown = 0;
+    for (const auto& force : forces) unknown += std::isnan(point_weight_[force.first].reach) ? 1 : 0;
+    if (stale_ || unknown > kNewPointsPerPush || head_ != std::min(kHeadModes, plan_.mode_count())) {
         update_speed(q, d);
         return;
     }
@@ -81,8 +90,7 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
     slack_ += kSlack * norm_ * reach;
     tail_ += norm_ * tail * (1.0 + kSlack);
     amplitudes_behind_ = true;
-    // A loose bound wakes points early (more checks, same results): tighten it now and then.
-    if (!(speed_ <= 2.0 * full_speed_)) update_speed(q, d);
+    if (!(speed_ <= kLooseness * full_speed_)) update_speed(q, d);
 }
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {

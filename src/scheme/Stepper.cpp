@@ -327,7 +327,10 @@ void Stepper::solve_contacts() {
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
-    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+    // One point (a string resting on a point obstacle): its row product forms the prediction
+    // on the fly, one pass fewer.
+    const bool one_point = active_.size() == 1 && pad_points_ == 0;
+    if (!one_point) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
     if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
@@ -335,7 +338,10 @@ void Stepper::solve_contacts() {
     const double k = plan_.force_to_displacement();
     if (played()) solve_fingers(use_transform);
     for (std::size_t i : active_) {
-        const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
+        const double* row = plan_.basis().row(i).data();
+        const double w = use_transform ? grid_[i]
+                         : one_point   ? kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), row, n)
+                                       : kernels::dot(row, predicted_.data(), n);
         const double a = eta_prev_[i];
         const ContactSolution s = law.solve(a, g[i] - w - a, k);
         const double eta_next = a + s.increment;
@@ -391,16 +397,23 @@ void Stepper::retire_plucker(const Pluck& pluck) {
     pad_points_ -= pad.size();
 }
 
+bool Stepper::one_push() const { return forces_.size() == 1 && plan_.transform_threshold() >= 1; }
+
 void Stepper::apply_impulse() {
-    if (forces_.empty()) return;
+    if (forces_.empty() || one_push()) return;  // one push: advance_modes forms it from the row
     plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
+    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
     const double losses =
-        kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
-                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), q_.size());
+        one_push()
+            ? kernels::advance_one_push(prop.decay().data(), prop.beta().data(), loss,
+                                        plan_.force_to_displacement() * plan_.basis().grid_step() * forces_.front().second,
+                                        plan_.basis().row(forces_.front().first).data(), q_.data(), d_.data(), q_.size())
+            : kernels::advance(prop.decay().data(), prop.beta().data(), loss, forces_.empty() ? nullptr : impulse_.data(),
+                               q_.data(), d_.data(), q_.size());
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
 }
 
