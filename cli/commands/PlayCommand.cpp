@@ -45,8 +45,10 @@ int play(const PlayArguments& a) {
     RenderedPerformance r = render_performance(c, p, options, a.block);
     const double seconds = static_cast<double>(r.audio.size()) / a.rate;
     for (const auto& v : r.voices) {
-        std::printf("fret %2d: %zu modes at %d x %.0f Hz, latency %.1f samples (%.3f ms, the decimation filter's delay)\n",
-                    v.fret, v.modes, v.oversampling, a.rate, v.latency_samples, 1e3 * v.latency_samples / a.rate);
+        std::printf("fret %2d: %zu modes at %d x %.0f Hz, latency %.1f samples (%.3f ms, the decimation filter's delay)\n"
+                    "         oversampling %d: %s\n",
+                    v.fret, v.modes, v.oversampling, a.rate, v.latency_samples, 1e3 * v.latency_samples / a.rate,
+                    v.oversampling, v.rate_choice);
         if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: the energy guard silenced the voice %ld times\n", v.fret, v.resets);
         if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: fret %d: %ld values clamped into range\n", v.fret, v.clamped);
     }

@@ -167,7 +167,7 @@ RenderedPerformance render_performance(const Case& open, const Performance& p, c
     }
     for (const auto& [fret, voice] : voices)
         out.voices.push_back({fret, voice->oversampling(), voice->mode_count(), voice->health().resets,
-                              voice->health().clamped, voice->latency_samples()});
+                              voice->health().clamped, voice->latency_samples(), voice->rate_choice()});
     out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
