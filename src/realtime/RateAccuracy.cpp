@@ -1,13 +1,10 @@
 #include "fretbuzz/realtime/RateAccuracy.hpp"
 
-#include <fftw3.h>
-
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <numbers>
 
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/run/BuzzMetrics.hpp"
 
 namespace fretbuzz {
 
@@ -19,24 +16,7 @@ constexpr double kTopFraction = 0.45;  // of the host rate: the decimator's pass
 
 BandSpectrum band_spectrum(std::span<const double> signal, double rate_hz) {
     const std::size_t n = signal.size();
-    std::vector<double> power(n / 2 + 1, 0.0);
-    if (n >= 2) {
-        double* in = fftw_alloc_real(n);
-        fftw_complex* out = fftw_alloc_complex(n / 2 + 1);
-        fftw_plan plan = nullptr;
-        {
-            std::lock_guard lock(fftw_planner_mutex());
-            plan = fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE);
-        }
-        for (std::size_t i = 0; i < n; ++i)
-            in[i] = signal[i] * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n)));
-        fftw_execute(plan);
-        for (std::size_t k = 0; k < power.size(); ++k) power[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
-        std::lock_guard lock(fftw_planner_mutex());
-        fftw_destroy_plan(plan);
-        fftw_free(in);
-        fftw_free(out);
-    }
+    const std::vector<double> power = n >= 2 ? hann_power_spectrum(signal) : std::vector<double>{};
     BandSpectrum s;
     const double bin_hz = rate_hz / static_cast<double>(std::max<std::size_t>(n, 1));
     const double top_hz = kTopFraction * rate_hz;
