@@ -45,7 +45,7 @@ TEST(ContactSchedulerPush, GrownBoundStaysAboveTheRecomputedOne) {
         };
         double unit_increment = 0.0;
         for (const auto& [i, f] : forces) unit_increment += alone_speed(i, f);
-        const double scale = 0.2 * before / unit_increment;  // grows the bound by 20 %: no recomputation
+        const double scale = 0.2 * before / unit_increment;  // grows the bound by 20 %: below the recomputation
         std::vector<double> q1 = q, d1 = d;
         for (const auto& [i, f] : forces)
             for (std::size_t j = 0; j < n; ++j) {

@@ -40,7 +40,7 @@ public:
     // S), added to q and d. R_j is a seminorm of (q_j, d_j), so it grows by at most
     // |iota_j| R_j(1, 1) <= |scale| sum_i |f_i| |S_ij| R_j(1, 1): each bound grows by
     // |scale f_i| times a weight of point i (one pass over its row, once), and is recomputed in
-    // full once the speed bound has doubled.
+    // full once the speed bound has grown by a quarter (a loose bound wakes points early).
     void pushed(std::span<const double> q, std::span<const double> d,
                 std::span<const std::pair<std::size_t, double>> forces, double scale);
     // As refresh, and also brings the per-mode amplitudes up to date (a change of head needs them).
