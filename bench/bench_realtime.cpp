@@ -90,8 +90,9 @@ void register_all() {
     // Six strings of the guitar-neck case (its low E, with frets), fingered as an open C chord.
     const std::vector<Voice> chord = {{"guitar-neck", 0, 0.8}, {"guitar-neck", 3, 0.8}, {"guitar-neck", 2, 0.8},
                                       {"guitar-neck", 0, 0.8}, {"guitar-neck", 1, 0.8}, {"guitar-neck", 0, 0.8}};
-    // The default (at most 8x oversampling), and at most 4x: fewer modes (those below 86 kHz
-    // at 48 kHz) at half the rate, the trade a host with many voices may prefer.
+    // The default (every mode kept, at most 8x oversampling: the accuracy the buzz needs, see
+    // fretbuzz_rate_accuracy), and at most 4x and 2x: fewer modes (those below 86 and 43 kHz at
+    // 48 kHz) at a lower rate, faster but changing the buzz by 2-6 dB.
     const struct {
         const char* label;
         std::vector<Voice> voices;

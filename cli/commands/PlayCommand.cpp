@@ -47,8 +47,10 @@ int play(const PlayArguments& a) {
     RenderedPerformance r = render_performance(c, p, options, a.block);
     const double seconds = static_cast<double>(r.audio.size()) / a.rate;
     const RenderedPerformance::Voice& v = r.voice;
-    std::printf("%s: %zu modes at %d x %.0f Hz, %d frets, latency %.1f samples (%.3f ms, the decimation filter's delay)\n",
-                c.name.c_str(), v.modes, v.oversampling, a.rate, v.frets, v.latency_samples, 1e3 * v.latency_samples / a.rate);
+    std::printf("%s: %zu modes at %d x %.0f Hz, %d frets, latency %.1f samples (%.3f ms, the decimation filter's delay)\n"
+                "  oversampling %d: %s\n",
+                c.name.c_str(), v.modes, v.oversampling, a.rate, v.frets, v.latency_samples, 1e3 * v.latency_samples / a.rate,
+                v.oversampling, v.rate_choice);
     if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: the energy guard silenced the string %ld times\n", v.resets);
     if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: %ld values clamped into range\n", v.clamped);
     write_normalised_audio(a.out, std::move(r.audio), a.rate, a.bits);

@@ -166,7 +166,7 @@ RenderedPerformance render_performance(const Case& open, const Performance& p, c
         now += static_cast<long>(size);
     }
     out.voice = {voice.fret_count(), voice.oversampling(), voice.mode_count(), voice.health().resets,
-                 voice.health().clamped, voice.latency_samples()};
+                 voice.health().clamped, voice.latency_samples(), voice.rate_choice()};
     out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }

@@ -32,9 +32,8 @@ std::vector<std::size_t> obstacle_features(std::span<const double> g) {
     return feature;
 }
 
-double high_frequency_energy(std::span<const double> signal, double rate_hz, double band_hz) {
+std::vector<double> hann_power_spectrum(std::span<const double> signal) {
     const std::size_t n = signal.size();
-    if (n < 2 || !(band_hz < 0.5 * rate_hz)) return std::numeric_limits<double>::quiet_NaN();
     double* in = fftw_alloc_real(n);
     fftw_complex* out = fftw_alloc_complex(n / 2 + 1);
     fftw_plan plan = nullptr;
@@ -46,18 +45,25 @@ double high_frequency_energy(std::span<const double> signal, double rate_hz, dou
     for (std::size_t i = 0; i < n; ++i)
         in[i] = signal[i] * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n)));
     fftw_execute(plan);
+    std::vector<double> power(n / 2 + 1);
+    for (std::size_t k = 0; k <= n / 2; ++k) power[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+    std::lock_guard lock(fftw_planner_mutex());
+    fftw_destroy_plan(plan);
+    fftw_free(in);
+    fftw_free(out);
+    return power;
+}
+
+double high_frequency_energy(std::span<const double> signal, double rate_hz, double band_hz) {
+    const std::size_t n = signal.size();
+    if (n < 2 || !(band_hz < 0.5 * rate_hz)) return std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> power = hann_power_spectrum(signal);
     double energy = 0.0;
     const double bin_hz = rate_hz / static_cast<double>(n);
     for (std::size_t k = 0; k <= n / 2; ++k) {
         if (static_cast<double>(k) * bin_hz < band_hz) continue;
         const double weight = (k == 0 || 2 * k == n) ? 1.0 : 2.0;  // one-sided spectrum
-        energy += weight * (out[k][0] * out[k][0] + out[k][1] * out[k][1]);
-    }
-    {
-        std::lock_guard lock(fftw_planner_mutex());
-        fftw_destroy_plan(plan);
-        fftw_free(in);
-        fftw_free(out);
+        energy += weight * power[k];
     }
     return energy / static_cast<double>(n);  // Parseval: sum |u_i|^2 = (1/n) sum |U_k|^2
 }

@@ -15,6 +15,11 @@ constexpr double kSlack = 1e-9;
 constexpr double kMinimumSteps = 2.0;
 // Modes used by a cheap look at a point (the low modes carry most of the motion).
 constexpr std::size_t kHeadModes = 48;
+// A grown speed bound is recomputed in full once it exceeds the last full one by this factor
+// (a loose bound wakes sleeping points early: more checks, same results).
+constexpr double kLooseness = 1.25;
+// At most this many points get their push weight computed in one step (else a full update).
+constexpr std::size_t kNewPointsPerPush = 2;
 }  // namespace
 
 ContactScheduler::ContactScheduler(const Plan& plan)
@@ -24,10 +29,68 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     storage.reserve(2 * plan.mode_count() + 16);
     queue_ = decltype(queue_)(std::greater<>(), std::move(storage));
     amplitude_.reserve(plan.mode_count());
+    compute_push_weights();
 }
 
 void ContactScheduler::clear() {
     while (!queue_.empty()) queue_.pop();
+    compute_push_weights();
+}
+
+void ContactScheduler::compute_push_weights() {
+    const ModalPropagator& prop = plan_.propagator();
+    const std::size_t n = plan_.mode_count();
+    push_speed_.assign(n, 1.0);  // the unit state (1, 1), then its amplitudes
+    push_reach_.assign(n, 0.0);
+    prop.free_amplitudes(push_speed_, push_speed_, push_reach_);
+    for (std::size_t j = 0; j < n; ++j) push_speed_[j] = prop.speed_factor()[j] * push_reach_[j];
+    const double unknown = std::numeric_limits<double>::quiet_NaN();
+    point_weight_.assign(n, {unknown, unknown, unknown});
+}
+
+const ContactScheduler::PointWeight& ContactScheduler::point_weight(std::size_t i) {
+    PointWeight& w = point_weight_[i];
+    if (std::isnan(w.reach)) {
+        const std::span<const double> row = plan_.basis().row(i);
+        const std::size_t n = row.size(), head = std::min(kHeadModes, n);
+        double reach_head = 0.0, speed_head = 0.0, speed_tail = 0.0;
+        kernels::weighted_abs_sums(push_reach_.data(), push_speed_.data(), row.data(), head, reach_head, speed_head);
+        kernels::weighted_abs_sums(push_reach_.data() + head, push_speed_.data() + head, row.data() + head, n - head,
+                                   w.tail, speed_tail);
+        w.speed = speed_head + speed_tail;
+        w.reach = reach_head + w.tail;
+    }
+    return w;
+}
+
+void ContactScheduler::pushed(std::span<const double> q, std::span<const double> d,
+                              std::span<const std::pair<std::size_t, double>> forces, double scale) {
+    if (queue_.empty()) {
+        stale_ = true;  // as motion_changed: nothing asleep needs the bound yet
+        return;
+    }
+    // The cached tails are beyond the default head (the only one while contact steps run).
+    // A point's weight costs one pass over its row the first time: with many new points
+    // (a flat obstacle's onset), the four passes of a full update are cheaper.
+    std::size_t unknown = 0;
+    for (const auto& force : forces) unknown += std::isnan(point_weight_[force.first].reach) ? 1 : 0;
+    if (stale_ || unknown > kNewPointsPerPush || head_ != std::min(kHeadModes, plan_.mode_count())) {
+        update_speed(q, d);
+        return;
+    }
+    double speed = 0.0, reach = 0.0, tail = 0.0;
+    for (const auto& [i, f] : forces) {
+        const PointWeight& w = point_weight(i);
+        const double push = std::abs(scale * f);
+        speed += push * w.speed;
+        reach += push * w.reach;
+        tail += push * w.tail;
+    }
+    speed_ += norm_ * speed * (1.0 + kSlack);
+    slack_ += kSlack * norm_ * reach;
+    tail_ += norm_ * tail * (1.0 + kSlack);
+    amplitudes_behind_ = true;
+    if (!(speed_ <= kLooseness * full_speed_)) update_speed(q, d);
 }
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {
@@ -39,9 +102,11 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
     const double speed = kernels::dot(prop.speed_factor().data(), amplitude_.data(), n);
     const double reach = kernels::sum(amplitude_.data(), n);
     stale_ = false;
+    amplitudes_behind_ = false;
     set_head_modes(head_);
     speed_ = std::isfinite(speed) ? norm_ * speed * (1.0 + kSlack) : std::numeric_limits<double>::infinity();
     slack_ = std::isfinite(reach) ? kSlack * norm_ * reach : std::numeric_limits<double>::infinity();
+    full_speed_ = speed_;
 }
 
 void ContactScheduler::motion_changed(std::span<const double> q, std::span<const double> d) {

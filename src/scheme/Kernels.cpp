@@ -13,15 +13,34 @@ namespace fretbuzz::kernels {
 
 namespace {
 constexpr std::size_t kLanes = 8;  // independent partial sums: enough to fill two AVX2 adders
+// A dot product's lanes. 16 (four AVX2 chains instead of two) was measured no faster in the
+// engine: its scalar remainder grows, and the sums would change in the last bits.
+constexpr std::size_t kDotLanes = kLanes;
 }
 
 FRETBUZZ_MULTIVERSION double dot(const double* a, const double* b, std::size_t n) {
-    double partial[kLanes] = {};
+    double partial[kDotLanes] = {};
     std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes)
-        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += a[j + l] * b[j + l];
+    for (; j + kDotLanes <= n; j += kDotLanes)
+        for (std::size_t l = 0; l < kDotLanes; ++l) partial[l] += a[j + l] * b[j + l];
     double sum = 0.0;
     for (; j < n; ++j) sum += a[j] * b[j];
+    for (double p : partial) sum += p;
+    return sum;
+}
+
+FRETBUZZ_MULTIVERSION double predict_dot(const double* e, const double* beta, const double* q, const double* d,
+                                         const double* row, std::size_t n) {
+    // The same terms and partial sums as predict followed by dot.
+    double partial[kDotLanes] = {};
+    std::size_t j = 0;
+    for (; j + kDotLanes <= n; j += kDotLanes)
+        for (std::size_t l = 0; l < kDotLanes; ++l) {
+            const std::size_t k = j + l;
+            partial[l] += row[k] * (q[k] + (e[k] * d[k] - beta[k] * q[k]));
+        }
+    double sum = 0.0;
+    for (; j < n; ++j) sum += row[j] * (q[j] + (e[j] * d[j] - beta[j] * q[j]));
     for (double p : partial) sum += p;
     return sum;
 }
@@ -55,9 +74,12 @@ FRETBUZZ_MULTIVERSION void predict(const double* e, const double* beta, const do
 
 namespace {
 // One variant per case so each loop is branch-free and vectorises.
-template <bool Pushed, bool Lossy>
+// Impulse: an array (impulse[k]), or one row times c (c row[k]), or nothing.
+enum class Push { none, array, row };
+
+template <Push Pushed, bool Lossy>
 inline double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
-                              const double* __restrict impulse, double* __restrict q, double* __restrict d,
+                              const double* __restrict impulse, double c, double* __restrict q, double* __restrict d,
                               std::size_t n) {
     double partial[kLanes] = {};
     std::size_t j = 0;
@@ -65,7 +87,8 @@ inline double advance_variant(const double* __restrict e, const double* __restri
         for (std::size_t l = 0; l < kLanes; ++l) {
             const std::size_t k = j + l;
             double next = e[k] * d[k] - beta[k] * q[k];
-            if constexpr (Pushed) next += impulse[k];
+            if constexpr (Pushed == Push::array) next += impulse[k];
+            if constexpr (Pushed == Push::row) next += c * impulse[k];
             if constexpr (Lossy) {
                 const double span = next + d[k];  // q^{n+1} - q^{n-1}
                 partial[l] += loss[k] * span * span;
@@ -76,7 +99,8 @@ inline double advance_variant(const double* __restrict e, const double* __restri
     double sum = 0.0;
     for (; j < n; ++j) {
         double next = e[j] * d[j] - beta[j] * q[j];
-        if constexpr (Pushed) next += impulse[j];
+        if constexpr (Pushed == Push::array) next += impulse[j];
+        if constexpr (Pushed == Push::row) next += c * impulse[j];
         if constexpr (Lossy) sum += loss[j] * (next + d[j]) * (next + d[j]);
         q[j] += next;
         d[j] = next;
@@ -89,10 +113,16 @@ inline double advance_variant(const double* __restrict e, const double* __restri
 FRETBUZZ_MULTIVERSION double advance(const double* e, const double* beta, const double* loss, const double* impulse,
                                      double* q, double* d, std::size_t n) {
     if (impulse != nullptr)
-        return loss != nullptr ? advance_variant<true, true>(e, beta, loss, impulse, q, d, n)
-                               : advance_variant<true, false>(e, beta, loss, impulse, q, d, n);
-    return loss != nullptr ? advance_variant<false, true>(e, beta, loss, impulse, q, d, n)
-                           : advance_variant<false, false>(e, beta, loss, impulse, q, d, n);
+        return loss != nullptr ? advance_variant<Push::array, true>(e, beta, loss, impulse, 0.0, q, d, n)
+                               : advance_variant<Push::array, false>(e, beta, loss, impulse, 0.0, q, d, n);
+    return loss != nullptr ? advance_variant<Push::none, true>(e, beta, loss, impulse, 0.0, q, d, n)
+                           : advance_variant<Push::none, false>(e, beta, loss, impulse, 0.0, q, d, n);
+}
+
+FRETBUZZ_MULTIVERSION double advance_one_push(const double* e, const double* beta, const double* loss, double c,
+                                              const double* row, double* q, double* d, std::size_t n) {
+    return loss != nullptr ? advance_variant<Push::row, true>(e, beta, loss, row, c, q, d, n)
+                           : advance_variant<Push::row, false>(e, beta, loss, row, c, q, d, n);
 }
 
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
@@ -126,6 +156,29 @@ FRETBUZZ_MULTIVERSION double sum(const double* x, std::size_t n) {
     for (; j < n; ++j) total += x[j];
     for (double p : partial) total += p;
     return total;
+}
+
+FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n,
+                                             double& by_w, double& by_s) {
+    double pw[kLanes] = {}, ps[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            const double a = __builtin_fabs(x[j + l]);
+            pw[l] += w[j + l] * a;
+            ps[l] += s[j + l] * a;
+        }
+    double tw = 0.0, ts = 0.0;
+    for (; j < n; ++j) {
+        tw += w[j] * __builtin_fabs(x[j]);
+        ts += s[j] * __builtin_fabs(x[j]);
+    }
+    for (std::size_t l = 0; l < kLanes; ++l) {
+        tw += pw[l];
+        ts += ps[l];
+    }
+    by_w = tw;
+    by_s = ts;
 }
 
 FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_t n) {

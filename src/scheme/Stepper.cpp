@@ -218,9 +218,12 @@ void Stepper::step() {
     if (y_) y_->step(n_, rubbing_points());  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
-        if (!forces_.empty() || n_ + 1 >= next_speed_refresh_) {
-            scheduler_.motion_changed(q_, d_);  // the motion from here on is a new free motion
+        if (n_ + 1 >= next_speed_refresh_) {
+            scheduler_.motion_changed(q_, d_);  // the modes have decayed: a tighter bound
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
+        } else if (!forces_.empty()) {
+            // the motion from here on is a new free motion
+            scheduler_.pushed(q_, d_, forces_, plan_.force_to_displacement() * plan_.basis().grid_step());
         }
         put_points_to_sleep();
     }
@@ -233,7 +236,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     // A finger may touch at any time: its pad points are solved every step.
     if (n_ == 0 || !screening_ || pad_points_ != 0 || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
         return 0;
-    scheduler_.refresh(q_, d_);
+    scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
@@ -359,7 +362,10 @@ void Stepper::solve_contacts() {
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
-    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+    // One point (a string resting on a point obstacle): its row product forms the prediction
+    // on the fly, one pass fewer.
+    const bool one_point = active_.size() == 1 && pad_points_ == 0;
+    if (!one_point) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
     if (use_transform) plan_.basis().to_grid(predicted_, grid_);
     const std::vector<double>& g = plan_.obstacle();
@@ -367,7 +373,10 @@ void Stepper::solve_contacts() {
     const double k = plan_.force_to_displacement();
     if (played()) solve_fingers(use_transform);
     for (std::size_t i : active_) {
-        const double w = use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n);
+        const double* row = plan_.basis().row(i).data();
+        const double w = use_transform ? grid_[i]
+                         : one_point   ? kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), row, n)
+                                       : kernels::dot(row, predicted_.data(), n);
         const double a = eta_prev_[i];
         const ContactSolution s = law.solve(a, g[i] - w - a, k);
         const double eta_next = a + s.increment;
@@ -424,16 +433,23 @@ void Stepper::retire_plucker(const Pluck& pluck) {
     pad_points_ -= pad.size();
 }
 
+bool Stepper::one_push() const { return forces_.size() == 1 && plan_.transform_threshold() >= 1; }
+
 void Stepper::apply_impulse() {
-    if (forces_.empty()) return;
+    if (forces_.empty() || one_push()) return;  // one push: advance_modes forms it from the row
     plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
+    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
     const double losses =
-        kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
-                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), q_.size());
+        one_push()
+            ? kernels::advance_one_push(prop.decay().data(), prop.beta().data(), loss,
+                                        plan_.force_to_displacement() * plan_.basis().grid_step() * forces_.front().second,
+                                        plan_.basis().row(forces_.front().first).data(), q_.data(), d_.data(), q_.size())
+            : kernels::advance(prop.decay().data(), prop.beta().data(), loss, forces_.empty() ? nullptr : impulse_.data(),
+                               q_.data(), d_.data(), q_.size());
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
 }
 

@@ -5,7 +5,9 @@
 // It runs the offline scheme itself (Plan, Stepper, PenaltyContact: no second physics) at an
 // internal rate M times the host rate, M an integer chosen at set-up so that every mode kept
 // lies below the internal Nyquist frequency (the aliasing check of SamplingCheck passes; modes
-// that would need more than the largest allowed M are dropped), and decimates the pickup
+// that would need more than the largest allowed M are dropped). The default keeps every mode
+// up to M = 8: dropping modes changes the buzz by more than the rate (RateAccuracy measures
+// it; the numbers are by choose_rate in Engine.cpp). It decimates the pickup
 // signal by M through a band-limited FIR (Decimator). While no point can touch, it flies over
 // each host sample stepping only the modes below the host's Nyquist frequency (FreeFlight).
 //
@@ -36,7 +38,8 @@ namespace fretbuzz {
 struct EngineOptions {
     double host_rate_hz = 48000.0;
     int oversampling = 0;          // M; 0: the smallest that keeps every mode below 0.45 M fs
-    int max_oversampling = 8;      // largest M chosen automatically (cost grows with M)
+    int max_oversampling = 8;      // largest M chosen automatically (cost grows with M; fewer
+                                   // modes change the buzz: see choose_rate in Engine.cpp)
     std::size_t max_modes = 0;     // 0: the case's (fewer if M cannot reach them)
     bool free_flight = true;       // fly while no contact is possible (false: step every mode)
     bool start_from_case = false;  // start from the case's initial state (else at rest)
@@ -93,11 +96,14 @@ public:
     void finger_up();
 
     int oversampling() const { return factor_; }
+    // Why the internal rate is what it is (for a front end to print).
+    const char* rate_choice() const { return rate_choice_; }
     // The output lags the string by the decimation filter's group delay: this many host
     // samples (a plugin reports it to its host), and in seconds.
     double latency_samples() const { return decimator_.group_delay(); }
     double latency_s() const { return latency_samples() / options_.host_rate_hz; }
     double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
+    double host_rate_hz() const { return options_.host_rate_hz; }
     std::size_t mode_count() const { return case_.mode_count(); }
     int fret_count() const { return static_cast<int>(fret_pads_.size()); }
     int fret() const { return fret_; }  // the fret pressed; 0: none (open, or lifting)
@@ -136,6 +142,7 @@ private:
     EngineOptions options_;
     Case case_;
     int factor_ = 1;
+    const char* rate_choice_ = "";
     double orientation_ = 1.0;
     std::unique_ptr<Plan> plan_;
     std::unique_ptr<Stepper> stepper_;

@@ -65,6 +65,7 @@ struct RenderedPerformance {
         long resets;
         long clamped;
         double latency_samples;  // the decimation filter's group delay (host samples)
+        const char* rate_choice;  // why the oversampling is what it is (Engine::rate_choice)
     };
     Voice voice;
     double wall_seconds = 0.0;

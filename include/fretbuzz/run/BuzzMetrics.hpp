@@ -48,6 +48,8 @@ std::size_t first_buzz_point(const Case& c);
 // High-frequency energy of a signal sampled at rate_hz: sum over the one-sided spectrum
 // of the Hann-windowed signal of |U_k|^2 for f_k >= band_hz (NaN if band_hz >= rate/2).
 double high_frequency_energy(std::span<const double> signal, double rate_hz, double band_hz);
+// |U_k|^2, k = 0..n/2, of the Hann-windowed signal (n = signal.size() >= 2).
+std::vector<double> hann_power_spectrum(std::span<const double> signal);
 
 class BuzzMetrics : public RunObserver {
 public:

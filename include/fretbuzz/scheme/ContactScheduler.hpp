@@ -36,6 +36,17 @@ public:
     void refresh(std::span<const double> q, std::span<const double> d) {
         if (stale_) update_speed(q, d);
     }
+    // A contact step changed the motion by the impulse iota = scale sum_i f_i S_i (S_i: row i of
+    // S), added to q and d. R_j is a seminorm of (q_j, d_j), so it grows by at most
+    // |iota_j| R_j(1, 1) <= |scale| sum_i |f_i| |S_ij| R_j(1, 1): each bound grows by
+    // |scale f_i| times a weight of point i (one pass over its row, once), and is recomputed in
+    // full once the speed bound has grown by a quarter (a loose bound wakes points early).
+    void pushed(std::span<const double> q, std::span<const double> d,
+                std::span<const std::pair<std::size_t, double>> forces, double scale);
+    // As refresh, and also brings the per-mode amplitudes up to date (a change of head needs them).
+    void refresh_amplitudes(std::span<const double> q, std::span<const double> d) {
+        if (stale_ || amplitudes_behind_) update_speed(q, d);
+    }
     double speed() const { return speed_; }
     // A cheap look at a point uses only the first head_modes() modes: the others move it by
     // at most tail_bound() (sqrt(2/L) times the sum of their free amplitudes).
@@ -50,7 +61,8 @@ public:
     void wake_now(std::size_t i) { queue_.emplace(budget_, i); }
     // No point is asleep (the speed bound is then not needed until one goes to sleep).
     bool idle() const { return queue_.empty(); }
-    // Forgets every sleeping point (the state changed from outside: all must be looked at again).
+    // Forgets every sleeping point (the state changed from outside: all must be looked at again,
+    // and the damping may have changed).
     void clear();
     // Spends one step of budget (call once per step, before any update_speed for the new state).
     void end_step() { end_steps(1); }
@@ -70,6 +82,18 @@ private:
     std::size_t head_;
     double tail_ = 0.0;
     std::vector<double> amplitude_;  // R_j at the last update_speed
+    // R_j(1, 1), and omega_j R_j(1, 1): how much a unit impulse on mode j can add to the bounds.
+    std::vector<double> push_reach_, push_speed_;
+    // Per grid point, sum_j |S_ij| times those, and the reach beyond the default head modes
+    // (NaN until first needed).
+    struct PointWeight {
+        double speed, reach, tail;
+    };
+    std::vector<PointWeight> point_weight_;
+    double full_speed_ = 0.0;          // speed_ at the last update_speed
+    bool amplitudes_behind_ = false;   // impulses since then are in the bounds, not in amplitude_
+    void compute_push_weights();
+    const PointWeight& point_weight(std::size_t i);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
 };
 

@@ -13,18 +13,26 @@ void dot_current_previous(const double* row, const double* q, const double* d, s
                           double& previous);
 // The free prediction of q^{n+1}: p_j = q_j + e_j d_j - beta_j q_j.
 void predict(const double* e, const double* beta, const double* q, const double* d, double* p, std::size_t n);
+// sum_j row_j p_j with p as predict computes it, without storing p (one contact point).
+double predict_dot(const double* e, const double* beta, const double* q, const double* d, const double* row,
+                   std::size_t n);
 // One exact step of every mode in difference form, impulse may be null:
 //   d_j <- e_j d_j - beta_j q_j + impulse_j,  q_j <- q_j + d_j.
 // Returns sum_j loss_j (d_j^new + d_j^old)^2 (the damping term of the energy balance),
 // or 0 when loss is null (lossless).
 double advance(const double* e, const double* beta, const double* loss, const double* impulse, double* q, double* d,
                std::size_t n);
+// advance with the impulse of one point, c row_j, formed on the fly (no impulse vector).
+double advance_one_push(const double* e, const double* beta, const double* loss, double c, const double* row, double* q,
+                        double* d, std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.
 void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d, double* a, std::size_t n);
 // sum_j x_j
 double sum(const double* x, std::size_t n);
+// sum_j w[j] |x[j]| and sum_j s[j] |x[j]|, each to its accumulator (one pass over x).
+void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n, double& by_w, double& by_s);
 // y_j += c x_j
 void axpy(double c, const double* x, double* y, std::size_t n);
 
