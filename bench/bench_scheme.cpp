@@ -164,6 +164,7 @@ public:
             };
             const double fast_us = get("Fast"), plain_us = get("Straightforward"), dense_us = get("Dense");
             const double window_us = get("Window");
+            if (std::isnan(fast_us)) continue;  // filtered out of this run
             const double wall_per_sim_s = fast_us * 1e-6 * b.fs;
             std::printf("  %-14s fs = %.0f Hz: fast %.4f us/step (%.3f s wall per simulated second, %.2f simulated s per wall s)\n",
                         b.name, b.fs, fast_us, wall_per_sim_s, 1.0 / wall_per_sim_s);
@@ -185,8 +186,9 @@ public:
             return it == median_us_.end() ? std::nan("") : it->second;
         };
         const double open_us = played(kPlayed[0].name), fretted_us = played(kPlayed[1].name);
-        std::printf("  played, %.1f s at %.0f Hz: open pop %.4f us/step, fretted pop (fret 5) %.4f us/step: %.1fx the open pop's time\n",
-                    kPlayed[0].duration, kPlayed[0].fs, open_us, fretted_us, fretted_us / open_us);
+        if (!std::isnan(open_us) && !std::isnan(fretted_us))
+            std::printf("  played, %.1f s at %.0f Hz: open pop %.4f us/step, fretted pop (fret 5) %.4f us/step: %.1fx the open pop's time\n",
+                        kPlayed[0].duration, kPlayed[0].fs, open_us, fretted_us, fretted_us / open_us);
     }
 
 private:
