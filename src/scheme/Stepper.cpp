@@ -122,12 +122,16 @@ bool Stepper::place_finger(std::size_t f, double centre_m, double width_m) {
     pad_points_ += finger.pad().size();
     finger_on_[f] = 1;
     restart();  // u^n in grid_, u^{n-1} in impulse_; the pad leaves the obstacle's solve
-    // The finger lands at rest on the highest pad point, as at the first step.
-    pad_values(finger.pad(), grid_);
-    pad_f_ = pad_w_;
-    pad_values(finger.pad(), impulse_);
-    finger.start(pad_w_, pad_f_);
+    start_part(finger, impulse_, grid_);  // lands at rest on the highest pad point, as at the first step
     return true;
+}
+
+template <class Part>
+void Stepper::start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now) {
+    pad_values(part.pad(), u_now);
+    pad_f_ = pad_w_;  // within the reserved capacity: no allocation
+    pad_values(part.pad(), u_before);
+    part.start(pad_w_, pad_f_);
 }
 
 void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) { fingers_.at(f).press(force_n, n_, ramp_steps); }
@@ -300,15 +304,9 @@ void Stepper::first_step() {
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
     // Each played part starts from the string under its pad at levels 0 and 1.
-    const auto start = [&](auto& part) {
-        pad_values(part.pad(), grid_);
-        pad_f_ = pad_w_;
-        pad_values(part.pad(), u0);
-        part.start(pad_w_, pad_f_);
-    };
-    for (Finger& f : fingers_) start(f);
-    for (ForceProfile& gesture : gestures_) start(gesture);
-    for (Pluck& pluck : plucks_) start(pluck);
+    for (Finger& f : fingers_) start_part(f, u0, grid_);
+    for (ForceProfile& gesture : gestures_) start_part(gesture, u0, grid_);
+    for (Pluck& pluck : plucks_) start_part(pluck, u0, grid_);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }

@@ -130,6 +130,9 @@ private:
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire_plucker(const Pluck& pluck);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
+    // Starts a played part from the string under its pad at two levels (n-1 and n).
+    template <class Part>
+    void start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now);
 
     const Plan& plan_;
     ContactScheduler scheduler_;
