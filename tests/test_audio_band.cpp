@@ -74,15 +74,15 @@ void expect_same_audio(const Case& c, double displacement_tolerance, double velo
     ASSERT_GT(fast.summary.free_flight_fraction, 0.5);
     std::printf("last contact %.4f s, free flight %.3f\n", fast.summary.last_contact_s, fast.summary.free_flight_fraction);
     // The string itself moves as it did (flights with fewer modes checked one by one may stop
-    // at other steps; the motion is the same free motion).
-    EXPECT_NEAR(fast.summary.energy_final_j, reference.summary.energy_final_j, 1e-12 * reference.summary.energy_initial_j);
+    // at other steps, and with no row to take and no point able to touch a flight is one jump
+    // of every mode: the same free motion, round-off apart, which later contacts amplify a little).
+    EXPECT_NEAR(fast.summary.energy_final_j, reference.summary.energy_final_j, 1e-10 * reference.summary.energy_initial_j);
     EXPECT_EQ(fast.summary.contact_steps, reference.summary.contact_steps);
-    // The output-rate rows are the same samples of the same motion: only round-off apart (the
-    // flights step fewer modes one by one and jump the others).
+    // The output-rate rows are the same samples of the same motion: only round-off apart.
     ASSERT_EQ(fast.recorded.time, reference.recorded.time);
-    EXPECT_LT(relative_l2(fast.recorded.observation, reference.recorded.observation), 1e-12);
-    EXPECT_LT(relative_l2(fast.recorded.energy, reference.recorded.energy), 1e-13);
-    EXPECT_LT(relative_l2(fast.recorded.dissipated, reference.recorded.dissipated), 1e-11);
+    EXPECT_LT(relative_l2(fast.recorded.observation, reference.recorded.observation), 1e-10);
+    EXPECT_LT(relative_l2(fast.recorded.energy, reference.recorded.energy), 1e-10);
+    EXPECT_LT(relative_l2(fast.recorded.dissipated, reference.recorded.dissipated), 1e-10);
     EXPECT_LT(relative_l2(fast.recorded.peak_contact_force, reference.recorded.peak_contact_force), 1e-9);
     for (std::size_t p = 0; p < fast.u.size(); ++p) {
         ASSERT_EQ(fast.u[p].size(), reference.u[p].size());

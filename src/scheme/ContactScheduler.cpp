@@ -29,11 +29,18 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     storage.reserve(2 * plan.mode_count() + 16);
     queue_ = decltype(queue_)(std::greater<>(), std::move(storage));
     amplitude_.reserve(plan.mode_count());
+    parked_.reserve(plan.mode_count());
+    envelope_.assign(plan.mode_count(), 0.0);
+    held_.reserve(2 * plan.mode_count() + 16);
+    park_amplitude_.reserve(plan.mode_count());
+    tested_with_.assign(plan.mode_count(), -1);
     compute_push_weights();
 }
 
 void ContactScheduler::clear() {
     while (!queue_.empty()) queue_.pop();
+    parked_.clear();
+    park_epoch_ = -1;
     compute_push_weights();
 }
 
@@ -65,6 +72,7 @@ const ContactScheduler::PointWeight& ContactScheduler::point_weight(std::size_t 
 
 void ContactScheduler::pushed(std::span<const double> q, std::span<const double> d,
                               std::span<const std::pair<std::size_t, double>> forces, double scale) {
+    unpark();  // the envelope was the old motion's
     if (queue_.empty()) {
         stale_ = true;  // as motion_changed: nothing asleep needs the bound yet
         return;
@@ -98,6 +106,8 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
     const std::size_t n = q.size();
     amplitude_.resize(n);
     prop.free_amplitudes(q, d, amplitude_);
+    ++amplitude_epoch_;
+    check_parked();
     // One pass each, vectorised; the tail beyond the head modes is summed when the head is set.
     const double speed = kernels::dot(prop.speed_factor().data(), amplitude_.data(), n);
     const double reach = kernels::sum(amplitude_.data(), n);
@@ -109,9 +119,68 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
     full_speed_ = speed_;
 }
 
+bool ContactScheduler::park(std::size_t i) {
+    if (stale_ || amplitudes_behind_ || amplitude_.size() != plan_.mode_count() || tested_with_[i] == amplitude_epoch_)
+        return false;
+    tested_with_[i] = amplitude_epoch_;
+    const std::span<const double> row = plan_.basis().row(i);
+    double envelope = 0.0, same = 0.0;
+    kernels::weighted_abs_sums(amplitude_.data(), amplitude_.data(), row.data(), row.size(), envelope, same);
+    envelope *= 1.0 + kSlack;
+    // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
+    if (!(-envelope - plan_.obstacle()[i] - slack_ > 0.0)) return false;
+    if (park_epoch_ != amplitude_epoch_) {
+        // The parked points hold while every later amplitude stays within the smallest they were
+        // tested with (free motion only decays).
+        if (parked_.empty())
+            park_amplitude_.assign(amplitude_.begin(), amplitude_.end());
+        else
+            for (std::size_t j = 0; j < amplitude_.size(); ++j) park_amplitude_[j] = std::min(park_amplitude_[j], amplitude_[j]);
+        park_epoch_ = amplitude_epoch_;
+    }
+    envelope_[i] = envelope;
+    parked_.push_back(i);
+    ++parks_;
+    return true;
+}
+
+bool ContactScheduler::park_due(long steps) {
+    const double horizon = budget_ + speed_ * static_cast<double>(steps) * plan_.dt();
+    held_.clear();
+    while (!queue_.empty() && queue_.top().first <= horizon) {
+        if (!park(queue_.top().second)) held_.push_back(queue_.top());
+        queue_.pop();
+    }
+    for (const Entry& e : held_) queue_.push(e);
+    return held_.empty();
+}
+
+void ContactScheduler::check_parked() {
+    // New amplitudes (decay, or an impulse seen as a change of motion): the envelopes still
+    // bound the motion if no amplitude grew beyond those they were computed with (less than
+    // the slack they carry, for round-off).
+    if (parked_.empty()) return;
+    for (std::size_t j = 0; j < amplitude_.size(); ++j)
+        if (!(amplitude_[j] <= park_amplitude_[j] * (1.0 + 0.5 * kSlack))) {
+            unpark();
+            return;
+        }
+}
+
+void ContactScheduler::unpark() {
+    // Until now u_i >= -E_i: each point goes back to the queue with that gap, no look needed.
+    if (parked_.empty()) return;
+    ++releases_;
+    const std::vector<double>& g = plan_.obstacle();
+    for (std::size_t i : parked_) queue_.emplace(budget_ + std::max(-envelope_[i] - g[i] - slack_, 0.0), i);
+    parked_.clear();
+    park_epoch_ = -1;
+}
+
 void ContactScheduler::motion_changed(std::span<const double> q, std::span<const double> d) {
     // Asleep points are keyed by budget, which grows with the speed: it must hold from now on.
-    if (queue_.empty())
+    // Parked points need the new amplitudes to know whether their envelope still holds.
+    if (queue_.empty() && parked_.empty())
         stale_ = true;
     else
         update_speed(q, d);

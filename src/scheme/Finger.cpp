@@ -137,7 +137,9 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         const double push_slope = law_.slope_of_quotient(c, r_f, q) + rho;
         pt.push = q + rho * r_f;
         v.h += k_ * pt.push;
-        v.scale += k_ * std::abs(pt.push);
+        // y and r_f carry the rounding of z and c, however far the finger is: through the push's
+        // slope it is round-off in h too.
+        v.scale += k_ * (std::abs(pt.push) + push_slope * (std::abs(z_) + std::abs(s) + std::abs(c)));
         v.slope = psi_slope + k_ * push_slope;
         pt.slope = -push_slope * psi_slope / v.slope;  // d(push)/dZ: dy/dZ = -psi'/h'
         return v;

@@ -244,6 +244,12 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const ModalPropagator& prop = plan_.propagator();
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
+    // With no per-step row wanted and no point due before its end, the whole flight is one jump.
+    if (width == 0 && !y_ && flight.first() == 0 && scheduler_.park_due(steps)) {
+        flight.jump(q_, d_, 0);
+        scheduler_.end_steps(steps);
+        return end_flight(steps, energy_before);
+    }
     scheduler_.set_head_modes(head);
     const double tail = scheduler_.tail_bound();
     u.resize(static_cast<std::size_t>(steps) * width);
@@ -254,6 +260,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         due_.clear();
         scheduler_.pop_due(due_);
         for (std::size_t i : due_) {
+            if (!interrupted && scheduler_.park(i)) continue;
             if (interrupted || !sleeps_on_low_modes(i, head, tail)) {
                 interrupted = true;  // a closer look is needed: leave it to a full step
                 scheduler_.wake_now(i);
@@ -282,6 +289,10 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
     if (y_) y_->fly(flown, steps, head, probes);
+    return end_flight(flown, energy_before);
+}
+
+long Stepper::end_flight(long flown, double energy_before) {
     forces_.clear();
     touched_obstacle_ = false;
     n_ += flown;
@@ -341,7 +352,7 @@ void Stepper::wake_due_points() {
         if (use_transform) {
             u_now = grid_[i];
         } else {
-            if (head < n && sleeps_on_low_modes(i, head, tail)) continue;
+            if (scheduler_.park(i) || (head < n && sleeps_on_low_modes(i, head, tail))) continue;
             u_now = kernels::dot(row.data(), q_.data(), n);
         }
         if (scheduler_.sleep(i, u_now - g[i])) continue;

@@ -12,6 +12,13 @@
 // contact impulse (the motion changed) and from time to time as the modes decay. Point
 // positions do not jump at an impulse (S delta is local to the forced points), so the
 // budget carries over.
+//
+// The budget grows for ever, while the motion does not: |u(x_i, t)| <= E_i = sum_j |S_ij| R_j
+// for as long as the motion stays free (R_j bounds |q_j| over the whole free motion). A point
+// whose obstacle lies deeper than E_i cannot touch before the next impulse, however long the
+// flight: it is parked, out of the queue, and goes back to it at the next impulse, keyed by
+// the gap it is known to keep (u_i >= -E_i). A string ringing above its frets after the
+// last contact thus stops paying for checks of points it can no longer reach.
 #include <cstddef>
 #include <functional>
 #include <queue>
@@ -57,6 +64,16 @@ public:
     void pop_due(std::vector<std::size_t>& out);
     // Puts point i to sleep given its current gap u - g; false if it is too close to sleep.
     bool sleep(std::size_t i, double gap);
+    // Parks point i if the free motion's envelope cannot reach its obstacle; false if it can,
+    // or if the amplitudes are not those of the current free motion. A point is tested once
+    // per set of amplitudes (one pass over its row).
+    bool park(std::size_t i);
+    // Parks every sleeping point due within the next `steps` steps that can be parked; true if
+    // no sleeping point is then due in that time (the others keep their places).
+    bool park_due(long steps);
+    std::size_t parked() const { return parked_.size(); }
+    long parks() const { return parks_; }        // points parked so far
+    long releases() const { return releases_; }  // times parked points went back to the queue
     // Makes point i due at once (it will be popped by the next pop_due).
     void wake_now(std::size_t i) { queue_.emplace(budget_, i); }
     // No point is asleep (the speed bound is then not needed until one goes to sleep).
@@ -95,6 +112,19 @@ private:
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
+    // Parking: the points, their envelope E_i and obstacle height, the amplitudes each set of
+    // parked points was tested with (elementwise largest), and which amplitudes each point was
+    // last tested with (a point that failed is not tested again with the same ones).
+    std::vector<std::size_t> parked_;
+    std::vector<double> envelope_;
+    std::vector<Entry> held_;  // points park_due could not park
+    std::vector<double> park_amplitude_;
+    std::vector<long> tested_with_;
+    long amplitude_epoch_ = 0;
+    long park_epoch_ = -1;  // the amplitudes last folded into park_amplitude_
+    long parks_ = 0, releases_ = 0;
+    void unpark();
+    void check_parked();
 };
 
 }  // namespace fretbuzz

@@ -17,6 +17,7 @@ public:
     FreeFlight(const ModalPropagator& propagator, long steps, std::size_t first = 0);
 
     long steps() const { return steps_; }
+    std::size_t first() const { return first_; }  // the first mode it maps
     // Recomputes the maps after the propagator changed (same size; allocates nothing).
     void update(const ModalPropagator& propagator);
     // Applies the M-step map to modes [first, end) of (q, d).

@@ -110,6 +110,7 @@ public:
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     const StepStatistics& statistics() const { return stats_; }
+    const ContactScheduler& scheduler() const { return scheduler_; }
 
 private:
     double modal_energy() const;  // H^{n-1/2} without the contact part, cached per step
@@ -120,6 +121,7 @@ private:
     void wake_due_points();
     void activate(std::size_t i, double u_now, double u_before);
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
+    long end_flight(long flown, double energy_before);  // the bookkeeping after `flown` steps
     void solve_contacts();
     void apply_impulse();
     bool one_push() const;  // a single force, applied along its row (no impulse vector)
