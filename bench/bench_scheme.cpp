@@ -16,8 +16,8 @@
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
 // the sampling rate and the extent of the obstacle, with fitted exponents;
-// `fretbuzz_bench --contact [repetitions]` the cost of contact steps and of audio-rate runs
-// (see print_contact_table).
+// `fretbuzz_bench --contact [repetitions] [text]` the cost of contact steps and of audio-rate
+// runs (see print_contact_table); with text, only the rows whose label contains it.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -332,7 +332,8 @@ struct ContactRow {
     long from, steps;  // stepping window: steps [from, from + steps)
 };
 
-int print_contact_table(int repetitions) {
+int print_contact_table(int repetitions, const std::string& only) {
+    const auto wanted = [&](const std::string& label) { return label.find(only) != std::string::npos; };
     std::vector<ContactRow> rows;
     rows.push_back({"bass-pop, 4 MHz, 862 modes, window", load_case("bass-pop"), 4e6, 14800, 2000});
     const Case flat = load_case("flat-obstacle");
@@ -347,6 +348,7 @@ int print_contact_table(int repetitions) {
     std::printf("Steps with contact: us per step, medians of %d repetitions (thread CPU / wall)\n", repetitions);
     std::printf("| window | points/step | CPU | wall |\n|---|---|---|---|\n");
     for (const ContactRow& row : rows) {
+        if (!wanted(row.label)) continue;
         const Plan plan(row.c, 1.0 / row.fs);
         Stepper start(plan, row.c.initial_displacement, row.c.initial_velocity);
         for (long n = 0; n < row.from; ++n) start.step();
@@ -377,6 +379,7 @@ int print_contact_table(int repetitions) {
     bridge.run.duration_s = 1.0;
     runs.emplace_back("sitar bridge, 48 kHz, 120 modes, 1 s", bridge);
     for (const auto& [label, c] : runs) {
+        if (!wanted(label)) continue;
         std::vector<double> cpu, wall;
         for (int r = 0; r < repetitions; ++r) {
             const Timing t = timed([&] { benchmark::DoNotOptimize(simulate(c, {}).energy_final_j); });
@@ -427,7 +430,8 @@ int main(int argc, char** argv) {
             ->UseRealTime();
     for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--scaling") return print_scaling_table();
-        if (std::string(argv[i]) == "--contact") return print_contact_table(i + 1 < argc ? std::atoi(argv[i + 1]) : 9);
+        if (std::string(argv[i]) == "--contact")
+            return print_contact_table(i + 1 < argc ? std::atoi(argv[i + 1]) : 9, i + 2 < argc ? argv[i + 2] : "");
     }
     std::vector<char*> args(argv, argv + argc);
     std::string repetitions = "--benchmark_repetitions=5";

@@ -122,7 +122,6 @@ private:
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
     void solve_contacts();
     void apply_impulse();
-    bool one_push() const;  // a single force, applied along its row (no impulse vector)
     void advance_modes();
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
