@@ -30,6 +30,9 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
+    solve_a_.reserve(q0.size());
+    solve_b_.reserve(q0.size());
+    solutions_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
     rubbing_.reserve(q0.size());
@@ -375,10 +378,23 @@ void Stepper::solve_contacts() {
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
     if (played()) solve_fingers(use_transform);
-    for (std::size_t i : active_) {
-        const double w = grid_[i];
+    // Many points (a string landing on a long obstacle): their equations together, the same
+    // solutions (see PenaltyContact::solve_all).
+    const bool together = use_transform;
+    if (together) {
+        solve_a_.clear();
+        solve_b_.clear();
+        for (std::size_t i : active_) {
+            solve_a_.push_back(eta_prev_[i]);
+            solve_b_.push_back(g[i] - grid_[i] - eta_prev_[i]);
+        }
+        solutions_.resize(active_.size());  // within the reserved capacity: no allocation
+        law.solve_all(solve_a_, solve_b_, k, solutions_);
+    }
+    for (std::size_t p = 0; p < active_.size(); ++p) {
+        const std::size_t i = active_[p];
         const double a = eta_prev_[i];
-        const ContactSolution s = law.solve(a, g[i] - w - a, k);
+        const ContactSolution s = together ? solutions_[p] : law.solve(a, g[i] - grid_[i] - a, k);
         const double eta_next = a + s.increment;
         eta_prev_[i] = eta_curr_[i];
         eta_curr_[i] = eta_next;

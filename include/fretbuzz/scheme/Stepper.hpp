@@ -144,6 +144,9 @@ private:
     std::vector<double> grid_;             // scratch: a field on the grid
     std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at active points
     std::vector<std::size_t> active_;      // points solved every step
+    // Many active points are solved together (PenaltyContact::solve_all): their equations' a and b.
+    std::vector<double> solve_a_, solve_b_;
+    std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
     std::vector<Finger> fingers_;
