@@ -58,8 +58,13 @@ void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> force
 void Plan::predicted_at(std::span<const std::size_t> points, std::span<const double> predicted,
                         std::span<const double> q, std::span<const double> d, std::span<double> grid) const {
     const std::size_t n = mode_count();
-    std::array<const double*, kernels::kMaxRowsPerPass> rows{};
-    std::array<double, kernels::kMaxRowsPerPass> values{};
+    if (points.size() == 1 && predicted.empty()) {  // a string resting on a point obstacle: the common case
+        grid[points[0]] = kernels::predict_dot(propagator_.decay().data(), propagator_.beta().data(), q.data(), d.data(),
+                                               basis_.row(points[0]).data(), n);
+        return;
+    }
+    std::array<const double*, kernels::kMaxRowsPerPass> rows;
+    std::array<double, kernels::kMaxRowsPerPass> values;
     for (std::size_t first = 0; first < points.size(); first += rows.size()) {
         const std::size_t m = std::min(rows.size(), points.size() - first);
         for (std::size_t r = 0; r < m; ++r) rows[r] = basis_.row(points[first + r]).data();
