@@ -11,8 +11,8 @@
 #define FRETBUZZ_MULTIVERSION
 #endif
 
-#if defined(__GNUC__) && !defined(__clang__)
-// GCC notes that 32-byte vectors pass differently with and without AVX: the helpers that
+#if defined(__GNUC__)
+// GCC and Clang note that 32-byte vectors pass differently with and without AVX: the helpers that
 // take them are always inlined, so no call passes one.
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif

@@ -12,7 +12,7 @@ namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr int kMaxIterations = 200;
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__)
 // 32-byte vectors pass differently with and without AVX: the helpers taking them are inlined.
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
@@ -55,7 +55,7 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(v4 a, v4 r, v4 anchor, double st
     const v4 potential_a = a_pos ? potential_scale * ((a * sqrt_a) * a) : zero;
     const v4 outside = (potential_ar - potential_a) / r;
     const m4 at_r_zero = r == 0.0;
-    return {at_r_zero ? at_zero : is_inside ? inside : outside, is_inside & ~at_r_zero ? s : zero + kNoRoot};
+    return {at_r_zero ? at_zero : is_inside ? inside : outside, (is_inside & ~at_r_zero) ? s : zero + kNoRoot};
 }
 
 // The start of PenaltyContact::solve for alpha = 3/2, four equations at once, each lane
@@ -77,7 +77,7 @@ FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const doubl
     const v4 f = first.value;
     v4 hi = b;
     v4 lo = b - k * f;
-    lo = (a <= 0.0) & (lo < -a) ? -a : lo;
+    lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
     const v4 r = hi;
     const v4 residual = k * f;
     const v4 scale = abs4(r) + abs4(b) + k * f;
@@ -90,7 +90,7 @@ FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const doubl
     const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
     const v4 force_ar = ar_pos ? stiffness * ((a + r) * sqrt4(a + r)) : zero;
     const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
-    const v4 slope = 1.0 + k * (a_pos & ar_pos ? slope_inside : slope_outside);
+    const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
     v4 next = r - residual / slope;
     const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
     next = usable ? next : 0.5 * (lo + hi);
