@@ -42,10 +42,10 @@ FRETBUZZ_INLINE v4 load(const double* p) {
     __builtin_memcpy(&v, p, sizeof v);
     return v;
 }
-FRETBUZZ_INLINE void store(double* p, v4 v) { __builtin_memcpy(p, &v, sizeof v); }
+FRETBUZZ_INLINE void store(double* p, const v4& v) { __builtin_memcpy(p, &v, sizeof v); }
 
 // The remainder's sum, then lanes 0 to 7 in order (as an array of 8 partial sums would).
-FRETBUZZ_INLINE double fold(double sum, v4 lo, v4 hi) {
+FRETBUZZ_INLINE double fold(double sum, const v4& lo, const v4& hi) {
     for (int l = 0; l < 4; ++l) sum += lo[l];
     for (int l = 0; l < 4; ++l) sum += hi[l];
     return sum;
@@ -76,7 +76,7 @@ FRETBUZZ_INLINE double plus_rounded_product(double sum, double a, double b) {
 
 // p_j = q_j + (e_j d_j - beta_j q_j): the free prediction, the same expression everywhere.
 template <class T>
-FRETBUZZ_INLINE T predicted(T e, T beta, T q, T d) {
+FRETBUZZ_INLINE T predicted(const T& e, const T& beta, const T& q, const T& d) {
     return q + (e * d - beta * q);
 }
 
@@ -270,7 +270,7 @@ FRETBUZZ_MULTIVERSION double advance_pushes(const double* e, const double* beta,
 
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
                                            std::size_t n) {
-    const auto term = [](auto ek, auto bk, auto qk, auto dk) {
+    const auto term = [](const auto& ek, const auto& bk, const auto& qk, const auto& dk) {
         return 0.5 * (1.0 + ek) * dk * dk + bk * qk * (qk - dk);
     };
     v4 lo{}, hi{};

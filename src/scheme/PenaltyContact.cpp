@@ -32,18 +32,20 @@ constexpr int kMaxIterations = 200;
 typedef double v4 __attribute__((vector_size(32)));
 using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 
-FRETBUZZ_INLINE v4 sqrt4(v4 x) {
-    for (int l = 0; l < 4; ++l) x[l] = x[l] >= 0.0 ? __builtin_sqrt(x[l]) : 0.0;  // unused lanes: any value
-    return x;
+FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
+    v4 root;
+    for (int l = 0; l < 4; ++l) root[l] = x[l] >= 0.0 ? __builtin_sqrt(x[l]) : 0.0;  // unused lanes: any value
+    return root;
 }
-FRETBUZZ_INLINE v4 abs4(v4 x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
+FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
 
 // quotient(a, r) for alpha = 3/2 (its three cases), and sqrt(a + r) where it is computed
 // (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0.
 struct Quotient4 {
     v4 value, root;
 };
-FRETBUZZ_INLINE Quotient4 quotient_three_halves(v4 a, v4 r, v4 anchor, double stiffness, double potential_scale) {
+FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const v4& anchor, double stiffness,
+                                                double potential_scale) {
     const v4 zero{};
     const m4 a_pos = a > 0.0, ar_pos = (a + r) > 0.0, is_inside = a_pos & ar_pos;
     const v4 sqrt_a = sqrt4(a), s = sqrt4(a + r), t = anchor;
