@@ -21,8 +21,10 @@
 // baseline one, called by both).
 #if defined(__GNUC__)
 #define FRETBUZZ_INLINE [[gnu::always_inline]] inline
+#define FRETBUZZ_INLINE_LAMBDA __attribute__((always_inline))
 #else
 #define FRETBUZZ_INLINE inline
+#define FRETBUZZ_INLINE_LAMBDA
 #endif
 
 namespace fretbuzz::kernels {
@@ -103,7 +105,7 @@ FRETBUZZ_INLINE void row_products(const double* const* rows, const double* x, co
         }
     }
     double tail[M] = {};
-    const auto x_at = [&](std::size_t k) { return Predict ? predicted(e[k], beta[k], q[k], d[k]) : x[k]; };
+    const auto x_at = [&](std::size_t k) FRETBUZZ_INLINE_LAMBDA { return Predict ? predicted(e[k], beta[k], q[k], d[k]) : x[k]; };
     for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) {
         const double xj = x_at(j);
         for (std::size_t r = 0; r < M; ++r) tail[r] = plus_rounded_product(tail[r], rows[r][j], xj);
@@ -189,11 +191,13 @@ namespace {
 // (c[0] row0[k] + c[1] row1[k] + ..., formed as axpy would form it in a zeroed array), or nothing.
 enum class Push { none, array, row, rows };
 
-template <Push Pushed, bool Lossy>
+// Rows: M of them (a compile-time count, unrolled with its coefficients in registers), or m if M is 0.
+template <Push Pushed, bool Lossy, std::size_t M = 0>
 FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
                               const double* __restrict impulse, double c, const double* const* rows,
                               const double* coefficients, std::size_t m, double* __restrict q, double* __restrict d,
                               std::size_t n) {
+    if constexpr (M != 0) m = M;
     v4 partial_lo{}, partial_hi{};
     std::size_t j = 0;
     for (; j + kLanes <= n; j += kLanes) {
@@ -217,7 +221,7 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
         }
     }
     double sum = 0.0;
-    const auto one = [&](std::size_t k, bool rounded) {
+    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
         double next = e[k] * d[k] - beta[k] * q[k];
         if constexpr (Pushed == Push::array) next += impulse[k];
         if constexpr (Pushed == Push::row) next += c * impulse[k];
@@ -243,6 +247,13 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
     for (; j < n; ++j) one(j, false);
     return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
 }
+
+template <std::size_t M>
+FRETBUZZ_INLINE double advance_rows(const double* e, const double* beta, const double* loss, const double* coefficients,
+                                    const double* const* rows, std::size_t m, double* q, double* d, std::size_t n) {
+    return loss != nullptr ? advance_variant<Push::rows, true, M>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n)
+                           : advance_variant<Push::rows, false, M>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n);
+}
 }  // namespace
 
 FRETBUZZ_MULTIVERSION double advance(const double* e, const double* beta, const double* loss, const double* impulse,
@@ -263,14 +274,21 @@ FRETBUZZ_MULTIVERSION double advance_one_push(const double* e, const double* bet
 FRETBUZZ_MULTIVERSION double advance_pushes(const double* e, const double* beta, const double* loss,
                                             const double* coefficients, const double* const* rows, std::size_t m,
                                             double* q, double* d, std::size_t n) {
-    return loss != nullptr
-               ? advance_variant<Push::rows, true>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n)
-               : advance_variant<Push::rows, false>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n);
+    // The usual few points of a fret or a bridge: unrolled. (No lambda here: it would be
+    // compiled outside this variant.)
+    switch (m) {
+        case 2: return advance_rows<2>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 3: return advance_rows<3>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 4: return advance_rows<4>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 5: return advance_rows<5>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 6: return advance_rows<6>(e, beta, loss, coefficients, rows, m, q, d, n);
+        default: return advance_rows<0>(e, beta, loss, coefficients, rows, m, q, d, n);
+    }
 }
 
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
                                            std::size_t n) {
-    const auto term = [](const auto& ek, const auto& bk, const auto& qk, const auto& dk) {
+    const auto term = [](const auto& ek, const auto& bk, const auto& qk, const auto& dk) FRETBUZZ_INLINE_LAMBDA {
         return 0.5 * (1.0 + ek) * dk * dk + bk * qk * (qk - dk);
     };
     v4 lo{}, hi{};
