@@ -32,23 +32,37 @@ constexpr int kMaxIterations = 200;
 typedef double v4 __attribute__((vector_size(32)));
 using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 
+// sqrt where x > 0 (0 elsewhere: such lanes are not used), correctly rounded as std::sqrt.
 FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
+    const v4 positive = x > 0.0 ? x : v4{};
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt.
+    typedef double v2 __attribute__((vector_size(16)));
+    v2 half[2];
+    __builtin_memcpy(half, &positive, sizeof half);
+    half[0] = __builtin_ia32_sqrtpd(half[0]);
+    half[1] = __builtin_ia32_sqrtpd(half[1]);
     v4 root;
-    for (int l = 0; l < 4; ++l) root[l] = x[l] >= 0.0 ? __builtin_sqrt(x[l]) : 0.0;  // unused lanes: any value
+    __builtin_memcpy(&root, half, sizeof root);
     return root;
+#else
+    v4 root;
+    for (int l = 0; l < 4; ++l) root[l] = __builtin_sqrt(positive[l]);
+    return root;
+#endif
 }
 FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
 
 // quotient(a, r) for alpha = 3/2 (its three cases), and sqrt(a + r) where it is computed
-// (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0.
+// (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0, s = sqrt4(a + r).
 struct Quotient4 {
     v4 value, root;
 };
-FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const v4& anchor, double stiffness,
+FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const v4& anchor, const v4& s, double stiffness,
                                                 double potential_scale) {
     const v4 zero{};
     const m4 a_pos = a > 0.0, ar_pos = (a + r) > 0.0, is_inside = a_pos & ar_pos;
-    const v4 sqrt_a = sqrt4(a), s = sqrt4(a + r), t = anchor;
+    const v4 sqrt_a = anchor, t = anchor;                         // sqrt(a) where a > 0
     const v4 at_zero = a_pos ? stiffness * (a * sqrt_a) : zero;  // force(a)
     const v4 t2 = t * t;
     const v4 numerator = t2 * t2 + s * (t2 * t + s * (t2 + s * (t + s)));
@@ -74,8 +88,9 @@ FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const doubl
     const v4 zero{};
     const m4 a_pos = a > 0.0;
     const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
-    const v4 anchor = a_pos ? sqrt4(a) : zero;
-    const Quotient4 first = quotient_three_halves(a, b, anchor, stiffness, potential_scale);
+    const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
+    const v4 root_b = sqrt4(a + b);
+    const Quotient4 first = quotient_three_halves(a, b, anchor, root_b, stiffness, potential_scale);
     const v4 f = first.value;
     v4 hi = b;
     v4 lo = b - k * f;
@@ -87,16 +102,16 @@ FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const doubl
     const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
     // One Newton step from r = b: the slope of the quotient (PenaltyContact::slope).
     const m4 ar_pos = (a + r) > 0.0;
-    const v4 s = first.root == kNoRoot ? sqrt4(a + r) : first.root, t = anchor;
+    const v4 s = root_b, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
     const v4 sum = s + t;
     const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
-    const v4 force_ar = ar_pos ? stiffness * ((a + r) * sqrt4(a + r)) : zero;
+    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_b) : zero;
     const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
     const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
     v4 next = r - residual / slope;
     const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
     next = usable ? next : 0.5 * (lo + hi);
-    const Quotient4 second = quotient_three_halves(a, next, anchor, stiffness, potential_scale);
+    const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
     const v4 residual_next = next + k * second.value - b;
     const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
     for (int l = 0; l < 4; ++l) {
