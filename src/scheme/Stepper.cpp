@@ -409,12 +409,13 @@ void Stepper::solve_contacts() {
 }
 
 void Stepper::solve_fingers(bool use_transform) {
-    const std::size_t n = q_.size();
     bool acted = false;
     const auto solve = [&](auto& part) {
+        // The pad's predicted heights: from the transform, or by its rows 4 per pass (into
+        // grid_ at the pad's points, which are not active points: their values stay).
+        if (!use_transform) plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
         pad_w_.clear();
-        for (std::size_t i : part.pad())
-            pad_w_.push_back(use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n));
+        for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
         psi_curr_ += part.step(n_, pad_w_, pad_f_);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
