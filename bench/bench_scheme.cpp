@@ -16,8 +16,9 @@
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
 // the sampling rate and the extent of the obstacle, with fitted exponents;
-// `fretbuzz_bench --contact [repetitions]` the cost of contact steps and of audio-rate runs
-// (see print_contact_table).
+// `fretbuzz_bench --contact [repetitions] [text]` the cost of contact steps and of audio-rate
+// runs, and of the passes that bound them from below (see print_contact_table); with text,
+// only the rows whose label contains it.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -37,6 +38,7 @@
 #include "fretbuzz/io/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -332,7 +334,8 @@ struct ContactRow {
     long from, steps;  // stepping window: steps [from, from + steps)
 };
 
-int print_contact_table(int repetitions) {
+int print_contact_table(int repetitions, const std::string& only) {
+    const auto wanted = [&](const std::string& label) { return label.find(only) != std::string::npos; };
     std::vector<ContactRow> rows;
     rows.push_back({"bass-pop, 4 MHz, 862 modes, window", load_case("bass-pop"), 4e6, 14800, 2000});
     const Case flat = load_case("flat-obstacle");
@@ -347,6 +350,7 @@ int print_contact_table(int repetitions) {
     std::printf("Steps with contact: us per step, medians of %d repetitions (thread CPU / wall)\n", repetitions);
     std::printf("| window | points/step | CPU | wall |\n|---|---|---|---|\n");
     for (const ContactRow& row : rows) {
+        if (!wanted(row.label)) continue;
         const Plan plan(row.c, 1.0 / row.fs);
         Stepper start(plan, row.c.initial_displacement, row.c.initial_velocity);
         for (long n = 0; n < row.from; ++n) start.step();
@@ -377,6 +381,7 @@ int print_contact_table(int repetitions) {
     bridge.run.duration_s = 1.0;
     runs.emplace_back("sitar bridge, 48 kHz, 120 modes, 1 s", bridge);
     for (const auto& [label, c] : runs) {
+        if (!wanted(label)) continue;
         std::vector<double> cpu, wall;
         for (int r = 0; r < repetitions; ++r) {
             const Timing t = timed([&] { benchmark::DoNotOptimize(simulate(c, {}).energy_final_j); });
@@ -385,6 +390,33 @@ int print_contact_table(int repetitions) {
         }
         std::printf("| %s | %.4f | %.4f |\n", label.c_str(), median_of(cpu), median_of(wall));
         std::fflush(stdout);
+    }
+    // Passes no contact step can skip: what bounds the rows above from below.
+    std::printf("\nOne pass, us, medians of %d (of 2000 calls each)\n", repetitions);
+    std::printf("| pass | CPU | wall |\n|---|---|---|\n");
+    for (const auto& [name, fs] : {std::pair{"flat-obstacle", 1e4}, std::pair{"bass-pop", 4e6}}) {
+        const Case c = load_case(name);
+        const Plan plan(c, 1.0 / fs);
+        const std::size_t n = plan.mode_count();
+        std::vector<double> q(c.initial_displacement.begin(), c.initial_displacement.end()), d(n, 0.0), out(n, 0.0);
+        const auto pass = [&](const std::string& label, auto&& f) {
+            if (!wanted(label)) return;
+            std::vector<double> cpu, wall;
+            constexpr int kCalls = 2000;
+            for (int r = 0; r < repetitions; ++r) {
+                const Timing t = timed([&] {
+                    for (int k = 0; k < kCalls; ++k) f();
+                });
+                cpu.push_back(t.cpu_s * 1e6 / kCalls);
+                wall.push_back(t.wall_s * 1e6 / kCalls);
+            }
+            benchmark::DoNotOptimize(out.data());
+            std::printf("| %s | %.3f | %.3f |\n", label.c_str(), median_of(cpu), median_of(wall));
+        };
+        const std::string size = std::string(name) + ", " + std::to_string(n) + " modes";
+        pass("sine transform (to the grid), " + size, [&] { plan.basis().to_grid(q, out); });
+        pass("free amplitudes (speed bound), " + size, [&] { plan.propagator().free_amplitudes(q, d, out); });
+        pass("one row product, " + size, [&] { out[0] += kernels::dot(plan.basis().row(n / 3).data(), q.data(), n); });
     }
     return 0;
 }
@@ -427,7 +459,8 @@ int main(int argc, char** argv) {
             ->UseRealTime();
     for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--scaling") return print_scaling_table();
-        if (std::string(argv[i]) == "--contact") return print_contact_table(i + 1 < argc ? std::atoi(argv[i + 1]) : 9);
+        if (std::string(argv[i]) == "--contact")
+            return print_contact_table(i + 1 < argc ? std::atoi(argv[i + 1]) : 9, i + 2 < argc ? argv[i + 2] : "");
     }
     std::vector<char*> args(argv, argv + argc);
     std::string repetitions = "--benchmark_repetitions=5";

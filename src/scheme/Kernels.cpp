@@ -1,5 +1,7 @@
 #include "fretbuzz/scheme/Kernels.hpp"
 
+#include <algorithm>
+
 // Both variants compute the same sums in the same order. GCC contracts a * b + c into a
 // fused multiply-add in C++ even in ISO mode (-ffp-contract=fast is its C++ default), so
 // the AVX2 variant may differ from the baseline one in the last bits.
@@ -9,42 +11,153 @@
 #define FRETBUZZ_MULTIVERSION
 #endif
 
+#if defined(__GNUC__)
+// GCC and Clang note that 32-byte vectors pass differently with and without AVX: the helpers that
+// take them are always inlined, so no call passes one.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+// The helpers below must be compiled inside each variant (an out-of-line copy would be the
+// baseline one, called by both).
+#if defined(__GNUC__)
+#define FRETBUZZ_INLINE [[gnu::always_inline]] inline
+#define FRETBUZZ_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define FRETBUZZ_INLINE inline
+#define FRETBUZZ_INLINE_LAMBDA
+#endif
+
 namespace fretbuzz::kernels {
 
 namespace {
-constexpr std::size_t kLanes = 8;  // independent partial sums: enough to fill two AVX2 adders
-// A dot product's lanes. 16 (four AVX2 chains instead of two) was measured no faster in the
-// engine: its scalar remainder grows, and the sums would change in the last bits.
-constexpr std::size_t kDotLanes = kLanes;
+// Eight independent partial sums (enough to fill two AVX2 adders), held as two 4-lane
+// vectors: lanes 0-3 and 4-7. Written with vector types because GCC vectorises the
+// equivalent scalar loops over 8 lanes with heavy shuffles (vunpcklpd/vpermpd) for some
+// of them; these give plain loads and multiply-adds, the same sums in the same order.
+// A dot product's lanes: 16 (four AVX2 chains instead of two) was measured no faster in the
+// engine (its scalar remainder grows) and would change the sums in the last bits.
+typedef double v4 __attribute__((vector_size(32)));
+constexpr std::size_t kLanes = 8;
+
+FRETBUZZ_INLINE v4 load(const double* p) {
+    v4 v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+FRETBUZZ_INLINE void store(double* p, const v4& v) { __builtin_memcpy(p, &v, sizeof v); }
+
+// The remainder's sum, then lanes 0 to 7 in order (as an array of 8 partial sums would).
+FRETBUZZ_INLINE double fold(double sum, const v4& lo, const v4& hi) {
+    for (int l = 0; l < 4; ++l) sum += lo[l];
+    for (int l = 0; l < 4; ++l) sum += hi[l];
+    return sum;
 }
 
-FRETBUZZ_MULTIVERSION double dot(const double* a, const double* b, std::size_t n) {
-    double partial[kDotLanes] = {};
-    std::size_t j = 0;
-    for (; j + kDotLanes <= n; j += kDotLanes)
-        for (std::size_t l = 0; l < kDotLanes; ++l) partial[l] += a[j + l] * b[j + l];
-    double sum = 0.0;
-    for (; j < n; ++j) sum += a[j] * b[j];
-    for (double p : partial) sum += p;
+// The remainder (n mod 8 terms) is summed serially in order. The scalar loops these kernels
+// replace were compiled (AVX2 variant) with that remainder vectorised in chunks of 4 and 2,
+// each product rounded before its add, and only a last odd term fused into a multiply-add;
+// the remainder here does the same (plus_rounded_product, then a fused last odd term), so that every sum keeps its last bits.
+FRETBUZZ_INLINE void opaque(double& x) {
+#if defined(__GNUC__) && defined(__x86_64__)
+    asm("" : "+x"(x));  // the compiler can neither fuse across it nor vectorise the loop
+#else
+    (void)x;
+#endif
+}
+// Where a remainder from j to n has its last odd term (n if it has none).
+FRETBUZZ_INLINE std::size_t last_odd_term(std::size_t j, std::size_t n) { return (n - j) % 2 == 1 ? n - 1 : n; }
+
+// sum + a b, the product rounded first (a chunk of the remainder).
+FRETBUZZ_INLINE double plus_rounded_product(double sum, double a, double b) {
+    double product = a * b;
+    opaque(product);
+    sum += product;
+    opaque(sum);
     return sum;
+}
+
+// p_j = q_j + (e_j d_j - beta_j q_j): the free prediction, the same expression everywhere.
+template <class T>
+FRETBUZZ_INLINE T predicted(const T& e, const T& beta, const T& q, const T& d) {
+    return q + (e * d - beta * q);
+}
+
+// out[r] = sum_j rows[r][j] x_j for r < M, x read once; with Predict, x is the prediction
+// formed from (e, beta, q, d) on the fly. Each sum is the one dot (or predict then dot) gives.
+template <std::size_t M, bool Predict>
+FRETBUZZ_INLINE void row_products(const double* const* rows, const double* x, const double* e, const double* beta,
+                         const double* q, const double* d, std::size_t n, double* out) {
+    v4 lo[M], hi[M];
+    for (std::size_t r = 0; r < M; ++r) lo[r] = hi[r] = v4{};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        v4 x_lo, x_hi;
+        if constexpr (Predict) {
+            x_lo = predicted(load(e + j), load(beta + j), load(q + j), load(d + j));
+            x_hi = predicted(load(e + j + 4), load(beta + j + 4), load(q + j + 4), load(d + j + 4));
+        } else {
+            x_lo = load(x + j);
+            x_hi = load(x + j + 4);
+        }
+        for (std::size_t r = 0; r < M; ++r) {
+            lo[r] += load(rows[r] + j) * x_lo;
+            hi[r] += load(rows[r] + j + 4) * x_hi;
+        }
+    }
+    double tail[M] = {};
+    const auto x_at = [&](std::size_t k) FRETBUZZ_INLINE_LAMBDA { return Predict ? predicted(e[k], beta[k], q[k], d[k]) : x[k]; };
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) {
+        const double xj = x_at(j);
+        for (std::size_t r = 0; r < M; ++r) tail[r] = plus_rounded_product(tail[r], rows[r][j], xj);
+    }
+    if (j < n) {  // a last odd term: fused
+        const double xj = x_at(j);
+        for (std::size_t r = 0; r < M; ++r) tail[r] += rows[r][j] * xj;
+    }
+    for (std::size_t r = 0; r < M; ++r) out[r] = fold(tail[r], lo[r], hi[r]);
+}
+
+template <bool Predict>
+FRETBUZZ_INLINE void row_products_upto4(const double* const* rows, std::size_t m, const double* x, const double* e,
+                               const double* beta, const double* q, const double* d, std::size_t n, double* out) {
+    switch (m) {
+        case 1: row_products<1, Predict>(rows, x, e, beta, q, d, n, out); break;
+        case 2: row_products<2, Predict>(rows, x, e, beta, q, d, n, out); break;
+        case 3: row_products<3, Predict>(rows, x, e, beta, q, d, n, out); break;
+        default: row_products<4, Predict>(rows, x, e, beta, q, d, n, out); break;
+    }
+}
+}  // namespace
+
+FRETBUZZ_MULTIVERSION double dot(const double* a, const double* b, std::size_t n) {
+    double out;
+    row_products<1, false>(&a, b, nullptr, nullptr, nullptr, nullptr, n, &out);
+    return out;
+}
+
+FRETBUZZ_MULTIVERSION void dot_rows(const double* const* rows, std::size_t m, const double* x, std::size_t n,
+                                    double* out) {
+    for (std::size_t r = 0; r < m; r += kMaxRowsPerPass)
+        row_products_upto4<false>(rows + r, std::min(m - r, kMaxRowsPerPass), x, nullptr, nullptr, nullptr, nullptr, n,
+                                  out + r);
 }
 
 FRETBUZZ_MULTIVERSION double predict_dot(const double* e, const double* beta, const double* q, const double* d,
                                          const double* row, std::size_t n) {
-    // The same terms and partial sums as predict followed by dot.
-    double partial[kDotLanes] = {};
-    std::size_t j = 0;
-    for (; j + kDotLanes <= n; j += kDotLanes)
-        for (std::size_t l = 0; l < kDotLanes; ++l) {
-            const std::size_t k = j + l;
-            partial[l] += row[k] * (q[k] + (e[k] * d[k] - beta[k] * q[k]));
-        }
-    double sum = 0.0;
-    for (; j < n; ++j) sum += row[j] * (q[j] + (e[j] * d[j] - beta[j] * q[j]));
-    for (double p : partial) sum += p;
-    return sum;
+    double out;
+    row_products<1, true>(&row, nullptr, e, beta, q, d, n, &out);
+    return out;
 }
 
+FRETBUZZ_MULTIVERSION void predict_dot_rows(const double* e, const double* beta, const double* q, const double* d,
+                                            const double* const* rows, std::size_t m, std::size_t n, double* out) {
+    for (std::size_t r = 0; r < m; r += kMaxRowsPerPass)
+        row_products_upto4<true>(rows + r, std::min(m - r, kMaxRowsPerPass), nullptr, e, beta, q, d, n, out + r);
+}
+
+// Left as arrays of partial sums: GCC compiles them with shuffles but without fused
+// multiply-adds in the loop, which vector types would fuse (other last bits of u at a woken
+// point). They run once per woken point, not once per step.
 FRETBUZZ_MULTIVERSION void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
                                                 double& current, double& previous) {
     double now[kLanes] = {}, before[kLanes] = {};
@@ -69,73 +182,124 @@ FRETBUZZ_MULTIVERSION void dot_current_previous(const double* row, const double*
 
 FRETBUZZ_MULTIVERSION void predict(const double* e, const double* beta, const double* q, const double* d, double* p,
                                    std::size_t n) {
-    for (std::size_t j = 0; j < n; ++j) p[j] = q[j] + (e[j] * d[j] - beta[j] * q[j]);
+    for (std::size_t j = 0; j < n; ++j) p[j] = predicted(e[j], beta[j], q[j], d[j]);
 }
 
 namespace {
 // One variant per case so each loop is branch-free and vectorises.
-// Impulse: an array (impulse[k]), or one row times c (c row[k]), or nothing.
-enum class Push { none, array, row };
+// Impulse: an array (impulse[k]), or one row times c (c row[k]), or a sum of rows
+// (c[0] row0[k] + c[1] row1[k] + ..., formed as axpy would form it in a zeroed array), or nothing.
+enum class Push { none, array, row, rows };
 
-template <Push Pushed, bool Lossy>
-inline double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
-                              const double* __restrict impulse, double c, double* __restrict q, double* __restrict d,
+// Rows: M of them (a compile-time count, unrolled with its coefficients in registers), or m if M is 0.
+template <Push Pushed, bool Lossy, std::size_t M = 0>
+FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
+                              const double* __restrict impulse, double c, const double* const* rows,
+                              const double* coefficients, std::size_t m, double* __restrict q, double* __restrict d,
                               std::size_t n) {
-    double partial[kLanes] = {};
+    if constexpr (M != 0) m = M;
+    v4 partial_lo{}, partial_hi{};
     std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes)
-        for (std::size_t l = 0; l < kLanes; ++l) {
-            const std::size_t k = j + l;
-            double next = e[k] * d[k] - beta[k] * q[k];
-            if constexpr (Pushed == Push::array) next += impulse[k];
-            if constexpr (Pushed == Push::row) next += c * impulse[k];
-            if constexpr (Lossy) {
-                const double span = next + d[k];  // q^{n+1} - q^{n-1}
-                partial[l] += loss[k] * span * span;
+    for (; j + kLanes <= n; j += kLanes) {
+        for (std::size_t h = 0; h < kLanes; h += 4) {
+            const std::size_t k = j + h;
+            v4 next = load(e + k) * load(d + k) - load(beta + k) * load(q + k);
+            if constexpr (Pushed == Push::array) next += load(impulse + k);
+            if constexpr (Pushed == Push::row) next += c * load(impulse + k);
+            if constexpr (Pushed == Push::rows) {
+                v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
+                for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
+                next += push;
             }
-            q[k] += next;
-            d[k] = next;
+            v4& partial = h == 0 ? partial_lo : partial_hi;
+            if constexpr (Lossy) {
+                const v4 span = next + load(d + k);  // q^{n+1} - q^{n-1}
+                partial += load(loss + k) * span * span;
+            }
+            store(q + k, load(q + k) + next);
+            store(d + k, next);
         }
-    double sum = 0.0;
-    for (; j < n; ++j) {
-        double next = e[j] * d[j] - beta[j] * q[j];
-        if constexpr (Pushed == Push::array) next += impulse[j];
-        if constexpr (Pushed == Push::row) next += c * impulse[j];
-        if constexpr (Lossy) sum += loss[j] * (next + d[j]) * (next + d[j]);
-        q[j] += next;
-        d[j] = next;
     }
-    for (double p : partial) sum += p;
-    return sum;
+    double sum = 0.0;
+    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
+        double next = e[k] * d[k] - beta[k] * q[k];
+        if constexpr (Pushed == Push::array) next += impulse[k];
+        if constexpr (Pushed == Push::row) next += c * impulse[k];
+        if constexpr (Pushed == Push::rows) {
+            double push = coefficients[0] * rows[0][k] + 0.0;
+            for (std::size_t r = 1; r < m; ++r) {
+                push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
+                opaque(push);
+            }
+            next += push;
+        }
+        if constexpr (Lossy) {
+            const double span = next + d[k];
+            if (rounded)
+                sum = plus_rounded_product(sum, loss[k] * span, span);
+            else
+                sum += loss[k] * span * span;
+        }
+        q[k] += next;
+        d[k] = next;
+    };
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
+    for (; j < n; ++j) one(j, false);
+    return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
+}
+
+template <std::size_t M>
+FRETBUZZ_INLINE double advance_rows(const double* e, const double* beta, const double* loss, const double* coefficients,
+                                    const double* const* rows, std::size_t m, double* q, double* d, std::size_t n) {
+    return loss != nullptr ? advance_variant<Push::rows, true, M>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n)
+                           : advance_variant<Push::rows, false, M>(e, beta, loss, nullptr, 0.0, rows, coefficients, m, q, d, n);
 }
 }  // namespace
 
 FRETBUZZ_MULTIVERSION double advance(const double* e, const double* beta, const double* loss, const double* impulse,
                                      double* q, double* d, std::size_t n) {
     if (impulse != nullptr)
-        return loss != nullptr ? advance_variant<Push::array, true>(e, beta, loss, impulse, 0.0, q, d, n)
-                               : advance_variant<Push::array, false>(e, beta, loss, impulse, 0.0, q, d, n);
-    return loss != nullptr ? advance_variant<Push::none, true>(e, beta, loss, impulse, 0.0, q, d, n)
-                           : advance_variant<Push::none, false>(e, beta, loss, impulse, 0.0, q, d, n);
+        return loss != nullptr ? advance_variant<Push::array, true>(e, beta, loss, impulse, 0.0, nullptr, nullptr, 0, q, d, n)
+                               : advance_variant<Push::array, false>(e, beta, loss, impulse, 0.0, nullptr, nullptr, 0, q, d, n);
+    return loss != nullptr ? advance_variant<Push::none, true>(e, beta, loss, impulse, 0.0, nullptr, nullptr, 0, q, d, n)
+                           : advance_variant<Push::none, false>(e, beta, loss, impulse, 0.0, nullptr, nullptr, 0, q, d, n);
 }
 
 FRETBUZZ_MULTIVERSION double advance_one_push(const double* e, const double* beta, const double* loss, double c,
                                               const double* row, double* q, double* d, std::size_t n) {
-    return loss != nullptr ? advance_variant<Push::row, true>(e, beta, loss, row, c, q, d, n)
-                           : advance_variant<Push::row, false>(e, beta, loss, row, c, q, d, n);
+    return loss != nullptr ? advance_variant<Push::row, true>(e, beta, loss, row, c, nullptr, nullptr, 0, q, d, n)
+                           : advance_variant<Push::row, false>(e, beta, loss, row, c, nullptr, nullptr, 0, q, d, n);
+}
+
+FRETBUZZ_MULTIVERSION double advance_pushes(const double* e, const double* beta, const double* loss,
+                                            const double* coefficients, const double* const* rows, std::size_t m,
+                                            double* q, double* d, std::size_t n) {
+    // The usual few points of a fret or a bridge: unrolled. (No lambda here: it would be
+    // compiled outside this variant.)
+    switch (m) {
+        case 2: return advance_rows<2>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 3: return advance_rows<3>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 4: return advance_rows<4>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 5: return advance_rows<5>(e, beta, loss, coefficients, rows, m, q, d, n);
+        case 6: return advance_rows<6>(e, beta, loss, coefficients, rows, m, q, d, n);
+        default: return advance_rows<0>(e, beta, loss, coefficients, rows, m, q, d, n);
+    }
 }
 
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
                                            std::size_t n) {
-    double partial[kLanes] = {};
+    const auto term = [](const auto& ek, const auto& bk, const auto& qk, const auto& dk) FRETBUZZ_INLINE_LAMBDA {
+        return 0.5 * (1.0 + ek) * dk * dk + bk * qk * (qk - dk);
+    };
+    v4 lo{}, hi{};
     std::size_t j = 0;
-    auto term = [&](std::size_t k) { return 0.5 * (1.0 + e[k]) * d[k] * d[k] + beta[k] * q[k] * (q[k] - d[k]); };
-    for (; j + kLanes <= n; j += kLanes)
-        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += term(j + l);
+    for (; j + kLanes <= n; j += kLanes) {
+        lo += term(load(e + j), load(beta + j), load(q + j), load(d + j));
+        hi += term(load(e + j + 4), load(beta + j + 4), load(q + j + 4), load(d + j + 4));
+    }
     double sum = 0.0;
-    for (; j < n; ++j) sum += term(j);
-    for (double p : partial) sum += p;
-    return sum;
+    for (; j < n; ++j) sum += term(e[j], beta[j], q[j], d[j]);
+    return fold(sum, lo, hi);
 }
 
 FRETBUZZ_MULTIVERSION void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d,
@@ -148,14 +312,15 @@ FRETBUZZ_MULTIVERSION void free_amplitudes(const double* aq, const double* ad, c
 }
 
 FRETBUZZ_MULTIVERSION double sum(const double* x, std::size_t n) {
-    double partial[kLanes] = {};
+    v4 lo{}, hi{};
     std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes)
-        for (std::size_t l = 0; l < kLanes; ++l) partial[l] += x[j + l];
+    for (; j + kLanes <= n; j += kLanes) {
+        lo += load(x + j);
+        hi += load(x + j + 4);
+    }
     double total = 0.0;
     for (; j < n; ++j) total += x[j];
-    for (double p : partial) total += p;
-    return total;
+    return fold(total, lo, hi);
 }
 
 FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n,

@@ -11,6 +11,116 @@ namespace fretbuzz {
 namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr int kMaxIterations = 200;
+
+#if defined(__GNUC__)
+// 32-byte vectors pass differently with and without AVX: the helpers taking them are inlined.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+#if defined(__GNUC__)
+#define FRETBUZZ_INLINE [[gnu::always_inline]] inline
+#else
+#define FRETBUZZ_INLINE inline
+#endif
+// AVX without FMA: no multiply-add can be fused, so each lane rounds exactly as the scalar
+// solve (compiled for baseline x86-64) does.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FRETBUZZ_AVX_CLONES __attribute__((target_clones("default", "avx")))
+#else
+#define FRETBUZZ_AVX_CLONES
+#endif
+
+typedef double v4 __attribute__((vector_size(32)));
+using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
+
+// sqrt where x > 0 (0 elsewhere: such lanes are not used), correctly rounded as std::sqrt.
+FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
+    const v4 positive = x > 0.0 ? x : v4{};
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt.
+    typedef double v2 __attribute__((vector_size(16)));
+    v2 half[2];
+    __builtin_memcpy(half, &positive, sizeof half);
+    half[0] = __builtin_ia32_sqrtpd(half[0]);
+    half[1] = __builtin_ia32_sqrtpd(half[1]);
+    v4 root;
+    __builtin_memcpy(&root, half, sizeof root);
+    return root;
+#else
+    v4 root;
+    for (int l = 0; l < 4; ++l) root[l] = __builtin_sqrt(positive[l]);
+    return root;
+#endif
+}
+FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
+
+// quotient(a, r) for alpha = 3/2 (its three cases), and sqrt(a + r) where it is computed
+// (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0, s = sqrt4(a + r).
+struct Quotient4 {
+    v4 value, root;
+};
+FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const v4& anchor, const v4& s, double stiffness,
+                                                double potential_scale) {
+    const v4 zero{};
+    const m4 a_pos = a > 0.0, ar_pos = (a + r) > 0.0, is_inside = a_pos & ar_pos;
+    const v4 sqrt_a = anchor, t = anchor;                         // sqrt(a) where a > 0
+    const v4 at_zero = a_pos ? stiffness * (a * sqrt_a) : zero;  // force(a)
+    const v4 t2 = t * t;
+    const v4 numerator = t2 * t2 + s * (t2 * t + s * (t2 + s * (t + s)));
+    const v4 inside = 0.4 * stiffness * numerator / (s + t);
+    const v4 potential_ar = ar_pos ? potential_scale * (((a + r) * s) * (a + r)) : zero;
+    const v4 potential_a = a_pos ? potential_scale * ((a * sqrt_a) * a) : zero;
+    const v4 outside = (potential_ar - potential_a) / r;
+    const m4 at_r_zero = r == 0.0;
+    return {at_r_zero ? at_zero : is_inside ? inside : outside, (is_inside & ~at_r_zero) ? s : zero + kNoRoot};
+}
+
+// The start of PenaltyContact::solve for alpha = 3/2, four equations at once, each lane
+// rounding as the scalar code does (the same operations in the same order, no fused
+// multiply-add): the stopping tests at Newton's first iterate and after its first step.
+// state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
+// 2: more iterations needed (left to the scalar solve).
+FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const double* b_in, double k, double stiffness,
+                                                 double potential_scale, double* increment, double* force, double* root,
+                                                 int* state) {
+    v4 a, b;
+    __builtin_memcpy(&a, a_in, sizeof a);
+    __builtin_memcpy(&b, b_in, sizeof b);
+    const v4 zero{};
+    const m4 a_pos = a > 0.0;
+    const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
+    const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
+    const v4 root_b = sqrt4(a + b);
+    const Quotient4 first = quotient_three_halves(a, b, anchor, root_b, stiffness, potential_scale);
+    const v4 f = first.value;
+    v4 hi = b;
+    v4 lo = b - k * f;
+    lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
+    const v4 r = hi;
+    const v4 residual = k * f;
+    const v4 scale = abs4(r) + abs4(b) + k * f;
+    const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
+    const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
+    // One Newton step from r = b: the slope of the quotient (PenaltyContact::slope).
+    const m4 ar_pos = (a + r) > 0.0;
+    const v4 s = root_b, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
+    const v4 sum = s + t;
+    const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
+    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_b) : zero;
+    const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
+    const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
+    v4 next = r - residual / slope;
+    const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
+    next = usable ? next : 0.5 * (lo + hi);
+    const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
+    const v4 residual_next = next + k * second.value - b;
+    const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
+    for (int l = 0; l < 4; ++l) {
+        state[l] = apart[l] ? 0 : (converged[l] || stalled[l]) ? 1 : 2;
+        increment[l] = converged[l] ? r[l] : next[l];
+        force[l] = converged[l] ? f[l] : second.value[l];
+        root[l] = converged[l] ? first.root[l] : second.root[l];
+    }
+}
 }  // namespace
 
 PenaltyContact::PenaltyContact(double stiffness, double exponent, bool specialise)
@@ -24,6 +134,7 @@ void PenaltyContact::set(double stiffness, double exponent) {
     if (!(std::isfinite(exponent) && exponent >= 1.0)) require_at_least("contact.alpha (penalty exponent)", exponent, 1.0);
     k_ = stiffness;
     alpha_ = exponent;
+    potential_scale_ = k_ / (alpha_ + 1.0);
     law_ = Law::general;
     if (!specialise_) return;
     if (exponent == 1.0) law_ = Law::linear;
@@ -45,9 +156,8 @@ double PenaltyContact::power(double eta) const {
 
 double PenaltyContact::potential(double eta, double root) const {
     if (!(eta > 0.0)) return 0.0;
-    if (law_ == Law::three_halves && root != kNoRoot) return k_ / (alpha_ + 1.0) * ((eta * root) * eta);
-    return law_ == Law::general ? k_ / (alpha_ + 1.0) * std::pow(eta, alpha_ + 1.0)
-                                : k_ / (alpha_ + 1.0) * (power(eta) * eta);
+    if (law_ == Law::three_halves && root != kNoRoot) return potential_scale_ * ((eta * root) * eta);
+    return law_ == Law::general ? potential_scale_ * std::pow(eta, alpha_ + 1.0) : potential_scale_ * (power(eta) * eta);
 }
 
 double PenaltyContact::force(double eta) const { return eta > 0.0 ? k_ * power(eta) : 0.0; }
@@ -79,7 +189,7 @@ double PenaltyContact::quotient_inside(double a, double r, double anchor_a, doub
     }
     // K/(alpha+1) a^(alpha+1) [(1 + r/a)^(alpha+1) - 1] / r, accurate for tiny r/a.
     const double growth = std::expm1((alpha_ + 1.0) * std::log1p(r / a));
-    return k_ / (alpha_ + 1.0) * anchor_a * growth / r;
+    return potential_scale_ * anchor_a * growth / r;
 }
 
 double PenaltyContact::quotient(double a, double r, double anchor_a, double& root) const {
@@ -122,6 +232,37 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double s
     if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
     if (r == 0.0) return 0.0;
     return (force(a + r) - quotient_value) / r;
+}
+
+void PenaltyContact::solve_all(std::span<const double> a, std::span<const double> b, double k,
+                               std::span<ContactSolution> out) const {
+    const std::size_t n = a.size();
+    std::size_t i = 0;
+    if (law_ == Law::three_halves && std::isfinite(k)) {
+        for (; i + 4 <= n; i += 4) {
+            double increment[4], force[4], root[4];
+            int state[4];
+            first_step_three_halves(a.data() + i, b.data() + i, k, k_, potential_scale_, increment, force, root, state);
+            for (std::size_t l = 0; l < 4; ++l) {
+                const std::size_t j = i + l;
+                // A non-finite input takes the scalar path, which reports it.
+                if (state[l] == 2 || !std::isfinite(a[j]) || !std::isfinite(b[j])) {
+                    out[j] = solve(a[j], b[j], k);
+                    continue;
+                }
+                ContactSolution& o = out[j];
+                o = ContactSolution{};
+                o.increment = b[j];
+                if (state[l] == 1) {
+                    o.increment = increment[l];
+                    o.force = force[l];
+                    o.root = root[l];
+                    o.iterations = 1;
+                }
+            }
+        }
+    }
+    for (; i < n; ++i) out[i] = solve(a[i], b[i], k);
 }
 
 ContactSolution PenaltyContact::solve(double a, double b, double k) const {

@@ -1,6 +1,7 @@
 #include "fretbuzz/scheme/Plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
@@ -50,8 +51,29 @@ void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> force
         basis_.to_modes(grid, impulse);
     } else {
         std::fill(impulse.begin(), impulse.end(), 0.0);
-        const double dx = basis_.grid_step();
-        for (const auto& [i, f] : forces) kernels::axpy(k * dx * f, basis_.row(i).data(), impulse.data(), impulse.size());
+        for (const auto& [i, f] : forces) kernels::axpy(impulse_scale() * f, basis_.row(i).data(), impulse.data(), impulse.size());
+    }
+}
+
+void Plan::predicted_at(std::span<const std::size_t> points, std::span<const double> predicted,
+                        std::span<const double> q, std::span<const double> d, std::span<double> grid) const {
+    const std::size_t n = mode_count();
+    if (points.size() == 1 && predicted.empty()) {  // a string resting on a point obstacle: the common case
+        grid[points[0]] = kernels::predict_dot(propagator_.decay().data(), propagator_.beta().data(), q.data(), d.data(),
+                                               basis_.row(points[0]).data(), n);
+        return;
+    }
+    std::array<const double*, kernels::kMaxRowsPerPass> rows;
+    std::array<double, kernels::kMaxRowsPerPass> values;
+    for (std::size_t first = 0; first < points.size(); first += rows.size()) {
+        const std::size_t m = std::min(rows.size(), points.size() - first);
+        for (std::size_t r = 0; r < m; ++r) rows[r] = basis_.row(points[first + r]).data();
+        if (predicted.empty())
+            kernels::predict_dot_rows(propagator_.decay().data(), propagator_.beta().data(), q.data(), d.data(),
+                                      rows.data(), m, n, values.data());
+        else
+            kernels::dot_rows(rows.data(), m, predicted.data(), n, values.data());
+        for (std::size_t r = 0; r < m; ++r) grid[points[first + r]] = values[r];
     }
 }
 

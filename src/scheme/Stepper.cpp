@@ -1,6 +1,7 @@
 #include "fretbuzz/scheme/Stepper.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
@@ -29,6 +30,9 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
+    solve_a_.reserve(q0.size());
+    solve_b_.reserve(q0.size());
+    solutions_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
     rubbing_.reserve(q0.size());
@@ -371,23 +375,37 @@ void Stepper::solve_contacts() {
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
-    // One point (a string resting on a point obstacle): its row product forms the prediction
-    // on the fly, one pass fewer.
-    const bool one_point = active_.size() == 1 && pad_points_ == 0;
-    if (!one_point) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
-    if (use_transform) plan_.basis().to_grid(predicted_, grid_);
+    // A few points and no pad: their row products form the prediction on the fly, one pass
+    // fewer; otherwise it is stored for the transform, the pads or the rows.
+    const bool on_the_fly = !use_transform && pad_points_ == 0 && active_.size() <= kernels::kMaxRowsPerPass;
+    if (!on_the_fly) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+    // The predicted height at every active point, into grid_ (by one transform, or by rows).
+    if (use_transform)
+        plan_.basis().to_grid(predicted_, grid_);
+    else
+        plan_.predicted_at(active_, on_the_fly ? std::span<const double>() : predicted_, q_, d_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
     if (played()) solve_fingers(use_transform);
-    for (std::size_t i : active_) {
-        const double* row = plan_.basis().row(i).data();
-        const double w = use_transform ? grid_[i]
-                         : one_point   ? kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), row, n)
-                                       : kernels::dot(row, predicted_.data(), n);
+    // Many points (a string landing on a long obstacle): their equations together, the same
+    // solutions (see PenaltyContact::solve_all).
+    const bool together = use_transform;
+    if (together) {
+        solve_a_.clear();
+        solve_b_.clear();
+        for (std::size_t i : active_) {
+            solve_a_.push_back(eta_prev_[i]);
+            solve_b_.push_back(g[i] - grid_[i] - eta_prev_[i]);
+        }
+        solutions_.resize(active_.size());  // within the reserved capacity: no allocation
+        law.solve_all(solve_a_, solve_b_, k, solutions_);
+    }
+    for (std::size_t p = 0; p < active_.size(); ++p) {
+        const std::size_t i = active_[p];
         const double a = eta_prev_[i];
-        const ContactSolution s = law.solve(a, g[i] - w - a, k);
+        const ContactSolution s = together ? solutions_[p] : law.solve(a, g[i] - grid_[i] - a, k);
         const double eta_next = a + s.increment;
         eta_prev_[i] = eta_curr_[i];
         eta_curr_[i] = eta_next;
@@ -402,12 +420,13 @@ void Stepper::solve_contacts() {
 }
 
 void Stepper::solve_fingers(bool use_transform) {
-    const std::size_t n = q_.size();
     bool acted = false;
     const auto solve = [&](auto& part) {
+        // The pad's predicted heights: from the transform, or by its rows 4 per pass (into
+        // grid_ at the pad's points, which are not active points: their values stay).
+        if (!use_transform) plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
         pad_w_.clear();
-        for (std::size_t i : part.pad())
-            pad_w_.push_back(use_transform ? grid_[i] : kernels::dot(plan_.basis().row(i).data(), predicted_.data(), n));
+        for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
         psi_curr_ += part.step(n_, pad_w_, pad_f_);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
@@ -442,23 +461,34 @@ void Stepper::retire_plucker(const Pluck& pluck) {
     pad_points_ -= pad.size();
 }
 
-bool Stepper::one_push() const { return forces_.size() == 1 && plan_.transform_threshold() >= 1; }
-
 void Stepper::apply_impulse() {
-    if (forces_.empty() || one_push()) return;  // one push: advance_modes forms it from the row
+    if (forces_.empty() || plan_.pushes_inline(forces_.size())) return;  // advance_modes adds the rows
     plan_.forces_to_modes(forces_, grid_, impulse_);
 }
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
     const double* loss = prop.lossless() ? nullptr : prop.loss().data();
-    const double losses =
-        one_push()
-            ? kernels::advance_one_push(prop.decay().data(), prop.beta().data(), loss,
-                                        plan_.force_to_displacement() * plan_.basis().grid_step() * forces_.front().second,
-                                        plan_.basis().row(forces_.front().first).data(), q_.data(), d_.data(), q_.size())
-            : kernels::advance(prop.decay().data(), prop.beta().data(), loss, forces_.empty() ? nullptr : impulse_.data(),
-                               q_.data(), d_.data(), q_.size());
+    const double* e = prop.decay().data();
+    const double* beta = prop.beta().data();
+    const std::size_t n = q_.size();
+    double losses = 0.0;
+    if (forces_.size() == 1 && plan_.pushes_inline(1)) {
+        const auto& [i, f] = forces_.front();
+        losses = kernels::advance_one_push(e, beta, loss, plan_.impulse_scale() * f, plan_.basis().row(i).data(), q_.data(),
+                                           d_.data(), n);
+    } else if (plan_.pushes_inline(forces_.size())) {
+        std::array<double, Plan::kMaxInlinePushes> coefficients{};
+        std::array<const double*, Plan::kMaxInlinePushes> rows{};
+        for (std::size_t r = 0; r < forces_.size(); ++r) {
+            coefficients[r] = plan_.impulse_scale() * forces_[r].second;
+            rows[r] = plan_.basis().row(forces_[r].first).data();
+        }
+        losses = kernels::advance_pushes(e, beta, loss, coefficients.data(), rows.data(), forces_.size(), q_.data(),
+                                         d_.data(), n);
+    } else {
+        losses = kernels::advance(e, beta, loss, forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+    }
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
 }
 

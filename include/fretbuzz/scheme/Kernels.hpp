@@ -8,6 +8,10 @@ namespace fretbuzz::kernels {
 
 // sum_j a_j b_j
 double dot(const double* a, const double* b, std::size_t n);
+// Rows that one pass over a vector multiplies at once (the rest: further passes).
+inline constexpr std::size_t kMaxRowsPerPass = 4;
+// out[r] = dot(rows[r], x, n) for r < m, each the same sum, reading x once per kMaxRowsPerPass rows.
+void dot_rows(const double* const* rows, std::size_t m, const double* x, std::size_t n, double* out);
 // sum_j row_j q_j and sum_j row_j (q_j - d_j): u^n and u^{n-1} at one grid point.
 void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n, double& current,
                           double& previous);
@@ -16,6 +20,9 @@ void predict(const double* e, const double* beta, const double* q, const double*
 // sum_j row_j p_j with p as predict computes it, without storing p (one contact point).
 double predict_dot(const double* e, const double* beta, const double* q, const double* d, const double* row,
                    std::size_t n);
+// out[r] = predict_dot(e, beta, q, d, rows[r], n) for r < m (the prediction formed once per pass).
+void predict_dot_rows(const double* e, const double* beta, const double* q, const double* d, const double* const* rows,
+                      std::size_t m, std::size_t n, double* out);
 // One exact step of every mode in difference form, impulse may be null:
 //   d_j <- e_j d_j - beta_j q_j + impulse_j,  q_j <- q_j + d_j.
 // Returns sum_j loss_j (d_j^new + d_j^old)^2 (the damping term of the energy balance),
@@ -25,6 +32,10 @@ double advance(const double* e, const double* beta, const double* loss, const do
 // advance with the impulse of one point, c row_j, formed on the fly (no impulse vector).
 double advance_one_push(const double* e, const double* beta, const double* loss, double c, const double* row, double* q,
                         double* d, std::size_t n);
+// advance with the impulse of m points, sum_r coefficients[r] rows[r]_j, formed on the fly as
+// axpy would form it in a zeroed array (the same impulse, no impulse vector).
+double advance_pushes(const double* e, const double* beta, const double* loss, const double* coefficients,
+                      const double* const* rows, std::size_t m, double* q, double* d, std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.

@@ -1,4 +1,7 @@
 #pragma once
+#include <cstddef>
+#include <span>
+
 // The penalty contact law f = K [eta]_+^alpha with potential Psi = K/(alpha+1) [eta]_+^(alpha+1),
 // eta = g - u (Issanchou et al. 2017, section 2.2), and the scalar implicit equation the
 // energy-conserving scheme (eq. 4) reduces to at each grid point:
@@ -41,6 +44,11 @@ public:
     double difference_quotient(double a, double r) const;
     // Solves the scalar equation above; throws SolverError if it cannot converge.
     ContactSolution solve(double a, double b, double k) const;
+    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. The equations out of contact and,
+    // for alpha = 3/2, those that meet the stopping test at Newton's first iterate (a string
+    // landing on a flat obstacle: hundreds at once) are solved four at a time, branch-free;
+    // the others by solve.
+    void solve_all(std::span<const double> a, std::span<const double> b, double k, std::span<ContactSolution> out) const;
     // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
     double slope_of_quotient(double a, double r, double quotient) const;
 
@@ -57,6 +65,7 @@ private:
 
     double k_;
     double alpha_;
+    double potential_scale_ = 0.0;  // K / (alpha + 1)
     Law law_ = Law::general;
     bool specialise_ = true;
 };

@@ -73,6 +73,21 @@ public:
                          std::span<double> impulse) const;
     // dt^2 / mu: the factor from force per length to displacement in one step.
     double force_to_displacement() const { return dt_ * dt_ / mu_; }
+    // (dt^2/mu) dx: a force per unit length f at grid point i gives the modal impulse
+    // impulse_scale() f S_i (S_i: row i of S).
+    double impulse_scale() const { return force_to_displacement() * basis_.grid_step(); }
+    // Up to this many forces, the step adds their rows itself (no impulse vector to fill).
+    static constexpr std::size_t kMaxInlinePushes = 16;
+    // True if `forces` forces are applied by rows inside the step rather than through
+    // forces_to_modes (which uses a transform above transform_threshold()).
+    bool pushes_inline(std::size_t forces) const {
+        return forces >= 1 && forces <= kMaxInlinePushes && forces <= transform_threshold_;
+    }
+    // grid[i] = sum_j S_ij p_j at each of `points` (row products, kernels::kMaxRowsPerPass rows
+    // per pass): p = `predicted`, or, if it is empty, the free prediction of (q, d) formed on
+    // the fly (kernels::predict's, not stored).
+    void predicted_at(std::span<const std::size_t> points, std::span<const double> predicted,
+                      std::span<const double> q, std::span<const double> d, std::span<double> grid) const;
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
     const std::vector<std::string>& warnings() const { return warnings_; }
     // Grid points where an obstacle exists at all (g > -inf).

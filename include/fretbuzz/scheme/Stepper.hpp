@@ -124,7 +124,6 @@ private:
     long end_flight(long flown, double energy_before);  // the bookkeeping after `flown` steps
     void solve_contacts();
     void apply_impulse();
-    bool one_push() const;  // a single force, applied along its row (no impulse vector)
     void advance_modes();
     void put_points_to_sleep();
     void solve_fingers(bool use_transform);
@@ -147,6 +146,9 @@ private:
     std::vector<double> grid_;             // scratch: a field on the grid
     std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at active points
     std::vector<std::size_t> active_;      // points solved every step
+    // Many active points are solved together (PenaltyContact::solve_all): their equations' a and b.
+    std::vector<double> solve_a_, solve_b_;
+    std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
     std::vector<Finger> fingers_;

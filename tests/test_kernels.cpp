@@ -1,0 +1,84 @@
+// The step's fused passes give the sums of the separate ones bit for bit: several row products
+// in one pass (with the prediction formed on the fly or read), and several pushes added
+// inside the step instead of through an impulse vector.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "fretbuzz/scheme/Kernels.hpp"
+
+namespace fretbuzz {
+namespace {
+
+bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+}
+
+struct Data {
+    std::vector<double> e, beta, loss, q, d;
+    std::vector<std::vector<double>> rows;
+};
+
+Data random_data(std::mt19937_64& random, std::size_t n) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto values = [&](bool positive) {
+        std::vector<double> v(n);
+        for (double& x : v) x = (positive ? std::abs(unit(random)) : unit(random)) * std::exp(8.0 * unit(random));
+        return v;
+    };
+    Data data{values(true), values(true), values(true), values(false), values(false), {}};
+    for (int r = 0; r < 7; ++r) data.rows.push_back(values(false));
+    return data;
+}
+
+TEST(Kernels, RowProductsInOnePassEqualOneDotEach) {
+    std::mt19937_64 random(3);
+    for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
+        const Data data = random_data(random, n);
+        std::vector<double> predicted(n);
+        kernels::predict(data.e.data(), data.beta.data(), data.q.data(), data.d.data(), predicted.data(), n);
+        for (std::size_t m = 1; m <= data.rows.size(); ++m) {
+            std::vector<const double*> rows;
+            for (std::size_t r = 0; r < m; ++r) rows.push_back(data.rows[r].data());
+            std::vector<double> read(m), formed(m), separate(m);
+            kernels::dot_rows(rows.data(), m, predicted.data(), n, read.data());
+            kernels::predict_dot_rows(data.e.data(), data.beta.data(), data.q.data(), data.d.data(), rows.data(), m, n,
+                                      formed.data());
+            for (std::size_t r = 0; r < m; ++r) separate[r] = kernels::dot(rows[r], predicted.data(), n);
+            EXPECT_TRUE(same_bits(read, separate)) << "n=" << n << " m=" << m;
+            EXPECT_TRUE(same_bits(formed, separate)) << "n=" << n << " m=" << m;
+        }
+    }
+}
+
+TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
+    std::mt19937_64 random(5);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
+        const Data data = random_data(random, n);
+        for (std::size_t m = 1; m <= data.rows.size(); ++m) {
+            std::vector<const double*> rows;
+            std::vector<double> coefficients;
+            for (std::size_t r = 0; r < m; ++r) {
+                rows.push_back(data.rows[r].data());
+                coefficients.push_back(1e-3 * unit(random));
+            }
+            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
+                std::vector<double> impulse(n, 0.0), q1 = data.q, d1 = data.d, q2 = data.q, d2 = data.d;
+                for (std::size_t r = 0; r < m; ++r) kernels::axpy(coefficients[r], rows[r], impulse.data(), n);
+                const double by_vector =
+                    kernels::advance(data.e.data(), data.beta.data(), loss, impulse.data(), q1.data(), d1.data(), n);
+                const double inside = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
+                                                              rows.data(), m, q2.data(), d2.data(), n);
+                EXPECT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << "n=" << n << " m=" << m;
+                EXPECT_TRUE(same_bits({by_vector}, {inside})) << "n=" << n << " m=" << m;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace fretbuzz
