@@ -221,7 +221,8 @@ class Progress(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "run")
             with self.assertRaisesRegex(RuntimeError, "enough"):
-                fretbuzz.run("bass-pop", fs=4e6, duration=3.0, out=out, progress=stop)
+                # over the half second after which progress is first reported (see the Ctrl-C test)
+                fretbuzz.run("bass-fret5-pop", fs=4e6, duration=1.0, out=out, progress=stop)
             self.assertFalse(os.path.exists(out))
 
     def test_ctrl_c_stops_the_run_cleanly(self):
@@ -231,7 +232,8 @@ class Progress(unittest.TestCase):
             start = time.monotonic()
             timer.start()
             with self.assertRaises(KeyboardInterrupt):
-                fretbuzz.run("bass-pop", fs=4e6, duration=3.0, out=out)  # about 4 s uninterrupted
+                # a finger on the string: every step is a contact step, about 20 s uninterrupted
+                fretbuzz.run("bass-fret5-pop", fs=4e6, duration=1.0, out=out)
             timer.join()
             self.assertLess(time.monotonic() - start, 2.0)
             self.assertFalse(os.path.exists(out))
