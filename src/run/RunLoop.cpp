@@ -8,6 +8,7 @@
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
@@ -62,6 +63,9 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     // Signals are linear in q: mirroring their coefficients mirrors them back.
     for (double x : c.observation_points_m) shapes_.push_back(oriented(plan_.basis().mode_shapes_at(x), orientation_));
     bridge_ = oriented(bridge_force_coefficients(c), orientation_);
+    for (const std::vector<double>& shape : shapes_) row_rows_.push_back(shape.data());
+    row_rows_.push_back(bridge_.data());
+    row_values_.resize(row_rows_.size());
     u_.resize(shapes_.size());
     step_u_.resize(shapes_.size());
     if (c.two_polarisations()) {
@@ -205,12 +209,18 @@ void RunLoop::report_observation() {
         for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
         for (RunObserver* o : observers_) o->observation_y(stepper_.time(), y_);
     }
-    if (step_u_at_ == n_)
+    double force = 0.0;
+    if (step_u_at_ == n_) {
         u_ = step_u_;  // at an output rate equal to fs, the per-step products of this very step
-    else
-        for (std::size_t p = 0; p < shapes_.size(); ++p) u_[p] = stepper_.displacement(shapes_[p]);
+        force = stepper_.displacement(bridge_);
+    } else {
+        // The probes and the bridge in one pass over the modes (each the same sum as a dot).
+        const std::span<const double> q = stepper_.modal_displacement();
+        kernels::dot_rows(row_rows_.data(), row_rows_.size(), q.data(), q.size(), row_values_.data());
+        std::copy(row_values_.begin(), row_values_.end() - 1, u_.begin());
+        force = row_values_.back();
+    }
     for (RunObserver* o : observers_) o->observation(stepper_.time(), u_);
-    const double force = stepper_.displacement(bridge_);
     for (RunObserver* o : observers_) o->bridge_force(stepper_.time(), force);
 }
 

@@ -58,6 +58,8 @@ private:
 
     std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
     std::vector<double> bridge_;               // bridge force per unit q_j (see BridgeForce)
+    std::vector<const double*> row_rows_;      // the shapes, then the bridge: one output row's products
+    std::vector<double> row_values_;
     std::vector<std::vector<double>> shapes_y_;  // the same for y (two polarisations)
     std::vector<double> y_;                    // y at the observation points
     std::vector<std::pair<std::size_t, double>> mirrored_forces_;

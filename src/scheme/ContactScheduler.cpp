@@ -34,6 +34,7 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     held_.reserve(2 * plan.mode_count() + 16);
     park_amplitude_.reserve(plan.mode_count());
     tested_with_.assign(plan.mode_count(), -1);
+    retry_reach_.assign(plan.mode_count(), std::numeric_limits<double>::infinity());
     compute_push_weights();
 }
 
@@ -41,6 +42,7 @@ void ContactScheduler::clear() {
     while (!queue_.empty()) queue_.pop();
     parked_.clear();
     park_epoch_ = -1;
+    std::fill(retry_reach_.begin(), retry_reach_.end(), std::numeric_limits<double>::infinity());
     compute_push_weights();
 }
 
@@ -111,6 +113,7 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
     // One pass each, vectorised; the tail beyond the head modes is summed when the head is set.
     const double speed = kernels::dot(prop.speed_factor().data(), amplitude_.data(), n);
     const double reach = kernels::sum(amplitude_.data(), n);
+    reach_ = reach;
     stale_ = false;
     amplitudes_behind_ = false;
     set_head_modes(head_);
@@ -120,7 +123,8 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
 }
 
 bool ContactScheduler::park(std::size_t i) {
-    if (stale_ || amplitudes_behind_ || amplitude_.size() != plan_.mode_count() || tested_with_[i] == amplitude_epoch_)
+    if (stale_ || amplitudes_behind_ || amplitude_.size() != plan_.mode_count() || tested_with_[i] == amplitude_epoch_ ||
+        !(reach_ <= retry_reach_[i]))
         return false;
     tested_with_[i] = amplitude_epoch_;
     const std::span<const double> row = plan_.basis().row(i);
@@ -128,7 +132,13 @@ bool ContactScheduler::park(std::size_t i) {
     kernels::weighted_abs_sums(amplitude_.data(), amplitude_.data(), row.data(), row.size(), envelope, same);
     envelope *= 1.0 + kSlack;
     // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
-    if (!(-envelope - plan_.obstacle()[i] - slack_ > 0.0)) return false;
+    const double room = -plan_.obstacle()[i] - slack_;
+    if (!(envelope < room)) {
+        // Worth another test once the amplitudes have shrunk in proportion (a guess: skipping
+        // a test only leaves the point in the queue).
+        retry_reach_[i] = room > 0.0 ? reach_ * room / envelope : -1.0;
+        return false;
+    }
     if (park_epoch_ != amplitude_epoch_) {
         // The parked points hold while every later amplitude stays within the smallest they were
         // tested with (free motion only decays).

@@ -1,5 +1,7 @@
 #include "fretbuzz/scheme/FreeFlight.hpp"
 
+#include "fretbuzz/scheme/Kernels.hpp"
+
 namespace fretbuzz {
 
 namespace {
@@ -47,11 +49,9 @@ void FreeFlight::update(const ModalPropagator& propagator) {
 
 void FreeFlight::jump(std::span<double> q, std::span<double> d, std::size_t first) const {
     // Entries hold E of P^M = I + E: q gains E_qq q + E_qd d, d becomes E_dq q + (1 + E_dd) d.
-    for (std::size_t j = first; j < q.size(); ++j) {
-        const double q_next = q[j] + (qq_[j] * q[j] + qd_[j] * d[j]);
-        d[j] = dq_[j] * q[j] + (d[j] + dd_[j] * d[j]);
-        q[j] = q_next;
-    }
+    const std::size_t n = q.size() - first;
+    kernels::jump(qq_.data() + first, qd_.data() + first, dq_.data() + first, dd_.data() + first, q.data() + first,
+                  d.data() + first, n);
 }
 
 }  // namespace fretbuzz

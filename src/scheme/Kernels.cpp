@@ -350,4 +350,13 @@ FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_
     for (std::size_t j = 0; j < n; ++j) y[j] += c * x[j];
 }
 
+FRETBUZZ_MULTIVERSION void jump(const double* qq, const double* qd, const double* dq, const double* dd, double* q,
+                                double* d, std::size_t n) {
+    for (std::size_t j = 0; j < n; ++j) {
+        const double q_next = q[j] + (qq[j] * q[j] + qd[j] * d[j]);
+        d[j] = dq[j] * q[j] + (d[j] + dd[j] * d[j]);
+        q[j] = q_next;
+    }
+}
+
 }  // namespace fretbuzz::kernels

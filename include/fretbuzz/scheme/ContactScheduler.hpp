@@ -120,6 +120,8 @@ private:
     std::vector<Entry> held_;  // points park_due could not park
     std::vector<double> park_amplitude_;
     std::vector<long> tested_with_;
+    std::vector<double> retry_reach_;  // test a point that failed again once sum_j R_j is below this
+    double reach_ = 0.0;               // sum_j R_j at the last update_speed
     long amplitude_epoch_ = 0;
     long park_epoch_ = -1;  // the amplitudes last folded into park_amplitude_
     long parks_ = 0, releases_ = 0;

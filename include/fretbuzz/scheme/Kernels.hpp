@@ -46,5 +46,7 @@ double sum(const double* x, std::size_t n);
 void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n, double& by_w, double& by_s);
 // y_j += c x_j
 void axpy(double c, const double* x, double* y, std::size_t n);
+// (q, d) <- (I + E) (q, d) per mode, E = [[qq, qd], [dq, dd]]: a free flight's M-step map.
+void jump(const double* qq, const double* qd, const double* dq, const double* dd, double* q, double* d, std::size_t n);
 
 }  // namespace fretbuzz::kernels
