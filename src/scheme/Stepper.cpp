@@ -356,7 +356,7 @@ void Stepper::wake_due_points() {
         if (use_transform) {
             u_now = grid_[i];
         } else {
-            if (scheduler_.park(i) || (head < n && sleeps_on_low_modes(i, head, tail))) continue;
+            if (head < n && sleeps_on_low_modes(i, head, tail)) continue;
             u_now = kernels::dot(row.data(), q_.data(), n);
         }
         if (scheduler_.sleep(i, u_now - g[i])) continue;
