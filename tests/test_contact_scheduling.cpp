@@ -143,35 +143,66 @@ TEST(ContactScheduling, FreeMotionStaysWithinItsEnvelope) {
     }
 }
 
-// Rings of ten periods over random obstacles, with flights as a run makes them: points parked
-// by the envelope come back at the next impulse, and the motion stays the one of every point
-// solved at every step. (Longer, the two paths part as any two roundings of a buzzing string
-// do: their difference grows smoothly, about tenfold per period in the worst of these cases.)
+// The same case on the fast path (screening, and flights of a few steps as a run makes them)
+// and on the straightforward one (every point solved every step), stepped side by side.
+struct SideBySide {
+    static PlanOptions unscreened() {
+        PlanOptions o;
+        o.screen_contacts = false;
+        return o;
+    }
+    explicit SideBySide(const Case& c)
+        : fast_plan(c, 1.0 / c.run.sample_rate_hz),
+          plain_plan(c, 1.0 / c.run.sample_rate_hz, unscreened()),
+          fast(fast_plan, c.initial_displacement, c.initial_velocity),
+          plain(plain_plan, c.initial_displacement, c.initial_velocity),
+          flight(fast_plan.propagator(), kStride) {}
+    // Runs both to `steps`; after each step that is not a flight, seen(stepper).
+    template <class Seen>
+    void run(long steps, Seen&& seen) {
+        fast.step();
+        plain.step();
+        while (fast.step_index() < steps) {
+            if (fast.step_index() % kStride != 0 || fast.free_flight(flight, 16, {}, rows, nullptr) == 0) {
+                fast.step();
+                seen(fast);
+            }
+            while (plain.step_index() < fast.step_index()) {
+                plain.step();
+                seen(plain);
+            }
+        }
+    }
+    double difference() const {  // relative L2 of the modal displacements
+        const auto vec = [](std::span<const double> q) { return std::vector<double>(q.begin(), q.end()); };
+        return relative_l2(vec(fast.modal_displacement()), vec(plain.modal_displacement()));
+    }
+    static constexpr long kStride = 17;
+    const Plan fast_plan, plain_plan;
+    Stepper fast, plain;
+    const FreeFlight flight;
+    std::vector<double> rows;
+};
+
+// Rings of ten periods over random obstacles: points parked by the envelope come back at the
+// next impulse, and the motion stays the one of every point solved at every step. (Longer,
+// the two paths part as any two roundings of a buzzing string do: their difference grows
+// smoothly, about tenfold per period in the worst of these cases.)
 TEST(ContactScheduling, ParkedPointsComeBackAtTheNextImpulse) {
     std::mt19937 rng(4242);
     long parks = 0, releases = 0;
     for (int trial = 0; trial < 8; ++trial) {
         const Case c = random_case(rng);
-        const double dt = 1.0 / c.run.sample_rate_hz;
-        PlanOptions plain_options;
-        plain_options.screen_contacts = false;
-        const Plan fast_plan(c, dt), plain_plan(c, dt, plain_options);
-        Stepper fast(fast_plan, c.initial_displacement, c.initial_velocity);
-        Stepper plain(plain_plan, c.initial_displacement, c.initial_velocity);
-        const long stride = 17, steps = 10 * std::lround(c.run.sample_rate_hz * 2.0 * c.string.length_m /
-                                                          std::sqrt(c.string.tension_n / c.string.linear_density));
-        const FreeFlight flight(fast_plan.propagator(), stride);
-        std::vector<double> rows;
-        fast.step();
-        while (fast.step_index() < steps)
-            if (fast.step_index() % stride != 0 || fast.free_flight(flight, 16, {}, rows, nullptr) == 0) fast.step();
-        while (plain.step_index() < fast.step_index()) plain.step();
-        const auto vec = [](std::span<const double> q) { return std::vector<double>(q.begin(), q.end()); };
-        EXPECT_LT(relative_l2(vec(fast.modal_displacement()), vec(plain.modal_displacement())), 1e-9) << "trial " << trial;
-        EXPECT_NEAR(fast.energy() + fast.dissipated(), plain.energy() + plain.dissipated(), 1e-10 * plain.energy()) << trial;
-        EXPECT_EQ(fast.statistics().contact_steps, plain.statistics().contact_steps) << "trial " << trial;
-        parks += fast.scheduler().parks();
-        releases += fast.scheduler().releases();
+        SideBySide s(c);
+        s.run(10 * std::lround(c.run.sample_rate_hz * 2.0 * c.string.length_m /
+                               std::sqrt(c.string.tension_n / c.string.linear_density)),
+              [](const Stepper&) {});
+        EXPECT_LT(s.difference(), 1e-9) << "trial " << trial;
+        EXPECT_NEAR(s.fast.energy() + s.fast.dissipated(), s.plain.energy() + s.plain.dissipated(), 1e-10 * s.plain.energy())
+            << trial;
+        EXPECT_EQ(s.fast.statistics().contact_steps, s.plain.statistics().contact_steps) << "trial " << trial;
+        parks += s.fast.scheduler().parks();
+        releases += s.fast.scheduler().releases();
     }
     std::printf("points parked %ld times, released %ld times\n", parks, releases);
     EXPECT_GT(parks, 0);
@@ -206,38 +237,16 @@ TEST(ContactScheduling, ParkedPointComesBackWhenABounceReshapesTheString) {
     c.initial_velocity.assign(modes, 0.0);
     c.contact = {1e9, 1.5};
     c.run.sample_rate_hz = 200.0 * c.modes.frequency_hz.back();
-    const double dt = 1.0 / c.run.sample_rate_hz;
-    PlanOptions plain_options;
-    plain_options.screen_contacts = false;
-    const Plan fast_plan(c, dt), plain_plan(c, dt, plain_options);
-    Stepper fast(fast_plan, c.initial_displacement, c.initial_velocity);
-    Stepper plain(plain_plan, c.initial_displacement, c.initial_velocity);
-    const long stride = 17, steps = 4 * std::lround(c.run.sample_rate_hz / f0);
-    const FreeFlight flight(fast_plan.propagator(), stride);
-    std::vector<double> rows;
+    SideBySide s(c);
     long quarter_fast = 0, quarter_plain = 0;  // steps with a force on the quarter point
-    const auto touched = [&](const Stepper& s) {
-        for (const auto& [i, f] : s.forces())
-            if (i == quarter) return 1L;
-        return 0L;
-    };
-    fast.step();
-    plain.step();
-    while (fast.step_index() < steps) {
-        if (fast.step_index() % stride != 0 || fast.free_flight(flight, 16, {}, rows, nullptr) == 0) {
-            fast.step();
-            quarter_fast += touched(fast);
-        }
-        while (plain.step_index() < fast.step_index()) {
-            plain.step();
-            quarter_plain += touched(plain);
-        }
-    }
+    s.run(4 * std::lround(c.run.sample_rate_hz / f0), [&](const Stepper& stepper) {
+        for (const auto& [i, f] : stepper.forces())
+            if (i == quarter) ++(&stepper == &s.fast ? quarter_fast : quarter_plain);
+    });
     EXPECT_GT(quarter_plain, 0) << "the reshaped string must reach the quarter point";
     EXPECT_EQ(quarter_fast, quarter_plain);
-    EXPECT_GT(fast.scheduler().parks(), 0);
-    const auto vec = [](std::span<const double> q) { return std::vector<double>(q.begin(), q.end()); };
-    EXPECT_LT(relative_l2(vec(fast.modal_displacement()), vec(plain.modal_displacement())), 1e-9);
+    EXPECT_GT(s.fast.scheduler().parks(), 0);
+    EXPECT_LT(s.difference(), 1e-9);
 }
 
 TEST(ContactScheduling, ChosenWithoutScreeningWhereTheStringRestsOnAFewPoints) {
