@@ -54,6 +54,19 @@ TEST(Kernels, RowProductsInOnePassEqualOneDotEach) {
     }
 }
 
+// The envelope of a point (ContactScheduler::park) is one weighted sum of the two that the
+// push weights take in one pass: the same sum to round-off (the compiler may fuse its
+// multiply-adds, which it does not in the pair's loop).
+TEST(Kernels, OneWeightedAbsSumEqualsThePairsFirst) {
+    std::mt19937_64 random(5);
+    for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
+        const Data data = random_data(random, n);
+        double first = 0.0, second = 0.0;
+        kernels::weighted_abs_sums(data.beta.data(), data.e.data(), data.q.data(), n, first, second);
+        EXPECT_NEAR(kernels::weighted_abs_sum(data.beta.data(), data.q.data(), n), first, 1e-14 * first) << "n=" << n;
+    }
+}
+
 TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
     std::mt19937_64 random(5);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);

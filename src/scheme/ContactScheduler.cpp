@@ -128,9 +128,7 @@ bool ContactScheduler::park(std::size_t i) {
         return false;
     tested_with_[i] = amplitude_epoch_;
     const std::span<const double> row = plan_.basis().row(i);
-    double envelope = 0.0, same = 0.0;
-    kernels::weighted_abs_sums(amplitude_.data(), amplitude_.data(), row.data(), row.size(), envelope, same);
-    envelope *= 1.0 + kSlack;
+    const double envelope = kernels::weighted_abs_sum(amplitude_.data(), row.data(), row.size()) * (1.0 + kSlack);
     // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
     const double room = -plan_.obstacle()[i] - slack_;
     if (!(envelope < room)) {

@@ -323,6 +323,18 @@ FRETBUZZ_MULTIVERSION double sum(const double* x, std::size_t n) {
     return fold(total, lo, hi);
 }
 
+FRETBUZZ_MULTIVERSION double weighted_abs_sum(const double* w, const double* x, std::size_t n) {
+    // The first accumulator of weighted_abs_sums alone (the same lanes).
+    double pw[kLanes] = {};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) pw[l] += w[j + l] * __builtin_fabs(x[j + l]);
+    double tw = 0.0;
+    for (; j < n; ++j) tw += w[j] * __builtin_fabs(x[j]);
+    for (std::size_t l = 0; l < kLanes; ++l) tw += pw[l];
+    return tw;
+}
+
 FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n,
                                              double& by_w, double& by_s) {
     double pw[kLanes] = {}, ps[kLanes] = {};

@@ -231,7 +231,7 @@ void Stepper::step() {
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
         } else if (!forces_.empty()) {
             // the motion from here on is a new free motion
-            scheduler_.pushed(q_, d_, forces_, plan_.force_to_displacement() * plan_.basis().grid_step());
+            scheduler_.pushed(q_, d_, forces_, plan_.impulse_scale());
         }
         put_points_to_sleep();
     }

@@ -71,7 +71,6 @@ public:
     // Parks every sleeping point due within the next `steps` steps that can be parked; true if
     // no sleeping point is then due in that time (the others keep their places).
     bool park_due(long steps);
-    std::size_t parked() const { return parked_.size(); }
     long parks() const { return parks_; }        // points parked so far
     long releases() const { return releases_; }  // times parked points went back to the queue
     // Makes point i due at once (it will be popped by the next pop_due).
@@ -112,9 +111,9 @@ private:
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
-    // Parking: the points, their envelope E_i and obstacle height, the amplitudes each set of
-    // parked points was tested with (elementwise largest), and which amplitudes each point was
-    // last tested with (a point that failed is not tested again with the same ones).
+    // Parking: the points and their envelope E_i, the amplitudes the parked points were tested
+    // with (elementwise smallest: later amplitudes must stay within them), and which amplitudes
+    // each point was last tested with (a point that failed is not tested again with the same ones).
     std::vector<std::size_t> parked_;
     std::vector<double> envelope_;
     std::vector<Entry> held_;  // points park_due could not park

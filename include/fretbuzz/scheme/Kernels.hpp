@@ -42,6 +42,8 @@ double modal_energy(const double* e, const double* beta, const double* q, const 
 void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d, double* a, std::size_t n);
 // sum_j x_j
 double sum(const double* x, std::size_t n);
+// sum_j w[j] |x[j]|
+double weighted_abs_sum(const double* w, const double* x, std::size_t n);
 // sum_j w[j] |x[j]| and sum_j s[j] |x[j]|, each to its accumulator (one pass over x).
 void weighted_abs_sums(const double* w, const double* s, const double* x, std::size_t n, double& by_w, double& by_s);
 // y_j += c x_j
