@@ -53,7 +53,7 @@ int play(const PlayArguments& a) {
                 v.oversampling, v.rate_choice);
     if (v.resets > 0) std::fprintf(stderr, "fretbuzz: warning: the energy guard silenced the string %ld times\n", v.resets);
     if (v.clamped > 0) std::fprintf(stderr, "fretbuzz: warning: %ld values clamped into range\n", v.clamped);
-    write_normalised_audio(a.out, std::move(r.audio), a.rate, a.bits);
+    write_normalised_audio(a.out, r.audio, a.rate, a.bits);
     std::printf("%s: %.2f s of audio, %zu notes, rendered in %.2f s (%.1f x real time)\n", a.out.c_str(), seconds,
                 p.notes.size(), r.wall_seconds, seconds / r.wall_seconds);
     return 0;

@@ -61,7 +61,7 @@ void AudioWriter::begin(const RunLayout& layout) {
 
 void AudioWriter::every_step(std::span<const double> u, std::span<const double> velocity) {
     const std::span<const double> frame = signal_ == AudioSignal::velocity ? velocity : u;
-    input_.insert(input_.end(), frame.begin(), frame.end());
+    for (const double v : frame) input_.push_back(v);  // one or two numbers: no memmove call per step
     if (input_.size() >= kBlockFrames * channels_.size()) drain(false);
 }
 
@@ -112,26 +112,34 @@ void AudioWriter::finish(const RunSummary& summary) {
 }
 
 void AudioWriter::write_channel(std::size_t point) {
-    // Fades first, so that the peak (and the gain) is that of the file as heard.
-    std::vector<double> faded = channels_[point];
-    const auto fade = [&](double seconds, bool at_start) {
-        const auto n = std::min(faded.size(), static_cast<std::size_t>(std::llround(seconds * rate_)));
-        for (std::size_t k = 0; k < n; ++k) {
-            const double w = 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
-            faded[at_start ? k : faded.size() - 1 - k] *= w;
-        }
+    // Fades first, so that the peak (and the gain) is that of the file as heard. Applied on
+    // the way out rather than to a copy: a long run's channel is megabytes of fresh pages.
+    const std::vector<double>& x = channels_[point];
+    const auto samples = [&](double seconds) {
+        return std::min(x.size(), static_cast<std::size_t>(std::llround(seconds * rate_)));
     };
-    fade(fades_.in_s, true);
-    fade(fades_.out_s, false);
-    full_scale_[point] = write_normalised_audio(paths_[point], std::move(faded), rate_);
+    full_scale_[point] = write_faded_audio(paths_[point], x, rate_, 24, samples(fades_.in_s), samples(fades_.out_s));
 }
 
-double write_normalised_audio(const std::filesystem::path& path, std::vector<double> normalised, double rate_hz,
-                              int bits) {
+namespace {
+// The raised-cosine weight of the k-th of n faded samples, counted from the silent end.
+double fade_weight(std::size_t k, std::size_t n) {
+    return 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
+}
+}  // namespace
+
+double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
+                         std::size_t fade_in, std::size_t fade_out) {
+    const std::size_t size = signal.size();
+    const auto faded = [&](std::size_t i) {
+        double v = signal[i];
+        if (i < fade_in) v *= fade_weight(i, fade_in);
+        if (size - i <= fade_out) v *= fade_weight(size - 1 - i, fade_out);
+        return v;
+    };
     double peak = 0.0;
-    for (double v : normalised) peak = std::max(peak, std::abs(v));
+    for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(i)));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
-    for (double& v : normalised) v *= gain;
 
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(rate_hz));
@@ -142,13 +150,24 @@ double write_normalised_audio(const std::filesystem::path& path, std::vector<dou
         info.format = SF_FORMAT_WAV | (bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
     SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
-    const sf_count_t written = sf_write_double(file, normalised.data(), static_cast<sf_count_t>(normalised.size()));
-    const std::string write_error = written != static_cast<sf_count_t>(normalised.size()) ? sf_strerror(file) : "";
+    std::vector<double> block(std::min(size, kBlockFrames));
+    std::string write_error;
+    for (std::size_t first = 0; first < size && write_error.empty(); first += block.size()) {
+        const std::size_t n = std::min(block.size(), size - first);
+        for (std::size_t k = 0; k < n; ++k) block[k] = faded(first + k) * gain;
+        if (sf_write_double(file, block.data(), static_cast<sf_count_t>(n)) != static_cast<sf_count_t>(n))
+            write_error = sf_strerror(file);
+    }
     // sf_close writes the header's final sizes: a full disk can fail it alone.
     const int close_error = sf_close(file);
     if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
     if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
     return 1.0 / gain;
+}
+
+double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                              int bits) {
+    return write_faded_audio(path, signal, rate_hz, bits, 0, 0);
 }
 
 }  // namespace fretbuzz

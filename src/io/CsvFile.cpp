@@ -14,9 +14,11 @@
 namespace fretbuzz {
 
 namespace {
-// Numbers per block: big enough that hand-overs are rare (a few per simulated second at
-// audio rates), small enough that the two blocks stay in the cache.
-constexpr std::size_t kBlockValues = std::size_t{1} << 16;
+// Numbers per block: big enough that hand-overs are rare (tens per simulated second at
+// audio rates), small enough that the two blocks and their text stay in the cache and
+// their pages are few (every fresh page costs a fault: at 2^16 numbers the blocks and
+// their growing text cost more faults than the whole stepping's memory).
+constexpr std::size_t kBlockValues = std::size_t{1} << 14;
 // Once this much is written, the kernel is asked to start putting it on disk, so that
 // the fsync before the results are moved into place finds little left to wait for.
 constexpr long long kWritebackBytes = 8LL << 20;
@@ -32,8 +34,9 @@ CsvFile::CsvFile(const std::filesystem::path& path, const std::string& header, s
     if (fd_ < 0) write_failure(path_, errno);
     try {
         write_all(header.data(), header.size());
-        filling_.reserve(block_values_);
-        pending_.reserve(block_values_);
+        filling_.resize(block_values_);
+        pending_.resize(block_values_);
+        text_.reserve(block_values_ * 24);  // a shortest round-trip double and its comma
         thread_ = std::thread([this] { work(); });
     } catch (...) {
         ::close(fd_);
@@ -55,22 +58,25 @@ CsvFile::~CsvFile() {
 
 void CsvFile::row(std::span<const double> values) {
     if (values.size() != width_) throw std::logic_error("CsvFile: a row of the wrong width");
-    filling_.insert(filling_.end(), values.begin(), values.end());
-    if (filling_.size() >= block_values_) hand_over();
+    // A few numbers: copied one by one into the block (a range insert calls memmove per row).
+    double* to = filling_.data() + filled_;
+    for (std::size_t k = 0; k < width_; ++k) to[k] = values[k];
+    filled_ += width_;
+    if (filled_ == block_values_) hand_over();
 }
 
 void CsvFile::hand_over() {
     std::unique_lock lock(mutex_);
-    changed_.wait(lock, [this] { return pending_.empty() || failure_; });
+    changed_.wait(lock, [this] { return pending_values_ == 0 || failure_; });
     if (failure_) std::rethrow_exception(failure_);
     std::swap(filling_, pending_);
-    filling_.clear();
+    pending_values_ = std::exchange(filled_, 0);
     lock.unlock();
     changed_.notify_all();
 }
 
 void CsvFile::close() {
-    if (!filling_.empty()) hand_over();
+    if (filled_ > 0) hand_over();
     {
         const std::lock_guard lock(mutex_);
         stopping_ = true;
@@ -85,27 +91,27 @@ void CsvFile::close() {
 void CsvFile::work() {
     std::unique_lock lock(mutex_);
     while (true) {
-        changed_.wait(lock, [this] { return !pending_.empty() || stopping_; });
-        if (pending_.empty()) {  // stopping, and nothing left: start writeback of the tail too
+        changed_.wait(lock, [this] { return pending_values_ > 0 || stopping_; });
+        if (pending_values_ == 0) {  // stopping, and nothing left: start writeback of the tail too
             if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
             return;
         }
         lock.unlock();
         std::exception_ptr failure;
         try {
-            write_block(pending_);
+            write_block(std::span<const double>(pending_.data(), pending_values_));
         } catch (...) {
             failure = std::current_exception();
         }
         lock.lock();
-        pending_.clear();
+        pending_values_ = 0;
         if (failure) failure_ = failure;
         changed_.notify_all();
         if (failure_) return;  // the run learns of it at its next hand-over or at close
     }
 }
 
-void CsvFile::write_block(const std::vector<double>& block) {
+void CsvFile::write_block(std::span<const double> block) {
     text_.clear();
     for (std::size_t start = 0; start < block.size(); start += width_) {
         for (std::size_t k = 0; k < width_; ++k) {

@@ -35,15 +35,16 @@ public:
 private:
     void hand_over();  // the filled block to the thread (waits while it is busy with the last one)
     void work();       // the thread: formats and writes blocks until told to stop
-    void write_block(const std::vector<double>& block);
+    void write_block(std::span<const double> block);
     void write_all(const char* data, std::size_t size);
 
     std::filesystem::path path_;
     std::size_t width_;
     std::size_t block_values_;
     int fd_ = -1;
-    std::vector<double> filling_;  // the run's block
-    std::vector<double> pending_;  // the thread's block; empty when it is free
+    std::vector<double> filling_;  // the run's block (a whole block's room, filled_ numbers used)
+    std::vector<double> pending_;  // the thread's block (pending_values_ numbers; 0 when it is free)
+    std::size_t filled_ = 0, pending_values_ = 0;
     std::string text_;             // the thread's formatted block
     long long written_ = 0, writeback_from_ = 0;
     bool stopping_ = false;

@@ -202,45 +202,116 @@ GrowingDataset::GrowingDataset(hid_t parent, const std::string& name, std::size_
 
 void GrowingDataset::append(std::span<const double> row) {
     if (row.size() != row_width_) throw std::logic_error("GrowingDataset: row of the wrong width");
-    buffer_.insert(buffer_.end(), row.begin(), row.end());
+    for (const double v : row) buffer_.push_back(v);  // a few numbers: no call to memmove per row
     if (pending_rows() == chunk_rows_) flush();
 }
+
+namespace {
+// Rows [first, first + rows) of a dataset of `width` numbers per row (0: 1-D) from `values`.
+void write_rows(hid_t dataset, std::size_t width, bool whole_chunk, std::size_t first, std::size_t rows,
+                const std::vector<double>& values) {
+    // Writes of rows can fail on a full disk: the message names the file (looked up only then).
+    const auto checked = [dataset](herr_t status, const char* what) {
+        if (status >= 0) return;
+        const ssize_t size = H5Fget_name(dataset, nullptr, 0);
+        std::string file(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
+        if (size > 0) H5Fget_name(dataset, file.data(), file.size() + 1);
+        throw std::runtime_error("cannot write " + file + ": HDF5 could not " + what);
+    };
+    const int rank = width == 0 ? 1 : 2;
+    const auto rank_size = static_cast<std::size_t>(rank);
+    const hsize_t new_dims[] = {first + rows, width};
+    checked(H5Dset_extent(dataset, new_dims), "extend a dataset");
+    if (whole_chunk) {
+        const hsize_t offset[] = {first, 0};
+        checked(H5Dwrite_chunk(dataset, transfer_properties(), 0, offset, values.size() * sizeof(double), values.data()),
+                "write a chunk of a dataset");
+        return;
+    }
+    const Handle file_space(H5Dget_space(dataset), H5Sclose, "get a dataset's space");
+    const hsize_t start[] = {first, 0};
+    const hsize_t count[] = {rows, width};
+    checked(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+            "select rows of a dataset");
+    const Handle memory_space = simple_space(std::span(count, rank_size));
+    checked(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), transfer_properties(),
+                     values.data()),
+            "write rows of a dataset");
+}
+
+// Jobs queued before the queue's thread waits for them to run.
+constexpr std::size_t kMaxQueuedJobs = 64;
+}  // namespace
 
 void GrowingDataset::flush() {
     const std::size_t rows = pending_rows();
     if (rows == 0) return;
-    // Writes of rows can fail on a full disk: the message names the file (looked up only then).
-    const auto checked = [this](herr_t status, const char* what) {
-        if (status >= 0) return;
-        const ssize_t size = H5Fget_name(dataset_.get(), nullptr, 0);
-        std::string file(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
-        if (size > 0) H5Fget_name(dataset_.get(), file.data(), file.size() + 1);
-        throw std::runtime_error("cannot write " + file + ": HDF5 could not " + what);
-    };
-    const int rank = width_ == 0 ? 1 : 2;
-    const auto rank_size = static_cast<std::size_t>(rank);
-    const hsize_t new_dims[] = {written_ + rows, width_};
-    checked(H5Dset_extent(dataset_.get(), new_dims), "extend a dataset");
-    if (direct_ && rows == chunk_rows_ && written_ % chunk_rows_ == 0) {
-        const hsize_t offset[] = {written_, 0};
-        checked(H5Dwrite_chunk(dataset_.get(), transfer_properties(), 0, offset, buffer_.size() * sizeof(double),
-                               buffer_.data()),
-                "write a chunk of a dataset");
-        written_ += rows;
+    const bool whole_chunk = direct_ && rows == chunk_rows_ && written_ % chunk_rows_ == 0;
+    const std::size_t first = written_;
+    written_ += rows;
+    if (queue_ == nullptr) {
+        write_rows(dataset_.get(), width_, whole_chunk, first, rows, buffer_);
         buffer_.clear();
         return;
     }
-    const Handle file_space(H5Dget_space(dataset_.get()), H5Sclose, "get a dataset's space");
-    const hsize_t start[] = {written_, 0};
-    const hsize_t count[] = {rows, width_};
-    checked(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
-            "select rows of a dataset");
-    const Handle memory_space = simple_space(std::span(count, rank_size));
-    checked(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), transfer_properties(),
-                     buffer_.data()),
-            "write rows of a dataset");
-    written_ += rows;
-    buffer_.clear();
+    std::vector<double> values = std::exchange(buffer_, {});
+    buffer_.reserve(chunk_rows_ * row_width_);
+    queue_->post([dataset = dataset_.get(), width = width_, whole_chunk, first, rows, values = std::move(values)] {
+        write_rows(dataset, width, whole_chunk, first, rows, values);
+    });
+}
+
+WriteQueue::WriteQueue() : thread_([this] { work(); }) {}
+
+WriteQueue::~WriteQueue() {
+    {
+        const std::lock_guard lock(mutex_);
+        stopping_ = true;
+        jobs_.clear();
+    }
+    changed_.notify_all();
+    thread_.join();
+}
+
+void WriteQueue::post(std::function<void()> job) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return jobs_.size() < kMaxQueuedJobs || failure_; });
+    if (failure_) std::rethrow_exception(failure_);
+    jobs_.push_back(std::move(job));
+    lock.unlock();
+    changed_.notify_all();
+}
+
+void WriteQueue::drain() {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return (jobs_.empty() && !busy_) || failure_; });
+    if (failure_) std::rethrow_exception(failure_);
+}
+
+void WriteQueue::work() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+        changed_.wait(lock, [this] { return !jobs_.empty() || stopping_; });
+        if (stopping_) return;
+        std::function<void()> job = std::move(jobs_.front());
+        jobs_.pop_front();
+        busy_ = true;
+        lock.unlock();
+        std::exception_ptr failure;
+        try {
+            job();
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        job = nullptr;  // its rows are freed here, not under the lock
+        lock.lock();
+        busy_ = false;
+        if (failure && !failure_) {
+            failure_ = failure;
+            jobs_.clear();
+        }
+        changed_.notify_all();
+    }
 }
 
 Handle open_file_for_reading(const std::string& path) {

@@ -4,9 +4,15 @@
 // (chunked and extendible, so nothing but one chunk of rows is ever held in memory).
 #include <hdf5.h>
 
+#include <condition_variable>
 #include <cstddef>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <mutex>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fretbuzz::hdf5 {
@@ -52,6 +58,33 @@ void write_attribute(hid_t object, const std::string& name, const std::string& v
 // A string attribute on the object at `path` below `parent`, if that object exists.
 void write_attribute_at(hid_t parent, const std::string& path, const std::string& name, const std::string& value);
 
+// A thread that makes a file's chunk writes (extending datasets, converting, shuffling and
+// deflating them) while the run steps on: at audio rates the contact map's compression alone
+// was a tenth of the run's thread. HDF5 (Debian's serial build) is not thread-safe, so the
+// queue's thread is the only one calling HDF5 between the first post() and drain(): the
+// owner makes no HDF5 call of its own in that time. Jobs run in order; the first failure is
+// kept, the jobs after it are dropped, and post() or drain() rethrows it.
+class WriteQueue {
+public:
+    WriteQueue();
+    ~WriteQueue();  // drops what is still queued (the run failed), waits for the running job
+    WriteQueue(const WriteQueue&) = delete;
+    WriteQueue& operator=(const WriteQueue&) = delete;
+
+    void post(std::function<void()> job);  // waits while the queue is long (bounded memory)
+    void drain();                          // waits until every job has run; rethrows a failure
+
+private:
+    void work();
+
+    std::deque<std::function<void()>> jobs_;
+    bool busy_ = false, stopping_ = false;
+    std::exception_ptr failure_;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::thread thread_;
+};
+
 // int64: whole numbers held as doubles in memory (exact below 2^53), stored as integers.
 enum class Storage { float64, float32, int64 };
 
@@ -63,8 +96,16 @@ public:
     GrowingDataset(hid_t parent, const std::string& name, std::size_t width, std::size_t chunk_rows,
                    Storage storage = Storage::float64, bool compress = false);
     void append(std::span<const double> row);
-    void append(double value) { append(std::span<const double>(&value, 1)); }
+    // One number per row (the signals at audio rates: hundreds of thousands of rows per
+    // simulated second): kept inline, without the general row's range insert.
+    void append(double value) {
+        if (row_width_ != 1) return append(std::span<const double>(&value, 1));
+        buffer_.push_back(value);
+        if (buffer_.size() == chunk_rows_) flush();
+    }
     void flush();
+    // From now on full chunks are written by `queue` (which must outlive the dataset's writes).
+    void write_through(WriteQueue* queue) { queue_ = queue; }
     void close(const std::string& what) { dataset_.close(what); }
     std::size_t rows() const { return written_ + pending_rows(); }
     std::size_t width() const { return row_width_; }
@@ -80,6 +121,7 @@ private:
     std::size_t written_ = 0;
     bool direct_ = false;  // whole chunks written as they are (see the constructor)
     std::vector<double> buffer_;
+    WriteQueue* queue_ = nullptr;
 };
 
 }  // namespace fretbuzz::hdf5

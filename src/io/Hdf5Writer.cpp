@@ -1,6 +1,7 @@
 #include "fretbuzz/io/Hdf5Writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -15,7 +16,9 @@ namespace {
 constexpr long long kFormatVersion = 2;  // 2: the contact map is stored sparsely
 constexpr std::size_t kSignalChunkRows = 4096;
 constexpr std::size_t kMapChunkRows = 64;
-constexpr std::size_t kMapChunkEntries = 4096;
+// Entries per chunk of the sparse map: zlib sets up (and clears) a few hundred KiB of state for
+// every chunk it compresses, which at 4096 entries cost more than compressing them.
+constexpr std::size_t kMapChunkEntries = 32768;
 constexpr std::size_t kSnapshotChunkRows = 16;
 constexpr std::size_t kWritebackRows = 16 * kSignalChunkRows;
 
@@ -82,6 +85,15 @@ struct Hdf5Writer::File {
     double dt = 0.0;
     std::vector<double> observation_points;
     const Case* source = nullptr;
+    // Last, so that it stops (and no chunk write is left running) before any dataset closes.
+    hdf5::WriteQueue queue;
+
+    std::array<hdf5::GrowingDataset*, 21> datasets() {
+        return {&time,          &displacement,  &energy_time,    &energy_total,       &energy_contact, &energy_dissipated,
+                &map_row,       &map_point,     &map_force,      &dense_map,          &snapshot_time,  &snapshot_shape,
+                &bridge_force,  &energy_finger, &energy_work,    &energy_finger_loss, &played_height,  &displacement_y,
+                &energy_y,      &damping_y,     &friction};
+    }
 };
 
 // The fingers' and gestures' own datasets (see the header), created only when the case has some.
@@ -228,6 +240,9 @@ void Hdf5Writer::begin(const RunLayout& layout) {
         f.snapshot_time = GrowingDataset(f.snapshots.get(), "time", 0, kSnapshotChunkRows);
         f.snapshot_shape = GrowingDataset(f.snapshots.get(), "displacement", grid_size, kSnapshotChunkRows);
     }
+    // From here to finish() every HDF5 call of this file is made by the queue's thread.
+    for (GrowingDataset* d : f.datasets())
+        if (d->id() >= 0) d->write_through(&f.queue);
 }
 
 void Hdf5Writer::observation(double t, std::span<const double> u) {
@@ -235,7 +250,7 @@ void Hdf5Writer::observation(double t, std::span<const double> u) {
     file_->displacement.append(u);
     // Every few chunks of rows (about 3 MB at audio rates), writeback of what HDF5 has
     // written so far, overlapping the run.
-    if (file_->time.rows() % kWritebackRows == 0) hdf5::start_writeback(file_->file.get());
+    if (file_->time.rows() % kWritebackRows == 0) file_->queue.post([file = file_->file.get()] { hdf5::start_writeback(file); });
 }
 
 void Hdf5Writer::observation_y(double, std::span<const double> y) { file_->displacement_y.append(y); }
@@ -280,12 +295,9 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     File& f = *file_;
     f.map->finish();
     if (f.dense_map.id() >= 0) append_zero_rows(f.dense_map, static_cast<std::size_t>(f.map->total_rows()));
-    for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
-                              &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
-                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
-                              &f.energy_work, &f.energy_finger_loss, &f.played_height, &f.displacement_y,
-                              &f.energy_y, &f.damping_y, &f.friction})
+    for (GrowingDataset* d : f.datasets())
         if (d->id() >= 0) d->flush();
+    f.queue.drain();  // HDF5 is this thread's again
     const hid_t contact = f.contact.get();
     write_array(contact, "first_s", f.map->first_contact_s());
     write_array(contact, "last_s", f.map->last_contact_s());
@@ -300,12 +312,7 @@ void Hdf5Writer::finish(const RunSummary& summary) {
     const std::string name = path_.string();
     flush_file(f.file.get(), name);
     start_writeback(f.file.get());
-    for (GrowingDataset* d : {&f.time, &f.displacement, &f.energy_time, &f.energy_total, &f.energy_contact,
-                              &f.energy_dissipated, &f.map_row, &f.map_point, &f.map_force, &f.dense_map,
-                              &f.snapshot_time, &f.snapshot_shape, &f.bridge_force, &f.energy_finger,
-                              &f.energy_work, &f.energy_finger_loss, &f.played_height, &f.displacement_y,
-                              &f.energy_y, &f.damping_y, &f.friction})
-        d->close("write " + name);
+    for (GrowingDataset* d : f.datasets()) d->close("write " + name);
     for (Handle* h : {&f.case_group, &f.observation, &f.energy, &f.grid, &f.contact, &f.snapshots, &f.played}) h->close("write " + name);
     f.file.close("write " + name);
     file_.reset();

@@ -32,10 +32,13 @@ std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const do
 
 // Writes one mono signal peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or
 // Ogg Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's
-// inverse). Takes the signal by value: it is scaled in place (move it in where it is not needed
-// afterwards). std::runtime_error if the file cannot be written.
-double write_normalised_audio(const std::filesystem::path& path, std::vector<double> signal, double rate_hz,
+// inverse). std::runtime_error if the file cannot be written.
+double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
                               int bits = 24);
+// The same with raised-cosine fades over the first `fade_in` and the last `fade_out` samples
+// (the peak is that of the faded signal), read without copying it.
+double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
+                         std::size_t fade_in, std::size_t fade_out);
 
 class AudioWriter : public RunObserver {
 public:
