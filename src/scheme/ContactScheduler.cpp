@@ -127,7 +127,9 @@ bool ContactScheduler::park(std::size_t i) {
         !(reach_ <= retry_reach_[i]))
         return false;
     tested_with_[i] = amplitude_epoch_;
-    const std::span<const double> row = plan_.basis().row(i);
+    // Parking tests every sleeping point once: their rows are not worth keeping (N^2 numbers).
+    row_scratch_.resize(plan_.mode_count());
+    const std::span<const double> row = plan_.basis().row(i, row_scratch_);
     const double envelope = kernels::weighted_abs_sum(amplitude_.data(), row.data(), row.size()) * (1.0 + kSlack);
     // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
     const double room = -plan_.obstacle()[i] - slack_;

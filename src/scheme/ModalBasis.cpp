@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace fretbuzz {
 
@@ -33,17 +34,28 @@ void ModalBasis::mode_shapes_at(double x, std::span<double> phi) const {
 std::span<const double> ModalBasis::row(std::size_t i) const {
     std::vector<double>& r = rows_[i];
     if (r.empty()) {
-        const std::size_t period = 2 * (modes_ + 1);
-        const double norm = std::sqrt(2.0 / length_);
-        r.resize(modes_);
-        std::size_t k = 0;
-        for (std::size_t j = 0; j < modes_; ++j) {
-            k += i + 1;  // k = (i+1)(j+1) mod 2N
-            if (k >= period) k -= period;
-            r[j] = norm * sine_table_[k];
-        }
+        std::vector<double> built(modes_);
+        fill_row(i, built);
+        r = std::move(built);
     }
     return r;
+}
+
+std::span<const double> ModalBasis::row(std::size_t i, std::span<double> scratch) const {
+    if (!rows_[i].empty()) return rows_[i];
+    fill_row(i, scratch);
+    return scratch.first(modes_);
+}
+
+void ModalBasis::fill_row(std::size_t i, std::span<double> r) const {
+    const std::size_t period = 2 * (modes_ + 1);
+    const double norm = std::sqrt(2.0 / length_);
+    std::size_t k = 0;
+    for (std::size_t j = 0; j < modes_; ++j) {
+        k += i + 1;  // k = (i+1)(j+1) mod 2N
+        if (k >= period) k -= period;
+        r[j] = norm * sine_table_[k];
+    }
 }
 
 void ModalBasis::to_grid(std::span<const double> q, std::span<double> u) const {

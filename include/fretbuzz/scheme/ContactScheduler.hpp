@@ -119,6 +119,7 @@ private:
     std::vector<Entry> held_;  // points park_due could not park
     std::vector<double> park_amplitude_;
     std::vector<long> tested_with_;
+    std::vector<double> row_scratch_;  // a row tested for parking, not kept by the basis
     std::vector<double> retry_reach_;  // test a point that failed again once sum_j R_j is below this
     double reach_ = 0.0;               // sum_j R_j at the last update_speed
     long amplitude_epoch_ = 0;

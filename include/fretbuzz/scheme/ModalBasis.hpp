@@ -28,6 +28,9 @@ public:
     void mode_shapes_at(double x, std::span<double> phi) const;
     // Row i of S: phi_j(x_i) for j = 1..Nm (reference stays valid for the basis' life).
     std::span<const double> row(std::size_t i) const;
+    // Row i: the kept one if it was built, else written into `scratch` (size mode_count())
+    // without keeping it. For passes over every point once (all rows kept would be N^2 numbers).
+    std::span<const double> row(std::size_t i, std::span<double> scratch) const;
     // u = S q on the whole grid (fast transform).
     void to_grid(std::span<const double> q, std::span<double> u) const;
     // FFTW's estimated operation count of one transform (see SineTransform).
@@ -40,6 +43,8 @@ private:
     double length_;
     std::size_t modes_;
     double dx_;
+    void fill_row(std::size_t i, std::span<double> r) const;
+
     std::vector<double> sine_table_;  // sin(pi k / N), k = 0..2N-1
     std::unique_ptr<SineTransform> transform_;
     mutable std::vector<std::vector<double>> rows_;
