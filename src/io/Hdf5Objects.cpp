@@ -239,8 +239,6 @@ void write_rows(hid_t dataset, std::size_t width, bool whole_chunk, std::size_t 
             "write rows of a dataset");
 }
 
-// Jobs queued before the queue's thread waits for them to run.
-constexpr std::size_t kMaxQueuedJobs = 64;
 }  // namespace
 
 void GrowingDataset::flush() {
@@ -259,59 +257,6 @@ void GrowingDataset::flush() {
     queue_->post([dataset = dataset_.get(), width = width_, whole_chunk, first, rows, values = std::move(values)] {
         write_rows(dataset, width, whole_chunk, first, rows, values);
     });
-}
-
-WriteQueue::WriteQueue() : thread_([this] { work(); }) {}
-
-WriteQueue::~WriteQueue() {
-    {
-        const std::lock_guard lock(mutex_);
-        stopping_ = true;
-        jobs_.clear();
-    }
-    changed_.notify_all();
-    thread_.join();
-}
-
-void WriteQueue::post(std::function<void()> job) {
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [this] { return jobs_.size() < kMaxQueuedJobs || failure_; });
-    if (failure_) std::rethrow_exception(failure_);
-    jobs_.push_back(std::move(job));
-    lock.unlock();
-    changed_.notify_all();
-}
-
-void WriteQueue::drain() {
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [this] { return (jobs_.empty() && !busy_) || failure_; });
-    if (failure_) std::rethrow_exception(failure_);
-}
-
-void WriteQueue::work() {
-    std::unique_lock lock(mutex_);
-    while (true) {
-        changed_.wait(lock, [this] { return !jobs_.empty() || stopping_; });
-        if (stopping_) return;
-        std::function<void()> job = std::move(jobs_.front());
-        jobs_.pop_front();
-        busy_ = true;
-        lock.unlock();
-        std::exception_ptr failure;
-        try {
-            job();
-        } catch (...) {
-            failure = std::current_exception();
-        }
-        job = nullptr;  // its rows are freed here, not under the lock
-        lock.lock();
-        busy_ = false;
-        if (failure && !failure_) {
-            failure_ = failure;
-            jobs_.clear();
-        }
-        changed_.notify_all();
-    }
 }
 
 Handle open_file_for_reading(const std::string& path) {

@@ -4,16 +4,12 @@
 // (chunked and extendible, so nothing but one chunk of rows is ever held in memory).
 #include <hdf5.h>
 
-#include <condition_variable>
 #include <cstddef>
-#include <deque>
-#include <exception>
-#include <functional>
-#include <mutex>
 #include <span>
 #include <string>
-#include <thread>
 #include <vector>
+
+#include "WriteQueue.hpp"
 
 namespace fretbuzz::hdf5 {
 
@@ -58,33 +54,6 @@ void write_attribute(hid_t object, const std::string& name, const std::string& v
 // A string attribute on the object at `path` below `parent`, if that object exists.
 void write_attribute_at(hid_t parent, const std::string& path, const std::string& name, const std::string& value);
 
-// A thread that makes a file's chunk writes (extending datasets, converting, shuffling and
-// deflating them) while the run steps on: at audio rates the contact map's compression alone
-// was a tenth of the run's thread. HDF5 (Debian's serial build) is not thread-safe, so the
-// queue's thread is the only one calling HDF5 between the first post() and drain(): the
-// owner makes no HDF5 call of its own in that time. Jobs run in order; the first failure is
-// kept, the jobs after it are dropped, and post() or drain() rethrows it.
-class WriteQueue {
-public:
-    WriteQueue();
-    ~WriteQueue();  // drops what is still queued (the run failed), waits for the running job
-    WriteQueue(const WriteQueue&) = delete;
-    WriteQueue& operator=(const WriteQueue&) = delete;
-
-    void post(std::function<void()> job);  // waits while the queue is long (bounded memory)
-    void drain();                          // waits until every job has run; rethrows a failure
-
-private:
-    void work();
-
-    std::deque<std::function<void()>> jobs_;
-    bool busy_ = false, stopping_ = false;
-    std::exception_ptr failure_;
-    std::mutex mutex_;
-    std::condition_variable changed_;
-    std::thread thread_;
-};
-
 // int64: whole numbers held as doubles in memory (exact below 2^53), stored as integers.
 enum class Storage { float64, float32, int64 };
 
@@ -104,7 +73,8 @@ public:
         if (buffer_.size() == chunk_rows_) flush();
     }
     void flush();
-    // From now on full chunks are written by `queue` (which must outlive the dataset's writes).
+    // From now on full chunks are written by `queue` (which must outlive the dataset's writes;
+    // see WriteQueue: HDF5 is not thread-safe).
     void write_through(WriteQueue* queue) { queue_ = queue; }
     void close(const std::string& what) { dataset_.close(what); }
     std::size_t rows() const { return written_ + pending_rows(); }

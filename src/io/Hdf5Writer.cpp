@@ -86,7 +86,7 @@ struct Hdf5Writer::File {
     std::vector<double> observation_points;
     const Case* source = nullptr;
     // Last, so that it stops (and no chunk write is left running) before any dataset closes.
-    hdf5::WriteQueue queue;
+    WriteQueue queue;
 
     std::array<hdf5::GrowingDataset*, 21> datasets() {
         return {&time,          &displacement,  &energy_time,    &energy_total,       &energy_contact, &energy_dissipated,
