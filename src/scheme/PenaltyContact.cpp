@@ -322,15 +322,21 @@ double PenaltyContact::first_iterate(double a, double b, double k, double anchor
         // Staying in contact (the root above -a): the root of phi's second-order Taylor polynomial
         // at r = 0, c0 + c1 r + c2 r^2 (Q(0) = Psi'(a), Q'(0) = Psi''(a)/2, Q''(0) = Psi'''(a)/3),
         // or of its tangent where the parabola misses the axis. Exact for alpha = 1 and 2.
+        // A soft contact (k Psi''(a) small against 1): phi is nearly r - b, Newton from b converges at once.
+        if (k * d2 < 0.01) return b;
         const double c0 = k * d1 - b, c1 = 1.0 + k * (0.5 * d2), c2 = k * (d3 / 6.0);
         const double disc = c1 * c1 - 4.0 * c2 * c0;
         const double r0 = disc >= 0.0 ? -2.0 * c0 / (c1 + std::sqrt(disc)) : -c0 / c1;
+        // The parabola models phi only for r of the order of a: beyond, Newton from b.
+        if (r0 > 4.0 * a) return b;
         return std::max(r0, -a);
     }
     // Landing (a <= 0 < a + b): y = a + r > 0 solves (y - a)(d - y) = c y^(alpha+1), d = a + b,
     // c = k K/(alpha+1). With y^(alpha+1) taken as y^2 y0^(alpha-1), y0 the larger of the two
     // one-term balances (c y^alpha = d, c y^(alpha+1) = -a d), a quadratic in y: exact for alpha = 1.
     const double c = k * potential_scale_, d = a + b;
+    // Where the force at b is small against b (a light touch), Newton from b is as good.
+    if (k * potential(d) <= 0.01 * (b * b)) return b;
     double growth = 1.0;  // y0^(alpha-1)
     if (law_ != Law::linear) {
         const double y0 = std::max(std::pow(d / c, 1.0 / alpha_), std::pow(-a * d / c, 1.0 / (alpha_ + 1.0)));
