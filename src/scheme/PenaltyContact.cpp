@@ -1,5 +1,6 @@
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -76,36 +77,39 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const 
 
 // The start of PenaltyContact::solve for alpha = 3/2, four equations at once, each lane
 // rounding as the scalar code does (the same operations in the same order, no fused
-// multiply-add): the stopping tests at Newton's first iterate and after its first step.
+// multiply-add): from the first iterates start_in (as solve chose them), the stopping tests
+// there and after Newton's first step.
 // state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
 // 2: more iterations needed (left to the scalar solve).
-FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const double* b_in, double k, double stiffness,
-                                                 double potential_scale, double* increment, double* force, double* root,
-                                                 int* state) {
-    v4 a, b;
+FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const double* b_in, const double* start_in,
+                                                 double k, double stiffness, double potential_scale, double* increment,
+                                                 double* force, double* root, int* state) {
+    v4 a, b, r;
     __builtin_memcpy(&a, a_in, sizeof a);
     __builtin_memcpy(&b, b_in, sizeof b);
+    __builtin_memcpy(&r, start_in, sizeof r);
     const v4 zero{};
     const m4 a_pos = a > 0.0;
     const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
     const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
-    const v4 root_b = sqrt4(a + b);
-    const Quotient4 first = quotient_three_halves(a, b, anchor, root_b, stiffness, potential_scale);
+    const v4 root_r = sqrt4(a + r);
+    const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
     const v4 f = first.value;
-    v4 hi = b;
-    v4 lo = b - k * f;
+    const v4 other = b - k * f;
+    const v4 residual = r == b ? k * f : r + k * f - b;
+    const m4 above = residual >= 0.0;
+    const v4 hi = above ? r : other;
+    v4 lo = above ? other : r;
     lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
-    const v4 r = hi;
-    const v4 residual = k * f;
     const v4 scale = abs4(r) + abs4(b) + k * f;
     const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
     const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
-    // One Newton step from r = b: the slope of the quotient (PenaltyContact::slope).
+    // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
     const m4 ar_pos = (a + r) > 0.0;
-    const v4 s = root_b, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
+    const v4 s = root_r, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
     const v4 sum = s + t;
     const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
-    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_b) : zero;
+    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
     const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
     const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
     v4 next = r - residual / slope;
@@ -157,7 +161,8 @@ double PenaltyContact::power(double eta) const {
 double PenaltyContact::potential(double eta, double root) const {
     if (!(eta > 0.0)) return 0.0;
     if (law_ == Law::three_halves && root != kNoRoot) return potential_scale_ * ((eta * root) * eta);
-    return law_ == Law::general ? potential_scale_ * std::pow(eta, alpha_ + 1.0) : potential_scale_ * (power(eta) * eta);
+    if (law_ == Law::general) return potential_scale_ * (root != kNoRoot ? root : std::pow(eta, alpha_ + 1.0));
+    return potential_scale_ * (power(eta) * eta);
 }
 
 double PenaltyContact::force(double eta) const { return eta > 0.0 ? k_ * power(eta) : 0.0; }
@@ -189,6 +194,7 @@ double PenaltyContact::quotient_inside(double a, double r, double anchor_a, doub
     }
     // K/(alpha+1) a^(alpha+1) [(1 + r/a)^(alpha+1) - 1] / r, accurate for tiny r/a.
     const double growth = std::expm1((alpha_ + 1.0) * std::log1p(r / a));
+    root = anchor_a * (1.0 + growth);  // (a + r)^(alpha+1): the slope and the potential at a + r reuse it
     return potential_scale_ * anchor_a * growth / r;
 }
 
@@ -206,10 +212,10 @@ double PenaltyContact::difference_quotient(double a, double r) const {
 }
 
 double PenaltyContact::slope_of_quotient(double a, double r, double quotient_value) const {
-    return slope(a, r, quotient_value, a > 0.0 ? std::sqrt(a) : 0.0, kNoRoot);
+    return slope(a, r, quotient_value, anchor(a), kNoRoot);
 }
 
-double PenaltyContact::slope(double a, double r, double quotient_value, double sqrt_a, double root) const {
+double PenaltyContact::slope(double a, double r, double quotient_value, double anchor_a, double root) const {
     // d/dr of the difference quotient. The closed forms differentiate exactly; otherwise
     // (Psi'(a+r) - quotient) / r, with its limit Psi''(a + r/2) / 2 when r is too small
     // against a for the difference to be accurate.
@@ -222,11 +228,16 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double s
                 return 0.25 * k_ * (a * a + 2.0 * a * e + 3.0 * e * e);
             }
             case Law::three_halves: {  // sqrt(a + r) as the quotient at r found it, if it did
-                const double s = root == kNoRoot ? std::sqrt(a + r) : root, t = sqrt_a;
+                const double s = root == kNoRoot ? std::sqrt(a + r) : root, t = anchor_a;
                 const double sum = s + t;
                 return 0.2 * k_ * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
             }
-            case Law::general: break;
+            case Law::general:
+                if (root == kNoRoot) break;
+                // From the anchor a^(alpha+1) and the power (a + r)^(alpha+1) the quotient left:
+                // no pow. Psi''(a)/2 + Psi'''(a) r/3 where r is tiny against a.
+                if (std::abs(r) < 1e-4 * a) return k_ * alpha_ * anchor_a / (a * a) * (0.5 + (alpha_ - 1.0) * r / (3.0 * a));
+                return (k_ * root / (a + r) - quotient_value) / r;
         }
     }
     if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
@@ -240,9 +251,11 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
     std::size_t i = 0;
     if (law_ == Law::three_halves && std::isfinite(k)) {
         for (; i + 4 <= n; i += 4) {
-            double increment[4], force[4], root[4];
+            double increment[4], force[4], root[4], start[4];
             int state[4];
-            first_step_three_halves(a.data() + i, b.data() + i, k, k_, potential_scale_, increment, force, root, state);
+            for (std::size_t l = 0; l < 4; ++l) start[l] = first_iterate_or_b(a[i + l], b[i + l], k);
+            first_step_three_halves(a.data() + i, b.data() + i, start, k, k_, potential_scale_, increment, force, root,
+                                    state);
             for (std::size_t l = 0; l < 4; ++l) {
                 const std::size_t j = i + l;
                 // A non-finite input takes the scalar path, which reports it.
@@ -265,7 +278,92 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
     for (; i < n; ++i) out[i] = solve(a[i], b[i], k);
 }
 
-ContactSolution PenaltyContact::solve(double a, double b, double k) const {
+double PenaltyContact::first_iterate(double a, double b, double k, double anchor_a) const {
+    if (a > 0.0) {
+        double d1 = 0.0, d2 = 0.0, d3 = 0.0, psi = 0.0;  // Psi', Psi'', Psi''' and Psi at a, without pow
+        switch (law_) {
+            case Law::linear:
+                d1 = k_ * a;
+                d2 = k_;
+                psi = 0.5 * d1 * a;
+                break;
+            case Law::three_halves:
+                d1 = k_ * (a * anchor_a);
+                d2 = 1.5 * k_ * anchor_a;
+                d3 = 0.75 * k_ / anchor_a;
+                psi = potential_scale_ * ((a * anchor_a) * a);
+                break;
+            case Law::quadratic:
+                d1 = k_ * (a * a);
+                d2 = 2.0 * k_ * a;
+                d3 = 2.0 * k_;
+                psi = d1 * a / 3.0;
+                break;
+            case Law::cubic:
+                d1 = k_ * (a * a * a);
+                d2 = 3.0 * k_ * (a * a);
+                d3 = 6.0 * k_ * a;
+                psi = 0.25 * d1 * a;
+                break;
+            case Law::general:
+                d1 = k_ * anchor_a / a;
+                d2 = alpha_ * d1 / a;
+                d3 = (alpha_ - 1.0) * d2 / a;
+                psi = potential_scale_ * anchor_a;
+                break;
+        }
+        // Leaving contact: phi(-a) = -a + k Psi(a)/a - b >= 0 puts the root where a + r <= 0,
+        // where phi(r) = r - b - k Psi(a)/r: the negative root of r^2 - b r - k Psi(a), in closed form.
+        const double p = k * psi;
+        if (p / a - a - b >= 0.0) {
+            const double root_disc = std::sqrt(b * b + 4.0 * p);
+            return b > 0.0 ? -2.0 * p / (b + root_disc) : 0.5 * (b - root_disc);
+        }
+        // Staying in contact (the root above -a): the root of phi's second-order Taylor polynomial
+        // at r = 0, c0 + c1 r + c2 r^2 (Q(0) = Psi'(a), Q'(0) = Psi''(a)/2, Q''(0) = Psi'''(a)/3),
+        // or of its tangent where the parabola misses the axis. Exact for alpha = 1 and 2.
+        // A soft contact (k Psi''(a) small against 1): phi is nearly r - b, Newton from b converges at once.
+        if (k * d2 < 0.01) return b;
+        const double c0 = k * d1 - b, c1 = 1.0 + k * (0.5 * d2), c2 = k * (d3 / 6.0);
+        const double disc = c1 * c1 - 4.0 * c2 * c0;
+        const double r0 = disc >= 0.0 ? -2.0 * c0 / (c1 + std::sqrt(disc)) : -c0 / c1;
+        // The parabola models phi only for r of the order of a: beyond, Newton from b.
+        if (r0 > 4.0 * a) return b;
+        return std::max(r0, -a);
+    }
+    // Landing (a <= 0 < a + b): y = a + r > 0 solves (y - a)(d - y) = c y^(alpha+1), d = a + b,
+    // c = k K/(alpha+1). With y^(alpha+1) taken as y^2 y0^(alpha-1), y0 the larger of the two
+    // one-term balances (c y^alpha = d, c y^(alpha+1) = -a d), a quadratic in y: exact for alpha = 1.
+    const double c = k * potential_scale_, d = a + b;
+    // Where the force at b is small against b (a light touch), Newton from b is as good.
+    if (k * potential(d) <= 0.01 * (b * b)) return b;
+    double growth = 1.0;  // y0^(alpha-1)
+    if (law_ != Law::linear) {
+        const double y0 = std::max(std::pow(d / c, 1.0 / alpha_), std::pow(-a * d / c, 1.0 / (alpha_ + 1.0)));
+        growth = law_ == Law::three_halves ? std::sqrt(y0) : std::pow(y0, alpha_ - 1.0);
+    }
+    // (1 + c y0^(alpha-1)) y^2 - (a + d) y + a d = 0, its positive root without cancellation.
+    const double curvature = 1.0 + c * growth, m = a + d;
+    const double root_disc = std::sqrt(m * m - 4.0 * curvature * (a * d));
+    const double y = m >= 0.0 ? (m + root_disc) / (2.0 * curvature) : -2.0 * (a * d) / (root_disc - m);
+    return y - a;
+}
+
+double PenaltyContact::first_iterate_or_b(double a, double b, double k, double anchor_a) const {
+    if (a <= 0.0 && a + b <= 0.0) return b;  // out of contact: no model
+    const double start = first_iterate(a, b, k, anchor_a);
+    return std::isfinite(start) && start < b ? start : b;  // phi(b) >= 0: never above b
+}
+
+double PenaltyContact::first_iterate_or_b(double a, double b, double k) const {
+    return std::isfinite(a) && std::isfinite(b) ? first_iterate_or_b(a, b, k, anchor(a)) : b;
+}
+
+ContactSolution PenaltyContact::solve(double a, double b, double k) const { return solve(a, b, k, true); }
+
+ContactSolution PenaltyContact::solve_from_b(double a, double b, double k) const { return solve(a, b, k, false); }
+
+ContactSolution PenaltyContact::solve(double a, double b, double k, bool model_start) const {
     ContactSolution s;
     if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(k)) {
         std::ostringstream msg;
@@ -277,18 +375,19 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
         s.increment = b;
         return s;
     }
-    // phi(r) = r + k F(r) - b is increasing and convex. phi(b) = k F(b) >= 0 and, F being
-    // non-decreasing, phi(b - k F(b)) <= 0: the root lies in [b - k F(b), b].
     const double anchor_a = anchor(a);
-    const double sqrt_a = law_ == Law::three_halves ? anchor_a : 0.0;  // only the 3/2 slope reads it
-    double root = kNoRoot, root_next = kNoRoot, root_mid = kNoRoot;  // sqrt(a + r) where known
-    double hi = b;
-    double f_hi = quotient(a, hi, anchor_a, root);
-    double lo = b - k * f_hi;
+    // phi(r) = r + k Q(r) - b is increasing and convex (Q averages Psi', which is convex).
+    // Newton's method from b converges from above, slowly while far (K [eta]^alpha grows fast);
+    // the model's first iterate (first_iterate) is most often within round-off after 2 or 3 steps.
+    double r = model_start ? first_iterate_or_b(a, b, k, anchor_a) : b;
+    double root = kNoRoot, root_next = kNoRoot, root_mid = kNoRoot;  // powers of a + r where known
+    double f = quotient(a, r, anchor_a, root);
+    // Q is non-decreasing, so phi(b - k Q(r)) = k (Q(b - k Q(r)) - Q(r)) has the sign opposite
+    // to phi(r) (or is 0): the root lies between r and b - k Q(r).
+    const double other = b - k * f;
+    double residual = r == b ? k * f : r + k * f - b;  // phi(r)
+    double lo = residual >= 0.0 ? other : r, hi = residual >= 0.0 ? r : other;
     if (a <= 0.0) lo = std::max(lo, -a);  // no force while a + r <= 0, so phi < 0 there
-    double r = hi;
-    double f = f_hi;
-    double residual = k * f;  // phi(hi)
     for (int it = 1; it <= kMaxIterations; ++it) {
         s.iterations = it;
         const double scale = std::abs(r) + std::abs(b) + k * f;
@@ -298,7 +397,7 @@ ContactSolution PenaltyContact::solve(double a, double b, double k) const {
             s.root = root;
             return s;
         }
-        const double slope = 1.0 + k * this->slope(a, r, f, sqrt_a, root);
+        const double slope = 1.0 + k * this->slope(a, r, f, anchor_a, root);
         double next = r - residual / slope;
         // Keep inside the bracket; bisect when Newton would leave it or stalls.
         if (!(next > lo && next < hi) || !std::isfinite(next)) next = 0.5 * (lo + hi);

@@ -22,8 +22,9 @@ struct ContactSolution {
     double increment = 0.0;  // r
     double force = 0.0;      // f = (Psi(a + r) - Psi(a)) / r  (force per unit length, N/m)
     int iterations = 0;
-    // sqrt(a + r) where the solve computed it (alpha = 3/2 in contact), else kNoRoot:
-    // potential(a + r, root) then needs no square root of its own.
+    // What the solve computed of a + r in contact, else kNoRoot: sqrt(a + r) at alpha = 3/2,
+    // (a + r)^(alpha+1) for the general law. potential(a + r, root) then needs no square root
+    // or pow of its own.
     double root = kNoRoot;
 };
 
@@ -37,13 +38,17 @@ public:
 
     double stiffness() const { return k_; }
     double exponent() const { return alpha_; }
-    // Psi(eta); root = sqrt(eta) if known (ContactSolution::root), the same value either way.
+    // Psi(eta); root as ContactSolution::root for eta if known: the same value either way (to
+    // round-off for the general law).
     double potential(double eta, double root = kNoRoot) const;
     double force(double eta) const;      // Psi'(eta)
     // (Psi(a + r) - Psi(a)) / r without cancellation; Psi'(a) at r = 0.
     double difference_quotient(double a, double r) const;
     // Solves the scalar equation above; throws SolverError if it cannot converge.
     ContactSolution solve(double a, double b, double k) const;
+    // The same equation by Newton's method from r = b, the plain start: what solve's model
+    // start is tested against (the same root to round-off).
+    ContactSolution solve_from_b(double a, double b, double k) const;
     // out[i] = solve(a[i], b[i], k) for every i, bit for bit. The equations out of contact and,
     // for alpha = 3/2, those that meet the stopping test at Newton's first iterate (a string
     // landing on a flat obstacle: hundreds at once) are solved four at a time, branch-free;
@@ -57,10 +62,20 @@ private:
     // (Psi(a + r) - Psi(a)) / r and its slope in r where a > 0 and a + r > 0.
     double anchor(double a) const;
     // The solve's Newton steps evaluate the quotient at r and then its slope at the same r:
-    // at alpha = 3/2 both need sqrt(a + r) and sqrt(a), computed once (root out, sqrt_a in).
+    // at alpha = 3/2 both need sqrt(a + r) and sqrt(a), for the general law (a + r)^(alpha+1)
+    // and a^(alpha+1), computed once (root out, anchor_a in).
     double quotient(double a, double r, double anchor_a, double& root) const;
     double quotient_inside(double a, double r, double anchor_a, double& root) const;
-    double slope(double a, double r, double quotient_value, double sqrt_a, double root) const;
+    double slope(double a, double r, double quotient_value, double anchor_a, double root) const;
+    ContactSolution solve(double a, double b, double k, bool model_start) const;
+    // Newton's first iterate from a model of the equation: leaving contact (a > 0, root where
+    // a + r <= 0) exactly; staying in contact the root of phi's Taylor parabola at r = 0; landing
+    // (a <= 0) the root of a quadratic with the law's power frozen. Any value is safe: solve
+    // brackets the root from wherever it starts.
+    double first_iterate(double a, double b, double k, double anchor_a) const;
+    // What solve starts from: first_iterate where it is finite and below b, else b.
+    double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
+    double first_iterate_or_b(double a, double b, double k) const;  // any a and b
     double power(double eta) const;  // eta^alpha for eta > 0
 
     double k_;

@@ -1,0 +1,137 @@
+// The contact solve's first iterate (a model of the equation: the exact root when leaving
+// contact, the root of phi's Taylor parabola when staying, of a frozen-power quadratic when
+// landing) changes where Newton's method starts, never which root it finds: the same solutions
+// as Newton from r = b to round-off on random equations, hard ones included, and the discrete
+// energy still conserved to round-off at the exponents that take the general law.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz {
+namespace {
+
+constexpr double kEps = 2.220446049250313e-16;
+
+// Both solutions meet the solve's stopping test (|r + k f - b| <= 4 eps (|r| + |b| + k f), with
+// phi' >= 1, or Newton's step below an ulp of r): their increments differ by a few units of that
+// scale at most. Each force is the difference quotient at its own increment, so the forces differ
+// by what the increments do through that quotient's slope.
+void expect_same_solution(const PenaltyContact& law, double a, double b, double k, const std::string& what) {
+    const ContactSolution fast = law.solve(a, b, k), plain = law.solve_from_b(a, b, k);
+    const double scale = std::abs(plain.increment) + std::abs(b) + k * plain.force;
+    const double dr = std::abs(fast.increment - plain.increment);
+    ASSERT_LE(dr, 16.0 * kEps * scale) << what << " a=" << a << " b=" << b;
+    ASSERT_EQ(fast.force, law.difference_quotient(a, fast.increment)) << what;
+    ASSERT_GE(fast.force, 0.0) << what;
+    const double slope = law.slope_of_quotient(a, plain.increment, plain.force);
+    ASSERT_LE(std::abs(fast.force - plain.force), 1e-12 * plain.force + 2.0 * slope * (dr + 4.0 * kEps * scale))
+        << what << " a=" << a << " b=" << b;
+}
+
+TEST(ContactStart, SameSolutionsAsNewtonFromBOnRandomEquations) {
+    std::mt19937_64 random(16);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto log_uniform = [&](double lo, double hi) { return lo * std::pow(hi / lo, unit(random)); };
+    const auto sign = [&] { return unit(random) < 0.5 ? -1.0 : 1.0; };
+    long compared = 0, leaving = 0, landing = 0, staying = 0;
+    for (double stiffness : {1.0, 1e6, 1e9, 1e11, 1e13, 1e15}) {
+        for (double alpha : {1.0, 1.01, 1.3, 1.5, 2.0, 2.7, 3.0}) {
+            const PenaltyContact law(stiffness, alpha);
+            for (double k : {1e-14, 9.3e-12, 3.7e-7, 1e-3}) {
+                for (int n = 0; n < 300; ++n) {
+                    // States of every kind: a and b over 14 decades of either sign.
+                    const double a = sign() * log_uniform(1e-16, 1e-2), b = sign() * log_uniform(1e-18, 1e-2);
+                    const std::string what = "K=" + std::to_string(stiffness) + " alpha=" + std::to_string(alpha) +
+                                             " k=" + std::to_string(k) + " n=" + std::to_string(n);
+                    expect_same_solution(law, a, b, k, what);
+                    // Hard ones: a point deep in contact (a far from 0) whose root r is tiny
+                    // against a, of either sign, b built from that root.
+                    const double deep = log_uniform(1e-6, 1e-2), tiny = sign() * deep * log_uniform(1e-15, 1e-3);
+                    expect_same_solution(law, deep, tiny + k * law.difference_quotient(deep, tiny), k, what + " deep");
+                    // And one leaving contact exactly where a + r crosses 0, or landing just past it.
+                    const double edge = -deep * (1.0 + sign() * log_uniform(1e-14, 1e-2));
+                    expect_same_solution(law, deep, edge + k * law.difference_quotient(deep, edge), k, what + " edge");
+                    const double touch = -a;
+                    if (a < 0.0) expect_same_solution(law, a, touch * (1.0 + log_uniform(1e-14, 1.0)), k, what + " land");
+                    compared += 3;
+                    if (a > 0.0 && law.solve(a, b, k).increment <= -a) ++leaving;
+                    if (a <= 0.0 && a + b > 0.0) ++landing;
+                    if (a > 0.0 && law.solve(a, b, k).increment > -a) ++staying;
+                }
+            }
+        }
+    }
+    // The random states really exercise each of the model's three cases.
+    EXPECT_GT(leaving, compared / 100);
+    EXPECT_GT(landing, compared / 100);
+    EXPECT_GT(staying, compared / 100);
+}
+
+TEST(ContactStart, ModelStartIsExactWhereTheEquationIsQuadratic) {
+    // Staying in contact at alpha = 1 and 2 the equation is a quadratic in r, and leaving contact
+    // it is one for every law: there the first iterate already meets the stopping test.
+    for (double alpha : {1.0, 1.5, 2.0, 3.0, 1.3}) {
+        const PenaltyContact law(1e13, alpha);
+        const double k = 9.3e-12;
+        for (double a : {1e-9, 1e-7, 1e-5}) {
+            // Leaving: the root r = -2a, eta^{n+1} = -a.
+            const double r = -2.0 * a;
+            const ContactSolution leave = law.solve(a, r + k * law.difference_quotient(a, r), k);
+            EXPECT_EQ(leave.iterations, 1) << "alpha=" << alpha << " a=" << a;
+            if (alpha != 1.0 && alpha != 2.0) continue;
+            // A stiff enough contact (k Psi''(a) >= 0.01: softer ones start from b, as good there).
+            const double stay = 0.3 * a, stiff_k = 1e-3;
+            const ContactSolution s = law.solve(a, stay + stiff_k * law.difference_quotient(a, stay), stiff_k);
+            EXPECT_EQ(s.iterations, 1) << "alpha=" << alpha << " a=" << a;
+        }
+    }
+}
+
+double max_relative_drift(const std::vector<double>& energy) {
+    double worst = 0.0;
+    for (double h : energy) worst = std::max(worst, std::abs(h - energy.front()) / energy.front());
+    return worst;
+}
+
+TEST(ContactStart, GeneralLawConservesEnergyThroughBridgeAndFretContacts) {
+    // Exponents without a closed form (the sitar's 1.01, and 1.3): the quotient and its slope by
+    // expm1/log1p from shared powers, the potential from the power the solve left. Lossless: the
+    // discrete energy constant to round-off up to K = 1e15, on a bridge at an audio rate (several
+    // points in contact) and on the bass's frets at 400 kHz.
+    const Case sitar = with_mode_count(read_case_text("sitar"), 145);
+    Case bass = load_case("bass-pop");
+    for (double alpha : {1.01, 1.3}) {
+        for (double stiffness : {1e9, 1e13, 1e15}) {
+            for (int which = 0; which < 2; ++which) {
+                Case c = which == 0 ? sitar : bass;
+                c.make_lossless();
+                c.contact.exponent = alpha;
+                c.contact.stiffness = stiffness;
+                const double fs = which == 0 ? 48000.0 : 400000.0;
+                const Plan plan(c, 1.0 / fs);
+                Stepper stepper(plan, c.initial_displacement, c.initial_velocity);
+                std::vector<double> energy;
+                for (long n = 0; n < 4800; ++n) {
+                    stepper.step();
+                    energy.push_back(stepper.energy());
+                }
+                const std::string what = std::string(which == 0 ? "sitar" : "bass") +
+                                         " alpha=" + std::to_string(alpha) + " K=" + std::to_string(stiffness);
+                EXPECT_GT(stepper.statistics().contact_steps, 10) << what;
+                EXPECT_LT(max_relative_drift(energy), 1e-10) << what;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace fretbuzz
