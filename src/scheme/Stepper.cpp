@@ -505,8 +505,10 @@ void Stepper::advance_modes() {
     const std::size_t n = q_.size();
     const std::size_t pushes = forces_.size();
     const bool pushes_inline = plan_.pushes_inline(pushes);
-    std::array<double, Plan::kMaxInlinePushes> coefficients{};
-    std::array<const double*, Plan::kMaxInlinePushes> rows{};
+    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only
+    // the first `pushes` are read.
+    std::array<double, Plan::kMaxInlinePushes> coefficients;
+    std::array<const double*, Plan::kMaxInlinePushes> rows;
     if (pushes_inline)
         for (std::size_t r = 0; r < pushes; ++r) {
             coefficients[r] = plan_.impulse_scale() * forces_[r].second;
@@ -515,11 +517,12 @@ void Stepper::advance_modes() {
     // The few points solved now are likely solved again at the next step (a string resting on a
     // point or a bridge), and the caller reads its observation row after the step: the pass
     // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
+    const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
     const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
     forecast_.step = observed_step_ = -1;
     double losses = 0.0;
-    if ((forecast || observed_row_ != nullptr) && (pushes == 0 || pushes_inline)) {
-        std::array<const double*, kernels::kMaxRowsPerPass> predict_rows{};
+    if (fused && (forecast || observed_row_ != nullptr)) {
+        std::array<const double*, kernels::kMaxRowsPerPass> predict_rows;
         kernels::StepProducts products;
         if (forecast) {
             forecast_.count = active_.size();
