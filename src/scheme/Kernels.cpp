@@ -191,6 +191,35 @@ namespace {
 // (c[0] row0[k] + c[1] row1[k] + ..., formed as axpy would form it in a zeroed array), or nothing.
 enum class Push { none, array, row, rows };
 
+// One mode of the scalar remainder: d_k <- e_k d_k - beta_k q_k + push, q_k += d_k, the loss
+// term added to sum (rounded: the product rounded before its add). Returns the new d_k.
+template <Push Pushed, bool Lossy>
+FRETBUZZ_INLINE double step_one(const double* e, const double* beta, const double* loss, const double* impulse, double c,
+                                const double* const* rows, const double* coefficients, std::size_t m, double* q,
+                                double* d, std::size_t k, bool rounded, double& sum) {
+    double next = e[k] * d[k] - beta[k] * q[k];
+    if constexpr (Pushed == Push::array) next += impulse[k];
+    if constexpr (Pushed == Push::row) next += c * impulse[k];
+    if constexpr (Pushed == Push::rows) {
+        double push = coefficients[0] * rows[0][k] + 0.0;
+        for (std::size_t r = 1; r < m; ++r) {
+            push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
+            opaque(push);
+        }
+        next += push;
+    }
+    if constexpr (Lossy) {
+        const double span = next + d[k];
+        if (rounded)
+            sum = plus_rounded_product(sum, loss[k] * span, span);
+        else
+            sum += loss[k] * span * span;
+    }
+    q[k] += next;
+    d[k] = next;
+    return next;
+}
+
 // Rows: M of them (a compile-time count, unrolled with its coefficients in registers), or m if M is 0.
 template <Push Pushed, bool Lossy, std::size_t M = 0>
 FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
@@ -222,26 +251,7 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
     }
     double sum = 0.0;
     const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        double next = e[k] * d[k] - beta[k] * q[k];
-        if constexpr (Pushed == Push::array) next += impulse[k];
-        if constexpr (Pushed == Push::row) next += c * impulse[k];
-        if constexpr (Pushed == Push::rows) {
-            double push = coefficients[0] * rows[0][k] + 0.0;
-            for (std::size_t r = 1; r < m; ++r) {
-                push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
-                opaque(push);
-            }
-            next += push;
-        }
-        if constexpr (Lossy) {
-            const double span = next + d[k];
-            if (rounded)
-                sum = plus_rounded_product(sum, loss[k] * span, span);
-            else
-                sum += loss[k] * span * span;
-        }
-        q[k] += next;
-        d[k] = next;
+        step_one<Pushed, Lossy>(e, beta, loss, impulse, c, rows, coefficients, m, q, d, k, rounded, sum);
     };
     for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
     for (; j < n; ++j) one(j, false);
@@ -336,26 +346,8 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
     double sum = 0.0;
     double tail[kSize] = {};
     const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        double next = e[k] * d[k] - beta[k] * q[k];
-        if constexpr (Pushed == Push::row) next += c * row[k];
-        if constexpr (Pushed == Push::rows) {
-            double push = coefficients[0] * rows[0][k] + 0.0;
-            for (std::size_t r = 1; r < m; ++r) {
-                push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
-                opaque(push);
-            }
-            next += push;
-        }
-        if constexpr (Lossy) {
-            const double span = next + d[k];
-            if (rounded)
-                sum = plus_rounded_product(sum, loss[k] * span, span);
-            else
-                sum += loss[k] * span * span;
-        }
-        const double q_next = q[k] + next;
-        q[k] = q_next;
-        d[k] = next;
+        const double next = step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, k, rounded, sum);
+        const double q_next = q[k];
         double x = 0.0;
         if constexpr (P != 0) x = predicted(e[k], beta[k], q_next, next);
         for (std::size_t r = 0; r < R; ++r) {
