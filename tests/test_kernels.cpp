@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fretbuzz/scheme/Kernels.hpp"
@@ -88,6 +89,67 @@ TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
                                                               rows.data(), m, q2.data(), d2.data(), n);
                 EXPECT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << "n=" << n << " m=" << m;
                 EXPECT_TRUE(same_bits({by_vector}, {inside})) << "n=" << n << " m=" << m;
+            }
+        }
+    }
+}
+
+// One step's pass with its products: the same q, d and losses as the step alone, the next
+// step's predictions as predict_dot gives them at that step, the pickup as dot gives it.
+TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (std::size_t n = 0; n <= 1100; ++n) {
+        const Data data = random_data(random, n);
+        for (std::size_t pushes = 0; pushes <= 6; ++pushes) {  // more than 4: the separate passes
+            std::vector<const double*> rows;
+            std::vector<double> coefficients;
+            for (std::size_t r = 0; r < pushes; ++r) {
+                rows.push_back(data.rows[r].data());
+                coefficients.push_back(1e-3 * unit(random));
+            }
+            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
+                std::vector<double> q1 = data.q, d1 = data.d;
+                double losses = 0.0;
+                if (pushes == 0)
+                    losses = kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q1.data(), d1.data(), n);
+                else if (pushes == 1)
+                    losses = kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0],
+                                                       q1.data(), d1.data(), n);
+                else
+                    losses = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
+                                                     rows.data(), pushes, q1.data(), d1.data(), n);
+                // Predicted at the pushed rows first, then at other rows (points that touch without a force).
+                std::vector<const double*> predict_rows;
+                for (std::size_t r = 0; r < kernels::kMaxRowsPerPass; ++r) predict_rows.push_back(data.rows[r].data());
+                const double* pickup = data.rows.back().data();
+                for (std::size_t count = 0; count <= kernels::kMaxRowsPerPass; ++count) {
+                    for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
+                        std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count);
+                        double observed = -1.0;
+                        kernels::StepProducts products;
+                        products.predict_rows = predict_rows.data();
+                        products.predict_count = count;
+                        products.predicted = predicted.data();
+                        products.observe_row = observe;
+                        products.observed = &observed;
+                        const double fused = kernels::advance_with_products(
+                            data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes, products,
+                            q2.data(), d2.data(), n);
+                        for (std::size_t r = 0; r < count; ++r)
+                            separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
+                                                               predict_rows[r], n);
+                        const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
+                                                  " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
+                                                  (observe ? " observed" : "");
+                        ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
+                        ASSERT_TRUE(same_bits({losses}, {fused})) << where;
+                        ASSERT_TRUE(same_bits(predicted, separate)) << where;
+                        if (observe != nullptr) {
+                            ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
+                        }
+                    }
+                }
             }
         }
     }

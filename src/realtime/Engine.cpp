@@ -255,7 +255,7 @@ void Engine::render_internal(std::span<double> out) {
     const FlushDenormals ftz;
     for (double& u : out) {
         stepper_->step();
-        u = stepper_->displacement(pickup_.front());
+        u = stepper_->observation();
     }
 }
 
@@ -267,7 +267,7 @@ void Engine::render_host_sample() {
     }
     for (; k < factor_; ++k) {
         stepper_->step();
-        decimator_.push(stepper_->displacement(pickup_.front()));
+        decimator_.push(stepper_->observation());  // formed by the step's own pass over the modes
     }
 }
 
@@ -356,6 +356,7 @@ void Engine::set_pickup(double x_m) {
     const double x = clamp(x_m, dx, length_m() - dx);
     plan_->basis().mode_shapes_at(x, pickup_.front());
     for (double& phi : pickup_.front()) phi *= orientation_;
+    stepper_->observe(pickup_.front());
 }
 
 }  // namespace fretbuzz

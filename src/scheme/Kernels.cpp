@@ -191,6 +191,35 @@ namespace {
 // (c[0] row0[k] + c[1] row1[k] + ..., formed as axpy would form it in a zeroed array), or nothing.
 enum class Push { none, array, row, rows };
 
+// One mode of the scalar remainder: d_k <- e_k d_k - beta_k q_k + push, q_k += d_k, the loss
+// term added to sum (rounded: the product rounded before its add). Returns the new d_k.
+template <Push Pushed, bool Lossy>
+FRETBUZZ_INLINE double step_one(const double* e, const double* beta, const double* loss, const double* impulse, double c,
+                                const double* const* rows, const double* coefficients, std::size_t m, double* q,
+                                double* d, std::size_t k, bool rounded, double& sum) {
+    double next = e[k] * d[k] - beta[k] * q[k];
+    if constexpr (Pushed == Push::array) next += impulse[k];
+    if constexpr (Pushed == Push::row) next += c * impulse[k];
+    if constexpr (Pushed == Push::rows) {
+        double push = coefficients[0] * rows[0][k] + 0.0;
+        for (std::size_t r = 1; r < m; ++r) {
+            push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
+            opaque(push);
+        }
+        next += push;
+    }
+    if constexpr (Lossy) {
+        const double span = next + d[k];
+        if (rounded)
+            sum = plus_rounded_product(sum, loss[k] * span, span);
+        else
+            sum += loss[k] * span * span;
+    }
+    q[k] += next;
+    d[k] = next;
+    return next;
+}
+
 // Rows: M of them (a compile-time count, unrolled with its coefficients in registers), or m if M is 0.
 template <Push Pushed, bool Lossy, std::size_t M = 0>
 FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
@@ -222,26 +251,7 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
     }
     double sum = 0.0;
     const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        double next = e[k] * d[k] - beta[k] * q[k];
-        if constexpr (Pushed == Push::array) next += impulse[k];
-        if constexpr (Pushed == Push::row) next += c * impulse[k];
-        if constexpr (Pushed == Push::rows) {
-            double push = coefficients[0] * rows[0][k] + 0.0;
-            for (std::size_t r = 1; r < m; ++r) {
-                push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
-                opaque(push);
-            }
-            next += push;
-        }
-        if constexpr (Lossy) {
-            const double span = next + d[k];
-            if (rounded)
-                sum = plus_rounded_product(sum, loss[k] * span, span);
-            else
-                sum += loss[k] * span * span;
-        }
-        q[k] += next;
-        d[k] = next;
+        step_one<Pushed, Lossy>(e, beta, loss, impulse, c, rows, coefficients, m, q, d, k, rounded, sum);
     };
     for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
     for (; j < n; ++j) one(j, false);
@@ -284,6 +294,132 @@ FRETBUZZ_MULTIVERSION double advance_pushes(const double* e, const double* beta,
         case 6: return advance_rows<6>(e, beta, loss, coefficients, rows, m, q, d, n);
         default: return advance_rows<0>(e, beta, loss, coefficients, rows, m, q, d, n);
     }
+}
+
+namespace {
+// advance_variant with, in the same pass, the products of q^{n+1} that the next step and the
+// caller read: P rows with the next step's free prediction (formed from q^{n+1} and
+// q^{n+1} - q^n as predict_dot forms it from memory) and O rows with q^{n+1} itself (as dot).
+// Each sum has the lanes, the order and the multiply-adds of predict_dot's or dot's.
+template <Push Pushed, bool Lossy, std::size_t P, std::size_t O, std::size_t M>
+FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double* __restrict beta,
+                                        const double* __restrict loss, double c, const double* row,
+                                        const double* coefficients, const double* const* rows, std::size_t m,
+                                        const StepProducts& products, double* __restrict q, double* __restrict d,
+                                        std::size_t n) {
+    m = M;  // unrolled, the coefficients in registers
+    constexpr std::size_t R = P + O;
+    constexpr std::size_t kSize = R == 0 ? 1 : R;  // no zero-size arrays
+    const double* out_rows[kSize];
+    for (std::size_t r = 0; r < P; ++r) out_rows[r] = products.predict_rows[r];
+    if constexpr (O == 1) out_rows[P] = products.observe_row;
+    v4 lo[kSize], hi[kSize];
+    for (std::size_t r = 0; r < R; ++r) lo[r] = hi[r] = v4{};
+    v4 partial_lo{}, partial_hi{};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        for (std::size_t h = 0; h < kLanes; h += 4) {
+            const std::size_t k = j + h;
+            const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k), dk = load(d + k);
+            v4 next = ek * dk - bk * qk;
+            if constexpr (Pushed == Push::row) next += c * load(row + k);
+            if constexpr (Pushed == Push::rows) {
+                v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
+                for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
+                next += push;
+            }
+            v4& partial = h == 0 ? partial_lo : partial_hi;
+            if constexpr (Lossy) {
+                const v4 span = next + dk;  // q^{n+1} - q^{n-1}
+                partial += load(loss + k) * span * span;
+            }
+            const v4 q_next = qk + next;
+            store(q + k, q_next);
+            store(d + k, next);
+            if constexpr (P != 0) {
+                const v4 x = predicted(ek, bk, q_next, next);
+                for (std::size_t r = 0; r < P; ++r) (h == 0 ? lo : hi)[r] += load(out_rows[r] + k) * x;
+            }
+            for (std::size_t r = P; r < R; ++r) (h == 0 ? lo : hi)[r] += load(out_rows[r] + k) * q_next;
+        }
+    }
+    double sum = 0.0;
+    double tail[kSize] = {};
+    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
+        const double next = step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, k, rounded, sum);
+        const double q_next = q[k];
+        double x = 0.0;
+        if constexpr (P != 0) x = predicted(e[k], beta[k], q_next, next);
+        for (std::size_t r = 0; r < R; ++r) {
+            const double y = r < P ? x : q_next;
+            if (rounded)
+                tail[r] = plus_rounded_product(tail[r], out_rows[r][k], y);
+            else
+                tail[r] += out_rows[r][k] * y;
+        }
+    };
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
+    for (; j < n; ++j) one(j, false);
+    for (std::size_t r = 0; r < P; ++r) products.predicted[r] = fold(tail[r], lo[r], hi[r]);
+    if constexpr (O == 1) *products.observed = fold(tail[P], lo[P], hi[P]);
+    return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
+}
+
+template <Push Pushed, std::size_t P, std::size_t O, std::size_t M = 1>
+FRETBUZZ_INLINE double advance_products_lossy(const double* e, const double* beta, const double* loss, double c,
+                                              const double* row, const double* coefficients, const double* const* rows,
+                                              std::size_t m, const StepProducts& products, double* q, double* d,
+                                              std::size_t n) {
+    return loss != nullptr
+               ? advance_products<Pushed, true, P, O, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n)
+               : advance_products<Pushed, false, P, O, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n);
+}
+
+template <std::size_t P, std::size_t O>
+FRETBUZZ_INLINE double advance_products_pushed(const double* e, const double* beta, const double* loss,
+                                               const double* coefficients, const double* const* rows, std::size_t m,
+                                               const StepProducts& products, double* q, double* d, std::size_t n) {
+    if (m == 0)
+        return advance_products_lossy<Push::none, P, O>(e, beta, loss, 0.0, nullptr, nullptr, nullptr, 0, products, q, d, n);
+    if (m == 1)  // as advance_one_push: c row_j added by one multiply-add
+        return advance_products_lossy<Push::row, P, O>(e, beta, loss, coefficients[0], rows[0], nullptr, nullptr, 0,
+                                                       products, q, d, n);
+    if (m == 2)
+        return advance_products_lossy<Push::rows, P, O, 2>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+    if (m == 3)
+        return advance_products_lossy<Push::rows, P, O, 3>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+    return advance_products_lossy<Push::rows, P, O, 4>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+}
+
+template <std::size_t O>
+FRETBUZZ_INLINE double advance_products_counted(const double* e, const double* beta, const double* loss,
+                                                const double* coefficients, const double* const* rows, std::size_t m,
+                                                const StepProducts& products, double* q, double* d, std::size_t n) {
+    switch (products.predict_count) {
+        case 0: return advance_products_pushed<0, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 1: return advance_products_pushed<1, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 2: return advance_products_pushed<2, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 3: return advance_products_pushed<3, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        default: return advance_products_pushed<4, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+    }
+}
+}  // namespace
+
+FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double* beta, const double* loss,
+                                                   const double* coefficients, const double* const* rows, std::size_t m,
+                                                   const StepProducts& products, double* q, double* d, std::size_t n) {
+    // The pushes' count is a template argument: with a count known only at run time (one loop
+    // for any number of rows) GCC formed the pickup's sum with other last bits.
+    if (m > kMaxRowsPerPass) {  // many pushes: the separate passes
+        const double losses = advance_pushes(e, beta, loss, coefficients, rows, m, q, d, n);
+        if (products.predict_count != 0)
+            predict_dot_rows(e, beta, q, d, products.predict_rows, products.predict_count, n, products.predicted);
+        if (products.observe_row != nullptr) *products.observed = dot(products.observe_row, q, n);
+        return losses;
+    }
+    return products.observe_row != nullptr
+               ? advance_products_counted<1>(e, beta, loss, coefficients, rows, m, products, q, d, n)
+               : advance_products_counted<0>(e, beta, loss, coefficients, rows, m, products, q, d, n);
 }
 
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,

@@ -89,6 +89,7 @@ void Stepper::silence() {
 
 void Stepper::restart() {
     energy_step_ = -1;
+    forecast_.step = observed_step_ = -1;  // formed from the state before the change
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse).
     for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
@@ -169,6 +170,16 @@ void Stepper::pad_values(const std::vector<std::size_t>& pad, std::span<const do
 
 double Stepper::displacement(std::span<const double> mode_shapes) const {
     return kernels::dot(mode_shapes.data(), q_.data(), q_.size());
+}
+
+void Stepper::observe(std::span<const double> mode_shapes) {
+    observed_row_ = mode_shapes.data();
+    observed_step_ = -1;  // the row's values may have changed
+}
+
+double Stepper::observation() const {
+    if (observed_row_ == nullptr) throw std::logic_error("Stepper::observation: no row to observe (call observe first)");
+    return observed_step_ == n_ ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
 double Stepper::velocity(std::span<const double> mode_shapes) const {
@@ -383,8 +394,10 @@ void Stepper::solve_contacts() {
     // The predicted height at every active point, into grid_ (by one transform, or by rows).
     if (use_transform)
         plan_.basis().to_grid(predicted_, grid_);
+    else if (on_the_fly)
+        predict_active_points();
     else
-        plan_.predicted_at(active_, on_the_fly ? std::span<const double>() : predicted_, q_, d_, grid_);
+        plan_.predicted_at(active_, predicted_, q_, d_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
@@ -417,6 +430,24 @@ void Stepper::solve_contacts() {
         }
     }
     if (touched_obstacle_) ++stats_.contact_steps;
+}
+
+void Stepper::predict_active_points() {
+    // The last step's pass formed the prediction at the points it was given (the bits of
+    // predict_dot at this step): the others, woken since, take row products of their own.
+    std::array<std::size_t, kernels::kMaxRowsPerPass> others{};
+    std::size_t count = 0;
+    const bool current = forecast_.step == n_;
+    for (std::size_t i : active_) {
+        std::size_t r = 0;
+        if (current)
+            while (r < forecast_.count && forecast_.points[r] != i) ++r;
+        if (current && r < forecast_.count)
+            grid_[i] = forecast_.values[r];
+        else
+            others[count++] = i;
+    }
+    if (count != 0) plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
 }
 
 void Stepper::solve_fingers(bool use_transform) {
@@ -472,22 +503,51 @@ void Stepper::advance_modes() {
     const double* e = prop.decay().data();
     const double* beta = prop.beta().data();
     const std::size_t n = q_.size();
-    double losses = 0.0;
-    if (forces_.size() == 1 && plan_.pushes_inline(1)) {
-        const auto& [i, f] = forces_.front();
-        losses = kernels::advance_one_push(e, beta, loss, plan_.impulse_scale() * f, plan_.basis().row(i).data(), q_.data(),
-                                           d_.data(), n);
-    } else if (plan_.pushes_inline(forces_.size())) {
-        std::array<double, Plan::kMaxInlinePushes> coefficients{};
-        std::array<const double*, Plan::kMaxInlinePushes> rows{};
-        for (std::size_t r = 0; r < forces_.size(); ++r) {
+    const std::size_t pushes = forces_.size();
+    const bool pushes_inline = plan_.pushes_inline(pushes);
+    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only
+    // the first `pushes` are read.
+    std::array<double, Plan::kMaxInlinePushes> coefficients;
+    std::array<const double*, Plan::kMaxInlinePushes> rows;
+    if (pushes_inline)
+        for (std::size_t r = 0; r < pushes; ++r) {
             coefficients[r] = plan_.impulse_scale() * forces_[r].second;
             rows[r] = plan_.basis().row(forces_[r].first).data();
         }
-        losses = kernels::advance_pushes(e, beta, loss, coefficients.data(), rows.data(), forces_.size(), q_.data(),
-                                         d_.data(), n);
+    // The few points solved now are likely solved again at the next step (a string resting on a
+    // point or a bridge), and the caller reads its observation row after the step: the pass
+    // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
+    const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
+    const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
+    forecast_.step = observed_step_ = -1;
+    double losses = 0.0;
+    if (fused && (forecast || observed_row_ != nullptr)) {
+        std::array<const double*, kernels::kMaxRowsPerPass> predict_rows;
+        kernels::StepProducts products;
+        if (forecast) {
+            forecast_.count = active_.size();
+            for (std::size_t r = 0; r < active_.size(); ++r) {
+                forecast_.points[r] = active_[r];
+                predict_rows[r] = plan_.basis().row(active_[r]).data();
+            }
+            products.predict_rows = predict_rows.data();
+            products.predict_count = forecast_.count;
+            products.predicted = forecast_.values.data();
+            forecast_.step = n_ + 1;
+        }
+        if (observed_row_ != nullptr) {
+            products.observe_row = observed_row_;
+            products.observed = &observed_;
+            observed_step_ = n_ + 1;
+        }
+        losses = kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes, products,
+                                                q_.data(), d_.data(), n);
+    } else if (pushes == 1 && pushes_inline) {
+        losses = kernels::advance_one_push(e, beta, loss, coefficients[0], rows[0], q_.data(), d_.data(), n);
+    } else if (pushes_inline) {
+        losses = kernels::advance_pushes(e, beta, loss, coefficients.data(), rows.data(), pushes, q_.data(), d_.data(), n);
     } else {
-        losses = kernels::advance(e, beta, loss, forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+        losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     }
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
 }

@@ -36,6 +36,24 @@ double advance_one_push(const double* e, const double* beta, const double* loss,
 // axpy would form it in a zeroed array (the same impulse, no impulse vector).
 double advance_pushes(const double* e, const double* beta, const double* loss, const double* coefficients,
                       const double* const* rows, std::size_t m, double* q, double* d, std::size_t n);
+// What one step's pass over the modes also forms while it holds q^{n+1} (advance_with_products).
+struct StepProducts {
+    // predicted[r] = predict_dot(e, beta, q^{n+1}, q^{n+1} - q^n, predict_rows[r], n): the next
+    // step's free prediction at these rows, r < predict_count <= kMaxRowsPerPass.
+    const double* const* predict_rows = nullptr;
+    std::size_t predict_count = 0;
+    double* predicted = nullptr;
+    // *observed = dot(observe_row, q^{n+1}, n) (a pickup), if observe_row is not null.
+    const double* observe_row = nullptr;
+    double* observed = nullptr;
+};
+// One step as advance (m = 0, no impulse), advance_one_push (m = 1, c = coefficients[0]) or
+// advance_pushes (m >= 2) computes it, and the products asked for, each bit for bit the value
+// of the separate kernel: one pass instead of two or three (m <= kMaxRowsPerPass; more pushes
+// take the separate passes).
+double advance_with_products(const double* e, const double* beta, const double* loss, const double* coefficients,
+                             const double* const* rows, std::size_t m, const StepProducts& products, double* q,
+                             double* d, std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.

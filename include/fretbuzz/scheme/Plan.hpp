@@ -34,6 +34,10 @@ struct PlanOptions {
     // Closed-form contact quotients for alpha = 1, 3/2, 2, 3; false: pow/expm1/log1p for
     // every exponent (the reference they are tested against).
     bool closed_form_contact = true;
+    // One pass over the modes per step: the step also forms the next step's prediction at a
+    // few active points and the observation row's displacement (Stepper::observe); false: a
+    // pass for each (the reference, the same bits).
+    bool fused_step = true;
 };
 
 // Screening pays by skipping points that cannot touch and by free flight between contacts.

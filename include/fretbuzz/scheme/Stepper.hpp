@@ -9,6 +9,7 @@
 // and pluckers (Pluck) are advanced with the string: their pad points are solved every step
 // (a plucker's until it has left), and the balance becomes H - work + dissipated = constant
 // (work: done by the pressing forces, the gestures and the pluckers' motions). Nothing here does I/O.
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -20,6 +21,7 @@
 #include "fretbuzz/scheme/Finger.hpp"
 #include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Pluck.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
@@ -88,6 +90,11 @@ public:
     double displacement(std::span<const double> mode_shapes) const;
     // (u(x, t_n) - u(x, t_{n-1})) / dt
     double velocity(std::span<const double> mode_shapes) const;
+    // An observation row (a pickup's mode shapes, kept by the caller, which may change its
+    // values and then calls observe again): observation() is displacement(mode_shapes), bit
+    // for bit, formed by the step's own pass over the modes when it can (one pass fewer).
+    void observe(std::span<const double> mode_shapes);
+    double observation() const;
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
     double energy() const;          // H^{n-1/2}: string, obstacle contact and fingers
@@ -123,6 +130,7 @@ private:
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
     long end_flight(long flown, double energy_before);  // the bookkeeping after `flown` steps
     void solve_contacts();
+    void predict_active_points();  // into grid_: the forecast where it has them, row products otherwise
     void apply_impulse();
     void advance_modes();
     void put_points_to_sleep();
@@ -167,6 +175,18 @@ private:
     mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
+    // The next step's free prediction at a few active points, formed by advance_modes while it
+    // holds q^{n+1}; solve_contacts reads it at step `step` (restart forgets it: the state changed).
+    struct Forecast {
+        long step = -1;
+        std::size_t count = 0;
+        std::array<std::size_t, kernels::kMaxRowsPerPass> points{};
+        std::array<double, kernels::kMaxRowsPerPass> values{};
+    };
+    Forecast forecast_;
+    const double* observed_row_ = nullptr;  // observe(): one row, or none
+    long observed_step_ = -1;               // the step observed_ belongs to
+    double observed_ = 0.0;
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
 
