@@ -35,6 +35,7 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     park_amplitude_.reserve(plan.mode_count());
     tested_with_.assign(plan.mode_count(), -1);
     retry_reach_.assign(plan.mode_count(), std::numeric_limits<double>::infinity());
+    row_scratch_.assign(plan.mode_count(), 0.0);  // sized here: parking runs in real-time audio paths
     compute_push_weights();
 }
 
@@ -128,7 +129,6 @@ bool ContactScheduler::park(std::size_t i) {
         return false;
     tested_with_[i] = amplitude_epoch_;
     // Parking tests every sleeping point once: their rows are not worth keeping (N^2 numbers).
-    row_scratch_.resize(plan_.mode_count());
     const std::span<const double> row = plan_.basis().row(i, row_scratch_);
     const double envelope = kernels::weighted_abs_sum(amplitude_.data(), row.data(), row.size()) * (1.0 + kSlack);
     // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
