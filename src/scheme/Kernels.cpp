@@ -220,6 +220,27 @@ FRETBUZZ_INLINE double step_one(const double* e, const double* beta, const doubl
     return next;
 }
 
+// Four modes' free step plus their pushes (what step_one does for one mode), the loss term
+// of the step added to `partial`. Shared by the plain step and the step with products.
+template <Push Pushed, bool Lossy>
+FRETBUZZ_INLINE v4 lane_step(v4 ek, v4 bk, v4 qk, v4 dk, const double* __restrict loss, const double* __restrict impulse,
+                             double c, const double* const* rows, const double* coefficients, std::size_t m,
+                             std::size_t k, v4& partial) {
+    v4 next = ek * dk - bk * qk;
+    if constexpr (Pushed == Push::array) next += load(impulse + k);
+    if constexpr (Pushed == Push::row) next += c * load(impulse + k);
+    if constexpr (Pushed == Push::rows) {
+        v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
+        for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
+        next += push;
+    }
+    if constexpr (Lossy) {
+        const v4 span = next + dk;  // q^{n+1} - q^{n-1}
+        partial += load(loss + k) * span * span;
+    }
+    return next;
+}
+
 // Rows: M of them (a compile-time count, unrolled with its coefficients in registers), or m if M is 0.
 template <Push Pushed, bool Lossy, std::size_t M = 0>
 FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double* __restrict beta, const double* __restrict loss,
@@ -232,20 +253,10 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
     for (; j + kLanes <= n; j += kLanes) {
         for (std::size_t h = 0; h < kLanes; h += 4) {
             const std::size_t k = j + h;
-            v4 next = load(e + k) * load(d + k) - load(beta + k) * load(q + k);
-            if constexpr (Pushed == Push::array) next += load(impulse + k);
-            if constexpr (Pushed == Push::row) next += c * load(impulse + k);
-            if constexpr (Pushed == Push::rows) {
-                v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
-                for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
-                next += push;
-            }
-            v4& partial = h == 0 ? partial_lo : partial_hi;
-            if constexpr (Lossy) {
-                const v4 span = next + load(d + k);  // q^{n+1} - q^{n-1}
-                partial += load(loss + k) * span * span;
-            }
-            store(q + k, load(q + k) + next);
+            const v4 qk = load(q + k);
+            const v4 next = lane_step<Pushed, Lossy>(load(e + k), load(beta + k), qk, load(d + k), loss, impulse, c, rows,
+                                                     coefficients, m, k, h == 0 ? partial_lo : partial_hi);
+            store(q + k, qk + next);
             store(d + k, next);
         }
     }
@@ -320,19 +331,9 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
     for (; j + kLanes <= n; j += kLanes) {
         for (std::size_t h = 0; h < kLanes; h += 4) {
             const std::size_t k = j + h;
-            const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k), dk = load(d + k);
-            v4 next = ek * dk - bk * qk;
-            if constexpr (Pushed == Push::row) next += c * load(row + k);
-            if constexpr (Pushed == Push::rows) {
-                v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
-                for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
-                next += push;
-            }
-            v4& partial = h == 0 ? partial_lo : partial_hi;
-            if constexpr (Lossy) {
-                const v4 span = next + dk;  // q^{n+1} - q^{n-1}
-                partial += load(loss + k) * span * span;
-            }
+            const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k);
+            const v4 next = lane_step<Pushed, Lossy>(ek, bk, qk, load(d + k), loss, row, c, rows, coefficients, m, k,
+                                                     h == 0 ? partial_lo : partial_hi);
             const v4 q_next = qk + next;
             store(q + k, q_next);
             store(d + k, next);
