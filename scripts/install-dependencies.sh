@@ -5,7 +5,7 @@ set -eu
 packages="build-essential cmake pkg-config
   libfftw3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-  libsndfile1-dev libsoxr-dev libhdf5-dev libssl-dev
+  libsndfile1-dev libsoxr-dev libhdf5-dev nettle-dev
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-h5py
   ffmpeg chromium
   libeigen3-dev

@@ -34,10 +34,9 @@ CsvFile::CsvFile(const std::filesystem::path& path, const std::string& header, s
     if (fd_ < 0) write_failure(path_, errno);
     try {
         write_all(header.data(), header.size());
-        filling_.resize(block_values_);
-        pending_.resize(block_values_);
+        filling_ = std::make_unique_for_overwrite<double[]>(block_values_);
+        pending_ = std::make_unique_for_overwrite<double[]>(block_values_);
         text_.reserve(block_values_ * 24);  // a shortest round-trip double and its comma
-        thread_ = std::thread([this] { work(); });
     } catch (...) {
         ::close(fd_);
         throw;
@@ -59,13 +58,16 @@ CsvFile::~CsvFile() {
 void CsvFile::row(std::span<const double> values) {
     if (values.size() != width_) throw std::logic_error("CsvFile: a row of the wrong width");
     // A few numbers: copied one by one into the block (a range insert calls memmove per row).
-    double* to = filling_.data() + filled_;
+    double* to = filling_.get() + filled_;
     for (std::size_t k = 0; k < width_; ++k) to[k] = values[k];
     filled_ += width_;
     if (filled_ == block_values_) hand_over();
 }
 
 void CsvFile::hand_over() {
+    // The thread starts with the first full block: a short run's rows fit in one and are
+    // written at close, without the cost of starting a thread for them.
+    if (!thread_.joinable()) thread_ = std::thread([this] { work(); });
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return pending_values_ == 0 || failure_; });
     if (failure_) std::rethrow_exception(failure_);
@@ -76,14 +78,19 @@ void CsvFile::hand_over() {
 }
 
 void CsvFile::close() {
-    if (filled_ > 0) hand_over();
-    {
-        const std::lock_guard lock(mutex_);
-        stopping_ = true;
+    if (!thread_.joinable()) {
+        write_block(std::span<const double>(filling_.get(), std::exchange(filled_, 0)));
+        if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
+    } else {
+        if (filled_ > 0) hand_over();
+        {
+            const std::lock_guard lock(mutex_);
+            stopping_ = true;
+        }
+        changed_.notify_all();
+        thread_.join();
+        if (failure_) std::rethrow_exception(failure_);
     }
-    changed_.notify_all();
-    thread_.join();
-    if (failure_) std::rethrow_exception(failure_);
     const int fd = std::exchange(fd_, -1);
     if (::close(fd) != 0) write_failure(path_, errno);
 }
@@ -99,7 +106,7 @@ void CsvFile::work() {
         lock.unlock();
         std::exception_ptr failure;
         try {
-            write_block(std::span<const double>(pending_.data(), pending_values_));
+            write_block(std::span<const double>(pending_.get(), pending_values_));
         } catch (...) {
             failure = std::current_exception();
         }

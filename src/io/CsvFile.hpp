@@ -8,11 +8,11 @@
 #include <condition_variable>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <string>
 #include <thread>
-#include <vector>
 
 namespace fretbuzz {
 
@@ -42,8 +42,10 @@ private:
     std::size_t width_;
     std::size_t block_values_;
     int fd_ = -1;
-    std::vector<double> filling_;  // the run's block (a whole block's room, filled_ numbers used)
-    std::vector<double> pending_;  // the thread's block (pending_values_ numbers; 0 when it is free)
+    // Left uninitialised: only what is filled is read, and clearing both blocks up front
+    // touched every page of them (most of a short run's CSV cost).
+    std::unique_ptr<double[]> filling_;  // the run's block (a whole block's room, filled_ numbers used)
+    std::unique_ptr<double[]> pending_;  // the thread's block (pending_values_ numbers; 0 when it is free)
     std::size_t filled_ = 0, pending_values_ = 0;
     std::string text_;             // the thread's formatted block
     long long written_ = 0, writeback_from_ = 0;

@@ -64,6 +64,12 @@ void append_zero_rows(hdf5::GrowingDataset& dense, std::size_t rows) {
     while (dense.rows() < rows) dense.append(zero);
 }
 
+// Chunks no longer than the run needs: HDF5 allocates, clears and writes a whole chunk
+// even for the few rows of a short run (a 1 ms run's file was 300 KB of mostly padding).
+std::size_t chunk_rows_for(std::size_t limit, long rows) {
+    return std::clamp<std::size_t>(static_cast<std::size_t>(std::max(rows, 1L)), 1, limit);
+}
+
 long contact_interval_steps(const RunLayout& layout, double max_rate_hz) {
     const double fs = 1.0 / layout.dt;
     const auto fastest = static_cast<long>(std::ceil(fs / max_rate_hz - 1e-9));
@@ -83,6 +89,7 @@ struct Hdf5Writer::File {
     hdf5::GrowingDataset displacement_y, energy_y, damping_y, friction;
     std::optional<ContactMapRows> map;
     double dt = 0.0;
+    std::size_t signal_chunk_rows = kSignalChunkRows;
     std::vector<double> observation_points;
     const Case* source = nullptr;
     // Last, so that it stops (and no chunk write is left running) before any dataset closes.
@@ -100,9 +107,10 @@ struct Hdf5Writer::File {
 void Hdf5Writer::begin_played(const Case& c) {
     using namespace hdf5;
     File& f = *file_;
-    f.energy_finger = GrowingDataset(f.energy.get(), "finger", 0, kSignalChunkRows);
-    f.energy_work = GrowingDataset(f.energy.get(), "work", 0, kSignalChunkRows);
-    f.energy_finger_loss = GrowingDataset(f.energy.get(), "finger_loss", 0, kSignalChunkRows);
+    const std::size_t chunk = f.signal_chunk_rows;
+    f.energy_finger = GrowingDataset(f.energy.get(), "finger", 0, chunk);
+    f.energy_work = GrowingDataset(f.energy.get(), "work", 0, chunk);
+    f.energy_finger_loss = GrowingDataset(f.energy.get(), "finger_loss", 0, chunk);
     f.played = create_group(f.file.get(), "played");
     std::vector<std::string> kind;
     std::vector<double> position, width;
@@ -124,7 +132,7 @@ void Hdf5Writer::begin_played(const Case& c) {
     write_strings(f.played.get(), "kind", kind);
     write_array(f.played.get(), "position_m", position);
     write_array(f.played.get(), "width_m", width);
-    f.played_height = GrowingDataset(f.played.get(), "height", kind.size(), kSignalChunkRows);
+    f.played_height = GrowingDataset(f.played.get(), "height", kind.size(), chunk);
 }
 
 Hdf5Writer::Hdf5Writer(const std::filesystem::path& path, Hdf5WriterOptions options) : path_(path), options_(options) {}
@@ -140,6 +148,8 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     file_ = std::make_unique<File>();
     File& f = *file_;
     f.dt = layout.dt;
+    f.signal_chunk_rows = chunk_rows_for(kSignalChunkRows, layout.steps / layout.output_stride + 1);
+    const std::size_t chunk = f.signal_chunk_rows;
     f.source = layout.source;
     f.observation_points = layout.observation_points_m;
     f.file = create_file(path_.string());
@@ -178,22 +188,22 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     write_attribute(f.case_group.get(), "name", c.name);
     write_attribute(f.case_group.get(), "description", c.description);
 
-    f.time = GrowingDataset(root, "time", 0, kSignalChunkRows);
+    f.time = GrowingDataset(root, "time", 0, chunk);
     f.observation = create_group(root, "observation");
     write_array(f.observation.get(), "points_m", layout.observation_points_m);
-    f.displacement = GrowingDataset(f.observation.get(), "displacement", points, kSignalChunkRows);
-    f.bridge_force = GrowingDataset(f.observation.get(), "bridge_force", 0, kSignalChunkRows);
+    f.displacement = GrowingDataset(f.observation.get(), "displacement", points, chunk);
+    f.bridge_force = GrowingDataset(f.observation.get(), "bridge_force", 0, chunk);
 
     f.energy = create_group(root, "energy");
-    f.energy_time = GrowingDataset(f.energy.get(), "time", 0, kSignalChunkRows);
-    f.energy_total = GrowingDataset(f.energy.get(), "total", 0, kSignalChunkRows);
-    f.energy_contact = GrowingDataset(f.energy.get(), "contact", 0, kSignalChunkRows);
-    f.energy_dissipated = GrowingDataset(f.energy.get(), "dissipated", 0, kSignalChunkRows);
+    f.energy_time = GrowingDataset(f.energy.get(), "time", 0, chunk);
+    f.energy_total = GrowingDataset(f.energy.get(), "total", 0, chunk);
+    f.energy_contact = GrowingDataset(f.energy.get(), "contact", 0, chunk);
+    f.energy_dissipated = GrowingDataset(f.energy.get(), "dissipated", 0, chunk);
     if (layout.polarisations == 2) {
-        f.displacement_y = GrowingDataset(f.observation.get(), "displacement_y", points, kSignalChunkRows);
-        f.energy_y = GrowingDataset(f.energy.get(), "y", 0, kSignalChunkRows);
-        f.damping_y = GrowingDataset(f.energy.get(), "damping_y", 0, kSignalChunkRows);
-        f.friction = GrowingDataset(f.energy.get(), "friction", 0, kSignalChunkRows);
+        f.displacement_y = GrowingDataset(f.observation.get(), "displacement_y", points, chunk);
+        f.energy_y = GrowingDataset(f.energy.get(), "y", 0, chunk);
+        f.damping_y = GrowingDataset(f.energy.get(), "damping_y", 0, chunk);
+        f.friction = GrowingDataset(f.energy.get(), "friction", 0, chunk);
         const Handle modes = create_group(root, "modes_y");
         const ModeTable y = c.y_modes();
         write_array(modes.get(), "frequency_hz", y.frequency_hz);
@@ -213,11 +223,6 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     write_attribute(f.contact.get(), "interval_steps", static_cast<long long>(interval));
     // Sparse (coordinate list): one entry per interval and point with a force. The dense
     // map is zero almost everywhere; deflating its rows cost more than the simulation.
-    f.map_row = GrowingDataset(f.contact.get(), "row", 0, kMapChunkEntries, Storage::int64, true);
-    f.map_point = GrowingDataset(f.contact.get(), "point", 0, kMapChunkEntries, Storage::int64, true);
-    f.map_force = GrowingDataset(f.contact.get(), "max_force", 0, kMapChunkEntries, Storage::float32, true);
-    if (options_.dense_contact_map)
-        f.dense_map = GrowingDataset(f.contact.get(), "max_force_dense", grid_size, kMapChunkRows, Storage::float32, true);
     f.map.emplace(grid_size, interval, layout.steps, layout.dt,
                   [&f](long row, std::span<const std::pair<std::size_t, double>> entries) {
                       for (const auto& [i, force] : entries) {
@@ -232,7 +237,16 @@ void Hdf5Writer::begin(const RunLayout& layout) {
                           f.dense_map.append(dense);
                       }
                   });
-    write_attribute(f.contact.get(), "rows", static_cast<long long>(f.map->total_rows()));
+    // At most one entry per interval and point.
+    const long map_rows = f.map->total_rows();
+    const std::size_t entries = chunk_rows_for(kMapChunkEntries, map_rows * static_cast<long>(grid_size));
+    f.map_row = GrowingDataset(f.contact.get(), "row", 0, entries, Storage::int64, true);
+    f.map_point = GrowingDataset(f.contact.get(), "point", 0, entries, Storage::int64, true);
+    f.map_force = GrowingDataset(f.contact.get(), "max_force", 0, entries, Storage::float32, true);
+    if (options_.dense_contact_map)
+        f.dense_map = GrowingDataset(f.contact.get(), "max_force_dense", grid_size, chunk_rows_for(kMapChunkRows, map_rows),
+                                     Storage::float32, true);
+    write_attribute(f.contact.get(), "rows", static_cast<long long>(map_rows));
 
     if (options_.snapshot_rate_hz > 0.0) {
         f.snapshots = create_group(root, "snapshots");

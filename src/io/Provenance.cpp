@@ -1,6 +1,6 @@
 #include "fretbuzz/io/Provenance.hpp"
 
-#include <openssl/evp.h>
+#include <nettle/sha2.h>
 #include <sys/utsname.h>
 
 #include <array>
@@ -44,15 +44,20 @@ Provenance current_provenance(std::string command_line) {
 }
 
 std::string sha256_hex(std::string_view bytes) {
-    std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
-    unsigned int size = 0;
-    if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &size, EVP_sha256(), nullptr) != 1)
-        throw std::runtime_error("SHA-256 failed (libcrypto)");
+    // Nettle, not OpenSSL: one small library with nothing to set up, where libcrypto cost
+    // more to load and initialise (relocations, its configuration file) than the rest of a
+    // short run's start.
+    sha256_ctx context{};
+    sha256_init(&context);
+    sha256_update(&context, bytes.size(), reinterpret_cast<const std::uint8_t*>(bytes.data()));
+    std::array<std::uint8_t, SHA256_DIGEST_SIZE> digest{};
+    sha256_digest(&context, digest.size(), digest.data());
     static constexpr char kHex[] = "0123456789abcdef";
     std::string hex;
-    for (unsigned int k = 0; k < size; ++k) {
-        hex += kHex[digest[k] >> 4];
-        hex += kHex[digest[k] & 0xf];
+    hex.reserve(2 * digest.size());
+    for (const std::uint8_t byte : digest) {
+        hex += kHex[byte >> 4];
+        hex += kHex[byte & 0xf];
     }
     return hex;
 }
