@@ -425,21 +425,40 @@ FRETBUZZ_INLINE double advance_many_products(const double* __restrict e, const d
     v4 lo[kMost], hi[kMost];
     for (std::size_t r = 0; r < R; ++r) lo[r] = hi[r] = v4{};
     v4 partial_lo{}, partial_hi{};
+    // Blocks of modes: the step of a block, its predictions kept in a small buffer, then each
+    // row's products over the block with its two accumulators in registers (the same lanes and
+    // the same order of terms as one pass: only the loads and stores of the sums are fewer).
+    constexpr std::size_t kBlock = 8 * kLanes;
+    v4 x_lanes[kBlock / 4], q_lanes[kBlock / 4];
     std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes) {
-        for (std::size_t h = 0; h < kLanes; h += 4) {
-            const std::size_t k = j + h;
-            const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k);
-            const v4 next = lane_step<Pushed, Lossy>(ek, bk, qk, load(d + k), loss, row, c, rows, coefficients, m, k,
-                                                     h == 0 ? partial_lo : partial_hi);
-            const v4 q_next = qk + next;
-            store(q + k, q_next);
-            store(d + k, next);
-            v4* acc = h == 0 ? lo : hi;
-            const v4 x = predicted(ek, bk, q_next, next);
-            for (std::size_t r = 0; r < P; ++r) acc[r] += load(out_rows[r] + k) * x;
-            if (R > P) acc[P] += load(out_rows[P] + k) * q_next;
+    while (j + kLanes <= n) {
+        const std::size_t end = std::min(n - (n - j) % kLanes, j + kBlock);
+        std::size_t lanes = 0;
+        for (std::size_t b = j; b < end; b += kLanes) {
+            for (std::size_t h = 0; h < kLanes; h += 4) {
+                const std::size_t k = b + h;
+                const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k);
+                const v4 next = lane_step<Pushed, Lossy>(ek, bk, qk, load(d + k), loss, row, c, rows, coefficients, m,
+                                                         k, h == 0 ? partial_lo : partial_hi);
+                const v4 q_next = qk + next;
+                store(q + k, q_next);
+                store(d + k, next);
+                x_lanes[lanes] = predicted(ek, bk, q_next, next);
+                q_lanes[lanes++] = q_next;
+            }
         }
+        for (std::size_t r = 0; r < R; ++r) {
+            const v4* x = r < P ? x_lanes : q_lanes;
+            const double* out = out_rows[r];
+            v4 l = lo[r], h = hi[r];
+            for (std::size_t b = j, a = 0; b < end; b += kLanes, a += 2) {
+                l += load(out + b) * x[a];
+                h += load(out + b + 4) * x[a + 1];
+            }
+            lo[r] = l;
+            hi[r] = h;
+        }
+        j = end;
     }
     // The remainder: its step, then its products as predict_dot and dot form theirs (row_products'
     // own remainder, on the stored q^{n+1} and d^{n+1}), 4 rows at a time.
