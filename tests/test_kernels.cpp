@@ -23,7 +23,7 @@ struct Data {
     std::vector<std::vector<double>> rows;
 };
 
-Data random_data(std::mt19937_64& random, std::size_t n) {
+Data random_data(std::mt19937_64& random, std::size_t n, int row_count = 7) {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const auto values = [&](bool positive) {
         std::vector<double> v(n);
@@ -31,7 +31,7 @@ Data random_data(std::mt19937_64& random, std::size_t n) {
         return v;
     };
     Data data{values(true), values(true), values(true), values(false), values(false), {}};
-    for (int r = 0; r < 7; ++r) data.rows.push_back(values(false));
+    for (int r = 0; r < row_count; ++r) data.rows.push_back(values(false));
     return data;
 }
 
@@ -155,5 +155,71 @@ TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
     }
 }
 
+
+// A finger's pad: up to 16 pushes and 16 predicted rows in the one pass, each the bits of the
+// separate kernels (advance_pushes, then predict_dot, or predict and dot_rows, and dot).
+TEST(Kernels, StepWithAPadsProductsEqualsTheSeparatePasses) {
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (std::size_t n = 0; n <= 1100; n += (n < 40 ? 1 : 61)) {
+        const Data data = random_data(random, n, 18);
+        for (std::size_t pushes = 0; pushes <= 16; ++pushes) {
+            std::vector<const double*> rows;
+            std::vector<double> coefficients;
+            for (std::size_t r = 0; r < pushes; ++r) {
+                rows.push_back(data.rows[r].data());
+                coefficients.push_back(1e-3 * unit(random));
+            }
+            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
+                std::vector<double> q1 = data.q, d1 = data.d;
+                double losses = 0.0;
+                if (pushes == 0)
+                    losses = kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q1.data(), d1.data(), n);
+                else if (pushes == 1)
+                    losses = kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0],
+                                                       q1.data(), d1.data(), n);
+                else
+                    losses = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
+                                                     rows.data(), pushes, q1.data(), d1.data(), n);
+                std::vector<double> stored(n);
+                kernels::predict(data.e.data(), data.beta.data(), q1.data(), d1.data(), stored.data(), n);
+                // The pushed rows first, then others (points near the pad without a force).
+                std::vector<const double*> predict_rows;
+                for (std::size_t r = 0; r < kernels::kMaxForecastRows; ++r) predict_rows.push_back(data.rows[r + 1].data());
+                const double* pickup = data.rows.back().data();
+                for (std::size_t count : {0, 1, 5, 11, 16}) {
+                    for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
+                        std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count),
+                                                         read(count);
+                        double observed = -1.0;
+                        kernels::StepProducts products;
+                        products.predict_rows = predict_rows.data();
+                        products.predict_count = count;
+                        products.predicted = predicted.data();
+                        products.observe_row = observe;
+                        products.observed = &observed;
+                        const double fused = kernels::advance_with_pad_products(
+                            data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes, products,
+                            q2.data(), d2.data(), n);
+                        for (std::size_t r = 0; r < count; ++r)
+                            separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
+                                                               predict_rows[r], n);
+                        kernels::dot_rows(predict_rows.data(), count, stored.data(), n, read.data());
+                        const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
+                                                  " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
+                                                  (observe ? " observed" : "");
+                        ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
+                        ASSERT_TRUE(same_bits({losses}, {fused})) << where;
+                        ASSERT_TRUE(same_bits(predicted, separate)) << where << " " << (count ? predicted[0] : 0.0) << " vs " << (count ? separate[0] : 0.0) << " read " << (count ? read[0] : 0.0);
+                        ASSERT_TRUE(same_bits(predicted, read)) << where;
+                        if (observe != nullptr) {
+                            ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
 }  // namespace
 }  // namespace fretbuzz

@@ -138,6 +138,8 @@ void RunLoop::connect_observers() {
         }
     }
     step_v_.resize(velocity_wanted_ ? shapes_.size() : 0);
+    // One probe read every step (the usual pickup): the step's own pass forms it.
+    if (!per_step_.empty() && shapes_.size() == 1) stepper_.observe(shapes_[0]);
 }
 
 void RunLoop::plan_free_flight() {
@@ -229,7 +231,10 @@ void RunLoop::report_step() {
         for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
         for (RunObserver* o : per_step_) o->every_step_y(y_);
     }
-    for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
+    if (shapes_.size() == 1)
+        step_u_[0] = stepper_.observation();  // displacement(shapes_[0]), bit for bit
+    else
+        for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
     step_u_at_ = n_;
     for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
     for (RunObserver* o : per_step_) o->every_step(step_u_, step_v_);

@@ -82,9 +82,15 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
     }
     // The cached tails are beyond the default head (the only one while contact steps run).
     // A point's weight costs one pass over its row the first time: with many new points
-    // (a flat obstacle's onset), the four passes of a full update are cheaper.
+    // (a flat obstacle's onset) the four passes of a full update are cheaper for this step,
+    // but a few weights are learnt at each push all the same, so that points pushed again and
+    // again (a finger's pad) soon take the cheap path.
     std::size_t unknown = 0;
-    for (const auto& force : forces) unknown += std::isnan(point_weight_[force.first].reach) ? 1 : 0;
+    for (const auto& force : forces) {
+        if (!std::isnan(point_weight_[force.first].reach)) continue;
+        if (unknown < kNewPointsPerPush) point_weight(force.first);
+        ++unknown;
+    }
     if (stale_ || unknown > kNewPointsPerPush || head_ != std::min(kHeadModes, plan_.mode_count())) {
         update_speed(q, d);
         return;

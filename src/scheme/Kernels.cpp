@@ -404,7 +404,114 @@ FRETBUZZ_INLINE double advance_products_counted(const double* e, const double* b
         default: return advance_products_pushed<4, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
     }
 }
+
+// advance_products with run-time counts, for a finger's pad: up to kMaxInlinePushes pushes (the
+// pad and the fret it presses on) and up to kMaxForecastRows product rows (the same points, at
+// the next step). The pushes take the form advance_pushes gives them (M as it picks); each
+// product accumulates as predict_dot or dot does, in an array instead of registers.
+template <Push Pushed, bool Lossy, std::size_t M>
+FRETBUZZ_INLINE double advance_many_products(const double* __restrict e, const double* __restrict beta,
+                                             const double* __restrict loss, double c, const double* row,
+                                             const double* coefficients, const double* const* rows, std::size_t m,
+                                             const StepProducts& products, double* __restrict q, double* __restrict d,
+                                             std::size_t n) {
+    if constexpr (M != 0) m = M;
+    constexpr std::size_t kMost = kMaxForecastRows + 1;
+    const std::size_t P = products.predict_count;
+    const std::size_t R = P + (products.observe_row != nullptr ? 1 : 0);
+    const double* out_rows[kMost];
+    for (std::size_t r = 0; r < P; ++r) out_rows[r] = products.predict_rows[r];
+    if (R > P) out_rows[P] = products.observe_row;
+    v4 lo[kMost], hi[kMost];
+    for (std::size_t r = 0; r < R; ++r) lo[r] = hi[r] = v4{};
+    v4 partial_lo{}, partial_hi{};
+    // Blocks of modes: the step of a block, its predictions kept in a small buffer, then each
+    // row's products over the block with its two accumulators in registers (the same lanes and
+    // the same order of terms as one pass: only the loads and stores of the sums are fewer).
+    constexpr std::size_t kBlock = 8 * kLanes;
+    v4 x_lanes[kBlock / 4], q_lanes[kBlock / 4];
+    std::size_t j = 0;
+    while (j + kLanes <= n) {
+        const std::size_t end = std::min(n - (n - j) % kLanes, j + kBlock);
+        std::size_t lanes = 0;
+        for (std::size_t b = j; b < end; b += kLanes) {
+            for (std::size_t h = 0; h < kLanes; h += 4) {
+                const std::size_t k = b + h;
+                const v4 ek = load(e + k), bk = load(beta + k), qk = load(q + k);
+                const v4 next = lane_step<Pushed, Lossy>(ek, bk, qk, load(d + k), loss, row, c, rows, coefficients, m,
+                                                         k, h == 0 ? partial_lo : partial_hi);
+                const v4 q_next = qk + next;
+                store(q + k, q_next);
+                store(d + k, next);
+                x_lanes[lanes] = predicted(ek, bk, q_next, next);
+                q_lanes[lanes++] = q_next;
+            }
+        }
+        for (std::size_t r = 0; r < R; ++r) {
+            const v4* x = r < P ? x_lanes : q_lanes;
+            const double* out = out_rows[r];
+            v4 l = lo[r], h = hi[r];
+            for (std::size_t b = j, a = 0; b < end; b += kLanes, a += 2) {
+                l += load(out + b) * x[a];
+                h += load(out + b + 4) * x[a + 1];
+            }
+            lo[r] = l;
+            hi[r] = h;
+        }
+        j = end;
+    }
+    // The remainder: its step, then its products as predict_dot and dot form theirs (row_products'
+    // own remainder, on the stored q^{n+1} and d^{n+1}), 4 rows at a time.
+    double sum = 0.0;
+    const std::size_t rest = j;
+    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
+        step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, k, rounded, sum);
+    };
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
+    for (; j < n; ++j) one(j, false);
+    double tail[kMost] = {};
+    const double* shifted[kMost];
+    for (std::size_t r = 0; r < R; ++r) shifted[r] = out_rows[r] + rest;
+    for (std::size_t r = 0; r < P; r += kMaxRowsPerPass)
+        row_products_upto4<true>(shifted + r, std::min(P - r, kMaxRowsPerPass), nullptr, e + rest, beta + rest, q + rest,
+                                 d + rest, n - rest, tail + r);
+    if (R > P) row_products<1, false>(shifted + P, q + rest, nullptr, nullptr, nullptr, nullptr, n - rest, tail + P);
+    for (std::size_t r = 0; r < P; ++r) products.predicted[r] = fold(tail[r], lo[r], hi[r]);
+    if (R > P) *products.observed = fold(tail[P], lo[P], hi[P]);
+    return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
+}
+
+template <Push Pushed, std::size_t M = 0>
+FRETBUZZ_INLINE double advance_many_lossy(const double* e, const double* beta, const double* loss, double c,
+                                          const double* row, const double* coefficients, const double* const* rows,
+                                          std::size_t m, const StepProducts& products, double* q, double* d,
+                                          std::size_t n) {
+    return loss != nullptr
+               ? advance_many_products<Pushed, true, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n)
+               : advance_many_products<Pushed, false, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n);
+}
+
 }  // namespace
+
+// A function of its own: compiled inside advance_with_products, it made GCC fuse the few-rows
+// variants' multiply-adds differently there (other last bits).
+FRETBUZZ_MULTIVERSION double advance_with_pad_products(const double* e, const double* beta, const double* loss,
+                                                           const double* coefficients, const double* const* rows,
+                                                           std::size_t m, const StepProducts& products, double* q,
+                                                           double* d, std::size_t n) {
+    switch (m) {  // advance_pushes' choice of form for each count
+        case 0: return advance_many_lossy<Push::none>(e, beta, loss, 0.0, nullptr, nullptr, nullptr, 0, products, q, d, n);
+        case 1:
+            return advance_many_lossy<Push::row>(e, beta, loss, coefficients[0], rows[0], nullptr, nullptr, 0, products, q,
+                                                 d, n);
+        case 2: return advance_many_lossy<Push::rows, 2>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        case 3: return advance_many_lossy<Push::rows, 3>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        case 4: return advance_many_lossy<Push::rows, 4>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        case 5: return advance_many_lossy<Push::rows, 5>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        case 6: return advance_many_lossy<Push::rows, 6>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        default: return advance_many_lossy<Push::rows>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+    }
+}
 
 FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double* beta, const double* loss,
                                                    const double* coefficients, const double* const* rows, std::size_t m,

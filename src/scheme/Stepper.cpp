@@ -389,19 +389,21 @@ void Stepper::solve_contacts() {
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
     // A few points and no pad: their row products form the prediction on the fly, one pass
     // fewer; otherwise it is stored for the transform, the pads or the rows.
-    const bool on_the_fly = !use_transform && pad_points_ == 0 && active_.size() <= kernels::kMaxRowsPerPass;
+    // With a pad, the last step's pass formed the predictions at its points and the active ones.
+    const bool on_the_fly = !use_transform && (pad_points_ == 0 ? active_.size() <= kernels::kMaxRowsPerPass
+                                                                : forecast_.step == n_);
     if (!on_the_fly) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
     // The predicted height at every active point, into grid_ (by one transform, or by rows).
     if (use_transform)
         plan_.basis().to_grid(predicted_, grid_);
     else if (on_the_fly)
-        predict_active_points();
+        predict_points(active_);
     else
         plan_.predicted_at(active_, predicted_, q_, d_, grid_);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (played()) solve_fingers(use_transform);
+    if (played()) solve_fingers(use_transform, on_the_fly);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform;
@@ -432,30 +434,38 @@ void Stepper::solve_contacts() {
     if (touched_obstacle_) ++stats_.contact_steps;
 }
 
-void Stepper::predict_active_points() {
+void Stepper::predict_points(std::span<const std::size_t> points) {
     // The last step's pass formed the prediction at the points it was given (the bits of
     // predict_dot at this step): the others, woken since, take row products of their own.
-    std::array<std::size_t, kernels::kMaxRowsPerPass> others{};
+    std::array<std::size_t, kernels::kMaxForecastRows> others{};
     std::size_t count = 0;
     const bool current = forecast_.step == n_;
-    for (std::size_t i : active_) {
+    for (std::size_t i : points) {
         std::size_t r = 0;
         if (current)
             while (r < forecast_.count && forecast_.points[r] != i) ++r;
-        if (current && r < forecast_.count)
+        if (current && r < forecast_.count) {
             grid_[i] = forecast_.values[r];
-        else
-            others[count++] = i;
+            continue;
+        }
+        others[count++] = i;
+        if (count == others.size()) {
+            plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
+            count = 0;
+        }
     }
     if (count != 0) plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
 }
 
-void Stepper::solve_fingers(bool use_transform) {
+void Stepper::solve_fingers(bool use_transform, bool by_rows) {
     bool acted = false;
     const auto solve = [&](auto& part) {
-        // The pad's predicted heights: from the transform, or by its rows 4 per pass (into
-        // grid_ at the pad's points, which are not active points: their values stay).
-        if (!use_transform) plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
+        // The pad's predicted heights: from the transform, the forecast, or by its rows 4 per
+        // pass (into grid_ at the pad's points, which are not active points: their values stay).
+        if (by_rows)
+            predict_points(part.pad());
+        else if (!use_transform)
+            plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
         pad_w_.clear();
         for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
@@ -521,7 +531,41 @@ void Stepper::advance_modes() {
     const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
     forecast_.step = observed_step_ = -1;
     double losses = 0.0;
-    if (fused && (forecast || observed_row_ != nullptr)) {
+    // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
+    // active points, predicted in the same pass as many pushes.
+    const std::size_t pad_forecast = active_.size() + pad_points_;
+    if (pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
+        pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold()) {
+        std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+        std::size_t count = 0;
+        const auto add = [&](std::size_t i) {
+            if (count == kernels::kMaxForecastRows) return;  // (pads counted above: never reached)
+            forecast_.points[count] = i;
+            predict_rows[count++] = plan_.basis().row(i).data();
+        };
+        for (std::size_t i : active_) add(i);
+        for (std::size_t f = 0; f < fingers_.size(); ++f)
+            if (finger_on_[f] != 0)
+                for (std::size_t i : fingers_[f].pad()) add(i);
+        for (const ForceProfile& g : gestures_)
+            for (std::size_t i : g.pad()) add(i);
+        for (std::size_t p = 0; p < plucks_.size(); ++p)
+            if (plucker_on_[p] != 0)
+                for (std::size_t i : plucks_[p].pad()) add(i);
+        kernels::StepProducts products;
+        forecast_.count = count;
+        products.predict_rows = predict_rows.data();
+        products.predict_count = count;
+        products.predicted = forecast_.values.data();
+        forecast_.step = n_ + 1;
+        if (observed_row_ != nullptr) {
+            products.observe_row = observed_row_;
+            products.observed = &observed_;
+            observed_step_ = n_ + 1;
+        }
+        losses = kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes, products,
+                                                    q_.data(), d_.data(), n);
+    } else if (fused && (forecast || observed_row_ != nullptr)) {
         std::array<const double*, kernels::kMaxRowsPerPass> predict_rows;
         kernels::StepProducts products;
         if (forecast) {

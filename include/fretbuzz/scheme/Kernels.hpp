@@ -10,6 +10,8 @@ namespace fretbuzz::kernels {
 double dot(const double* a, const double* b, std::size_t n);
 // Rows that one pass over a vector multiplies at once (the rest: further passes).
 inline constexpr std::size_t kMaxRowsPerPass = 4;
+// Rows whose next prediction one step's pass can form (a finger's pad and the points it presses).
+inline constexpr std::size_t kMaxForecastRows = 16;
 // out[r] = dot(rows[r], x, n) for r < m, each the same sum, reading x once per kMaxRowsPerPass rows.
 void dot_rows(const double* const* rows, std::size_t m, const double* x, std::size_t n, double* out);
 // sum_j row_j q_j and sum_j row_j (q_j - d_j): u^n and u^{n-1} at one grid point.
@@ -39,7 +41,7 @@ double advance_pushes(const double* e, const double* beta, const double* loss, c
 // What one step's pass over the modes also forms while it holds q^{n+1} (advance_with_products).
 struct StepProducts {
     // predicted[r] = predict_dot(e, beta, q^{n+1}, q^{n+1} - q^n, predict_rows[r], n): the next
-    // step's free prediction at these rows, r < predict_count <= kMaxRowsPerPass.
+    // step's free prediction at these rows, r < predict_count <= kMaxRowsPerPass (kMaxForecastRows in advance_with_pad_products).
     const double* const* predict_rows = nullptr;
     std::size_t predict_count = 0;
     double* predicted = nullptr;
@@ -54,6 +56,12 @@ struct StepProducts {
 double advance_with_products(const double* e, const double* beta, const double* loss, const double* coefficients,
                              const double* const* rows, std::size_t m, const StepProducts& products, double* q,
                              double* d, std::size_t n);
+// advance_with_products for a finger's pad: up to 16 pushes and kMaxForecastRows predicted rows,
+// the counts known at run time, each result bit for bit the separate kernels' (one pass for the
+// step, the pad's next predictions and the pickup, instead of four to six).
+double advance_with_pad_products(const double* e, const double* beta, const double* loss, const double* coefficients,
+                                 const double* const* rows, std::size_t m, const StepProducts& products, double* q,
+                                 double* d, std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.

@@ -130,11 +130,14 @@ private:
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
     long end_flight(long flown, double energy_before);  // the bookkeeping after `flown` steps
     void solve_contacts();
-    void predict_active_points();  // into grid_: the forecast where it has them, row products otherwise
+    // Into grid_ at `points`: the forecast where it has them, row products otherwise.
+    void predict_points(std::span<const std::size_t> points);
     void apply_impulse();
     void advance_modes();
     void put_points_to_sleep();
-    void solve_fingers(bool use_transform);
+    // by_rows: each pad point's prediction by predict_points (else from the transform in grid_,
+    // or by rows over the stored prediction).
+    void solve_fingers(bool use_transform, bool by_rows);
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire_plucker(const Pluck& pluck);
@@ -180,8 +183,8 @@ private:
     struct Forecast {
         long step = -1;
         std::size_t count = 0;
-        std::array<std::size_t, kernels::kMaxRowsPerPass> points{};
-        std::array<double, kernels::kMaxRowsPerPass> values{};
+        std::array<std::size_t, kernels::kMaxForecastRows> points{};
+        std::array<double, kernels::kMaxForecastRows> values{};
     };
     Forecast forecast_;
     const double* observed_row_ = nullptr;  // observe(): one row, or none
