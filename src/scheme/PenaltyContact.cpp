@@ -37,15 +37,13 @@ using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
     const v4 positive = x > 0.0 ? x : v4{};
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt.
+    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt. The
+    // halves move by shuffles, in registers: through memory, the 32-byte reload of two 16-byte
+    // stores would stall on store forwarding.
     typedef double v2 __attribute__((vector_size(16)));
-    v2 half[2];
-    __builtin_memcpy(half, &positive, sizeof half);
-    half[0] = __builtin_ia32_sqrtpd(half[0]);
-    half[1] = __builtin_ia32_sqrtpd(half[1]);
-    v4 root;
-    __builtin_memcpy(&root, half, sizeof root);
-    return root;
+    const v2 low = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 0, 1));
+    const v2 high = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 2, 3));
+    return __builtin_shufflevector(low, high, 0, 1, 2, 3);
 #else
     v4 root;
     for (int l = 0; l < 4; ++l) root[l] = __builtin_sqrt(positive[l]);
@@ -75,54 +73,125 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const 
     return {at_r_zero ? at_zero : is_inside ? inside : outside, (is_inside & ~at_r_zero) ? s : zero + kNoRoot};
 }
 
-// The start of PenaltyContact::solve for alpha = 3/2, four equations at once, each lane
-// rounding as the scalar code does (the same operations in the same order, no fused
-// multiply-add): from the first iterates start_in (as solve chose them), the stopping tests
-// there and after Newton's first step.
-// state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
-// 2: more iterations needed (left to the scalar solve).
-FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const double* b_in, const double* start_in,
-                                                 double k, double stiffness, double potential_scale, double* increment,
-                                                 double* force, double* root, int* state) {
-    v4 a, b, r;
-    __builtin_memcpy(&a, a_in, sizeof a);
-    __builtin_memcpy(&b, b_in, sizeof b);
-    __builtin_memcpy(&r, start_in, sizeof r);
+FRETBUZZ_INLINE bool any4(const m4& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+// PenaltyContact::first_iterate_or_b for alpha = 3/2, four equations at once, each lane rounding
+// as the scalar code does (the same operations in the same order, no fused multiply-add).
+// t = sqrt(a) where a > 0. A landing with a firm touch needs pow (its frozen power): such lanes
+// are flagged in `scalar` and left to the scalar code.
+FRETBUZZ_INLINE v4 start_three_halves(const v4& a, const v4& b, const v4& t, double k, double stiffness,
+                                      double potential_scale, m4& scalar) {
     const v4 zero{};
     const m4 a_pos = a > 0.0;
     const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
-    const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
-    const v4 root_r = sqrt4(a + r);
-    const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
-    const v4 f = first.value;
-    const v4 other = b - k * f;
-    const v4 residual = r == b ? k * f : r + k * f - b;
-    const m4 above = residual >= 0.0;
-    const v4 hi = above ? r : other;
-    v4 lo = above ? other : r;
-    lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
-    const v4 scale = abs4(r) + abs4(b) + k * f;
-    const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
-    const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
-    // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
-    const m4 ar_pos = (a + r) > 0.0;
-    const v4 s = root_r, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
-    const v4 sum = s + t;
-    const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
-    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
-    const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
-    const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
-    v4 next = r - residual / slope;
-    const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
-    next = usable ? next : 0.5 * (lo + hi);
-    const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
-    const v4 residual_next = next + k * second.value - b;
-    const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
-    for (int l = 0; l < 4; ++l) {
-        state[l] = apart[l] ? 0 : (converged[l] || stalled[l]) ? 1 : 2;
-        increment[l] = converged[l] ? r[l] : next[l];
-        force[l] = converged[l] ? f[l] : second.value[l];
-        root[l] = converged[l] ? first.root[l] : second.root[l];
+    // a > 0: Psi', Psi'' and Psi at a.
+    const v4 d1 = stiffness * (a * t), d2 = (1.5 * stiffness) * t, psi = potential_scale * ((a * t) * a);
+    const v4 p = k * psi;
+    // Leaving contact: the negative root of r^2 - b r - k Psi(a) in closed form.
+    const m4 leaving = a_pos & ((p / a - a - b) >= 0.0);
+    v4 leave = zero;
+    if (any4(leaving)) {
+        const v4 root_disc = sqrt4(b * b + 4.0 * p);
+        leave = b > 0.0 ? (-2.0 * p) / (b + root_disc) : 0.5 * (b - root_disc);
+    }
+    // Staying, unless soft: the root of the Taylor parabola at r = 0, or of its tangent.
+    const m4 parabola = a_pos & ~leaving & ~((k * d2) < 0.01);
+    v4 stay = b;
+    if (any4(parabola)) {
+        const v4 d3 = (0.75 * stiffness) / t;
+        const v4 c0 = k * d1 - b, c1 = 1.0 + k * (0.5 * d2), c2 = k * (d3 / 6.0);
+        const v4 disc = c1 * c1 - (4.0 * c2) * c0;
+        const v4 r0 = disc >= 0.0 ? (-2.0 * c0) / (c1 + sqrt4(disc)) : (-c0) / c1;
+        const v4 clamped = r0 < -a ? -a : r0;
+        stay = parabola ? (r0 > 4.0 * a ? b : clamped) : b;
+    }
+    // Landing: b where the touch is light (k Psi(a + b) <= 0.01 b^2), else the scalar model.
+    const v4 d = a + b;
+    const v4 potential_d = potential_scale * ((d * sqrt4(d)) * d);
+    const m4 landing = ~a_pos & ~apart;
+    scalar = landing & ~((k * potential_d) <= 0.01 * (b * b));
+    const v4 start = leaving ? leave : stay;  // b on landings (the flagged ones are replaced)
+    const m4 usable = ~apart & (start - start == 0.0) & (start < b);
+    return usable ? start : b;
+}
+
+// solve's first iterates for alpha = 3/2, for count (a multiple of 4) equations; says whether
+// any lane is flagged in need_scalar (its start left to the scalar code).
+FRETBUZZ_AVX_CLONES bool starts_three_halves(const double* a_in, const double* b_in, std::size_t count, double k,
+                                             double stiffness, double potential_scale, double* start_out,
+                                             long* need_scalar) {
+    m4 flagged{};
+    for (std::size_t i = 0; i < count; i += 4) {
+        v4 a, b;
+        __builtin_memcpy(&a, a_in + i, sizeof a);
+        __builtin_memcpy(&b, b_in + i, sizeof b);
+        m4 scalar;
+        const v4 start = start_three_halves(a, b, sqrt4(a), k, stiffness, potential_scale, scalar);
+        __builtin_memcpy(start_out + i, &start, sizeof start);
+        __builtin_memcpy(need_scalar + i, &scalar, sizeof scalar);
+        flagged |= scalar;
+    }
+    return any4(flagged);
+}
+
+// The start of PenaltyContact::solve for alpha = 3/2, four equations at a time, each lane
+// rounding as the scalar code does: from the first iterates start_in (as solve chose them), the
+// stopping tests there and after Newton's first step.
+// state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
+// 2: more iterations needed (left to the scalar solve).
+FRETBUZZ_AVX_CLONES void first_steps_three_halves(const double* a_in, const double* b_in, const double* start_in,
+                                                  std::size_t count, double k, double stiffness,
+                                                  double potential_scale, double* increment, double* force,
+                                                  double* root, int* state) {
+    for (std::size_t i = 0; i < count; i += 4) {
+        v4 a, b, r;
+        __builtin_memcpy(&a, a_in + i, sizeof a);
+        __builtin_memcpy(&b, b_in + i, sizeof b);
+        __builtin_memcpy(&r, start_in + i, sizeof r);
+        const v4 zero{};
+        const m4 a_pos = a > 0.0;
+        const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
+        const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
+        const v4 root_r = sqrt4(a + r);
+        const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
+        const v4 f = first.value;
+        const v4 other = b - k * f;
+        const v4 residual = r == b ? k * f : r + k * f - b;
+        const m4 above = residual >= 0.0;
+        const v4 hi = above ? r : other;
+        v4 lo = above ? other : r;
+        lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
+        const v4 scale = abs4(r) + abs4(b) + k * f;
+        const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
+        const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
+        v4 next = r, f_next = f, root_next = first.root;
+        m4 stalled{};
+        if (any4(~(converged | apart))) {
+            // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
+            const m4 ar_pos = (a + r) > 0.0;
+            const v4 s = root_r, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
+            const v4 sum = s + t;
+            const v4 slope_inside =
+                0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
+            const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
+            const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
+            const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
+            next = r - residual / slope;
+            const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
+            next = usable ? next : 0.5 * (lo + hi);
+            const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
+            f_next = second.value;
+            root_next = second.root;
+            const v4 residual_next = next + k * f_next - b;
+            stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
+        }
+        for (std::size_t l = 0; l < 4; ++l) {
+            const std::size_t j = i + l;
+            state[j] = apart[l] ? 0 : (converged[l] || stalled[l]) ? 1 : 2;
+            increment[j] = converged[l] ? r[l] : next[l];
+            force[j] = converged[l] ? f[l] : f_next[l];
+            root[j] = converged[l] ? first.root[l] : root_next[l];
+        }
     }
 }
 }  // namespace
@@ -250,13 +319,21 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
     const std::size_t n = a.size();
     std::size_t i = 0;
     if (law_ == Law::three_halves && std::isfinite(k)) {
-        for (; i + 4 <= n; i += 4) {
-            double increment[4], force[4], root[4], start[4];
-            int state[4];
-            for (std::size_t l = 0; l < 4; ++l) start[l] = first_iterate_or_b(a[i + l], b[i + l], k);
-            first_step_three_halves(a.data() + i, b.data() + i, start, k, k_, potential_scale_, increment, force, root,
-                                    state);
-            for (std::size_t l = 0; l < 4; ++l) {
+        // Blocks of equations on the stack: the first iterates of all, then Newton's first step
+        // for all, four lanes at a time with no call per lane.
+        constexpr std::size_t kBlock = 64;
+        double start[kBlock], increment[kBlock], force[kBlock], root[kBlock];
+        long need_scalar[kBlock];
+        int state[kBlock];
+        while (i + 4 <= n) {
+            const std::size_t count = std::min(kBlock, (n - i) / 4 * 4);
+            const double* ai = a.data() + i;
+            const double* bi = b.data() + i;
+            if (starts_three_halves(ai, bi, count, k, k_, potential_scale_, start, need_scalar))
+                for (std::size_t l = 0; l < count; ++l)
+                    if (need_scalar[l] != 0) start[l] = first_iterate_or_b(ai[l], bi[l], k);
+            first_steps_three_halves(ai, bi, start, count, k, k_, potential_scale_, increment, force, root, state);
+            for (std::size_t l = 0; l < count; ++l) {
                 const std::size_t j = i + l;
                 // A non-finite input takes the scalar path, which reports it.
                 if (state[l] == 2 || !std::isfinite(a[j]) || !std::isfinite(b[j])) {
@@ -273,6 +350,7 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
                     o.iterations = 1;
                 }
             }
+            i += count;
         }
     }
     for (; i < n; ++i) out[i] = solve(a[i], b[i], k);
