@@ -220,9 +220,11 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
             const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
             next = usable ? next : 0.5 * (lo + hi);
         }
+        // A non-finite input is left to the scalar solve, which reports it.
+        const m4 finite = (a - a == 0.0) & (b - b == 0.0);
         for (std::size_t l = 0; l < 4; ++l) {
             const std::size_t j = i + l;
-            state[j] = apart[l] ? 0 : converged[l] ? 1 : kStepped;
+            state[j] = !finite[l] ? 2 : apart[l] ? 0 : converged[l] ? 1 : kStepped;
             increment[j] = converged[l] ? r[l] : next[l];
             force[j] = f[l];
             root[j] = first.root[l];
@@ -325,7 +327,7 @@ double PenaltyContact::power(double eta) const {
     return std::pow(eta, alpha_);
 }
 
-double PenaltyContact::potential(double eta, double root) const {
+double PenaltyContact::potential_of(double eta, double root) const {
     if (!(eta > 0.0)) return 0.0;
     if (law_ == Law::three_halves && root != kNoRoot) return potential_scale_ * ((eta * root) * eta);
     if (law_ == Law::general) return potential_scale_ * (root != kNoRoot ? root : std::pow(eta, alpha_ + 1.0));
@@ -435,20 +437,12 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
             first_steps(ai, bi, anchor, start, count, k, k_, potential_scale_, increment, force, root, state);
             for (std::size_t l = 0; l < count; ++l) {
                 const std::size_t j = i + l;
-                // A non-finite input takes the scalar path, which reports it.
-                if (state[l] == 2 || !std::isfinite(a[j]) || !std::isfinite(b[j])) {
+                if (state[l] == 1)
+                    out[j] = ContactSolution{increment[l], force[l], 1, root[l]};
+                else if (state[l] == 0)
+                    out[j] = ContactSolution{bi[l], 0.0, 0, kNoRoot};
+                else
                     out[j] = solve(a[j], b[j], k);
-                    continue;
-                }
-                ContactSolution& o = out[j];
-                o = ContactSolution{};
-                o.increment = b[j];
-                if (state[l] == 1) {
-                    o.increment = increment[l];
-                    o.force = force[l];
-                    o.root = root[l];
-                    o.iterations = 1;
-                }
             }
             i += count;
         }
