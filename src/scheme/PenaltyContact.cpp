@@ -414,10 +414,10 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double a
     return (force(a + r) - quotient_value) / r;
 }
 
-void PenaltyContact::solve_all(std::span<const double> a, std::span<const double> b, double k,
-                               std::span<ContactSolution> out) const {
+std::size_t PenaltyContact::solve_all(std::span<const double> a, std::span<const double> b, double k,
+                                      std::span<ContactSolution> out) const {
     const std::size_t n = a.size();
-    std::size_t i = 0;
+    std::size_t i = 0, in_lanes = 0;
     if (law_ == Law::three_halves && std::isfinite(k)) {
         // Blocks of equations on the stack: the first iterates of all, then Newton's first step
         // for all, four lanes at a time with no call per lane.
@@ -443,11 +443,13 @@ void PenaltyContact::solve_all(std::span<const double> a, std::span<const double
                     out[j] = ContactSolution{bi[l], 0.0, 0, kNoRoot};
                 else
                     out[j] = solve(a[j], b[j], k);
+                in_lanes += state[l] < 2 ? 1 : 0;
             }
             i += count;
         }
     }
     for (; i < n; ++i) out[i] = solve(a[i], b[i], k);
+    return in_lanes;
 }
 
 double PenaltyContact::first_iterate(double a, double b, double k, double anchor_a) const {

@@ -53,11 +53,12 @@ public:
     // The same equation by Newton's method from r = b, the plain start: what solve's model
     // start is tested against (the same root to round-off).
     ContactSolution solve_from_b(double a, double b, double k) const;
-    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. The equations out of contact and,
-    // for alpha = 3/2, those that meet the stopping test at Newton's first iterate (a string
-    // landing on a flat obstacle: hundreds at once) are solved four at a time, branch-free;
-    // the others by solve.
-    void solve_all(std::span<const double> a, std::span<const double> b, double k, std::span<ContactSolution> out) const;
+    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. For alpha = 3/2, the first
+    // iterates and Newton's first step are computed four equations at a time (a string landing
+    // on a flat obstacle: hundreds at once); the equations out of contact or solved there are
+    // finished, the others go on in solve. Returns how many were finished four at a time.
+    std::size_t solve_all(std::span<const double> a, std::span<const double> b, double k,
+                          std::span<ContactSolution> out) const;
     // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
     double slope_of_quotient(double a, double r, double quotient) const;
 
