@@ -7,7 +7,7 @@
 // energy-conserving scheme (eq. 4) reduces to at each grid point:
 //     r + k (Psi(a + r) - Psi(a)) / r = b,   r = eta^{n+1} - eta^{n-1}, a = eta^{n-1}, k = dt^2/mu.
 // The left side is increasing and convex in r, so the root is unique; it is found by
-// Newton's method from the right (monotone for a convex function), inside a bracket that
+// Newton's method from a model of the equation (or from r = b), inside a bracket that
 // bisection falls back on, and it fails loudly rather than silently.
 //
 // The common exponents alpha = 1, 3/2, 2, 3 have the quotient in closed form without pow,
