@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -94,6 +95,68 @@ TEST(ContactStart, ModelStartIsExactWhereTheEquationIsQuadratic) {
             EXPECT_EQ(s.iterations, 1) << "alpha=" << alpha << " a=" << a;
         }
     }
+}
+
+TEST(ContactStart, BatchStartsEveryKindOfLaneAsTheScalarSolve) {
+    // PenaltyContact::solve_all at alpha = 3/2 computes the model start in the lanes: each kind of
+    // start (leaving in closed form, staying from the Taylor parabola, soft from b, a light landing
+    // from b, a firm landing by the scalar model), in groups of one kind and mixed, over several
+    // blocks, must give the scalar solve's solution bit for bit.
+    const PenaltyContact law(1e13, 1.5);
+    const double k = 1e-11;  // k K = 100: stiff, except where a < 4e-9 (k Psi''(a) < 0.01)
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto log_uniform = [&](double lo, double hi) { return lo * std::pow(hi / lo, unit(random)); };
+    enum Kind { leaving, staying, soft, light_landing, firm_landing, apart, kinds };
+    const auto state_of = [&](int kind, double& a, double& b) {
+        switch (kind) {
+            case leaving: a = log_uniform(1e-8, 1e-4); b = -a * (2.0 + log_uniform(1e-3, 1e2)); break;
+            case staying: a = log_uniform(1e-7, 1e-3); b = a * (unit(random) - 0.5) * log_uniform(1e-9, 1.0); break;
+            case soft: a = log_uniform(1e-14, 1e-10); b = a * (unit(random) - 0.5); break;
+            case light_landing: a = -log_uniform(1e-12, 1e-9); b = -a + log_uniform(1e-12, 1e-9); break;
+            case firm_landing: a = -log_uniform(1e-6, 1e-4); b = -a + log_uniform(1e-3, 1e-2); break;
+            default: a = -log_uniform(1e-9, 1e-3); b = -a * unit(random); break;
+        }
+    };
+    std::vector<double> a, b;
+    for (int kind = 0; kind < kinds; ++kind)  // groups of four of one kind
+        for (int l = 0; l < 8; ++l) {
+            double x = 0.0, y = 0.0;
+            state_of(kind, x, y);
+            a.push_back(x);
+            b.push_back(y);
+        }
+    for (int n = 0; n < 400; ++n) {  // then mixed, and a tail that is not a multiple of four
+        double x = 0.0, y = 0.0;
+        state_of(static_cast<int>(random() % kinds), x, y);
+        a.push_back(x);
+        b.push_back(y);
+    }
+    a.push_back(1e-6);
+    b.push_back(1e-9);
+    std::vector<ContactSolution> together(a.size());
+    const std::size_t in_lanes = law.solve_all(a, b, k, together);
+    long leaving_seen = 0, firm_seen = 0, staying_seen = 0;
+    std::size_t first_step = 0;  // the lanes' share: apart, or solved at Newton's first iterate
+    for (std::size_t i = 0; i < a.size() / 4 * 4; ++i)
+        if ((a[i] <= 0.0 && a[i] + b[i] <= 0.0) || law.solve(a[i], b[i], k).iterations == 1) ++first_step;
+    // The lanes start where the scalar solve does: each equation it finishes in one step, they do.
+    EXPECT_EQ(in_lanes, first_step);
+    EXPECT_GT(in_lanes, a.size() / 4);
+    const auto same_bits = [](double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; };
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const ContactSolution alone = law.solve(a[i], b[i], k);
+        ASSERT_TRUE(same_bits(together[i].increment, alone.increment)) << i << " a=" << a[i] << " b=" << b[i];
+        ASSERT_TRUE(same_bits(together[i].force, alone.force)) << i;
+        ASSERT_TRUE(same_bits(together[i].root, alone.root)) << i;
+        ASSERT_EQ(together[i].iterations, alone.iterations) << i;
+        if (a[i] > 0.0 && alone.increment <= -a[i]) ++leaving_seen;
+        if (a[i] > 4e-9 && alone.increment > -a[i]) ++staying_seen;
+        if (a[i] <= 0.0 && k * law.potential(a[i] + b[i]) > 0.01 * b[i] * b[i]) ++firm_seen;
+    }
+    EXPECT_GT(leaving_seen, 20);
+    EXPECT_GT(staying_seen, 20);
+    EXPECT_GT(firm_seen, 20);
 }
 
 double max_relative_drift(const std::vector<double>& energy) {

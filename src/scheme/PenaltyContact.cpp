@@ -23,11 +23,13 @@ constexpr int kMaxIterations = 200;
 #define FRETBUZZ_INLINE inline
 #endif
 // AVX without FMA: no multiply-add can be fused, so each lane rounds exactly as the scalar
-// solve (compiled for baseline x86-64) does.
+// solve (compiled for baseline x86-64) does. The batch is compiled twice, for baseline x86-64
+// and for AVX, and the processor's kind chooses at run time.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FRETBUZZ_AVX_CLONES __attribute__((target_clones("default", "avx")))
+#define FRETBUZZ_AVX_VERSION 1
+#define FRETBUZZ_TARGET_AVX __attribute__((target("avx")))
 #else
-#define FRETBUZZ_AVX_CLONES
+#define FRETBUZZ_AVX_VERSION 0
 #endif
 
 typedef double v4 __attribute__((vector_size(32)));
@@ -37,15 +39,13 @@ using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
     const v4 positive = x > 0.0 ? x : v4{};
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt.
+    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt. The
+    // halves move by shuffles, in registers: through memory, the 32-byte reload of two 16-byte
+    // stores would stall on store forwarding.
     typedef double v2 __attribute__((vector_size(16)));
-    v2 half[2];
-    __builtin_memcpy(half, &positive, sizeof half);
-    half[0] = __builtin_ia32_sqrtpd(half[0]);
-    half[1] = __builtin_ia32_sqrtpd(half[1]);
-    v4 root;
-    __builtin_memcpy(&root, half, sizeof root);
-    return root;
+    const v2 low = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 0, 1));
+    const v2 high = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 2, 3));
+    return __builtin_shufflevector(low, high, 0, 1, 2, 3);
 #else
     v4 root;
     for (int l = 0; l < 4; ++l) root[l] = __builtin_sqrt(positive[l]);
@@ -53,6 +53,26 @@ FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
 #endif
 }
 FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
+
+FRETBUZZ_INLINE bool any4(const m4& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+// The square roots of the batch: sqrt4, or in the AVX version one 4-lane instruction (as
+// fast as one 2-lane one, and a square root costs as much as a division).
+struct Roots {
+    FRETBUZZ_INLINE static v4 of(const v4& x) { return sqrt4(x); }
+};
+#if FRETBUZZ_AVX_VERSION
+// Used only inside the functions compiled for AVX (where its 32-byte operands live in ymm
+// registers): the instruction is written out, as a builtin would need that target here too.
+struct RootsAvx {
+    FRETBUZZ_INLINE static v4 of(const v4& x) {
+        v4 root;
+        const v4 positive = x > 0.0 ? x : v4{};
+        __asm__("vsqrtpd %1, %0" : "=x"(root) : "x"(positive));
+        return root;
+    }
+};
+#endif
 
 // quotient(a, r) for alpha = 3/2 (its three cases), and sqrt(a + r) where it is computed
 // (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0, s = sqrt4(a + r).
@@ -68,62 +88,211 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const 
     const v4 t2 = t * t;
     const v4 numerator = t2 * t2 + s * (t2 * t + s * (t2 + s * (t + s)));
     const v4 inside = 0.4 * stiffness * numerator / (s + t);
-    const v4 potential_ar = ar_pos ? potential_scale * (((a + r) * s) * (a + r)) : zero;
-    const v4 potential_a = a_pos ? potential_scale * ((a * sqrt_a) * a) : zero;
-    const v4 outside = (potential_ar - potential_a) / r;
     const m4 at_r_zero = r == 0.0;
+    v4 outside = zero;
+    if (any4(~is_inside & ~at_r_zero)) {  // a lane landing or leaving (most often none)
+        const v4 potential_ar = ar_pos ? potential_scale * (((a + r) * s) * (a + r)) : zero;
+        const v4 potential_a = a_pos ? potential_scale * ((a * sqrt_a) * a) : zero;
+        outside = (potential_ar - potential_a) / r;
+    }
     return {at_r_zero ? at_zero : is_inside ? inside : outside, (is_inside & ~at_r_zero) ? s : zero + kNoRoot};
 }
 
-// The start of PenaltyContact::solve for alpha = 3/2, four equations at once, each lane
-// rounding as the scalar code does (the same operations in the same order, no fused
-// multiply-add): from the first iterates start_in (as solve chose them), the stopping tests
-// there and after Newton's first step.
-// state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
-// 2: more iterations needed (left to the scalar solve).
-FRETBUZZ_AVX_CLONES void first_step_three_halves(const double* a_in, const double* b_in, const double* start_in,
-                                                 double k, double stiffness, double potential_scale, double* increment,
-                                                 double* force, double* root, int* state) {
-    v4 a, b, r;
-    __builtin_memcpy(&a, a_in, sizeof a);
-    __builtin_memcpy(&b, b_in, sizeof b);
-    __builtin_memcpy(&r, start_in, sizeof r);
+// PenaltyContact::first_iterate_or_b for alpha = 3/2, four equations at once, each lane rounding
+// as the scalar code does (the same operations in the same order, no fused multiply-add).
+// t = sqrt(a) where a > 0. A landing with a firm touch needs pow (its frozen power): such lanes
+// are flagged in `scalar` and left to the scalar code.
+template <class R>
+FRETBUZZ_INLINE v4 start_three_halves(const v4& a, const v4& b, const v4& t, double k, double stiffness,
+                                      double potential_scale, m4& scalar) {
     const v4 zero{};
     const m4 a_pos = a > 0.0;
     const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
-    const v4 anchor = sqrt4(a);  // 0 where a <= 0, as anchor(a)
-    const v4 root_r = sqrt4(a + r);
-    const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
-    const v4 f = first.value;
-    const v4 other = b - k * f;
-    const v4 residual = r == b ? k * f : r + k * f - b;
-    const m4 above = residual >= 0.0;
-    const v4 hi = above ? r : other;
-    v4 lo = above ? other : r;
-    lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
-    const v4 scale = abs4(r) + abs4(b) + k * f;
-    const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
-    const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
-    // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
-    const m4 ar_pos = (a + r) > 0.0;
-    const v4 s = root_r, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
-    const v4 sum = s + t;
-    const v4 slope_inside = 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
-    const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
-    const v4 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
-    const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
-    v4 next = r - residual / slope;
-    const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
-    next = usable ? next : 0.5 * (lo + hi);
-    const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
-    const v4 residual_next = next + k * second.value - b;
-    const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
-    for (int l = 0; l < 4; ++l) {
-        state[l] = apart[l] ? 0 : (converged[l] || stalled[l]) ? 1 : 2;
-        increment[l] = converged[l] ? r[l] : next[l];
-        force[l] = converged[l] ? f[l] : second.value[l];
-        root[l] = converged[l] ? first.root[l] : second.root[l];
+    // a > 0: Psi', Psi'' and Psi at a.
+    const v4 d1 = stiffness * (a * t), d2 = (1.5 * stiffness) * t, psi = potential_scale * ((a * t) * a);
+    const v4 p = k * psi;
+    // Leaving contact: the negative root of r^2 - b r - k Psi(a) in closed form.
+    const m4 leaving = a_pos & ((p / a - a - b) >= 0.0);
+    v4 leave = zero;
+    if (any4(leaving)) {
+        const v4 root_disc = R::of(b * b + 4.0 * p);
+        leave = b > 0.0 ? (-2.0 * p) / (b + root_disc) : 0.5 * (b - root_disc);
     }
+    // Staying, unless soft: the root of the Taylor parabola at r = 0, or of its tangent.
+    const m4 parabola = a_pos & ~leaving & ~((k * d2) < 0.01);
+    v4 stay = b;
+    if (any4(parabola)) {
+        const v4 d3 = (0.75 * stiffness) / t;
+        const v4 c0 = k * d1 - b, c1 = 1.0 + k * (0.5 * d2), c2 = k * (d3 / 6.0);
+        const v4 disc = c1 * c1 - (4.0 * c2) * c0;
+        const v4 r0 = disc >= 0.0 ? (-2.0 * c0) / (c1 + R::of(disc)) : (-c0) / c1;
+        const v4 clamped = r0 < -a ? -a : r0;
+        stay = parabola ? (r0 > 4.0 * a ? b : clamped) : b;
+    }
+    // Landing: b where the touch is light (k Psi(a + b) <= 0.01 b^2), else the scalar model.
+    const m4 landing = ~a_pos & ~apart;
+    scalar = m4{};
+    if (any4(landing)) {
+        const v4 d = a + b;
+        const v4 potential_d = potential_scale * ((d * R::of(d)) * d);
+        scalar = landing & ~((k * potential_d) <= 0.01 * (b * b));
+    }
+    const v4 start = leaving ? leave : stay;  // b on landings (the flagged ones are replaced)
+    const m4 usable = ~apart & (start - start == 0.0) & (start < b);
+    return usable ? start : b;
+}
+
+// solve's first iterates for alpha = 3/2, for count (a multiple of 4) equations, and sqrt(a) (0
+// where a <= 0, as anchor(a)) for the steps that follow; says whether any lane is flagged in
+// need_scalar (its start left to the scalar code).
+template <class R>
+FRETBUZZ_INLINE bool starts_three_halves(const double* a_in, const double* b_in, std::size_t count, double k,
+                                         double stiffness, double potential_scale, double* anchor_out,
+                                         double* start_out, long* need_scalar) {
+    m4 flagged{};
+    for (std::size_t i = 0; i < count; i += 4) {
+        v4 a, b;
+        __builtin_memcpy(&a, a_in + i, sizeof a);
+        __builtin_memcpy(&b, b_in + i, sizeof b);
+        m4 scalar;
+        const v4 anchor = R::of(a);
+        const v4 start = start_three_halves<R>(a, b, anchor, k, stiffness, potential_scale, scalar);
+        __builtin_memcpy(anchor_out + i, &anchor, sizeof anchor);
+        __builtin_memcpy(start_out + i, &start, sizeof start);
+        __builtin_memcpy(need_scalar + i, &scalar, sizeof scalar);
+        flagged |= scalar;
+    }
+    return any4(flagged);
+}
+
+// The start of PenaltyContact::solve for alpha = 3/2, four equations at a time, each lane
+// rounding as the scalar code does: from the first iterates start_in (as solve chose them), the
+// stopping tests there and after Newton's first step. Two passes over the block, each with a
+// short chain of divisions and square roots per lane group: the groups of one pass are
+// independent, so the processor overlaps them.
+// state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
+// 2: more iterations needed (left to the scalar solve).
+template <class R>
+FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* b_in, const double* anchor_in,
+                                              const double* start_in, std::size_t count, double k, double stiffness,
+                                              double potential_scale, double* increment, double* force, double* root,
+                                              int* state) {
+    constexpr int kStepped = 3;  // Newton's step taken, its stopping test still to do
+    bool stepped_any = false;
+    for (std::size_t i = 0; i < count; i += 4) {
+        v4 a, b, r, anchor;
+        __builtin_memcpy(&a, a_in + i, sizeof a);
+        __builtin_memcpy(&b, b_in + i, sizeof b);
+        __builtin_memcpy(&r, start_in + i, sizeof r);
+        __builtin_memcpy(&anchor, anchor_in + i, sizeof anchor);
+        const v4 zero{};
+        const m4 a_pos = a > 0.0;
+        const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
+        const v4 root_r = R::of(a + r);
+        const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
+        const v4 f = first.value;
+        const v4 other = b - k * f;
+        const v4 residual = r == b ? k * f : r + k * f - b;
+        const m4 above = residual >= 0.0;
+        const v4 hi = above ? r : other;
+        v4 lo = above ? other : r;
+        lo = ((a <= 0.0) & (lo < -a)) ? -a : lo;
+        const v4 scale = abs4(r) + abs4(b) + k * f;
+        const v4 wide = abs4(lo) < abs4(hi) ? abs4(hi) : abs4(lo);
+        const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
+        v4 next = r;
+        const m4 stepping = ~(converged | apart);
+        if (any4(stepping)) {
+            stepped_any = true;
+            // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
+            const m4 ar_pos = (a + r) > 0.0;
+            const v4 s = root_r, t = anchor;  // sqrt(a + r), whether the quotient computed it or not
+            const v4 sum = s + t;
+            const v4 slope_inside =
+                0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
+            v4 slope_outside = zero;
+            if (any4(~(a_pos & ar_pos))) {
+                const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
+                slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
+            }
+            const v4 slope = 1.0 + k * ((a_pos & ar_pos) ? slope_inside : slope_outside);
+            next = r - residual / slope;
+            const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
+            next = usable ? next : 0.5 * (lo + hi);
+        }
+        // A non-finite input is left to the scalar solve, which reports it.
+        const m4 finite = (a - a == 0.0) & (b - b == 0.0);
+        for (std::size_t l = 0; l < 4; ++l) {
+            const std::size_t j = i + l;
+            state[j] = !finite[l] ? 2 : apart[l] ? 0 : converged[l] ? 1 : kStepped;
+            increment[j] = converged[l] ? r[l] : next[l];
+            force[j] = f[l];
+            root[j] = first.root[l];
+        }
+    }
+    if (!stepped_any) return;
+    // The quotient at Newton's iterate and the stopping test there.
+    for (std::size_t i = 0; i < count; i += 4) {
+        if (state[i] != kStepped && state[i + 1] != kStepped && state[i + 2] != kStepped && state[i + 3] != kStepped)
+            continue;
+        v4 a, b, r, next, anchor;
+        __builtin_memcpy(&a, a_in + i, sizeof a);
+        __builtin_memcpy(&b, b_in + i, sizeof b);
+        __builtin_memcpy(&r, start_in + i, sizeof r);
+        __builtin_memcpy(&next, increment + i, sizeof next);
+        __builtin_memcpy(&anchor, anchor_in + i, sizeof anchor);
+        const Quotient4 second = quotient_three_halves(a, next, anchor, R::of(a + next), stiffness, potential_scale);
+        const v4 residual_next = next + k * second.value - b;
+        const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
+        for (std::size_t l = 0; l < 4; ++l) {
+            const std::size_t j = i + l;
+            if (state[j] != kStepped) continue;
+            state[j] = stalled[l] ? 1 : 2;
+            force[j] = second.value[l];
+            root[j] = second.root[l];
+        }
+    }
+}
+// The two versions of the batch, chosen by the processor.
+bool starts_plain(const double* a, const double* b, std::size_t count, double k, double stiffness,
+                  double potential_scale, double* anchor, double* start, long* need_scalar) {
+    return starts_three_halves<Roots>(a, b, count, k, stiffness, potential_scale, anchor, start, need_scalar);
+}
+void first_steps_plain(const double* a, const double* b, const double* anchor, const double* start, std::size_t count,
+                       double k, double stiffness, double potential_scale, double* increment, double* force,
+                       double* root, int* state) {
+    first_steps_three_halves<Roots>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force, root,
+                                    state);
+}
+#if FRETBUZZ_AVX_VERSION
+FRETBUZZ_TARGET_AVX bool starts_avx(const double* a, const double* b, std::size_t count, double k, double stiffness,
+                                    double potential_scale, double* anchor, double* start, long* need_scalar) {
+    return starts_three_halves<RootsAvx>(a, b, count, k, stiffness, potential_scale, anchor, start, need_scalar);
+}
+FRETBUZZ_TARGET_AVX void first_steps_avx(const double* a, const double* b, const double* anchor, const double* start,
+                                         std::size_t count, double k, double stiffness, double potential_scale,
+                                         double* increment, double* force, double* root, int* state) {
+    first_steps_three_halves<RootsAvx>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force,
+                                       root, state);
+}
+bool has_avx() {
+    static const bool avx = (__builtin_cpu_init(), __builtin_cpu_supports("avx") != 0);
+    return avx;
+}
+#endif
+using StartsFunction = decltype(&starts_plain);
+using StepsFunction = decltype(&first_steps_plain);
+StartsFunction starts_for_this_processor() {
+#if FRETBUZZ_AVX_VERSION
+    if (has_avx()) return starts_avx;
+#endif
+    return starts_plain;
+}
+StepsFunction first_steps_for_this_processor() {
+#if FRETBUZZ_AVX_VERSION
+    if (has_avx()) return first_steps_avx;
+#endif
+    return first_steps_plain;
 }
 }  // namespace
 
@@ -158,7 +327,7 @@ double PenaltyContact::power(double eta) const {
     return std::pow(eta, alpha_);
 }
 
-double PenaltyContact::potential(double eta, double root) const {
+double PenaltyContact::potential_of(double eta, double root) const {
     if (!(eta > 0.0)) return 0.0;
     if (law_ == Law::three_halves && root != kNoRoot) return potential_scale_ * ((eta * root) * eta);
     if (law_ == Law::general) return potential_scale_ * (root != kNoRoot ? root : std::pow(eta, alpha_ + 1.0));
@@ -245,37 +414,42 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double a
     return (force(a + r) - quotient_value) / r;
 }
 
-void PenaltyContact::solve_all(std::span<const double> a, std::span<const double> b, double k,
-                               std::span<ContactSolution> out) const {
+std::size_t PenaltyContact::solve_all(std::span<const double> a, std::span<const double> b, double k,
+                                      std::span<ContactSolution> out) const {
     const std::size_t n = a.size();
-    std::size_t i = 0;
+    std::size_t i = 0, in_lanes = 0;
     if (law_ == Law::three_halves && std::isfinite(k)) {
-        for (; i + 4 <= n; i += 4) {
-            double increment[4], force[4], root[4], start[4];
-            int state[4];
-            for (std::size_t l = 0; l < 4; ++l) start[l] = first_iterate_or_b(a[i + l], b[i + l], k);
-            first_step_three_halves(a.data() + i, b.data() + i, start, k, k_, potential_scale_, increment, force, root,
-                                    state);
-            for (std::size_t l = 0; l < 4; ++l) {
+        // Blocks of equations on the stack: the first iterates of all, then Newton's first step
+        // for all, four lanes at a time with no call per lane.
+        constexpr std::size_t kBlock = 64;
+        static const StartsFunction starts = starts_for_this_processor();
+        static const StepsFunction first_steps = first_steps_for_this_processor();
+        double anchor[kBlock], start[kBlock], increment[kBlock], force[kBlock], root[kBlock];
+        long need_scalar[kBlock];
+        int state[kBlock];
+        while (i + 4 <= n) {
+            const std::size_t count = std::min(kBlock, (n - i) / 4 * 4);
+            const double* ai = a.data() + i;
+            const double* bi = b.data() + i;
+            if (starts(ai, bi, count, k, k_, potential_scale_, anchor, start, need_scalar))
+                for (std::size_t l = 0; l < count; ++l)
+                    if (need_scalar[l] != 0) start[l] = first_iterate_or_b(ai[l], bi[l], k);
+            first_steps(ai, bi, anchor, start, count, k, k_, potential_scale_, increment, force, root, state);
+            for (std::size_t l = 0; l < count; ++l) {
                 const std::size_t j = i + l;
-                // A non-finite input takes the scalar path, which reports it.
-                if (state[l] == 2 || !std::isfinite(a[j]) || !std::isfinite(b[j])) {
+                if (state[l] == 1)
+                    out[j] = ContactSolution{increment[l], force[l], 1, root[l]};
+                else if (state[l] == 0)
+                    out[j] = ContactSolution{bi[l], 0.0, 0, kNoRoot};
+                else
                     out[j] = solve(a[j], b[j], k);
-                    continue;
-                }
-                ContactSolution& o = out[j];
-                o = ContactSolution{};
-                o.increment = b[j];
-                if (state[l] == 1) {
-                    o.increment = increment[l];
-                    o.force = force[l];
-                    o.root = root[l];
-                    o.iterations = 1;
-                }
+                in_lanes += state[l] < 2 ? 1 : 0;
             }
+            i += count;
         }
     }
     for (; i < n; ++i) out[i] = solve(a[i], b[i], k);
+    return in_lanes;
 }
 
 double PenaltyContact::first_iterate(double a, double b, double k, double anchor_a) const {

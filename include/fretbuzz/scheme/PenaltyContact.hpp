@@ -7,7 +7,7 @@
 // energy-conserving scheme (eq. 4) reduces to at each grid point:
 //     r + k (Psi(a + r) - Psi(a)) / r = b,   r = eta^{n+1} - eta^{n-1}, a = eta^{n-1}, k = dt^2/mu.
 // The left side is increasing and convex in r, so the root is unique; it is found by
-// Newton's method from the right (monotone for a convex function), inside a bracket that
+// Newton's method from a model of the equation (or from r = b), inside a bracket that
 // bisection falls back on, and it fails loudly rather than silently.
 //
 // The common exponents alpha = 1, 3/2, 2, 3 have the quotient in closed form without pow,
@@ -40,7 +40,11 @@ public:
     double exponent() const { return alpha_; }
     // Psi(eta); root as ContactSolution::root for eta if known: the same value either way (to
     // round-off for the general law).
-    double potential(double eta, double root = kNoRoot) const;
+    double potential(double eta, double root = kNoRoot) const {
+        // Inline for the common exponent: called for every point solved, in every step.
+        if (law_ == Law::three_halves && root != kNoRoot && eta > 0.0) return potential_scale_ * ((eta * root) * eta);
+        return potential_of(eta, root);
+    }
     double force(double eta) const;      // Psi'(eta)
     // (Psi(a + r) - Psi(a)) / r without cancellation; Psi'(a) at r = 0.
     double difference_quotient(double a, double r) const;
@@ -49,11 +53,12 @@ public:
     // The same equation by Newton's method from r = b, the plain start: what solve's model
     // start is tested against (the same root to round-off).
     ContactSolution solve_from_b(double a, double b, double k) const;
-    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. The equations out of contact and,
-    // for alpha = 3/2, those that meet the stopping test at Newton's first iterate (a string
-    // landing on a flat obstacle: hundreds at once) are solved four at a time, branch-free;
-    // the others by solve.
-    void solve_all(std::span<const double> a, std::span<const double> b, double k, std::span<ContactSolution> out) const;
+    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. For alpha = 3/2, the first
+    // iterates and Newton's first step are computed four equations at a time (a string landing
+    // on a flat obstacle: hundreds at once); the equations out of contact or solved there are
+    // finished, the others go on in solve. Returns how many were finished four at a time.
+    std::size_t solve_all(std::span<const double> a, std::span<const double> b, double k,
+                          std::span<ContactSolution> out) const;
     // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
     double slope_of_quotient(double a, double r, double quotient) const;
 
@@ -77,6 +82,7 @@ private:
     double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
     double first_iterate_or_b(double a, double b, double k) const;  // any a and b
     double power(double eta) const;  // eta^alpha for eta > 0
+    double potential_of(double eta, double root) const;  // potential, any law
 
     double k_;
     double alpha_;
