@@ -20,6 +20,9 @@ constexpr std::size_t kHeadModes = 48;
 constexpr double kLooseness = 1.25;
 // At most this many points get their push weight computed in one step (else a full update).
 constexpr std::size_t kNewPointsPerPush = 2;
+// Up to this many new points (a finger's pad) their weights are learnt a few per step; more (a
+// flat obstacle's onset, hundreds of points) would take hundreds of steps of extra passes.
+constexpr std::size_t kLearntPointsAtMost = 16;
 }  // namespace
 
 ContactScheduler::ContactScheduler(const Plan& plan)
@@ -83,14 +86,13 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
     // The cached tails are beyond the default head (the only one while contact steps run).
     // A point's weight costs one pass over its row the first time: with many new points
     // (a flat obstacle's onset) the four passes of a full update are cheaper for this step,
-    // but a few weights are learnt at each push all the same, so that points pushed again and
-    // again (a finger's pad) soon take the cheap path.
+    // but with a pad's worth of them a few are learnt at each push all the same, so that points
+    // pushed again and again (a finger's pad) soon take the cheap path.
     std::size_t unknown = 0;
-    for (const auto& force : forces) {
-        if (!std::isnan(point_weight_[force.first].reach)) continue;
-        if (unknown < kNewPointsPerPush) point_weight(force.first);
-        ++unknown;
-    }
+    for (const auto& force : forces) unknown += std::isnan(point_weight_[force.first].reach) ? 1 : 0;
+    if (unknown > kNewPointsPerPush && unknown <= kLearntPointsAtMost)
+        for (std::size_t learnt = 0; const auto& force : forces)
+            if (std::isnan(point_weight_[force.first].reach) && learnt++ < kNewPointsPerPush) point_weight(force.first);
     if (stale_ || unknown > kNewPointsPerPush || head_ != std::min(kHeadModes, plan_.mode_count())) {
         update_speed(q, d);
         return;
