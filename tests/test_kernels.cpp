@@ -35,6 +35,18 @@ Data random_data(std::mt19937_64& random, std::size_t n, int row_count = 7) {
     return data;
 }
 
+// The step by the kernel for its number of pushes (what the one-pass kernels must equal).
+double separate_step(const Data& data, const double* loss, const std::vector<double>& coefficients,
+                     const std::vector<const double*>& rows, std::vector<double>& q, std::vector<double>& d) {
+    const std::size_t n = q.size(), pushes = rows.size();
+    if (pushes == 0) return kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q.data(), d.data(), n);
+    if (pushes == 1)
+        return kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0], q.data(),
+                                         d.data(), n);
+    return kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes,
+                                   q.data(), d.data(), n);
+}
+
 TEST(Kernels, RowProductsInOnePassEqualOneDotEach) {
     std::mt19937_64 random(3);
     for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
@@ -110,15 +122,7 @@ TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
             }
             for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
                 std::vector<double> q1 = data.q, d1 = data.d;
-                double losses = 0.0;
-                if (pushes == 0)
-                    losses = kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q1.data(), d1.data(), n);
-                else if (pushes == 1)
-                    losses = kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0],
-                                                       q1.data(), d1.data(), n);
-                else
-                    losses = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
-                                                     rows.data(), pushes, q1.data(), d1.data(), n);
+                const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
                 // Predicted at the pushed rows first, then at other rows (points that touch without a force).
                 std::vector<const double*> predict_rows;
                 for (std::size_t r = 0; r < kernels::kMaxRowsPerPass; ++r) predict_rows.push_back(data.rows[r].data());
@@ -172,15 +176,7 @@ TEST(Kernels, StepWithAPadsProductsEqualsTheSeparatePasses) {
             }
             for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
                 std::vector<double> q1 = data.q, d1 = data.d;
-                double losses = 0.0;
-                if (pushes == 0)
-                    losses = kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q1.data(), d1.data(), n);
-                else if (pushes == 1)
-                    losses = kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0],
-                                                       q1.data(), d1.data(), n);
-                else
-                    losses = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
-                                                     rows.data(), pushes, q1.data(), d1.data(), n);
+                const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
                 std::vector<double> stored(n);
                 kernels::predict(data.e.data(), data.beta.data(), q1.data(), d1.data(), stored.data(), n);
                 // The pushed rows first, then others (points near the pad without a force).

@@ -534,8 +534,9 @@ void Stepper::advance_modes() {
     // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
     // active points, predicted in the same pass as many pushes.
     const std::size_t pad_forecast = active_.size() + pad_points_;
-    if (pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
-        pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold()) {
+    const bool pad_pass = pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
+                          pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold();
+    if (pad_pass || (fused && (forecast || observed_row_ != nullptr))) {
         std::array<const double*, kernels::kMaxForecastRows> predict_rows;
         std::size_t count = 0;
         const auto add = [&](std::size_t i) {
@@ -543,39 +544,23 @@ void Stepper::advance_modes() {
             forecast_.points[count] = i;
             predict_rows[count++] = plan_.basis().row(i).data();
         };
-        for (std::size_t i : active_) add(i);
-        for (std::size_t f = 0; f < fingers_.size(); ++f)
-            if (finger_on_[f] != 0)
-                for (std::size_t i : fingers_[f].pad()) add(i);
-        for (const ForceProfile& g : gestures_)
-            for (std::size_t i : g.pad()) add(i);
-        for (std::size_t p = 0; p < plucks_.size(); ++p)
-            if (plucker_on_[p] != 0)
-                for (std::size_t i : plucks_[p].pad()) add(i);
-        kernels::StepProducts products;
-        forecast_.count = count;
-        products.predict_rows = predict_rows.data();
-        products.predict_count = count;
-        products.predicted = forecast_.values.data();
-        forecast_.step = n_ + 1;
-        if (observed_row_ != nullptr) {
-            products.observe_row = observed_row_;
-            products.observed = &observed_;
-            observed_step_ = n_ + 1;
+        if (pad_pass || forecast)
+            for (std::size_t i : active_) add(i);
+        if (pad_pass) {
+            for (std::size_t f = 0; f < fingers_.size(); ++f)
+                if (finger_on_[f] != 0)
+                    for (std::size_t i : fingers_[f].pad()) add(i);
+            for (const ForceProfile& g : gestures_)
+                for (std::size_t i : g.pad()) add(i);
+            for (std::size_t p = 0; p < plucks_.size(); ++p)
+                if (plucker_on_[p] != 0)
+                    for (std::size_t i : plucks_[p].pad()) add(i);
         }
-        losses = kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes, products,
-                                                    q_.data(), d_.data(), n);
-    } else if (fused && (forecast || observed_row_ != nullptr)) {
-        std::array<const double*, kernels::kMaxRowsPerPass> predict_rows;
         kernels::StepProducts products;
-        if (forecast) {
-            forecast_.count = active_.size();
-            for (std::size_t r = 0; r < active_.size(); ++r) {
-                forecast_.points[r] = active_[r];
-                predict_rows[r] = plan_.basis().row(active_[r]).data();
-            }
+        if (count != 0) {
+            forecast_.count = count;
             products.predict_rows = predict_rows.data();
-            products.predict_count = forecast_.count;
+            products.predict_count = count;
             products.predicted = forecast_.values.data();
             forecast_.step = n_ + 1;
         }
@@ -584,8 +569,10 @@ void Stepper::advance_modes() {
             products.observed = &observed_;
             observed_step_ = n_ + 1;
         }
-        losses = kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes, products,
-                                                q_.data(), d_.data(), n);
+        losses = pad_pass ? kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
+                                                               products, q_.data(), d_.data(), n)
+                          : kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
+                                                           products, q_.data(), d_.data(), n);
     } else if (pushes == 1 && pushes_inline) {
         losses = kernels::advance_one_push(e, beta, loss, coefficients[0], rows[0], q_.data(), d_.data(), n);
     } else if (pushes_inline) {
