@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -106,52 +107,58 @@ TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
     }
 }
 
-// One step's pass with its products: the same q, d and losses as the step alone, the next
-// step's predictions as predict_dot gives them at that step, the pickup as dot gives it.
-TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
-    std::mt19937_64 random(7);
+// A pass that steps the modes and forms products (advance_with_products, advance_with_pad_products).
+using StepWithProducts = double (*)(const double*, const double*, const double*, const double*, const double* const*,
+                                    std::size_t, const kernels::StepProducts&, double*, double*, std::size_t);
+
+// `step` from data's state with 0 to most_pushes pushes, with and without losses, predicting at
+// `counts` rows (data.rows from first_row on: the pushed rows first, then points that touch
+// without a force), with and without a pickup: the same q, d and losses as the step alone, the
+// next step's predictions as predict_dot gives them at that step (and as dot_rows gives them
+// from the stored prediction), the pickup as dot gives it. Bit for bit.
+void expect_the_separate_passes(StepWithProducts step, std::mt19937_64& random, const Data& data,
+                                std::size_t most_pushes, std::size_t first_row, std::span<const std::size_t> counts) {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    for (std::size_t n = 0; n <= 1100; ++n) {
-        const Data data = random_data(random, n);
-        for (std::size_t pushes = 0; pushes <= 6; ++pushes) {  // more than 4: the separate passes
-            std::vector<const double*> rows;
-            std::vector<double> coefficients;
-            for (std::size_t r = 0; r < pushes; ++r) {
-                rows.push_back(data.rows[r].data());
-                coefficients.push_back(1e-3 * unit(random));
-            }
-            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
-                std::vector<double> q1 = data.q, d1 = data.d;
-                const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
-                // Predicted at the pushed rows first, then at other rows (points that touch without a force).
-                std::vector<const double*> predict_rows;
-                for (std::size_t r = 0; r < kernels::kMaxRowsPerPass; ++r) predict_rows.push_back(data.rows[r].data());
-                const double* pickup = data.rows.back().data();
-                for (std::size_t count = 0; count <= kernels::kMaxRowsPerPass; ++count) {
-                    for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
-                        std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count);
-                        double observed = -1.0;
-                        kernels::StepProducts products;
-                        products.predict_rows = predict_rows.data();
-                        products.predict_count = count;
-                        products.predicted = predicted.data();
-                        products.observe_row = observe;
-                        products.observed = &observed;
-                        const double fused = kernels::advance_with_products(
-                            data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes, products,
-                            q2.data(), d2.data(), n);
-                        for (std::size_t r = 0; r < count; ++r)
-                            separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
-                                                               predict_rows[r], n);
-                        const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
-                                                  " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
-                                                  (observe ? " observed" : "");
-                        ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
-                        ASSERT_TRUE(same_bits({losses}, {fused})) << where;
-                        ASSERT_TRUE(same_bits(predicted, separate)) << where;
-                        if (observe != nullptr) {
-                            ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
-                        }
+    const std::size_t n = data.q.size();
+    std::vector<const double*> predict_rows;
+    for (std::size_t r = first_row; r < data.rows.size() - 1; ++r) predict_rows.push_back(data.rows[r].data());
+    const double* pickup = data.rows.back().data();
+    for (std::size_t pushes = 0; pushes <= most_pushes; ++pushes) {
+        std::vector<const double*> rows;
+        std::vector<double> coefficients;
+        for (std::size_t r = 0; r < pushes; ++r) {
+            rows.push_back(data.rows[r].data());
+            coefficients.push_back(1e-3 * unit(random));
+        }
+        for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
+            std::vector<double> q1 = data.q, d1 = data.d, stored(n);
+            const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
+            kernels::predict(data.e.data(), data.beta.data(), q1.data(), d1.data(), stored.data(), n);
+            for (std::size_t count : counts) {
+                for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
+                    std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count), read(count);
+                    double observed = -1.0;
+                    kernels::StepProducts products;
+                    products.predict_rows = predict_rows.data();
+                    products.predict_count = count;
+                    products.predicted = predicted.data();
+                    products.observe_row = observe;
+                    products.observed = &observed;
+                    const double fused = step(data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(),
+                                              pushes, products, q2.data(), d2.data(), n);
+                    for (std::size_t r = 0; r < count; ++r)
+                        separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
+                                                           predict_rows[r], n);
+                    kernels::dot_rows(predict_rows.data(), count, stored.data(), n, read.data());
+                    const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
+                                              " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
+                                              (observe ? " observed" : "");
+                    ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
+                    ASSERT_TRUE(same_bits({losses}, {fused})) << where;
+                    ASSERT_TRUE(same_bits(predicted, separate)) << where;
+                    ASSERT_TRUE(same_bits(predicted, read)) << where;
+                    if (observe != nullptr) {
+                        ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
                     }
                 }
             }
@@ -159,62 +166,25 @@ TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
     }
 }
 
+// The few rows of a fret or a bridge (more than 4 pushes: the separate passes inside).
+TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
+    std::mt19937_64 random(7);
+    const std::vector<std::size_t> counts = {0, 1, 2, 3, 4};
+    for (std::size_t n = 0; n <= 1100; ++n) {
+        const Data data = random_data(random, n);
+        ASSERT_NO_FATAL_FAILURE(
+            expect_the_separate_passes(kernels::advance_with_products, random, data, 6, 0, counts));
+    }
+}
 
-// A finger's pad: up to 16 pushes and 16 predicted rows in the one pass, each the bits of the
-// separate kernels (advance_pushes, then predict_dot, or predict and dot_rows, and dot).
+// A finger's pad: up to 16 pushes and 16 predicted rows in the one pass.
 TEST(Kernels, StepWithAPadsProductsEqualsTheSeparatePasses) {
     std::mt19937_64 random(11);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const std::vector<std::size_t> counts = {0, 1, 5, 11, 16};
     for (std::size_t n = 0; n <= 1100; n += (n < 40 ? 1 : 61)) {
         const Data data = random_data(random, n, 18);
-        for (std::size_t pushes = 0; pushes <= 16; ++pushes) {
-            std::vector<const double*> rows;
-            std::vector<double> coefficients;
-            for (std::size_t r = 0; r < pushes; ++r) {
-                rows.push_back(data.rows[r].data());
-                coefficients.push_back(1e-3 * unit(random));
-            }
-            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
-                std::vector<double> q1 = data.q, d1 = data.d;
-                const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
-                std::vector<double> stored(n);
-                kernels::predict(data.e.data(), data.beta.data(), q1.data(), d1.data(), stored.data(), n);
-                // The pushed rows first, then others (points near the pad without a force).
-                std::vector<const double*> predict_rows;
-                for (std::size_t r = 0; r < kernels::kMaxForecastRows; ++r) predict_rows.push_back(data.rows[r + 1].data());
-                const double* pickup = data.rows.back().data();
-                for (std::size_t count : {0, 1, 5, 11, 16}) {
-                    for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
-                        std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count),
-                                                         read(count);
-                        double observed = -1.0;
-                        kernels::StepProducts products;
-                        products.predict_rows = predict_rows.data();
-                        products.predict_count = count;
-                        products.predicted = predicted.data();
-                        products.observe_row = observe;
-                        products.observed = &observed;
-                        const double fused = kernels::advance_with_pad_products(
-                            data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes, products,
-                            q2.data(), d2.data(), n);
-                        for (std::size_t r = 0; r < count; ++r)
-                            separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
-                                                               predict_rows[r], n);
-                        kernels::dot_rows(predict_rows.data(), count, stored.data(), n, read.data());
-                        const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
-                                                  " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
-                                                  (observe ? " observed" : "");
-                        ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
-                        ASSERT_TRUE(same_bits({losses}, {fused})) << where;
-                        ASSERT_TRUE(same_bits(predicted, separate)) << where << " " << (count ? predicted[0] : 0.0) << " vs " << (count ? separate[0] : 0.0) << " read " << (count ? read[0] : 0.0);
-                        ASSERT_TRUE(same_bits(predicted, read)) << where;
-                        if (observe != nullptr) {
-                            ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
-                        }
-                    }
-                }
-            }
-        }
+        ASSERT_NO_FATAL_FAILURE(
+            expect_the_separate_passes(kernels::advance_with_pad_products, random, data, 16, 1, counts));
     }
 }
 }  // namespace

@@ -41,7 +41,8 @@ double advance_pushes(const double* e, const double* beta, const double* loss, c
 // What one step's pass over the modes also forms while it holds q^{n+1} (advance_with_products).
 struct StepProducts {
     // predicted[r] = predict_dot(e, beta, q^{n+1}, q^{n+1} - q^n, predict_rows[r], n): the next
-    // step's free prediction at these rows, r < predict_count <= kMaxRowsPerPass (kMaxForecastRows in advance_with_pad_products).
+    // step's free prediction at these rows, r < predict_count <= kMaxRowsPerPass
+    // (kMaxForecastRows in advance_with_pad_products).
     const double* const* predict_rows = nullptr;
     std::size_t predict_count = 0;
     double* predicted = nullptr;
