@@ -548,7 +548,7 @@ FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, c
 
 FRETBUZZ_MULTIVERSION void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d,
                                            double* a, std::size_t n) {
-    // The argument is never negative: __builtin_sqrt lets the loop vectorise (no errno path).
+    // The argument is never negative; the file is built without errno for sqrt, so the loop vectorises.
     for (std::size_t j = 0; j < n; ++j) {
         const double c = aq[j] * q[j] + ad[j] * d[j];
         a[j] = __builtin_sqrt(q[j] * q[j] + c * c);
