@@ -125,5 +125,24 @@ TEST(PenaltyContact, ClosedFormsMatchTheGeneralLawEverywhere) {
     }
 }
 
+// A finger's or a gesture's own iteration forms a's power once and the quotient with its slope
+// in one call: the same bits as difference_quotient and slope_of_quotient, every law and case.
+TEST(PenaltyContact, AnchoredQuotientAndSlopeAreTheSeparateOnes) {
+    for (double alpha : {1.0, 1.01, 1.5, 2.0, 2.7, 3.0})
+        for (bool specialise : {true, false}) {
+            const PenaltyContact law(1e13, alpha, specialise);
+            for (double a : {-1e-4, -1e-9, 0.0, 1e-15, 1e-9, 1e-6, 1e-4}) {
+                const PenaltyContact::Anchored at = law.anchored(a);
+                for (double ratio : {-3.0, -1.0, -0.999, -0.5, -1e-5, -1e-12, 0.0, 1e-16, 1e-5, 0.5, 10.0}) {
+                    const double r = a != 0.0 ? ratio * std::abs(a) : ratio * 1e-6;
+                    const double q = law.difference_quotient(a, r);
+                    const PenaltyContact::QuotientSlope both = law.quotient_and_slope(at, r);
+                    EXPECT_EQ(both.quotient, q) << "alpha=" << alpha << " a=" << a << " r=" << r;
+                    EXPECT_EQ(both.slope, law.slope_of_quotient(a, r, q)) << "alpha=" << alpha << " a=" << a << " r=" << r;
+                }
+            }
+        }
+}
+
 }  // namespace
 }  // namespace fretbuzz

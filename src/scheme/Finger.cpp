@@ -116,6 +116,9 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
     const bool obstacle = std::isfinite(g);
     const double a_o = g - u_prev_[p];
     const double c = c_[p];
+    // Fixed over the iteration: the laws' powers of them, once.
+    const PenaltyContact::Anchored obstacle_at = obstacle_law_.anchored(obstacle ? a_o : 0.0);
+    const PenaltyContact::Anchored finger_at = law_.anchored(c);
     const double rho = rho_[p];
     const double z_next_minus_z = s;
     Point pt;
@@ -126,15 +129,16 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         pt.obstacle_force = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
-            pt.obstacle_force = obstacle_law_.difference_quotient(a_o, r_o);
-            v.slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, pt.obstacle_force);
+            const auto [quotient, slope] = obstacle_law_.quotient_and_slope(obstacle_at, r_o);
+            pt.obstacle_force = quotient;
+            v.slope += k_ * slope;
             v.h -= k_ * pt.obstacle_force;
             v.scale += k_ * pt.obstacle_force;
         }
         const double psi_slope = v.slope;
         const double r_f = pt.y - c;
-        const double q = law_.difference_quotient(c, r_f);
-        const double push_slope = law_.slope_of_quotient(c, r_f, q) + rho;
+        const auto [q, quotient_slope] = law_.quotient_and_slope(finger_at, r_f);
+        const double push_slope = quotient_slope + rho;
         pt.push = q + rho * r_f;
         v.h += k_ * pt.push;
         // y and r_f carry the rounding of z and c, however far the finger is: through the push's

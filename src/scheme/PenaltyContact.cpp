@@ -384,6 +384,14 @@ double PenaltyContact::slope_of_quotient(double a, double r, double quotient_val
     return slope(a, r, quotient_value, anchor(a), kNoRoot);
 }
 
+PenaltyContact::QuotientSlope PenaltyContact::quotient_and_slope(const Anchored& a, double r) const {
+    double root = kNoRoot;
+    const double q = quotient(a.a, r, a.power, root);
+    // At 3/2 the root is sqrt(a + r), as slope would take it; the general law's slope from its
+    // root is another formula, so it goes the way slope_of_quotient does.
+    return {q, slope(a.a, r, q, a.power, law_ == Law::general ? kNoRoot : root)};
+}
+
 double PenaltyContact::slope(double a, double r, double quotient_value, double anchor_a, double root) const {
     // d/dr of the difference quotient. The closed forms differentiate exactly; otherwise
     // (Psi'(a+r) - quotient) / r, with its limit Psi''(a + r/2) / 2 when r is too small

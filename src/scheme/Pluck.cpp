@@ -52,6 +52,9 @@ double Pluck::solve_point(std::size_t p, double w, double p_next, double& obstac
     const double a_o = g - u_prev_[p];
     const bool touching = stage_ == Stage::pulling || stage_ == Stage::withdrawing;
     const double c = s_ * (p_prev_ - u_prev_[p]);  // y^{n-1}
+    // Fixed over the iteration: the laws' powers of them, once.
+    const PenaltyContact::Anchored obstacle_at = obstacle_law_.anchored(obstacle ? a_o : 0.0);
+    const PenaltyContact::Anchored plucker_at = law_.anchored(touching ? c : 0.0);
     double x_root = w;
     const auto evaluate = [&](double x) {
         x_root = x;
@@ -59,19 +62,20 @@ double Pluck::solve_point(std::size_t p, double w, double p_next, double& obstac
         obstacle_force = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
-            obstacle_force = obstacle_law_.difference_quotient(a_o, r_o);
-            v.slope += k_ * obstacle_law_.slope_of_quotient(a_o, r_o, obstacle_force);
+            const auto [quotient, slope] = obstacle_law_.quotient_and_slope(obstacle_at, r_o);
+            obstacle_force = quotient;
+            v.slope += k_ * slope;
             v.h -= k_ * obstacle_force;
             v.scale += k_ * obstacle_force;
         }
         push = 0.0;
         if (touching) {
             const double r = s_ * (p_next - x) - c;
-            const double q = law_.difference_quotient(c, r);
+            const auto [q, quotient_slope] = law_.quotient_and_slope(plucker_at, r);
             push = q + rho_[p] * r;
             v.h -= k_ * s_ * push;
             v.scale += k_ * std::abs(push);
-            v.slope += k_ * (law_.slope_of_quotient(c, r, q) + rho_[p]);
+            v.slope += k_ * (quotient_slope + rho_[p]);
         }
         return v;
     };

@@ -61,6 +61,17 @@ public:
                           std::span<ContactSolution> out) const;
     // d/dr of difference_quotient(a, r), given that quotient (>= 0: Psi is convex).
     double slope_of_quotient(double a, double r, double quotient) const;
+    // An equation solved at many r for one a (a finger's or a gesture's own iteration): a's
+    // power (sqrt(a), a^(alpha+1)) formed once, and the quotient and its slope at r in one call,
+    // the same values as difference_quotient and slope_of_quotient.
+    struct Anchored {
+        double a, power;
+    };
+    Anchored anchored(double a) const { return {a, anchor(a)}; }
+    struct QuotientSlope {
+        double quotient, slope;
+    };
+    QuotientSlope quotient_and_slope(const Anchored& a, double r) const;
 
 private:
     enum class Law { general, linear, three_halves, quadratic, cubic };
