@@ -7,9 +7,14 @@
 // finger (one engine per string, the finger pressed behind the fret before every strike);
 // beside them, the former stand-in: an engine per fret on the string stopped at that fret
 // (StoppedString, no finger), the cost of the same notes without the finger's solve.
-// Counters (medians over the repetitions):
-//   x_realtime      audio seconds per CPU second
-//   worst_block_pct the longest single 256-sample block (CPU time), in % of its 5.33 ms
+// Counters (each repetition plays one second, 187 blocks; the median row is the median of the
+// 5 repetitions' figures, which steadies the worst block, a single block of each):
+//   x_realtime       audio seconds per CPU second
+//   worst_block_pct  the longest single 256-sample block (CPU time), in % of its 5.33 ms
+//   p99_block_pct    the 99th percentile of the blocks' times (the third longest of 187)
+//   median_block_pct the median block
+//   worst_block_contact_steps  internal steps of the longest block with a contact force (of
+//                    M x 256): the longest blocks are those where the string buzzes at most steps
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -61,7 +66,10 @@ void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight
     for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight, max_oversampling, fretting));
     std::vector<float> block(kBlock);
     const long blocks = static_cast<long>(kRate) / static_cast<long>(kBlock);
+    std::vector<double> times;  // every block's CPU time (s), this repetition
+    times.reserve(static_cast<std::size_t>(blocks));
     double worst = 0.0;
+    long worst_contact_steps = 0;
     for (auto _ : state) {
         for (std::size_t i = 0; i < engines.size(); ++i) {
             Engine& e = *engines[i];
@@ -71,16 +79,34 @@ void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight
             e.strike({stop + voices[i].pluck * (e.length_m() - stop), 1.0, 0.01, false});
         }
         for (long b = 0; b < blocks; ++b) {
+            long contact_steps = 0;
+            for (auto& e : engines) contact_steps -= e->statistics().contact_steps;
             const double t0 = thread_seconds();
             for (auto& e : engines) e->process(block);
-            worst = std::max(worst, thread_seconds() - t0);
+            const double t = thread_seconds() - t0;
+            for (auto& e : engines) contact_steps += e->statistics().contact_steps;
+            times.push_back(t);
+            if (t > worst) {
+                worst = t;
+                worst_contact_steps = contact_steps;
+            }
             benchmark::DoNotOptimize(block.data());
         }
     }
     const double audio_seconds = static_cast<double>(blocks * static_cast<long>(kBlock)) / kRate;
+    const double block_seconds = static_cast<double>(kBlock) / kRate;
+    // The q-quantile of this repetition's block times, in % of a block's duration.
+    const auto quantile_pct = [&times, block_seconds](double q) {
+        const auto at = times.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(times.size() - 1));
+        std::nth_element(times.begin(), at, times.end());
+        return 100.0 * *at / block_seconds;
+    };
     state.counters["x_realtime"] =
         benchmark::Counter(audio_seconds, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["worst_block_pct"] = 100.0 * worst / (static_cast<double>(kBlock) / kRate);
+    state.counters["worst_block_pct"] = 100.0 * worst / block_seconds;
+    state.counters["p99_block_pct"] = quantile_pct(0.99);
+    state.counters["median_block_pct"] = quantile_pct(0.5);
+    state.counters["worst_block_contact_steps"] = static_cast<double>(worst_contact_steps);
     state.counters["modes"] = static_cast<double>(engines.front()->mode_count());
     state.counters["oversampling"] = engines.front()->oversampling();
     state.counters["latency_samples"] = engines.front()->latency_samples();

@@ -66,6 +66,24 @@ TEST(ContactScheduling, BassPopUnchangedByScreeningAndFreeFlight) {
     expect_same_results(c);
 }
 
+// A finger pressing the string onto a fret pushes at every step: the speed bound is then
+// grown for several steps before it is recomputed (a looser bound wakes the other frets'
+// points earlier). The results must not change.
+TEST(ContactScheduling, FrettedPopUnchangedByScreening) {
+    Case c = load_case("bass-fret5-pop");
+    c.run.sample_rate_hz = 400000.0;
+    c.run.duration_s = 0.04;  // pressed, pulled from 0.02 s, released at 0.03 s
+    c.run.output_rate_hz = 20000.0;
+    const Outcome fast = simulate_with(c, true);
+    const Outcome plain = simulate_with(c, false);
+    ASSERT_EQ(fast.signal.size(), plain.signal.size());
+    EXPECT_GT(plain.summary.contact_steps, 0);
+    EXPECT_EQ(fast.summary.contact_steps, plain.summary.contact_steps);
+    EXPECT_LT(relative_l2(fast.signal, plain.signal), 1e-9);
+    for (std::size_t k = 0; k < fast.balance.size(); ++k)
+        ASSERT_NEAR(fast.balance[k], plain.balance[k], 1e-10 * std::abs(plain.balance.back())) << "row " << k;
+}
+
 // A random stiff, damped string over a random profile of bumps and points, plucked so
 // that it hits some of them.
 Case random_case(std::mt19937& rng) {

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
@@ -50,20 +51,9 @@ Decimator::Decimator(int factor, int taps_per_phase, double cutoff) : factor_(fa
 
 double Decimator::output() const {
     // history_[position_ ..] holds the inputs from oldest to newest; the taps are symmetric.
-    const double* x = history_.data() + position_;
-    const double* h = taps_.data();
-    const std::size_t n = taps_.size();
-    // Four independent sums: the products pipeline instead of waiting on one accumulator.
-    double y0 = 0.0, y1 = 0.0, y2 = 0.0, y3 = 0.0;
-    std::size_t k = 0;
-    for (; k + 4 <= n; k += 4) {
-        y0 += h[k] * x[k];
-        y1 += h[k + 1] * x[k + 1];
-        y2 += h[k + 2] * x[k + 2];
-        y3 += h[k + 3] * x[k + 3];
-    }
-    for (; k < n; ++k) y0 += h[k] * x[k];
-    return (y0 + y1) + (y2 + y3);
+    // The library's dot product (eight partial sums, AVX2 where the CPU has it): at M = 8 the
+    // 512 taps are about a twentieth of a contact-heavy block's time in four scalar sums.
+    return kernels::dot(taps_.data(), history_.data() + position_, taps_.size());
 }
 
 void Decimator::reset() {

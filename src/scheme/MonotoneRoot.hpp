@@ -29,10 +29,17 @@ int monotone_root(Evaluate&& evaluate, double guess, int max_iterations) {
             hi - lo <= 2.0 * eps * std::max(std::abs(lo), std::abs(hi)))
             return it;
         double next = x - v.h / v.slope;
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const bool newton = next > lo && next < hi;
+        if (!newton) next = 0.5 * (lo + hi);
+        const double h_before = v.h;
         v = evaluate(next);
         (v.h > 0.0 ? hi : lo) = next;
         if (std::abs(next - x) <= eps * std::abs(next)) return it + 1;
+        // A Newton step of a few ulps that does not even halve h: h is at the round-off of a
+        // term the scale does not see (a contact law's difference quotient), and Newton would
+        // creep on ulp by ulp without meeting the test above.
+        if (newton && std::abs(v.h) > 0.5 * std::abs(h_before) && std::abs(next - x) <= 64.0 * eps * std::abs(next))
+            return it + 1;
         x = next;
     }
     return -1;

@@ -122,6 +122,8 @@ public:
     double injected() const { return injected_; }
     bool sounding() const;
     const EngineHealth& health() const { return health_; }
+    // The stepper's counts (contact steps, steps flown...), for benchmarks and tests.
+    const StepStatistics& statistics() const { return stepper_->statistics(); }
 
     static constexpr double kMuteScale = 300.0;
 
