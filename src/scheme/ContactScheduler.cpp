@@ -16,14 +16,8 @@ constexpr double kMinimumSteps = 2.0;
 // Modes used by a cheap look at a point (the low modes carry most of the motion).
 constexpr std::size_t kHeadModes = 48;
 // A grown speed bound is recomputed in full once it exceeds the last full one by this factor
-// (a loose bound wakes sleeping points early: more checks, same results), but not twice within
-// kFullUpdateSpacing steps unless it exceeds kLoosenessLimit times it: a finger pressing the
-// string onto a fret pushes at every step with a force that grows the bound past 1.25x at
-// once, and four passes over the modes at every step made a fretted note 20 % slower
-// (fretbuzz_bench_realtime, bass_fret5/engine).
+// (a loose bound wakes sleeping points early: more checks, same results).
 constexpr double kLooseness = 1.25;
-constexpr long kFullUpdateSpacing = 8;
-constexpr double kLoosenessLimit = 4.0;
 // At most this many points get their push weight computed in one step (else a full update).
 constexpr std::size_t kNewPointsPerPush = 2;
 // Up to this many new points (a finger's pad) their weights are learnt a few per step; more (a
@@ -115,9 +109,7 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
     slack_ += kSlack * norm_ * reach;
     tail_ += norm_ * tail * (1.0 + kSlack);
     amplitudes_behind_ = true;
-    if (!(speed_ <= kLooseness * full_speed_) &&
-        (steps_since_full_ >= kFullUpdateSpacing || !(speed_ <= kLoosenessLimit * full_speed_)))
-        update_speed(q, d);
+    if (!(speed_ <= kLooseness * full_speed_)) update_speed(q, d);
 }
 
 void ContactScheduler::update_speed(std::span<const double> q, std::span<const double> d) {
@@ -137,7 +129,6 @@ void ContactScheduler::update_speed(std::span<const double> q, std::span<const d
     speed_ = std::isfinite(speed) ? norm_ * speed * (1.0 + kSlack) : std::numeric_limits<double>::infinity();
     slack_ = std::isfinite(reach) ? kSlack * norm_ * reach : std::numeric_limits<double>::infinity();
     full_speed_ = speed_;
-    steps_since_full_ = 0;
 }
 
 bool ContactScheduler::park(std::size_t i) {
@@ -235,10 +226,7 @@ bool ContactScheduler::sleep(std::size_t i, double gap) {
     return true;
 }
 
-void ContactScheduler::end_steps(long steps) {
-    budget_ += speed_ * static_cast<double>(steps) * plan_.dt();
-    steps_since_full_ += steps;
-}
+void ContactScheduler::end_steps(long steps) { budget_ += speed_ * static_cast<double>(steps) * plan_.dt(); }
 
 bool ContactScheduler::quiet_for(long steps) const {
     return queue_.empty() || queue_.top().first > budget_ + speed_ * static_cast<double>(steps) * plan_.dt();

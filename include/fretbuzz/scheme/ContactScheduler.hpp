@@ -107,7 +107,6 @@ private:
     };
     std::vector<PointWeight> point_weight_;
     double full_speed_ = 0.0;          // speed_ at the last update_speed
-    long steps_since_full_ = 0;        // steps ended since then
     bool amplitudes_behind_ = false;   // impulses since then are in the bounds, not in amplitude_
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
