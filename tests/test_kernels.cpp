@@ -3,6 +3,7 @@
 // inside the step instead of through an impulse vector.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -185,6 +186,43 @@ TEST(Kernels, StepWithAPadsProductsEqualsTheSeparatePasses) {
         const Data data = random_data(random, n, 18);
         ASSERT_NO_FATAL_FAILURE(
             expect_the_separate_passes(kernels::advance_with_pad_products, random, data, 16, 1, counts));
+    }
+}
+// A free flight's end (jump_with_products): from any first jumped mode, lossless (e = 1) or
+// lossy, with 0 to 6 rows, the same q, d, modal energy and row products as jump, modal_energy
+// and dot, bit for bit.
+TEST(Kernels, FlightEndInOnePassEqualsTheSeparatePasses) {
+    std::mt19937_64 random(13);
+    constexpr std::size_t kMaps = 4, kRows = 6;
+    for (std::size_t n = 0; n <= 1100; ++n) {
+        Data data = random_data(random, n, kMaps + kRows);
+        const auto map = [&](std::size_t i) { return data.rows[i].data(); };
+        std::vector<const double*> rows;
+        for (std::size_t r = 0; r < kRows; ++r) rows.push_back(data.rows[kMaps + r].data());
+        for (const bool lossless : {false, true}) {
+            if (lossless) std::fill(data.e.begin(), data.e.end(), 1.0);
+            for (const std::size_t first : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4},
+                                            std::size_t{5}, std::size_t{13}, std::size_t{48}, n}) {
+                if (first > n) continue;
+                std::vector<double> q1 = data.q, d1 = data.d;
+                kernels::jump(map(0) + first, map(1) + first, map(2) + first, map(3) + first, q1.data() + first,
+                              d1.data() + first, n - first);
+                const double energy = kernels::modal_energy(data.e.data(), data.beta.data(), q1.data(), d1.data(), n);
+                for (std::size_t m = 0; m <= kRows; ++m) {
+                    std::vector<double> q2 = data.q, d2 = data.d, fused(m, -1.0), separate(m);
+                    const double fused_energy =
+                        kernels::jump_with_products(map(0), map(1), map(2), map(3), first, data.e.data(),
+                                                    data.beta.data(), rows.data(), m, q2.data(), d2.data(), n,
+                                                    fused.data());
+                    for (std::size_t r = 0; r < m; ++r) separate[r] = kernels::dot(rows[r], q1.data(), n);
+                    const std::string where = "n=" + std::to_string(n) + " first=" + std::to_string(first) +
+                                              " rows=" + std::to_string(m) + (lossless ? " lossless" : "");
+                    ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
+                    ASSERT_TRUE(same_bits({energy}, {fused_energy})) << where;
+                    ASSERT_TRUE(same_bits(fused, separate)) << where;
+                }
+            }
+        }
     }
 }
 }  // namespace

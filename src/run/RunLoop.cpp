@@ -8,7 +8,6 @@
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
@@ -138,6 +137,8 @@ void RunLoop::connect_observers() {
         }
     }
     step_v_.resize(velocity_wanted_ ? shapes_.size() : 0);
+    // The output rows' products, formed by each flight's closing jump (only when someone reads them).
+    if (!observers_.empty()) stepper_.observe_rows(row_rows_);
     // One probe read every step (the usual pickup): the step's own pass forms it.
     if (!per_step_.empty() && shapes_.size() == 1) stepper_.observe(shapes_[0]);
 }
@@ -216,9 +217,9 @@ void RunLoop::report_observation() {
         u_ = step_u_;  // at an output rate equal to fs, the per-step products of this very step
         force = stepper_.displacement(bridge_);
     } else {
-        // The probes and the bridge in one pass over the modes (each the same sum as a dot).
-        const std::span<const double> q = stepper_.modal_displacement();
-        kernels::dot_rows(row_rows_.data(), row_rows_.size(), q.data(), q.size(), row_values_.data());
+        // The probes and the bridge in one pass over the modes (each the same sum as a dot),
+        // or as the flight that ended here formed them.
+        stepper_.row_displacements(row_values_);
         std::copy(row_values_.begin(), row_values_.end() - 1, u_.begin());
         force = row_values_.back();
     }

@@ -54,4 +54,12 @@ void FreeFlight::jump(std::span<double> q, std::span<double> d, std::size_t firs
                   d.data() + first, n);
 }
 
+double FreeFlight::jump_with_products(std::span<double> q, std::span<double> d, std::size_t first,
+                                      const ModalPropagator& propagator, std::span<const double* const> rows,
+                                      double* out) const {
+    return kernels::jump_with_products(qq_.data(), qd_.data(), dq_.data(), dd_.data(), first, propagator.decay().data(),
+                                       propagator.beta().data(), rows.data(), rows.size(), q.data(), d.data(),
+                                       q.size(), out);
+}
+
 }  // namespace fretbuzz

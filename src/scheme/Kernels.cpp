@@ -530,20 +530,89 @@ FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double
                : advance_products_counted<0>(e, beta, loss, coefficients, rows, m, products, q, d, n);
 }
 
+namespace {
+// One mode's term of modal_energy, the same expression in every kernel that forms it.
+template <class T>
+FRETBUZZ_INLINE T energy_term(const T& e, const T& beta, const T& q, const T& d) {
+    return 0.5 * (1.0 + e) * d * d + beta * q * (q - d);
+}
+
+// One mode's M-step jump (the same expression as the jump kernel's loop): q += E_qq q + E_qd d, d <- E_dq q + (1 + E_dd) d.
+template <class T>
+FRETBUZZ_INLINE void jump_one(const T& qq, const T& qd, const T& dq, const T& dd, T& q, T& d) {
+    const T q_next = q + (qq * q + qd * d);
+    d = dq * q + (d + dd * d);
+    q = q_next;
+}
+
+// jump_with_products for M rows (a compile-time count: its accumulators stay in registers).
+template <std::size_t M>
+FRETBUZZ_INLINE double jump_products(const double* __restrict qq, const double* __restrict qd,
+                                     const double* __restrict dq, const double* __restrict dd, std::size_t first,
+                                     const double* __restrict e, const double* __restrict beta,
+                                     const double* const* rows, double* __restrict q, double* __restrict d,
+                                     std::size_t n, double* out) {
+    // Modes [first, jumped) one by one, the rest of [first, n) four at a time (or in the remainder).
+    const std::size_t jumped = std::min(n, (first + 3) / 4 * 4);
+    for (std::size_t k = first; k < jumped; ++k) jump_one(qq[k], qd[k], dq[k], dd[k], q[k], d[k]);
+    v4 energy_lo{}, energy_hi{}, lo[M + 1], hi[M + 1];  // (M + 1: no empty array)
+    for (std::size_t r = 0; r < M; ++r) lo[r] = hi[r] = v4{};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        for (std::size_t h = 0; h < kLanes; h += 4) {
+            const std::size_t k = j + h;
+            v4 qk = load(q + k), dk = load(d + k);
+            if (k >= jumped) {
+                jump_one(load(qq + k), load(qd + k), load(dq + k), load(dd + k), qk, dk);
+                store(q + k, qk);
+                store(d + k, dk);
+            }
+            (h == 0 ? energy_lo : energy_hi) += energy_term(load(e + k), load(beta + k), qk, dk);
+            for (std::size_t r = 0; r < M; ++r) (h == 0 ? lo[r] : hi[r]) += load(rows[r] + k) * qk;
+        }
+    }
+    // The remainder as modal_energy and dot form theirs.
+    for (std::size_t k = std::max(j, jumped); k < n; ++k) jump_one(qq[k], qd[k], dq[k], dd[k], q[k], d[k]);
+    double energy = 0.0, tail[M + 1] = {};
+    for (std::size_t k = j; k < n; ++k) energy += energy_term(e[k], beta[k], q[k], d[k]);
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j)
+        for (std::size_t r = 0; r < M; ++r) tail[r] = plus_rounded_product(tail[r], rows[r][j], q[j]);
+    if (j < n)  // a last odd term: fused
+        for (std::size_t r = 0; r < M; ++r) tail[r] += rows[r][j] * q[j];
+    for (std::size_t r = 0; r < M; ++r) out[r] = fold(tail[r], lo[r], hi[r]);
+    return fold(energy, energy_lo, energy_hi);
+}
+}  // namespace
+
 FRETBUZZ_MULTIVERSION double modal_energy(const double* e, const double* beta, const double* q, const double* d,
                                            std::size_t n) {
-    const auto term = [](const auto& ek, const auto& bk, const auto& qk, const auto& dk) FRETBUZZ_INLINE_LAMBDA {
-        return 0.5 * (1.0 + ek) * dk * dk + bk * qk * (qk - dk);
-    };
     v4 lo{}, hi{};
     std::size_t j = 0;
     for (; j + kLanes <= n; j += kLanes) {
-        lo += term(load(e + j), load(beta + j), load(q + j), load(d + j));
-        hi += term(load(e + j + 4), load(beta + j + 4), load(q + j + 4), load(d + j + 4));
+        lo += energy_term(load(e + j), load(beta + j), load(q + j), load(d + j));
+        hi += energy_term(load(e + j + 4), load(beta + j + 4), load(q + j + 4), load(d + j + 4));
     }
     double sum = 0.0;
-    for (; j < n; ++j) sum += term(e[j], beta[j], q[j], d[j]);
+    for (; j < n; ++j) sum += energy_term(e[j], beta[j], q[j], d[j]);
     return fold(sum, lo, hi);
+}
+
+FRETBUZZ_MULTIVERSION double jump_with_products(const double* qq, const double* qd, const double* dq, const double* dd,
+                                                std::size_t first, const double* e, const double* beta,
+                                                const double* const* rows, std::size_t m, double* q, double* d,
+                                                std::size_t n, double* out) {
+    switch (m) {
+        case 0: return jump_products<0>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+        case 1: return jump_products<1>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+        case 2: return jump_products<2>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+        case 3: return jump_products<3>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+        case 4: return jump_products<4>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+        default: {  // more rows: their products in passes of their own
+            const double energy = jump_products<0>(qq, qd, dq, dd, first, e, beta, rows, q, d, n, out);
+            dot_rows(rows, m, q, n, out);
+            return energy;
+        }
+    }
 }
 
 FRETBUZZ_MULTIVERSION void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d,

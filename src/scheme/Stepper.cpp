@@ -89,7 +89,7 @@ void Stepper::silence() {
 
 void Stepper::restart() {
     energy_step_ = -1;
-    forecast_.step = observed_step_ = -1;  // formed from the state before the change
+    forecast_.step = observed_step_ = flight_rows_step_ = -1;  // formed from the state before the change
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse).
     for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
@@ -182,17 +182,34 @@ double Stepper::observation() const {
     return observed_step_ == n_ ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
+void Stepper::observe_rows(std::span<const double* const> rows) {
+    flight_rows_.assign(rows.begin(), rows.end());
+    flight_row_values_.resize(rows.size());
+    flight_rows_step_ = -1;  // the rows' values may have changed
+}
+
+void Stepper::row_displacements(std::span<double> out) const {
+    if (out.size() != flight_rows_.size()) throw std::logic_error("Stepper::row_displacements: not the observed rows");
+    if (flight_rows_step_ == n_)
+        std::copy(flight_row_values_.begin(), flight_row_values_.end(), out.begin());
+    else
+        kernels::dot_rows(flight_rows_.data(), flight_rows_.size(), q_.data(), q_.size(), out.data());
+}
+
 double Stepper::velocity(std::span<const double> mode_shapes) const {
     return kernels::dot(mode_shapes.data(), d_.data(), d_.size()) / plan_.dt();
 }
 
 double Stepper::modal_energy() const {
-    if (energy_step_ != n_) {  // the state changes only with n: one evaluation per step at most
-        const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
-        modal_energy_ = scale * plan_.propagator().scaled_modal_energy(q_, d_);
-        energy_step_ = n_;
-    }
+    // The state changes only with n: one evaluation per step at most.
+    if (energy_step_ != n_) keep_modal_energy(n_, plan_.propagator().scaled_modal_energy(q_, d_));
     return modal_energy_;
+}
+
+void Stepper::keep_modal_energy(long step, double scaled) const {
+    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
+    modal_energy_ = scale * scaled;
+    energy_step_ = step;
 }
 
 double Stepper::energy() const {
@@ -261,7 +278,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const std::size_t width = probes.size();
     // With no per-step row wanted and no point due before its end, the whole flight is one jump.
     if (width == 0 && !y_ && flight.first() == 0 && scheduler_.park_due(steps)) {
-        flight.jump(q_, d_, 0);
+        land(flight, 0, steps);
         scheduler_.end_steps(steps);
         return end_flight(steps, energy_before);
     }
@@ -292,7 +309,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         ++flown;
     }
     if (flown == steps) {
-        flight.jump(q_, d_, head);
+        land(flight, head, steps);
     } else {
         // Cut short (rare: a point may touch): the other modes take the flown steps one by
         // one, which allocates nothing (a real-time engine flies too).
@@ -305,6 +322,12 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     if (flown == 0) return 0;
     if (y_) y_->fly(flown, steps, head, probes);
     return end_flight(flown, energy_before);
+}
+
+void Stepper::land(const FreeFlight& flight, std::size_t first, long flown) {
+    keep_modal_energy(n_ + flown, flight.jump_with_products(q_, d_, first, plan_.propagator(), flight_rows_,
+                                                            flight_row_values_.data()));
+    flight_rows_step_ = n_ + flown;
 }
 
 long Stepper::end_flight(long flown, double energy_before) {

@@ -22,6 +22,12 @@ public:
     void update(const ModalPropagator& propagator);
     // Applies the M-step map to modes [first, end) of (q, d).
     void jump(std::span<double> q, std::span<double> d, std::size_t first) const;
+    // jump, and in the same pass over all modes what the state it leaves is read for:
+    // out[r] = dot(rows[r], q) and the returned propagator.scaled_modal_energy(q, d), bit for
+    // bit (kernels::jump_with_products).
+    double jump_with_products(std::span<double> q, std::span<double> d, std::size_t first,
+                              const ModalPropagator& propagator, std::span<const double* const> rows,
+                              double* out) const;
 
 private:
     long steps_;

@@ -65,6 +65,14 @@ double advance_with_pad_products(const double* e, const double* beta, const doub
                                  double* d, std::size_t n);
 // sum_j (1+e_j)/2 d_j^2 + beta_j q_j (q_j - d_j): the discrete modal energy times 2 dt^2 / mu.
 double modal_energy(const double* e, const double* beta, const double* q, const double* d, std::size_t n);
+// A free flight's end in one pass over the modes: jump (E = [[qq, qd], [dq, dd]]) of modes
+// [first, n) only (the others are already there), then, of the state it leaves, out[r] =
+// dot(rows[r], q, n) for r < m and the returned modal_energy(e, beta, q, d, n), each bit for
+// bit the separate kernel's (one pass instead of three; more than kMaxRowsPerPass rows take a
+// second pass). The maps are indexed from mode 0, like q and d.
+double jump_with_products(const double* qq, const double* qd, const double* dq, const double* dd, std::size_t first,
+                          const double* e, const double* beta, const double* const* rows, std::size_t m, double* q,
+                          double* d, std::size_t n, double* out);
 // a_j = sqrt(q_j^2 + (aq_j q_j + ad_j d_j)^2): the amplitude of each mode's free motion.
 void free_amplitudes(const double* aq, const double* ad, const double* q, const double* d, double* a, std::size_t n);
 // sum_j x_j

@@ -95,6 +95,11 @@ public:
     // for bit, formed by the step's own pass over the modes when it can (one pass fewer).
     void observe(std::span<const double> mode_shapes);
     double observation() const;
+    // Rows read after free flights (an output row's probes and bridge, kept by the caller, which
+    // calls observe_rows again after changing their values): out[r] = displacement(rows[r]) bit
+    // for bit, formed by a flight's closing jump in its own pass over the modes when it can.
+    void observe_rows(std::span<const double* const> rows);
+    void row_displacements(std::span<double> out) const;
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
     double energy() const;          // H^{n-1/2}: string, obstacle contact and fingers
@@ -128,7 +133,11 @@ private:
     void wake_due_points();
     void activate(std::size_t i, double u_now, double u_before);
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
+    // The flight's closing jump of modes [first, N) after `flown` steps: the modal energy and the
+    // observed rows' products of the state it leaves come from the same pass.
+    void land(const FreeFlight& flight, std::size_t first, long flown);
     long end_flight(long flown, double energy_before);  // the bookkeeping after `flown` steps
+    void keep_modal_energy(long step, double scaled) const;  // caches modal_energy() at `step`
     void solve_contacts();
     // Into grid_ at `points`: the forecast where it has them, row products otherwise.
     void predict_points(std::span<const std::size_t> points);
@@ -190,6 +199,9 @@ private:
     const double* observed_row_ = nullptr;  // observe(): one row, or none
     long observed_step_ = -1;               // the step observed_ belongs to
     double observed_ = 0.0;
+    std::vector<const double*> flight_rows_;  // observe_rows()
+    std::vector<double> flight_row_values_;
+    long flight_rows_step_ = -1;              // the step flight_row_values_ belongs to
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
 
