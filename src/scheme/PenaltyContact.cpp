@@ -372,6 +372,15 @@ double PenaltyContact::quotient(double a, double r, double anchor_a, double& roo
     if (r == 0.0) return force(a);
     if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a, root);
     // At most one of the two potentials is non-zero here: no cancellation.
+    if (law_ == Law::general) {
+        // Landing: the power of a + r is kept (the slope at r and the potential of a + r reuse
+        // it); leaving: the anchor is Psi(a)'s power. The same values as potential's.
+        if (a + r > 0.0) {
+            root = std::pow(a + r, alpha_ + 1.0);
+            return potential_scale_ * root / r;
+        }
+        return (0.0 - potential_scale_ * anchor_a) / r;
+    }
     return (potential(a + r) - potential(a)) / r;
 }
 
@@ -411,6 +420,8 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double a
     }
     if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
     if (r == 0.0) return 0.0;
+    // Landing with the general law: Psi'(a + r) from the power the quotient left, no pow.
+    if (law_ == Law::general && root != kNoRoot) return (k_ * root / (a + r) - quotient_value) / r;
     return (force(a + r) - quotient_value) / r;
 }
 
