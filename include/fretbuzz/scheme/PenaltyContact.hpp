@@ -78,6 +78,9 @@ private:
     // (a <= 0) the root of a quadratic with the law's power frozen. Any value is safe: solve
     // brackets the root from wherever it starts.
     double first_iterate(double a, double b, double k, double anchor_a) const;
+    // The landing model's scale y0 (a <= 0 < d, c > 0): what std::max of its two pows gives, bit
+    // for bit, most often from one of them.
+    double landing_scale(double a, double d, double c) const;
     // What solve starts from: first_iterate where it is finite and below b, else b.
     double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
     double first_iterate_or_b(double a, double b, double k) const;  // any a and b
