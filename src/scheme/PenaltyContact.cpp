@@ -556,8 +556,6 @@ double PenaltyContact::first_iterate_or_b(double a, double b, double k) const {
     return std::isfinite(a) && std::isfinite(b) ? first_iterate_or_b(a, b, k, anchor(a)) : b;
 }
 
-ContactSolution PenaltyContact::solve(double a, double b, double k) const { return solve(a, b, k, true); }
-
 ContactSolution PenaltyContact::solve_from_b(double a, double b, double k) const { return solve(a, b, k, false); }
 
 ContactSolution PenaltyContact::solve(double a, double b, double k, bool model_start) const {
