@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
@@ -70,6 +71,38 @@ TEST(PenaltyContact, NoForceWhenOutOfContactOnBothSides) {
     const ContactSolution s = law.solve(-1e-4, -2e-5, 1e-11);
     EXPECT_EQ(s.force, 0.0);
     EXPECT_EQ(s.increment, -2e-5);
+}
+
+TEST(PenaltyContact, GeneralLawLandingAndLeavingUseThePotentialsOwnPowers) {
+    // A landing's solve keeps the power of a + r it formed, and a leaving one takes Psi(a) from
+    // a^(alpha+1): the force is the difference quotient of the potential itself, and the
+    // potential from the kept power is Psi(a + r) bit for bit, so the energy balance is unchanged.
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    long landings = 0, leavings = 0;
+    for (double alpha : {1.01, 1.3, 2.5}) {
+        for (double stiffness : {1e9, 1e13}) {
+            const PenaltyContact law(stiffness, alpha);
+            for (int n = 0; n < 400; ++n) {
+                const double scale = 1e-7 * std::pow(1e4, unit(random)), k = 1e-11 * std::pow(1e4, unit(random));
+                const bool landing = n % 2 == 0;
+                const double a = landing ? -scale * unit(random) : scale * unit(random);
+                const double b = landing ? -a + scale * unit(random) : -a - scale * unit(random);
+                const ContactSolution s = law.solve(a, b, k);
+                const double eta = a + s.increment;
+                ASSERT_EQ(s.force, law.difference_quotient(a, s.increment)) << "alpha=" << alpha << " a=" << a << " b=" << b;
+                ASSERT_EQ(law.potential(eta, s.root), law.potential(eta)) << "alpha=" << alpha << " a=" << a << " b=" << b;
+                if (a <= 0.0 || eta <= 0.0) {  // one side out of contact: the plain difference, bit for bit
+                    const double expected = (law.potential(eta) - law.potential(a)) / s.increment;
+                    ASSERT_EQ(s.force, expected) << "alpha=" << alpha << " a=" << a << " b=" << b;
+                }
+                landings += landing && eta > 0.0 ? 1 : 0;
+                leavings += !landing && eta <= 0.0 ? 1 : 0;
+            }
+        }
+    }
+    EXPECT_GT(landings, 100);
+    EXPECT_GT(leavings, 100);
 }
 
 TEST(PenaltyContact, DifferenceQuotientIsAccurateForTinyIncrements) {

@@ -372,6 +372,17 @@ double PenaltyContact::quotient(double a, double r, double anchor_a, double& roo
     if (r == 0.0) return force(a);
     if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a, root);
     // At most one of the two potentials is non-zero here: no cancellation.
+    if (law_ == Law::general) {
+        // Landing: the power of a + r is kept (the potential of a + r reuses it); leaving: the
+        // anchor is Psi(a)'s power. The same values as potential's. (The slope's Psi'(a + r) from
+        // that power, root / (a + r), would save one more pow, but moves Newton's path: the
+        // contact energy, set by the solve's tolerance, moved by 1e-12 of itself on the sitar.)
+        if (a + r > 0.0) {
+            root = std::pow(a + r, alpha_ + 1.0);
+            return potential_scale_ * root / r;
+        }
+        return (0.0 - potential_scale_ * anchor_a) / r;
+    }
     return (potential(a + r) - potential(a)) / r;
 }
 
@@ -521,7 +532,7 @@ double PenaltyContact::first_iterate(double a, double b, double k, double anchor
     if (k * potential(d) <= 0.01 * (b * b)) return b;
     double growth = 1.0;  // y0^(alpha-1)
     if (law_ != Law::linear) {
-        const double y0 = std::max(std::pow(d / c, 1.0 / alpha_), std::pow(-a * d / c, 1.0 / (alpha_ + 1.0)));
+        const double y0 = landing_scale(a, d, c);
         growth = law_ == Law::three_halves ? std::sqrt(y0) : std::pow(y0, alpha_ - 1.0);
     }
     // (1 + c y0^(alpha-1)) y^2 - (a + d) y + a d = 0, its positive root without cancellation.
@@ -529,6 +540,18 @@ double PenaltyContact::first_iterate(double a, double b, double k, double anchor
     const double root_disc = std::sqrt(m * m - 4.0 * curvature * (a * d));
     const double y = m >= 0.0 ? (m + root_disc) / (2.0 * curvature) : -2.0 * (a * d) / (root_disc - m);
     return y - a;
+}
+
+double PenaltyContact::landing_scale(double a, double d, double c) const {
+    // max(y1, y2), y1 = (d/c)^(1/alpha), y2 = (-a d/c)^(1/(alpha+1)): y1 >= y2 exactly where
+    // y1 >= -a (raise both to the power alpha + 1), so one pow decides unless the two are within
+    // round-off of each other (then both, as the max of the two computed values).
+    // Near that edge y1/y2 = (y1/-a)^(1/(alpha+1)): a margin of 1e-9 (alpha + 1) keeps the two
+    // computed pows (1 ulp each) on the same sides.
+    const double y1 = std::pow(d / c, 1.0 / alpha_), margin = 1e-9 * (alpha_ + 1.0);
+    if (y1 > -a * (1.0 + margin)) return y1;
+    const double y2 = std::pow(-a * d / c, 1.0 / (alpha_ + 1.0));
+    return y1 < -a * (1.0 - margin) ? y2 : std::max(y1, y2);
 }
 
 double PenaltyContact::first_iterate_or_b(double a, double b, double k, double anchor_a) const {
@@ -540,8 +563,6 @@ double PenaltyContact::first_iterate_or_b(double a, double b, double k, double a
 double PenaltyContact::first_iterate_or_b(double a, double b, double k) const {
     return std::isfinite(a) && std::isfinite(b) ? first_iterate_or_b(a, b, k, anchor(a)) : b;
 }
-
-ContactSolution PenaltyContact::solve(double a, double b, double k) const { return solve(a, b, k, true); }
 
 ContactSolution PenaltyContact::solve_from_b(double a, double b, double k) const { return solve(a, b, k, false); }
 

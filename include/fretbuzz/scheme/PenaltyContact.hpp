@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <span>
 
@@ -41,15 +42,25 @@ public:
     // Psi(eta); root as ContactSolution::root for eta if known: the same value either way (to
     // round-off for the general law).
     double potential(double eta, double root = kNoRoot) const {
-        // Inline for the common exponent: called for every point solved, in every step.
-        if (law_ == Law::three_halves && root != kNoRoot && eta > 0.0) return potential_scale_ * ((eta * root) * eta);
+        // Inline out of contact and where the solve left its root: called for every point solved,
+        // in every step.
+        if (!(eta > 0.0)) return 0.0;
+        if (root != kNoRoot) {
+            if (law_ == Law::three_halves) return potential_scale_ * ((eta * root) * eta);
+            if (law_ == Law::general) return potential_scale_ * root;
+        }
         return potential_of(eta, root);
     }
     double force(double eta) const;      // Psi'(eta)
     // (Psi(a + r) - Psi(a)) / r without cancellation; Psi'(a) at r = 0.
     double difference_quotient(double a, double r) const;
-    // Solves the scalar equation above; throws SolverError if it cannot converge.
-    ContactSolution solve(double a, double b, double k) const;
+    // Solves the scalar equation above; throws SolverError if it cannot converge (or is given a
+    // non-finite state). Inline where the point stays out of contact over both steps (a bridge's
+    // points, most steps): no force, r = b.
+    ContactSolution solve(double a, double b, double k) const {
+        if (a <= 0.0 && std::isfinite(a + b) && a + b <= 0.0 && std::isfinite(k)) return ContactSolution{b};
+        return solve(a, b, k, true);
+    }
     // The same equation by Newton's method from r = b, the plain start: what solve's model
     // start is tested against (the same root to round-off).
     ContactSolution solve_from_b(double a, double b, double k) const;
@@ -89,6 +100,9 @@ private:
     // (a <= 0) the root of a quadratic with the law's power frozen. Any value is safe: solve
     // brackets the root from wherever it starts.
     double first_iterate(double a, double b, double k, double anchor_a) const;
+    // The landing model's scale y0 (a <= 0 < d, c > 0): what std::max of its two pows gives, bit
+    // for bit, most often from one of them.
+    double landing_scale(double a, double d, double c) const;
     // What solve starts from: first_iterate where it is finite and below b, else b.
     double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
     double first_iterate_or_b(double a, double b, double k) const;  // any a and b
