@@ -537,7 +537,7 @@ FRETBUZZ_INLINE T energy_term(const T& e, const T& beta, const T& q, const T& d)
     return 0.5 * (1.0 + e) * d * d + beta * q * (q - d);
 }
 
-// One mode's M-step jump (the same expression as the jump kernel's loop): q += E_qq q + E_qd d, d <- E_dq q + (1 + E_dd) d.
+// One mode's M-step jump (jump and jump_with_products): q += E_qq q + E_qd d, d <- E_dq q + (1 + E_dd) d.
 template <class T>
 FRETBUZZ_INLINE void jump_one(const T& qq, const T& qd, const T& dq, const T& dd, T& q, T& d) {
     const T q_next = q + (qq * q + qd * d);
@@ -677,11 +677,7 @@ FRETBUZZ_MULTIVERSION void axpy(double c, const double* x, double* y, std::size_
 
 FRETBUZZ_MULTIVERSION void jump(const double* qq, const double* qd, const double* dq, const double* dd, double* q,
                                 double* d, std::size_t n) {
-    for (std::size_t j = 0; j < n; ++j) {
-        const double q_next = q[j] + (qq[j] * q[j] + qd[j] * d[j]);
-        d[j] = dq[j] * q[j] + (d[j] + dd[j] * d[j]);
-        q[j] = q_next;
-    }
+    for (std::size_t j = 0; j < n; ++j) jump_one(qq[j], qd[j], dq[j], dd[j], q[j], d[j]);
 }
 
 }  // namespace fretbuzz::kernels
