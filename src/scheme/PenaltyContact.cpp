@@ -327,10 +327,9 @@ double PenaltyContact::power(double eta) const {
     return std::pow(eta, alpha_);
 }
 
-double PenaltyContact::potential_of(double eta, double root) const {
-    if (!(eta > 0.0)) return 0.0;
-    if (law_ == Law::three_halves && root != kNoRoot) return potential_scale_ * ((eta * root) * eta);
-    if (law_ == Law::general) return potential_scale_ * (root != kNoRoot ? root : std::pow(eta, alpha_ + 1.0));
+double PenaltyContact::potential_of(double eta) const {
+    // eta > 0 with no power of it known (potential handles the other cases inline).
+    if (law_ == Law::general) return potential_scale_ * std::pow(eta, alpha_ + 1.0);
     return potential_scale_ * (power(eta) * eta);
 }
 

@@ -49,7 +49,7 @@ public:
             if (law_ == Law::three_halves) return potential_scale_ * ((eta * root) * eta);
             if (law_ == Law::general) return potential_scale_ * root;
         }
-        return potential_of(eta, root);
+        return potential_of(eta);
     }
     double force(double eta) const;      // Psi'(eta)
     // (Psi(a + r) - Psi(a)) / r without cancellation; Psi'(a) at r = 0.
@@ -107,7 +107,7 @@ private:
     double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
     double first_iterate_or_b(double a, double b, double k) const;  // any a and b
     double power(double eta) const;  // eta^alpha for eta > 0
-    double potential_of(double eta, double root) const;  // potential, any law
+    double potential_of(double eta) const;  // potential at eta > 0, its power computed here
 
     double k_;
     double alpha_;
