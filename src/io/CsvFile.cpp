@@ -80,7 +80,7 @@ void CsvFile::hand_over() {
 void CsvFile::close() {
     if (!thread_.joinable()) {
         write_block(std::span<const double>(filling_.get(), std::exchange(filled_, 0)));
-        if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
+        start_tail_writeback();
     } else {
         if (filled_ > 0) hand_over();
         {
@@ -99,8 +99,8 @@ void CsvFile::work() {
     std::unique_lock lock(mutex_);
     while (true) {
         changed_.wait(lock, [this] { return pending_values_ > 0 || stopping_; });
-        if (pending_values_ == 0) {  // stopping, and nothing left: start writeback of the tail too
-            if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
+        if (pending_values_ == 0) {  // stopping, and nothing left
+            start_tail_writeback();
             return;
         }
         lock.unlock();
@@ -133,6 +133,11 @@ void CsvFile::write_block(std::span<const double> block) {
         (void)::sync_file_range(fd_, writeback_from_, written_ - writeback_from_, SYNC_FILE_RANGE_WRITE);
         writeback_from_ = written_;
     }
+}
+
+void CsvFile::start_tail_writeback() {
+    // Only a hint, as write_block's: the fsync at commit reports any failure.
+    if (written_ > writeback_from_) (void)::sync_file_range(fd_, writeback_from_, 0, SYNC_FILE_RANGE_WRITE);
 }
 
 void CsvFile::write_all(const char* data, std::size_t size) {

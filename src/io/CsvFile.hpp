@@ -37,6 +37,7 @@ private:
     void work();       // the thread: formats and writes blocks until told to stop
     void write_block(std::span<const double> block);
     void write_all(const char* data, std::size_t size);
+    void start_tail_writeback();  // the bytes since the last hint, once all are written
 
     std::filesystem::path path_;
     std::size_t width_;
