@@ -66,9 +66,9 @@ TEST(ContactScheduling, BassPopUnchangedByScreeningAndFreeFlight) {
     expect_same_results(c);
 }
 
-// A finger pressing the string onto a fret pushes at every step: the speed bound is then
-// grown for several steps before it is recomputed (a looser bound wakes the other frets'
-// points earlier). The results must not change.
+// A finger pressing the string onto a fret pushes at every step: the speed bound then grows
+// by the pad's push weights at every step and is recomputed once it passes 1.25x of the last
+// full one (a looser bound wakes the other frets' points earlier). The results must not change.
 TEST(ContactScheduling, FrettedPopUnchangedByScreening) {
     Case c = load_case("bass-fret5-pop");
     c.run.sample_rate_hz = 400000.0;

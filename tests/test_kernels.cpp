@@ -82,18 +82,27 @@ TEST(Kernels, OneWeightedAbsSumEqualsThePairsFirst) {
     }
 }
 
+// Pushes on data's first m rows with random coefficients.
+struct Pushes {
+    std::vector<const double*> rows;
+    std::vector<double> coefficients;
+};
+Pushes random_pushes(const Data& data, std::size_t m, std::mt19937_64& random) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    Pushes p;
+    for (std::size_t r = 0; r < m; ++r) {
+        p.rows.push_back(data.rows[r].data());
+        p.coefficients.push_back(1e-3 * unit(random));
+    }
+    return p;
+}
+
 TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
     std::mt19937_64 random(5);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
     for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
         const Data data = random_data(random, n);
         for (std::size_t m = 1; m <= data.rows.size(); ++m) {
-            std::vector<const double*> rows;
-            std::vector<double> coefficients;
-            for (std::size_t r = 0; r < m; ++r) {
-                rows.push_back(data.rows[r].data());
-                coefficients.push_back(1e-3 * unit(random));
-            }
+            const auto [rows, coefficients] = random_pushes(data, m, random);
             for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
                 std::vector<double> impulse(n, 0.0), q1 = data.q, d1 = data.d, q2 = data.q, d2 = data.d;
                 for (std::size_t r = 0; r < m; ++r) kernels::axpy(coefficients[r], rows[r], impulse.data(), n);
@@ -119,18 +128,12 @@ using StepWithProducts = double (*)(const double*, const double*, const double*,
 // from the stored prediction), the pickup as dot gives it. Bit for bit.
 void expect_the_separate_passes(StepWithProducts step, std::mt19937_64& random, const Data& data,
                                 std::size_t most_pushes, std::size_t first_row, std::span<const std::size_t> counts) {
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const std::size_t n = data.q.size();
     std::vector<const double*> predict_rows;
     for (std::size_t r = first_row; r < data.rows.size() - 1; ++r) predict_rows.push_back(data.rows[r].data());
     const double* pickup = data.rows.back().data();
     for (std::size_t pushes = 0; pushes <= most_pushes; ++pushes) {
-        std::vector<const double*> rows;
-        std::vector<double> coefficients;
-        for (std::size_t r = 0; r < pushes; ++r) {
-            rows.push_back(data.rows[r].data());
-            coefficients.push_back(1e-3 * unit(random));
-        }
+        const auto [rows, coefficients] = random_pushes(data, pushes, random);
         for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
             std::vector<double> q1 = data.q, d1 = data.d, stored(n);
             const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
