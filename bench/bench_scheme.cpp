@@ -17,8 +17,10 @@
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
 // the sampling rate and the extent of the obstacle, with fitted exponents;
 // `fretbuzz_bench --contact [repetitions] [text]` the cost of contact steps and of audio-rate
-// runs, and of the passes that bound them from below (see print_contact_table); with text,
-// only the rows whose label contains it.
+// runs, and of the passes that bound them from below (see print_contact_table and
+// print_floors: the engine's tanpura, a 120-mode bridge, a fretted pop); with text, only the
+// rows whose label contains it. Outputs/None also report the CPU time of every thread, whose
+// half bounds the every-output run's wall time on a 2-core machine.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -92,6 +94,13 @@ void whole_run(benchmark::State& state, bool outputs, bool closed_form_audio) {
     c.run.duration_s = 3.0;
     const long steps = std::lround(c.run.sample_rate_hz * c.run.duration_s);
     const std::filesystem::path dir = std::filesystem::temp_directory_path() / "fretbuzz-bench-outputs";
+    // The CPU time of every thread (the writers' too): over 2 cores a run takes at least half of it.
+    const auto process_cpu_s = [] {
+        timespec t{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    };
+    const double cpu_start = process_cpu_s();
     for (auto _ : state) {
         std::filesystem::remove_all(dir);
         if (outputs) {
@@ -104,6 +113,7 @@ void whole_run(benchmark::State& state, bool outputs, bool closed_form_audio) {
             benchmark::DoNotOptimize(simulate(c, {}).energy_final_j);
         }
     }
+    state.counters["process_cpu_s"] = benchmark::Counter(process_cpu_s() - cpu_start, benchmark::Counter::kAvgIterations);
     std::filesystem::remove_all(dir);
     state.counters["us_per_step"] = benchmark::Counter(static_cast<double>(steps) * 1e-6,
                                                        benchmark::Counter::kIsIterationInvariantRate |
@@ -154,6 +164,8 @@ public:
             if (run.aggregate_name != "median") continue;
             const auto it = run.counters.find("us_per_step");
             if (it != run.counters.end()) median_us_[run.run_name.function_name] = it->second.value;
+            const auto cpu = run.counters.find("process_cpu_s");
+            if (cpu != run.counters.end()) median_cpu_s_[run.run_name.function_name] = cpu->second.value;
         }
     }
     void print_summary() const {
@@ -179,6 +191,13 @@ public:
         if (outputs != median_us_.end() && none != median_us_.end())
             std::printf("  bass-pop 3 s at 4 MHz: every output %.3f s, no output %.3f s (%.2fx)\n",
                         outputs->second * 12.0, none->second * 12.0, outputs->second / none->second);
+        if (outputs != median_us_.end() && none != median_us_.end() && median_cpu_s_.contains("Outputs/bass-pop-3s")) {
+            // However the output work were spread over this machine's 2 cores, the run would take
+            // at least half its CPU time: the floor on the every-output/no-output ratio today.
+            const double cpu = median_cpu_s_.at("Outputs/bass-pop-3s");
+            std::printf("  %-14s every output: %.3f s CPU in all threads, so at least %.3f s on 2 cores (%.2fx no output)\n",
+                        "", cpu, 0.5 * cpu, 0.5 * cpu / (none->second * 12.0));
+        }
         const auto per_step = median_us_.find("PerStepAudio/bass-pop-3s");
         if (per_step != median_us_.end() && none != median_us_.end())
             std::printf("  %-14s every output, audio resampled from every step: %.3f s (%.2fx no output)\n", "",
@@ -195,6 +214,7 @@ public:
 
 private:
     std::map<std::string, double> median_us_;
+    std::map<std::string, double> median_cpu_s_;
 };
 
 // --- Scaling table ---------------------------------------------------------------------
@@ -327,6 +347,88 @@ long first_contact_step(const Case& c, double fs) {
     return s.step_index();
 }
 
+// The one pass over the modes that a step with contact cannot skip (the step itself, with the
+// points it pushes and the rows the next step predicts, as Stepper's fused pass forms them),
+// timed alone, and the bound it sets on three targets: a string resting on a bridge steps
+// every sample in full (no free flight), and so does a string a finger holds on a fret.
+struct FloorRow {
+    std::string label;
+    Case c;
+    double fs;
+    std::size_t pushes, predicted;  // rows pushed and predicted, from the middle of the string
+    bool pickup;
+};
+
+template <class Wanted>
+void print_floors(int repetitions, const Wanted& wanted) {
+    std::vector<FloorRow> rows;
+    rows.push_back({"tanpura at 8x (the engine's 400 modes, 384 kHz)", with_mode_count(read_case_text("tanpura"), 400),
+                    8 * 48000.0, 1, 1, true});
+    rows.push_back({"sitar bridge, 120 modes, 48 kHz", in_band("sitar", 48000.0, 120), 48000.0, 1, 1, false});
+    {
+        // The pad's points and the fret under it, pushed and predicted at every step.
+        const Case fretted = load_case("bass-fret5-pop");
+        const Plan plan(fretted, 1.0 / 4e6);
+        const Stepper s(plan, fretted.initial_displacement, fretted.initial_velocity);
+        const std::size_t pad = s.fingers().empty() ? 0 : s.fingers().front().pad().size();
+        rows.push_back({"bass-fret5-pop (862 modes, 4 MHz), the finger's " + std::to_string(pad) + "-point pad and its fret",
+                        fretted, 4e6, pad + 1, pad + 1, true});
+    }
+    std::printf("\nFloors: the step's one pass alone, us, medians of %d (of 2000 calls each), and what it bounds\n",
+                repetitions);
+    std::printf("| pass | pushes / predicted rows | CPU | bound |\n|---|---|---|---|\n");
+    for (const FloorRow& row : rows) {
+        if (!wanted(row.label)) continue;
+        const Plan plan(row.c, 1.0 / row.fs);
+        const ModalPropagator& p = plan.propagator();
+        const std::size_t n = plan.mode_count();
+        std::vector<double> q(row.c.initial_displacement.begin(), row.c.initial_displacement.end()), d(n, 0.0);
+        std::vector<const double*> pushed, predicted;
+        std::vector<double> coefficients(row.pushes, 1e-30), forecast(row.predicted, 0.0);
+        for (std::size_t r = 0; r < row.pushes; ++r) pushed.push_back(plan.basis().row(n / 2 + r).data());
+        for (std::size_t r = 0; r < row.predicted; ++r) predicted.push_back(plan.basis().row(n / 2 + r).data());
+        const double* pickup = plan.basis().row(n / 5).data();
+        double observed = 0.0;
+        kernels::StepProducts products;
+        products.predict_rows = predicted.data();
+        products.predict_count = row.predicted;
+        products.predicted = forecast.data();
+        if (row.pickup) {
+            products.observe_row = pickup;
+            products.observed = &observed;
+        }
+        const bool pad = row.predicted > kernels::kMaxRowsPerPass;
+        const double* loss = p.lossless() ? nullptr : p.loss().data();
+        std::vector<double> cpu;
+        constexpr int kCalls = 2000;
+        for (int r = 0; r < repetitions; ++r) {
+            const Timing t = timed([&] {
+                for (int k = 0; k < kCalls; ++k) {
+                    const double losses =
+                        pad ? kernels::advance_with_pad_products(p.decay().data(), p.beta().data(), loss,
+                                                                 coefficients.data(), pushed.data(), row.pushes,
+                                                                 products, q.data(), d.data(), n)
+                            : kernels::advance_with_products(p.decay().data(), p.beta().data(), loss, coefficients.data(),
+                                                             pushed.data(), row.pushes, products, q.data(), d.data(), n);
+                    benchmark::DoNotOptimize(losses);
+                }
+            });
+            cpu.push_back(t.cpu_s * 1e6 / kCalls);
+        }
+        benchmark::DoNotOptimize(observed);
+        const double us = median_of(cpu);
+        char bound[160];
+        if (row.fs > 1e6)  // a fretted pop: its 3 s at 4 MHz, every step this pass
+            std::snprintf(bound, sizeof bound, "3 s: at least %.2f s of passes", us * 1e-6 * row.fs * 3.0);
+        else if (row.pickup)  // the engine: 8 internal steps per host sample
+            std::snprintf(bound, sizeof bound, "at most %.0fx real time", 1.0 / (us * 1e-6 * row.fs));
+        else
+            std::snprintf(bound, sizeof bound, "at least %.4f s per simulated s", us * 1e-6 * row.fs);
+        std::printf("| %s | %zu / %zu | %.3f | %s |\n", row.label.c_str(), row.pushes, row.predicted, us, bound);
+        std::fflush(stdout);
+    }
+}
+
 struct ContactRow {
     std::string label;
     Case c;
@@ -418,6 +520,7 @@ int print_contact_table(int repetitions, const std::string& only) {
         pass("free amplitudes (speed bound), " + size, [&] { plan.propagator().free_amplitudes(q, d, out); });
         pass("one row product, " + size, [&] { out[0] += kernels::dot(plan.basis().row(n / 3).data(), q.data(), n); });
     }
+    print_floors(repetitions, wanted);
     return 0;
 }
 
