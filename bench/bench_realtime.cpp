@@ -137,6 +137,10 @@ void register_all() {
         {"tanpura_M2", {{"tanpura", 0, 0.3}}, 2},
         {"sitar_M2", {{"sitar", 0, 0.3}}, 2},
         {"guitar_chord_6_voices_M2", chord, 2},
+        // 1x: the host rate itself and the modes below its Nyquist frequency (100 and 137): what
+        // a 48 kHz simulation keeps, fastest and farthest from the buzz at 8x (fretbuzz_rate_accuracy).
+        {"tanpura_M1", {{"tanpura", 0, 0.3}}, 1},
+        {"sitar_M1", {{"sitar", 0, 0.3}}, 1},
     };
     const auto add = [](const std::string& name, const std::vector<Voice>& voices, bool flight, int m, Fretting f) {
         benchmark::RegisterBenchmark(name.c_str(), [voices, flight, m, f](benchmark::State& st) {
