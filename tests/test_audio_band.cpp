@@ -5,6 +5,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "TestSupport.hpp"
@@ -13,6 +15,7 @@
 #include "fretbuzz/io/Resampler.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -25,7 +28,7 @@ struct Audio {
     RunSummary summary;
 };
 
-Audio audio_of(const Case& c, bool closed_form, bool free_flight = true) {
+Audio audio_of(const Case& c, bool closed_form, bool free_flight = true, bool audio_thread = true) {
     std::vector<std::filesystem::path> paths(c.observation_points_m.size(), "/dev/null");
     AudioWriter u(paths, c.run.audio_rate_hz), v(paths, c.run.audio_rate_hz, AudioSignal::velocity);
     ResultRecorder recorder;
@@ -33,6 +36,7 @@ Audio audio_of(const Case& c, bool closed_form, bool free_flight = true) {
     RunOptions options;
     options.closed_form_audio = closed_form;
     options.free_flight = free_flight;
+    options.per_step_thread = audio_thread;
     Audio a;
     a.summary = simulate(c, observers, options);
     a.recorded = recorder.take();
@@ -114,6 +118,62 @@ TEST(AudioBand, ClosedFormAudioEqualsTheResampledPerStepSignalOnAPointObstacle) 
     for (double& h : c.obstacle_height_m)
         if (std::isfinite(h)) h -= 1.2e-3;
     expect_same_audio(c, 1e-7, 5e-6);
+}
+
+// The tanpura at 48 kHz with the modes below fs/2 (as `fretbuzz run tanpura --fs 48000` keeps).
+Case tanpura_at_48khz(double seconds) {
+    Case c = with_mode_count(read_case_text("tanpura"), modes_below_nyquist(load_case("tanpura").modes, 48000.0));
+    c.run.sample_rate_hz = 48000.0;
+    c.run.duration_s = seconds;
+    return c;
+}
+
+// The audio files fed on a thread of their own while the string steps: the same calls in the
+// same order, so the same samples bit for bit, with the closed form (band entered and left
+// around contacts) and with a per-step signal only (an audio-rate run, no flight).
+TEST(AudioBand, AudioOnItsOwnThreadIsTheAudioMadeInline) {
+    Case pop = load_case("bass-pop");
+    pop.run.duration_s = 0.25;
+    pop.observation_points_m.push_back(0.3);
+    const Case tanpura = tanpura_at_48khz(0.2);
+    for (const Case* c : {static_cast<const Case*>(&pop), &tanpura}) {
+        const Audio threaded = audio_of(*c, true, true, true), inline_ = audio_of(*c, true, true, false);
+        if (c == &pop) {
+            ASSERT_GT(threaded.summary.free_flight_fraction, 0.5);
+        }
+        ASSERT_EQ(threaded.u.size(), inline_.u.size());
+        for (std::size_t p = 0; p < threaded.u.size(); ++p) {
+            ASSERT_GT(threaded.u[p].size(), 1000u) << c->name;
+            EXPECT_EQ(threaded.u[p], inline_.u[p]) << c->name << " point " << p;
+            EXPECT_EQ(threaded.v[p], inline_.v[p]) << c->name << " point " << p;
+        }
+    }
+}
+
+// An audio file that fails while the run goes on: the failure reaches the caller (and the run
+// stops), as a failed write of the results file does.
+class FailingAudio : public RunObserver {
+public:
+    bool wants_every_step() const override { return true; }
+    bool per_step_only() const override { return true; }
+    void every_step(std::span<const double>, std::span<const double>) override {
+        if (++frames_ == 20000) throw std::runtime_error("audio: the disk is full");
+    }
+
+private:
+    long frames_ = 0;
+};
+
+TEST(AudioBand, AFailureOnTheAudioThreadReachesTheCaller) {
+    const Case c = tanpura_at_48khz(2.0);
+    FailingAudio audio;
+    RunObserver* observers[] = {&audio};
+    try {
+        simulate(c, observers);
+        FAIL() << "the run went on";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "audio: the disk is full");
+    }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "PerStepQueue.hpp"
 #include "fretbuzz/io/Resampler.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 
@@ -12,6 +13,8 @@ namespace fretbuzz {
 namespace {
 // Output samples added to the measured reach: the closed form and the segments overlap a little.
 constexpr long kReachMargin = 2;
+// Output samples per closed-form job on the per-step thread.
+constexpr long kBatchSamples = 4096;
 
 long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
@@ -43,8 +46,10 @@ bool AudioBand::applies(std::span<RunObserver* const> per_step, const ModalPropa
 }
 
 AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
-                     std::span<const std::vector<double>> shapes, bool velocity, long output_stride)
+                     std::span<const std::vector<double>> shapes, bool velocity, long output_stride,
+                     PerStepQueue* queue)
     : observers_(per_step),
+      queue_(queue),
       propagator_(propagator),
       dt_(propagator.dt()),
       head_(head),
@@ -57,6 +62,7 @@ AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagat
     reach_ = r.reach() + kReachMargin;
     reach_steps_ = static_cast<long>(std::ceil(static_cast<double>(reach_) / rate_ / dt_));
     entry_steps_ = 2 * reach_steps_ + input_period_ + output_stride;
+    batch_steps_ = kBatchSamples * input_period_ / std::max(1L, output_period_);
     z_.resize(head);
     std::complex<double> c;
     for (std::size_t j = 0; j < head; ++j) propagator.free_phasor(j, 1.0, 0.0, c, z_[j]);
@@ -118,22 +124,47 @@ void AudioBand::anchor(std::span<const double> q, std::span<const double> d, dou
     }
 }
 
-void AudioBand::flown(long n, bool complete, std::span<const double> q, std::span<const double> d) {
-    if (in_band_) {
-        if (complete) emit(n);
-        return;
-    }
-    if (complete && n - free_since_ >= entry_steps_) enter(n, q, d);
+template <class Job>
+void AudioBand::run(Job&& job) {
+    if (queue_ != nullptr)
+        queue_->post(std::forward<Job>(job));
+    else
+        job();
 }
 
-void AudioBand::enter(long n, std::span<const double> q, std::span<const double> d) {
+void AudioBand::flown(long n, bool complete, std::span<const double> q, std::span<const double> d) {
+    if (in_band_) {
+        if (!complete) return;
+        if (queue_ == nullptr) {
+            emit(n);
+            return;
+        }
+        if (due_step_ < 0) due_since_ = n;
+        due_step_ = n;
+        if (n - due_since_ >= batch_steps_) post_due_samples();
+        return;
+    }
+    if (complete && n - free_since_ >= entry_steps_) {
+        in_band_ = true;
+        run([this, n, q = std::vector<double>(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head_)),
+             d = std::vector<double>(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(head_))] { enter(n, q, d); });
+    }
+}
+
+void AudioBand::post_due_samples() {
+    if (due_step_ < 0) return;
+    const long n = due_step_;
+    due_step_ = -1;
+    run([this, n] { emit(n); });
+}
+
+void AudioBand::enter(long n, const std::vector<double>& q, const std::vector<double>& d) {
     // The last output at or before t_n, less the reach: the segment's outputs up to there never
     // felt its end; the closed form's from there on never feel the stretch's start.
     const long last = floor_div(n * output_period_, input_period_) - reach_;
     for (RunObserver* o : observers_) o->end_segment(last);
     next_sample_ = last + 1;
     anchor(q, d, static_cast<double>(next_sample_) / rate_ - static_cast<double>(n) * dt_, band_, now_);
-    in_band_ = true;
     emit(n);
 }
 
@@ -165,6 +196,14 @@ void AudioBand::emit(long up_to_step) {
 
 void AudioBand::resume(long n, std::span<const double> q, std::span<const double> d) {
     if (!in_band_) return;
+    post_due_samples();
+    in_band_ = false;
+    free_since_ = n;
+    run([this, n, q = std::vector<double>(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head_)),
+         d = std::vector<double>(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(head_))] { regenerate(n, q, d); });
+}
+
+void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vector<double>& d) {
     // A fresh stream from a step on the output grid, 2 reach before n: its outputs are valid
     // from 1 reach after its start, while the closed form's still are.
     const long start = std::max(0L, floor_div(n - 2 * reach_steps_, input_period_) * input_period_);
@@ -185,8 +224,6 @@ void AudioBand::resume(long n, std::span<const double> q, std::span<const double
         for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
         rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
     }
-    in_band_ = false;
-    free_since_ = n;
 }
 
 }  // namespace fretbuzz

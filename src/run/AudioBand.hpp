@@ -20,14 +20,19 @@
 
 namespace fretbuzz {
 
+class PerStepQueue;
+
 class AudioBand {
 public:
     // Whether the per-step observers all take band samples from one kind of resampler, and the
     // modes fed to them during flights (the first `head`) all have a closed form.
     static bool applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
                         long output_stride);
+    // With a queue, the synthesis (and every call to the observers) runs on the queue's thread,
+    // in order; without, here. Which steps are in the band is decided here either way.
     AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
-              std::span<const std::vector<double>> shapes, bool velocity, long output_stride);
+              std::span<const std::vector<double>> shapes, bool velocity, long output_stride,
+              PerStepQueue* queue = nullptr);
 
     // True while the observers want no per-step frames.
     bool in_band() const { return in_band_; }
@@ -42,13 +47,20 @@ private:
     struct Phasors {  // one complex value per mode, split into parts (vectorises)
         std::vector<double> re, im;
     };
-    void enter(long n, std::span<const double> q, std::span<const double> d);
+    // The synthesis: entering the band at step n, its samples up to a step, and the per-step
+    // frames regenerated up to step n on leaving it. q and d hold the first head_ modes.
+    void enter(long n, const std::vector<double>& q, const std::vector<double>& d);
     void emit(long up_to_step);
+    void regenerate(long n, const std::vector<double>& q, const std::vector<double>& d);
+    template <class Job>
+    void run(Job&& job);
+    void post_due_samples();  // with a queue: the samples flights have made due, as one job
     // c_j e^{z_j (t - t_n)} for the first `count` modes, from the state at step n.
     void anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
                 Phasors& out) const;
 
     std::span<RunObserver* const> observers_;
+    PerStepQueue* queue_;
     const ModalPropagator& propagator_;
     double dt_, rate_;
     long input_period_, output_period_;  // steps and output samples spanning the same time
@@ -65,9 +77,12 @@ private:
     Phasors difference_;                  // (1 - e^{-z dt}) / dt: velocity of the per-step signal
     Phasors gain_u_, gain_v_;             // points x band: shape x gain (x difference)
     Phasors now_;                         // the closed form at sample next_sample_
-    bool in_band_ = false;
+    bool in_band_ = false;  // (the decisions: read and written by the run's thread only)
     long free_since_ = 0;
-    long next_sample_ = 0;
+    long next_sample_ = 0;  // (the synthesis' state: touched by its jobs only)
+    // With a queue, a flight's samples (one output interval) are gathered into one job per
+    // batch_steps_: a job per interval would cost more in waking the thread than it saves.
+    long due_step_ = -1, due_since_ = 0, batch_steps_ = 0;
     std::vector<double> u_, v_;
 };
 

@@ -117,6 +117,7 @@ RunSummary RunLoop::run() {
     }
     // The last segment ends at the run's end, as a single stream would.
     if (band_) band_->resume(n_, stepper_.modal_displacement(), stepper_.modal_difference());
+    if (per_step_queue_) per_step_queue_->drain();
     // The summary's final energy is the state's at the last step, whatever the output rate.
     if (n_ > 0 && audited_step_ != n_) audit_energy();
     finish_summary();
@@ -137,6 +138,8 @@ void RunLoop::connect_observers() {
         }
     }
     step_v_.resize(velocity_wanted_ ? shapes_.size() : 0);
+    if (options_.per_step_thread && !case_.two_polarisations() && PerStepQueue::applies(per_step_))
+        per_step_queue_.emplace(per_step_, shapes_.size(), velocity_wanted_);
     // The output rows' products, formed by each flight's closing jump (only when someone reads them).
     if (!observers_.empty()) stepper_.observe_rows(row_rows_);
     // One probe read every step (the usual pickup): the step's own pass forms it.
@@ -159,7 +162,8 @@ void RunLoop::plan_free_flight() {
     flight_.emplace(plan_.propagator(), layout_.output_stride);
     // The band synthesises z only: with a second polarisation, y's audio comes from per-step rows.
     if (options_.closed_form_audio && case_.polarisation.count == 1 && AudioBand::applies(per_step_, plan_.propagator(), head_, layout_.output_stride))
-        band_.emplace(per_step_, plan_.propagator(), head_, shapes_, velocity_wanted_, layout_.output_stride);
+        band_.emplace(per_step_, plan_.propagator(), head_, shapes_, velocity_wanted_, layout_.output_stride,
+                      per_step_queue_ ? &*per_step_queue_ : nullptr);
 }
 
 long RunLoop::fly() {
@@ -238,7 +242,14 @@ void RunLoop::report_step() {
         for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
     step_u_at_ = n_;
     for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
-    for (RunObserver* o : per_step_) o->every_step(step_u_, step_v_);
+    deliver_frame(step_u_, step_v_);
+}
+
+void RunLoop::deliver_frame(std::span<const double> u, std::span<const double> v) {
+    if (per_step_queue_)
+        per_step_queue_->frame(u, v);
+    else
+        for (RunObserver* o : per_step_) o->every_step(u, v);
 }
 
 void RunLoop::report_flight(long flown) {
@@ -271,7 +282,7 @@ void RunLoop::report_flight_rows(long flown) {
             velocity_wanted_ ? std::span<const double>(flight_v_.data() + row, width) : std::span<const double>();
         if (const SecondPolarisation* y = stepper_.second_polarisation())
             for (RunObserver* o : per_step_) o->every_step_y(std::span<const double>(y->flight_rows().data() + row, width));
-        for (RunObserver* o : per_step_) o->every_step(row_u, row_v);
+        deliver_frame(row_u, row_v);
     }
 }
 

@@ -9,6 +9,7 @@
 
 #include "AudioBand.hpp"
 #include "EnergyAudit.hpp"
+#include "PerStepQueue.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -35,6 +36,7 @@ private:
     void after_step();
     void report_observation();
     void report_step();
+    void deliver_frame(std::span<const double> u, std::span<const double> v);  // to the per-step observers
     void report_flight(long flown);
     void report_flight_rows(long flown);
     void report_snapshots();
@@ -75,6 +77,8 @@ private:
     std::size_t head_ = 0;  // modes stepped one by one during free flight
     std::size_t check_head_ = 0;  // the same while the audio band is written in closed form
     std::optional<AudioBand> band_;
+    // After band_ (destroyed before it: its thread runs the band's jobs).
+    std::optional<PerStepQueue> per_step_queue_;
 
     EnergyAudit audit_;
     long audited_step_ = -1;

@@ -51,6 +51,7 @@ public:
 
     void begin(const RunLayout& layout) override;
     bool wants_every_step() const override { return true; }
+    bool per_step_only() const override { return true; }
     // While no contact is possible the run may feed only the modes below 0.6 x the audio
     // rate (the resampler removes the others anyway). Switching the out-of-band modes off
     // and on at the edges of those stretches leaves a trace of about -110 dB relative to

@@ -95,6 +95,9 @@ public:
     // Observers that return true receive u at every observation point at every time step
     // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
     virtual bool wants_every_step() const { return false; }
+    // True if it receives nothing but per-step calls (every_step ... band_samples) between
+    // begin() and finish(): the run may then make those calls from a thread of their own.
+    virtual bool per_step_only() const { return false; }
     virtual bool wants_velocity() const { return false; }
     // Per-step signals may be band-limited to the modes below this frequency during
     // stretches where no contact is possible (lets the run jump over them); 0: never.

@@ -1,0 +1,57 @@
+#include "PerStepQueue.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace fretbuzz {
+
+namespace {
+// Frames per batch: few jobs (each a lock and a wake-up), little memory (a few hundred kB).
+constexpr std::size_t kBatchFrames = 8192;
+}  // namespace
+
+bool PerStepQueue::applies(std::span<RunObserver* const> per_step) {
+    return !per_step.empty() &&
+           std::all_of(per_step.begin(), per_step.end(), [](const RunObserver* o) { return o->per_step_only(); });
+}
+
+PerStepQueue::PerStepQueue(std::span<RunObserver* const> per_step, std::size_t points, bool velocity)
+    : observers_(per_step), points_(points), velocity_(velocity) {
+    u_.reserve(kBatchFrames * points_);
+    if (velocity_) v_.reserve(kBatchFrames * points_);
+}
+
+void PerStepQueue::frame(std::span<const double> u, std::span<const double> velocity) {
+    u_.insert(u_.end(), u.begin(), u.end());
+    if (velocity_) v_.insert(v_.end(), velocity.begin(), velocity.end());
+    if (u_.size() >= kBatchFrames * points_) flush();
+}
+
+void PerStepQueue::flush() {
+    if (u_.empty()) return;
+    queue_.post([observers = observers_, points = points_, u = std::move(u_), v = std::move(v_)] {
+        const std::size_t frames = u.size() / points;
+        for (std::size_t k = 0; k < frames; ++k) {
+            const std::span<const double> frame_u(u.data() + k * points, points);
+            const std::span<const double> frame_v =
+                v.empty() ? std::span<const double>() : std::span<const double>(v.data() + k * points, points);
+            for (RunObserver* o : observers) o->every_step(frame_u, frame_v);
+        }
+    });
+    u_ = {};
+    v_ = {};
+    u_.reserve(kBatchFrames * points_);
+    if (velocity_) v_.reserve(kBatchFrames * points_);
+}
+
+void PerStepQueue::post(std::function<void()> job) {
+    flush();
+    queue_.post(std::move(job));
+}
+
+void PerStepQueue::drain() {
+    flush();
+    queue_.drain();
+}
+
+}  // namespace fretbuzz
