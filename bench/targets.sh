@@ -60,6 +60,15 @@ heading "Real time: tanpura and sitar >= 50x, bass fret 5 >= 10x, worst 256-samp
     "fretbuzz_bench_realtime --benchmark_filter='^(tanpura|sitar|bass_fret5)/(engine|stopped_string)'"
 "$realtime" --benchmark_filter='^(tanpura|sitar|bass_fret5)/(engine|stopped_string)' "$plain"
 
+heading "Floors: one step's pass alone for a fretted pop (the 2x target) and a voice at 8x (the 50x target)" \
+    "fretbuzz_bench --contact $reps finger; fretbuzz_bench --contact $reps \"x (the\""
+"$bench" --contact "$reps" finger
+"$bench" --contact "$reps" "x (the"
+
+heading "Real time: tanpura and sitar at 1x (the modes below 24 kHz)" \
+    "fretbuzz_bench_realtime --benchmark_filter='^(tanpura|sitar)_M1/engine'"
+"$realtime" --benchmark_filter='^(tanpura|sitar)_M1/engine' "$plain"
+
 heading "Real time: six voices (a guitar chord) in real time on one core" \
     "fretbuzz_bench_realtime --benchmark_filter='^guitar_chord_6_voices(_M4)?/(engine|stopped_string)'"
 "$realtime" --benchmark_filter='^guitar_chord_6_voices(_M4)?/(engine|stopped_string)' "$plain"
