@@ -62,7 +62,8 @@ AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagat
     reach_ = r.reach() + kReachMargin;
     reach_steps_ = static_cast<long>(std::ceil(static_cast<double>(reach_) / rate_ / dt_));
     entry_steps_ = 2 * reach_steps_ + input_period_ + output_stride;
-    batch_steps_ = kBatchSamples * input_period_ / std::max(1L, output_period_);
+    // Inline (no queue), each flight's samples at once, as before there was a queue.
+    batch_steps_ = queue_ != nullptr ? kBatchSamples * input_period_ / std::max(1L, output_period_) : 0;
     z_.resize(head);
     std::complex<double> c;
     for (std::size_t j = 0; j < head; ++j) propagator.free_phasor(j, 1.0, 0.0, c, z_[j]);
@@ -124,6 +125,10 @@ void AudioBand::anchor(std::span<const double> q, std::span<const double> d, dou
     }
 }
 
+std::vector<double> AudioBand::head_of(std::span<const double> x) const {
+    return {x.begin(), x.begin() + static_cast<std::ptrdiff_t>(head_)};
+}
+
 template <class Job>
 void AudioBand::run(Job&& job) {
     if (queue_ != nullptr)
@@ -135,10 +140,6 @@ void AudioBand::run(Job&& job) {
 void AudioBand::flown(long n, bool complete, std::span<const double> q, std::span<const double> d) {
     if (in_band_) {
         if (!complete) return;
-        if (queue_ == nullptr) {
-            emit(n);
-            return;
-        }
         if (due_step_ < 0) due_since_ = n;
         due_step_ = n;
         if (n - due_since_ >= batch_steps_) post_due_samples();
@@ -146,8 +147,7 @@ void AudioBand::flown(long n, bool complete, std::span<const double> q, std::spa
     }
     if (complete && n - free_since_ >= entry_steps_) {
         in_band_ = true;
-        run([this, n, q = std::vector<double>(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head_)),
-             d = std::vector<double>(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(head_))] { enter(n, q, d); });
+        run([this, n, q = head_of(q), d = head_of(d)] { enter(n, q, d); });
     }
 }
 
@@ -199,8 +199,7 @@ void AudioBand::resume(long n, std::span<const double> q, std::span<const double
     post_due_samples();
     in_band_ = false;
     free_since_ = n;
-    run([this, n, q = std::vector<double>(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head_)),
-         d = std::vector<double>(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(head_))] { regenerate(n, q, d); });
+    run([this, n, q = head_of(q), d = head_of(d)] { regenerate(n, q, d); });
 }
 
 void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vector<double>& d) {

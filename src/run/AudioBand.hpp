@@ -54,7 +54,8 @@ private:
     void regenerate(long n, const std::vector<double>& q, const std::vector<double>& d);
     template <class Job>
     void run(Job&& job);
-    void post_due_samples();  // with a queue: the samples flights have made due, as one job
+    void post_due_samples();  // the samples flights have made due, as one job
+    std::vector<double> head_of(std::span<const double> x) const;  // the first head_ values: what a job keeps of q or d
     // c_j e^{z_j (t - t_n)} for the first `count` modes, from the state at step n.
     void anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
                 Phasors& out) const;
@@ -81,7 +82,8 @@ private:
     long free_since_ = 0;
     long next_sample_ = 0;  // (the synthesis' state: touched by its jobs only)
     // With a queue, a flight's samples (one output interval) are gathered into one job per
-    // batch_steps_: a job per interval would cost more in waking the thread than it saves.
+    // batch_steps_ (0 inline: each flight's at once): a job per interval would cost more in
+    // waking the thread than it saves.
     long due_step_ = -1, due_since_ = 0, batch_steps_ = 0;
     std::vector<double> u_, v_;
 };
