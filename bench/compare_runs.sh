@@ -25,13 +25,18 @@ for path in sorted(old.glob("*.csv")):
     if len(rows_old) != len(rows_new) or rows_old[0] != rows_new[0]:
         print(f"{what}: {path.name}: different shapes")
         sys.exit(1)
+    columns = {column: [float(r[c]) for r in rows_old[1:]] for c, column in enumerate(rows_old[0])}
+    largest = max(math.sqrt(sum(v * v for v in x)) for name, x in columns.items() if not name.startswith("t_"))
     for c, column in enumerate(rows_old[0]):
         if column.startswith("t_"):
             continue
-        x = [float(r[c]) for r in rows_old[1:]]
+        x = columns[column]
         y = [float(r[c]) for r in rows_new[1:]]
         norm = math.sqrt(sum(v * v for v in x))
         diff = math.sqrt(sum((u - v) ** 2 for u, v in zip(x, y)))
+        if norm < 1e-9 * largest:  # a quantity that is zero but for round-off (a lossless run's losses)
+            print(f"  {path.name:24s} {column:28s} zero but for round-off (norm {norm:.1e}): left out")
+            continue
         rel = diff / norm if norm > 0 else diff
         worst = max(worst, rel)
         print(f"  {path.name:24s} {column:28s} {rel:.3e}")
@@ -45,5 +50,5 @@ for fs in 48000 native; do
     run_case tanpura $rate --duration 1
     run_case sitar $rate --duration 1
     run_case bass-pop $rate --duration 0.2
-    run_case flat-obstacle $rate --duration 0.01
+    run_case flat-obstacle $rate --duration 1  # its first contact is at 0.75 s
 done

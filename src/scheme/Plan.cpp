@@ -104,12 +104,16 @@ ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool
 }
 
 std::size_t Plan::default_transform_threshold(std::size_t modes, double transform_flops) {
-    // One row product is N multiply-adds at about 8 a cycle (8 partial sums, AVX2); FFTW
-    // runs about 4x fewer operations a cycle, whatever the factors of N + 1 (measured: N =
-    // 999, 3.4e4 planned operations, 7-12 us; N = 862, N + 1 prime, 2.0e5, 75-100 us;
-    // N = 1600, 2.3e5, 110 us; one row of 1000, 0.1 us). So a transform costs about
-    // 2 x planned operations / N rows. FFTW's estimate, not a timing: runs stay reproducible.
-    const double rows = 2.0 * transform_flops / static_cast<double>(modes);
+    // One row product is N multiply-adds at about 8 a cycle (8 partial sums, AVX2: 0.11 us
+    // for N = 999). The sine transform (a real DFT of 2(N + 1) points) runs about 3800 of
+    // FFTW's estimated cost units a microsecond, whatever the factors of N + 1 (measured:
+    // N = 999, 1.3e4 units, 3.2 us; N = 862, N + 1 prime, 9.4e4, 16 us; N = 1600, 8.1e4,
+    // 24 us): alone, it costs about 2.5 x units / N rows. A step through it also pays a
+    // pass over the modes and the copies into the transform, while rows let most due points
+    // go back to sleep on their low modes; whole runs (flat obstacle, 400 kHz) were fastest
+    // with the switch at 192-256 points for N = 1600 and 3200, where 2.5 put it at 126 and
+    // 148: hence 4. FFTW's estimate, not a timing: runs stay reproducible.
+    const double rows = 4.0 * transform_flops / static_cast<double>(modes);
     const std::size_t most = std::max<std::size_t>(16, modes / 2);
     if (!std::isfinite(rows)) return most;
     return std::clamp<std::size_t>(static_cast<std::size_t>(rows), 16, most);

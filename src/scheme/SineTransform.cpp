@@ -18,6 +18,8 @@ std::mutex& fftw_planner_mutex() {
     return mutex;
 }
 
+std::size_t SineTransform::extended_length(std::size_t n) { return 2 * (n + 1); }
+
 namespace {
 // One plan per length and kind for the whole process: every SineTransform of that length
 // executes it on its own buffer (FFTW's new-array execution; fftw_alloc_real aligns them all
@@ -66,32 +68,44 @@ std::size_t fftw_plans_made() {
 
 SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
     std::lock_guard lock(fftw_planner_mutex());
-    buffer_ = fftw_alloc_real(n);
-    if (buffer_ == nullptr) throw std::bad_alloc();
+    const std::size_t m = extended_length(n);
+    input_ = fftw_alloc_real(m);
+    spectrum_ = fftw_alloc_complex(m / 2 + 1);
+    if (input_ == nullptr || spectrum_ == nullptr) {
+        release();
+        throw std::bad_alloc();
+    }
     fftw_plan& plan = plans()[{n, measure}];
     if (plan == nullptr) {
         import_wisdom_once();
-        // Measuring overwrites the array it plans on: a scratch one, not this transform's.
-        double* scratch = fftw_alloc_real(n);
-        if (scratch != nullptr) {
-            plan = fftw_plan_r2r_1d(static_cast<int>(n), scratch, scratch, FFTW_RODFT00,
-                                    measure ? FFTW_MEASURE : FFTW_ESTIMATE);
-            fftw_free(scratch);
-        }
+        // Measuring overwrites the arrays it plans on: scratch ones, not this transform's.
+        double* scratch = fftw_alloc_real(m);
+        fftw_complex* scratch_spectrum = fftw_alloc_complex(m / 2 + 1);
+        if (scratch != nullptr && scratch_spectrum != nullptr)
+            plan = fftw_plan_dft_r2c_1d(static_cast<int>(m), scratch, scratch_spectrum,
+                                        measure ? FFTW_MEASURE : FFTW_ESTIMATE);
+        fftw_free(scratch);
+        fftw_free(scratch_spectrum);
         if (plan == nullptr) {
             plans().erase({n, measure});
-            fftw_free(buffer_);
+            release();
             throw std::runtime_error("FFTW could not plan a sine transform of length " + std::to_string(n));
         }
         if (measure) export_wisdom();
     }
     plan_ = plan;
-    std::fill(buffer_, buffer_ + n, 0.0);
+    // The odd extension's two zeros (positions 0 and n + 1) are never written again.
+    std::fill(input_, input_ + m, 0.0);
+}
+
+void SineTransform::release() {
+    fftw_free(input_);
+    fftw_free(spectrum_);
 }
 
 SineTransform::~SineTransform() {
     std::lock_guard lock(fftw_planner_mutex());
-    fftw_free(buffer_);
+    release();
 }
 
 double SineTransform::planned_flops() const {
@@ -100,9 +114,17 @@ double SineTransform::planned_flops() const {
 }
 
 void SineTransform::apply(std::span<const double> input, std::span<double> output, double scale) const {
-    std::copy(input.begin(), input.end(), buffer_);
-    fftw_execute_r2r(static_cast<fftw_plan>(plan_), buffer_, buffer_);
-    std::transform(buffer_, buffer_ + n_, output.begin(), [scale](double y) { return scale * y; });
+    // The odd extension 0, x_0 .. x_{n-1}, 0, -x_{n-1} .. -x_0 of length m = 2(n + 1) has the
+    // spectrum X_k = -2i sum_j x_j sin(pi (j + 1) k / (n + 1)): the transform is -Im X_{k+1}.
+    const std::size_t m = extended_length(n_);
+    for (std::size_t j = 0; j < n_; ++j) {
+        input_[j + 1] = input[j];
+        input_[m - 1 - j] = -input[j];
+    }
+    auto* spectrum = static_cast<fftw_complex*>(spectrum_);
+    fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_), input_, spectrum);
+    const double negated = -scale;
+    for (std::size_t k = 0; k < n_; ++k) output[k] = negated * spectrum[k + 1][1];
 }
 
 }  // namespace fretbuzz

@@ -15,6 +15,7 @@
 #include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/SineTransform.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -205,6 +206,22 @@ TEST(RealtimeEngine, AudioPathNeverAllocates) {
         engine.process(std::span<float>(block).first(256));
     }
     EXPECT_EQ(testing::allocations() - before, 0);
+}
+
+TEST(RealtimeEngine, SineTransformsNeverAllocate) {
+    // A fretboard or a flat obstacle with many points due moves the state to the grid and
+    // back by sine transforms inside a block: they run in buffers planned ahead.
+    for (std::size_t n : {399UL, 862UL, 999UL}) {
+        const SineTransform transform(n);
+        std::vector<double> x(n, 1.0), y(n);
+        const long before = testing::allocations();
+        {
+            const testing::Counting counting;
+            for (int k = 0; k < 3; ++k) transform.apply(x, y, 1.0);
+        }
+        EXPECT_EQ(testing::allocations() - before, 0) << "n = " << n;
+        EXPECT_TRUE(std::isfinite(y[n / 2]));
+    }
 }
 
 TEST(RealtimeEngine, FuzzedEventsStayFiniteAndNeverAllocate) {

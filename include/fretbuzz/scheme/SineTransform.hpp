@@ -2,6 +2,9 @@
 // The type-I discrete sine transform that maps modal coordinates to the string
 // shape on the grid and back (u = S q, q = dx S^T u). FFTW plans once per process for
 // each length (later transforms of that length share the plan); apply() is the cheap part.
+// It runs as the real DFT of the odd extension (length 2(n + 1)) into buffers kept with
+// the transform: FFTW's own RODFT00 allocates that extension at every call and uses no
+// SIMD for it (N = 999: 5.9 us against 2.7 us here, the same accuracy).
 // Measured plans (measure = true) keep FFTW's wisdom in a cache file across processes.
 #include <cstddef>
 #include <filesystem>
@@ -22,7 +25,7 @@ std::size_t fftw_plans_made();
 
 class SineTransform {
 public:
-    // Plans an unnormalised RODFT00 of length n: y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)).
+    // Plans an unnormalised type-I sine transform (FFTW's RODFT00) of length n: y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)).
     // measure = true lets FFTW time candidate algorithms (slower to plan, faster to run; the
     // wisdom cache makes that a one-off per machine).
     explicit SineTransform(std::size_t n, bool measure = false);
@@ -31,16 +34,22 @@ public:
     SineTransform& operator=(const SineTransform&) = delete;
 
     std::size_t size() const { return n_; }
-    // FFTW's own estimate of the plan's floating-point operations (deterministic for a
-    // given FFTW and length): what a cost model compares against row products.
+    // FFTW's own cost estimate of the plan (fftw_estimate_cost: deterministic for a given
+    // FFTW and length): what a cost model compares against row products.
     double planned_flops() const;
     // output[k] = scale * RODFT00(input)[k]; input and output may be the same span.
     void apply(std::span<const double> input, std::span<double> output, double scale) const;
 
+    // Length of the real DFT it runs: 2(n + 1).
+    static std::size_t extended_length(std::size_t n);
+
 private:
+    void release();
+
     std::size_t n_;
-    double* buffer_;
-    void* plan_;
+    double* input_ = nullptr;    // the odd extension, 2(n + 1) reals
+    void* spectrum_ = nullptr;   // its n + 2 complex coefficients (fftw_complex)
+    void* plan_ = nullptr;
 };
 
 }  // namespace fretbuzz
