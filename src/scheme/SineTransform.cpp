@@ -94,7 +94,6 @@ SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
         if (measure) export_wisdom();
     }
     plan_ = plan;
-    // The odd extension's two zeros (positions 0 and n + 1) are never written again.
     std::fill(input_, input_ + m, 0.0);
 }
 
@@ -117,6 +116,7 @@ void SineTransform::apply(std::span<const double> input, std::span<double> outpu
     // The odd extension 0, x_0 .. x_{n-1}, 0, -x_{n-1} .. -x_0 of length m = 2(n + 1) has the
     // spectrum X_k = -2i sum_j x_j sin(pi (j + 1) k / (n + 1)): the transform is -Im X_{k+1}.
     const std::size_t m = extended_length(n_);
+    input_[0] = input_[n_ + 1] = 0.0;  // written every call: nothing relies on FFTW preserving its input
     for (std::size_t j = 0; j < n_; ++j) {
         input_[j + 1] = input[j];
         input_[m - 1 - j] = -input[j];
