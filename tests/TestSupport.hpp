@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::testing {
 
@@ -21,6 +23,15 @@ inline double relative_l2(const std::vector<double>& a, const std::vector<double
         norm += b[k] * b[k];
     }
     return std::sqrt(diff / norm);
+}
+
+// A built-in case at the sampling rate fs with only its modes below fs/2 (as `fretbuzz run
+// NAME --fs FS` keeps them), for the given duration.
+inline Case builtin_at_rate(const std::string& name, double fs, double duration_s) {
+    Case c = with_mode_count(read_case_text(name), modes_below_nyquist(load_case(name).modes, fs));
+    c.run.sample_rate_hz = fs;
+    c.run.duration_s = duration_s;
+    return c;
 }
 
 struct CommandResult {

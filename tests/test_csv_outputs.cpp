@@ -17,7 +17,6 @@
 #include "fretbuzz/io/CsvTable.hpp"
 #include "fretbuzz/io/CsvWriters.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -25,13 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The sitar at 48 kHz with its modes below fs/2: a row every step, with a bridge force.
-Case sitar_at_48k(double duration_s) {
-    const double fs = 48000.0;
-    Case c = with_mode_count(read_case_text("sitar"), modes_below_nyquist(load_case("sitar").modes, fs));
-    c.run.sample_rate_hz = fs;
-    c.run.duration_s = duration_s;
-    return c;
-}
+Case sitar_at_48k(double duration_s) { return testing::builtin_at_rate("sitar", 48000.0, duration_s); }
 
 // What each CSV gets, formatted on the spot, row after row: the straightforward path.
 class RowsInOrder : public RunObserver {

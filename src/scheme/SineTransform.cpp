@@ -2,7 +2,6 @@
 
 #include <fftw3.h>
 
-#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -94,7 +93,6 @@ SineTransform::SineTransform(std::size_t n, bool measure) : n_(n) {
         if (measure) export_wisdom();
     }
     plan_ = plan;
-    std::fill(input_, input_ + m, 0.0);
 }
 
 void SineTransform::release() {

@@ -468,7 +468,7 @@ void Stepper::solve_contacts() {
     psi_curr_ = psi;
     stats_.max_newton_iterations = most_iterations;
     touched_obstacle_ = touched;
-    if (touched_obstacle_) ++stats_.contact_steps;
+    if (touched) ++stats_.contact_steps;
 }
 
 void Stepper::predict_points(std::span<const std::size_t> points) {
