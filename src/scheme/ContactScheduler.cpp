@@ -105,6 +105,29 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
         reach += push * w.reach;
         tail += push * w.tail;
     }
+    grow_bounds(speed, reach, tail, q, d);
+}
+
+void ContactScheduler::pushed(std::span<const double> q, std::span<const double> d, std::span<const double> impulse) {
+    unpark();  // the envelope was the old motion's
+    if (queue_.empty()) {
+        stale_ = true;
+        return;
+    }
+    const std::size_t n = impulse.size(), head = std::min(kHeadModes, n);
+    if (stale_ || head_ != head) {
+        update_speed(q, d);
+        return;
+    }
+    double reach_head = 0.0, speed_head = 0.0, tail = 0.0, speed_tail = 0.0;
+    kernels::weighted_abs_sums(push_reach_.data(), push_speed_.data(), impulse.data(), head, reach_head, speed_head);
+    kernels::weighted_abs_sums(push_reach_.data() + head, push_speed_.data() + head, impulse.data() + head, n - head,
+                               tail, speed_tail);
+    grow_bounds(speed_head + speed_tail, reach_head + tail, tail, q, d);
+}
+
+void ContactScheduler::grow_bounds(double speed, double reach, double tail, std::span<const double> q,
+                                   std::span<const double> d) {
     speed_ += norm_ * speed * (1.0 + kSlack);
     slack_ += kSlack * norm_ * reach;
     tail_ += norm_ * tail * (1.0 + kSlack);

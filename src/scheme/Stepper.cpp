@@ -258,8 +258,12 @@ void Stepper::step() {
             scheduler_.motion_changed(q_, d_);  // the modes have decayed: a tighter bound
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
         } else if (!forces_.empty()) {
-            // the motion from here on is a new free motion
-            scheduler_.pushed(q_, d_, forces_, plan_.impulse_scale());
+            // the motion from here on is a new free motion; where apply_impulse projected the
+            // forces onto the modes, the bounds grow by that impulse (no point's weight needed)
+            if (plan_.pushes_inline(forces_.size()))
+                scheduler_.pushed(q_, d_, forces_, plan_.impulse_scale());
+            else
+                scheduler_.pushed(q_, d_, impulse_);
         }
         put_points_to_sleep();
     }

@@ -50,6 +50,10 @@ public:
     // full once the speed bound has grown by a quarter (a loose bound wakes points early).
     void pushed(std::span<const double> q, std::span<const double> d,
                 std::span<const std::pair<std::size_t, double>> forces, double scale);
+    // The same with the impulse iota itself (many points, projected onto the modes in one go):
+    // the bounds grow by sum_j |iota_j| R_j(1, 1) (times omega_j for the speed), one pass and no
+    // point's weight, and tighter than the sum over points.
+    void pushed(std::span<const double> q, std::span<const double> d, std::span<const double> impulse);
     // As refresh, and also brings the per-mode amplitudes up to date (a change of head needs them).
     void refresh_amplitudes(std::span<const double> q, std::span<const double> d) {
         if (stale_ || amplitudes_behind_) update_speed(q, d);
@@ -110,6 +114,8 @@ private:
     bool amplitudes_behind_ = false;   // impulses since then are in the bounds, not in amplitude_
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
+    // Common end of both pushed: the growths of the bounds (before the slack) added.
+    void grow_bounds(double speed, double reach, double tail, std::span<const double> q, std::span<const double> d);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
     // Parking: the points and their envelope E_i, the amplitudes the parked points were tested
     // with (elementwise smallest: later amplitudes must stay within them), and which amplitudes
