@@ -148,6 +148,11 @@ void expect_the_separate_passes(StepWithProducts step, std::mt19937_64& random, 
                     products.predicted = predicted.data();
                     products.observe_row = observe;
                     products.observed = &observed;
+                    // The modal energy of q^{n+1} in the pass too, in every other case (each
+                    // count with and without it, over the pickup's two cases).
+                    double energy = -1.0;
+                    const bool with_energy = (count + (observe != nullptr ? 1 : 0)) % 2 == 1;
+                    if (with_energy) products.energy = &energy;
                     const double fused = step(data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(),
                                               pushes, products, q2.data(), d2.data(), n);
                     for (std::size_t r = 0; r < count; ++r)
@@ -163,6 +168,11 @@ void expect_the_separate_passes(StepWithProducts step, std::mt19937_64& random, 
                     ASSERT_TRUE(same_bits(predicted, read)) << where;
                     if (observe != nullptr) {
                         ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
+                    }
+                    if (with_energy) {
+                        const double separate_energy =
+                            kernels::modal_energy(data.e.data(), data.beta.data(), q1.data(), d1.data(), n);
+                        ASSERT_TRUE(same_bits({energy}, {separate_energy})) << where << " energy";
                     }
                 }
             }

@@ -144,6 +144,8 @@ void RunLoop::connect_observers() {
     if (!observers_.empty()) stepper_.observe_rows(row_rows_);
     // One probe read every step (the usual pickup): the step's own pass forms it.
     if (!per_step_.empty() && shapes_.size() == 1) stepper_.observe(shapes_[0]);
+    // The energy balance is audited at every output row, outputs or not (report_output).
+    stepper_.audit_every(layout_.output_stride);
 }
 
 void RunLoop::plan_free_flight() {

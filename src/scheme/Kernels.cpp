@@ -308,11 +308,17 @@ FRETBUZZ_MULTIVERSION double advance_pushes(const double* e, const double* beta,
 }
 
 namespace {
+// One mode's term of modal_energy, the same expression in every kernel that forms it.
+template <class T>
+FRETBUZZ_INLINE T energy_term(const T& e, const T& beta, const T& q, const T& d) {
+    return 0.5 * (1.0 + e) * d * d + beta * q * (q - d);
+}
+
 // advance_variant with, in the same pass, the products of q^{n+1} that the next step and the
 // caller read: P rows with the next step's free prediction (formed from q^{n+1} and
 // q^{n+1} - q^n as predict_dot forms it from memory) and O rows with q^{n+1} itself (as dot).
 // Each sum has the lanes, the order and the multiply-adds of predict_dot's or dot's.
-template <Push Pushed, bool Lossy, std::size_t P, std::size_t O, std::size_t M>
+template <Push Pushed, bool Lossy, std::size_t P, std::size_t O, std::size_t M, bool E>
 FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double* __restrict beta,
                                         const double* __restrict loss, double c, const double* row,
                                         const double* coefficients, const double* const* rows, std::size_t m,
@@ -327,6 +333,8 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
     v4 lo[kSize], hi[kSize];
     for (std::size_t r = 0; r < R; ++r) lo[r] = hi[r] = v4{};
     v4 partial_lo{}, partial_hi{};
+    v4 energy_lo{}, energy_hi{};  // modal_energy's lanes (E: a template argument, so that the
+                                  // passes without it compile as before, to the last bit)
     std::size_t j = 0;
     for (; j + kLanes <= n; j += kLanes) {
         for (std::size_t h = 0; h < kLanes; h += 4) {
@@ -337,6 +345,7 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
             const v4 q_next = qk + next;
             store(q + k, q_next);
             store(d + k, next);
+            if constexpr (E) (h == 0 ? energy_lo : energy_hi) += energy_term(ek, bk, q_next, next);
             if constexpr (P != 0) {
                 const v4 x = predicted(ek, bk, q_next, next);
                 for (std::size_t r = 0; r < P; ++r) (h == 0 ? lo : hi)[r] += load(out_rows[r] + k) * x;
@@ -359,49 +368,55 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
                 tail[r] += out_rows[r][k] * y;
         }
     };
+    [[maybe_unused]] const std::size_t rest = j;
     for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
     for (; j < n; ++j) one(j, false);
     for (std::size_t r = 0; r < P; ++r) products.predicted[r] = fold(tail[r], lo[r], hi[r]);
     if constexpr (O == 1) *products.observed = fold(tail[P], lo[P], hi[P]);
+    if constexpr (E) {  // the remainder as modal_energy sums it
+        double energy = 0.0;
+        for (std::size_t k = rest; k < n; ++k) energy += energy_term(e[k], beta[k], q[k], d[k]);
+        *products.energy = fold(energy, energy_lo, energy_hi);
+    }
     return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
 }
 
-template <Push Pushed, std::size_t P, std::size_t O, std::size_t M = 1>
+template <Push Pushed, std::size_t P, std::size_t O, bool E, std::size_t M = 1>
 FRETBUZZ_INLINE double advance_products_lossy(const double* e, const double* beta, const double* loss, double c,
                                               const double* row, const double* coefficients, const double* const* rows,
                                               std::size_t m, const StepProducts& products, double* q, double* d,
                                               std::size_t n) {
     return loss != nullptr
-               ? advance_products<Pushed, true, P, O, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n)
-               : advance_products<Pushed, false, P, O, M>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n);
+               ? advance_products<Pushed, true, P, O, M, E>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n)
+               : advance_products<Pushed, false, P, O, M, E>(e, beta, loss, c, row, coefficients, rows, m, products, q, d, n);
 }
 
-template <std::size_t P, std::size_t O>
+template <std::size_t P, std::size_t O, bool E>
 FRETBUZZ_INLINE double advance_products_pushed(const double* e, const double* beta, const double* loss,
                                                const double* coefficients, const double* const* rows, std::size_t m,
                                                const StepProducts& products, double* q, double* d, std::size_t n) {
     if (m == 0)
-        return advance_products_lossy<Push::none, P, O>(e, beta, loss, 0.0, nullptr, nullptr, nullptr, 0, products, q, d, n);
+        return advance_products_lossy<Push::none, P, O, E>(e, beta, loss, 0.0, nullptr, nullptr, nullptr, 0, products, q, d, n);
     if (m == 1)  // as advance_one_push: c row_j added by one multiply-add
-        return advance_products_lossy<Push::row, P, O>(e, beta, loss, coefficients[0], rows[0], nullptr, nullptr, 0,
+        return advance_products_lossy<Push::row, P, O, E>(e, beta, loss, coefficients[0], rows[0], nullptr, nullptr, 0,
                                                        products, q, d, n);
     if (m == 2)
-        return advance_products_lossy<Push::rows, P, O, 2>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        return advance_products_lossy<Push::rows, P, O, E, 2>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
     if (m == 3)
-        return advance_products_lossy<Push::rows, P, O, 3>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
-    return advance_products_lossy<Push::rows, P, O, 4>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+        return advance_products_lossy<Push::rows, P, O, E, 3>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
+    return advance_products_lossy<Push::rows, P, O, E, 4>(e, beta, loss, 0.0, nullptr, coefficients, rows, m, products, q, d, n);
 }
 
-template <std::size_t O>
+template <std::size_t O, bool E>
 FRETBUZZ_INLINE double advance_products_counted(const double* e, const double* beta, const double* loss,
                                                 const double* coefficients, const double* const* rows, std::size_t m,
                                                 const StepProducts& products, double* q, double* d, std::size_t n) {
     switch (products.predict_count) {
-        case 0: return advance_products_pushed<0, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
-        case 1: return advance_products_pushed<1, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
-        case 2: return advance_products_pushed<2, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
-        case 3: return advance_products_pushed<3, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
-        default: return advance_products_pushed<4, O>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 0: return advance_products_pushed<0, O, E>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 1: return advance_products_pushed<1, O, E>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 2: return advance_products_pushed<2, O, E>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        case 3: return advance_products_pushed<3, O, E>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        default: return advance_products_pushed<4, O, E>(e, beta, loss, coefficients, rows, m, products, q, d, n);
     }
 }
 
@@ -478,6 +493,7 @@ FRETBUZZ_INLINE double advance_many_products(const double* __restrict e, const d
     if (R > P) row_products<1, false>(shifted + P, q + rest, nullptr, nullptr, nullptr, nullptr, n - rest, tail + P);
     for (std::size_t r = 0; r < P; ++r) products.predicted[r] = fold(tail[r], lo[r], hi[r]);
     if (R > P) *products.observed = fold(tail[P], lo[P], hi[P]);
+    if (products.energy != nullptr) *products.energy = modal_energy(e, beta, q, d, n);  // (a pad's pass: rare)
     return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
 }
 
@@ -513,6 +529,18 @@ FRETBUZZ_MULTIVERSION double advance_with_pad_products(const double* e, const do
     }
 }
 
+namespace {
+// The passes that also form the modal energy: a function of their own, so that the passes
+// without it compile as before (inside one function GCC fused other multiply-adds: other bits).
+FRETBUZZ_MULTIVERSION [[gnu::noinline]] double advance_with_products_and_energy(
+    const double* e, const double* beta, const double* loss, const double* coefficients, const double* const* rows,
+    std::size_t m, const StepProducts& products, double* q, double* d, std::size_t n) {
+    return products.observe_row != nullptr
+               ? advance_products_counted<1, true>(e, beta, loss, coefficients, rows, m, products, q, d, n)
+               : advance_products_counted<0, true>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+}
+}  // namespace
+
 FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double* beta, const double* loss,
                                                    const double* coefficients, const double* const* rows, std::size_t m,
                                                    const StepProducts& products, double* q, double* d, std::size_t n) {
@@ -523,20 +551,17 @@ FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double
         if (products.predict_count != 0)
             predict_dot_rows(e, beta, q, d, products.predict_rows, products.predict_count, n, products.predicted);
         if (products.observe_row != nullptr) *products.observed = dot(products.observe_row, q, n);
+        if (products.energy != nullptr) *products.energy = modal_energy(e, beta, q, d, n);
         return losses;
     }
+    if (products.energy != nullptr)
+        return advance_with_products_and_energy(e, beta, loss, coefficients, rows, m, products, q, d, n);
     return products.observe_row != nullptr
-               ? advance_products_counted<1>(e, beta, loss, coefficients, rows, m, products, q, d, n)
-               : advance_products_counted<0>(e, beta, loss, coefficients, rows, m, products, q, d, n);
+               ? advance_products_counted<1, false>(e, beta, loss, coefficients, rows, m, products, q, d, n)
+               : advance_products_counted<0, false>(e, beta, loss, coefficients, rows, m, products, q, d, n);
 }
 
 namespace {
-// One mode's term of modal_energy, the same expression in every kernel that forms it.
-template <class T>
-FRETBUZZ_INLINE T energy_term(const T& e, const T& beta, const T& q, const T& d) {
-    return 0.5 * (1.0 + e) * d * d + beta * q * (q - d);
-}
-
 // One mode's M-step jump (jump and jump_with_products): q += E_qq q + E_qd d, d <- E_dq q + (1 + E_dd) d.
 template <class T>
 FRETBUZZ_INLINE void jump_one(const T& qq, const T& qd, const T& dq, const T& dd, T& q, T& d) {

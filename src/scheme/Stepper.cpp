@@ -570,6 +570,7 @@ void Stepper::advance_modes() {
     // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
     const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
     const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
+    const bool audited = audit_stride_ > 0 && (n_ + 1) % audit_stride_ == 0;
     forecast_.step = observed_step_ = -1;
     double losses = 0.0;
     // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
@@ -577,7 +578,9 @@ void Stepper::advance_modes() {
     const std::size_t pad_forecast = active_.size() + pad_points_;
     const bool pad_pass = pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
                           pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold();
-    if (pad_pass || (fused && (forecast || observed_row_ != nullptr))) {
+    double energy = 0.0;
+    bool energy_formed = false;
+    if (pad_pass || (fused && (forecast || observed_row_ != nullptr || audited))) {
         std::array<const double*, kernels::kMaxForecastRows> predict_rows;
         std::size_t count = 0;
         const auto add = [&](std::size_t i) {
@@ -610,6 +613,10 @@ void Stepper::advance_modes() {
             products.observed = &observed_;
             observed_step_ = n_ + 1;
         }
+        if (audited) {
+            products.energy = &energy;
+            energy_formed = true;
+        }
         losses = pad_pass ? kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
                                                                products, q_.data(), d_.data(), n)
                           : kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
@@ -622,6 +629,7 @@ void Stepper::advance_modes() {
         losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     }
     dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
+    if (energy_formed) keep_modal_energy(n_ + 1, energy);
 }
 
 void Stepper::put_points_to_sleep() {

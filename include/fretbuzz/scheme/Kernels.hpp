@@ -49,6 +49,9 @@ struct StepProducts {
     // *observed = dot(observe_row, q^{n+1}, n) (a pickup), if observe_row is not null.
     const double* observe_row = nullptr;
     double* observed = nullptr;
+    // *energy = modal_energy(e, beta, q^{n+1}, d^{n+1}, n), if energy is not null (a run that
+    // audits its energy balance at every step: at an audio rate, one pass fewer per step).
+    double* energy = nullptr;
 };
 // One step as advance (m = 0, no impulse), advance_one_push (m = 1, c = coefficients[0]) or
 // advance_pushes (m >= 2) computes it, and the products asked for, each bit for bit the value
