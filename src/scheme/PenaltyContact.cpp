@@ -176,7 +176,7 @@ template <class R>
 FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* b_in, const double* anchor_in,
                                               const double* start_in, std::size_t count, double k, double stiffness,
                                               double potential_scale, double* increment, double* force, double* root,
-                                              int* state) {
+                                              long* state) {
     constexpr int kStepped = 3;  // Newton's step taken, its stopping test still to do
     bool stepped_any = false;
     for (std::size_t i = 0; i < count; i += 4) {
@@ -220,21 +220,24 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
             const m4 usable = (next > lo) & (next < hi) & (next - next == 0.0);
             next = usable ? next : 0.5 * (lo + hi);
         }
-        // A non-finite input is left to the scalar solve, which reports it.
+        // A non-finite input is left to the scalar solve, which reports it. Written as vectors:
+        // lane by lane, moving each value out of its register cost more than the arithmetic.
         const m4 finite = (a - a == 0.0) & (b - b == 0.0);
-        for (std::size_t l = 0; l < 4; ++l) {
-            const std::size_t j = i + l;
-            state[j] = !finite[l] ? 2 : apart[l] ? 0 : converged[l] ? 1 : kStepped;
-            increment[j] = converged[l] ? r[l] : next[l];
-            force[j] = f[l];
-            root[j] = first.root[l];
-        }
+        const m4 none{}, one = none + 1, two = none + 2, stepped = none + kStepped;
+        const m4 code = finite ? (apart ? none : converged ? one : stepped) : two;
+        const v4 chosen = converged ? r : next;
+        __builtin_memcpy(state + i, &code, sizeof code);
+        __builtin_memcpy(increment + i, &chosen, sizeof chosen);
+        __builtin_memcpy(force + i, &f, sizeof f);
+        __builtin_memcpy(root + i, &first.root, sizeof first.root);
     }
     if (!stepped_any) return;
     // The quotient at Newton's iterate and the stopping test there.
     for (std::size_t i = 0; i < count; i += 4) {
-        if (state[i] != kStepped && state[i + 1] != kStepped && state[i + 2] != kStepped && state[i + 3] != kStepped)
-            continue;
+        m4 code;
+        __builtin_memcpy(&code, state + i, sizeof code);
+        const m4 stepped = code == kStepped;
+        if (!any4(stepped)) continue;
         v4 a, b, r, next, anchor;
         __builtin_memcpy(&a, a_in + i, sizeof a);
         __builtin_memcpy(&b, b_in + i, sizeof b);
@@ -244,13 +247,16 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
         const Quotient4 second = quotient_three_halves(a, next, anchor, R::of(a + next), stiffness, potential_scale);
         const v4 residual_next = next + k * second.value - b;
         const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
-        for (std::size_t l = 0; l < 4; ++l) {
-            const std::size_t j = i + l;
-            if (state[j] != kStepped) continue;
-            state[j] = stalled[l] ? 1 : 2;
-            force[j] = second.value[l];
-            root[j] = second.root[l];
-        }
+        const m4 none{};
+        code = stepped ? (stalled ? none + 1 : none + 2) : code;
+        v4 f, rt;
+        __builtin_memcpy(&f, force + i, sizeof f);
+        __builtin_memcpy(&rt, root + i, sizeof rt);
+        f = stepped ? second.value : f;
+        rt = stepped ? second.root : rt;
+        __builtin_memcpy(state + i, &code, sizeof code);
+        __builtin_memcpy(force + i, &f, sizeof f);
+        __builtin_memcpy(root + i, &rt, sizeof rt);
     }
 }
 // The two versions of the batch, chosen by the processor.
@@ -260,7 +266,7 @@ bool starts_plain(const double* a, const double* b, std::size_t count, double k,
 }
 void first_steps_plain(const double* a, const double* b, const double* anchor, const double* start, std::size_t count,
                        double k, double stiffness, double potential_scale, double* increment, double* force,
-                       double* root, int* state) {
+                       double* root, long* state) {
     first_steps_three_halves<Roots>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force, root,
                                     state);
 }
@@ -271,7 +277,7 @@ FRETBUZZ_TARGET_AVX bool starts_avx(const double* a, const double* b, std::size_
 }
 FRETBUZZ_TARGET_AVX void first_steps_avx(const double* a, const double* b, const double* anchor, const double* start,
                                          std::size_t count, double k, double stiffness, double potential_scale,
-                                         double* increment, double* force, double* root, int* state) {
+                                         double* increment, double* force, double* root, long* state) {
     first_steps_three_halves<RootsAvx>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force,
                                        root, state);
 }
@@ -444,7 +450,7 @@ std::size_t PenaltyContact::solve_all(std::span<const double> a, std::span<const
         static const StepsFunction first_steps = first_steps_for_this_processor();
         double anchor[kBlock], start[kBlock], increment[kBlock], force[kBlock], root[kBlock];
         long need_scalar[kBlock];
-        int state[kBlock];
+        long state[kBlock];
         while (i + 4 <= n) {
             const std::size_t count = std::min(kBlock, (n - i) / 4 * 4);
             const double* ai = a.data() + i;
