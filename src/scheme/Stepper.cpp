@@ -455,10 +455,7 @@ void Stepper::solve_contacts() {
     double psi = psi_curr_;
     int most_iterations = stats_.max_newton_iterations;
     bool touched = touched_obstacle_;
-    for (std::size_t p = 0; p < active_.size(); ++p) {
-        const std::size_t i = active_[p];
-        const double a = eta_prev[i];
-        const ContactSolution s = together ? solutions_[p] : law.solve(a, g[i] - grid[i] - a, k);
+    const auto take = [&](std::size_t i, double a, const ContactSolution& s) {
         const double eta_next = a + s.increment;
         eta_prev[i] = eta_curr[i];
         eta_curr[i] = eta_next;
@@ -467,6 +464,19 @@ void Stepper::solve_contacts() {
         if (s.force != 0.0) {
             forces_.emplace_back(i, s.force);
             touched = true;
+        }
+    };
+    // Two loops: the batch's has no call to the solve in it (the compiler keeps more in registers).
+    const std::size_t count = active_.size();
+    const std::size_t* active = active_.data();
+    if (together) {
+        const ContactSolution* solutions = solutions_.data();
+        for (std::size_t p = 0; p < count; ++p) take(active[p], eta_prev[active[p]], solutions[p]);
+    } else {
+        for (std::size_t p = 0; p < count; ++p) {
+            const std::size_t i = active[p];
+            const double a = eta_prev[i];
+            take(i, a, law.solve(a, g[i] - grid[i] - a, k));
         }
     }
     psi_curr_ = psi;
