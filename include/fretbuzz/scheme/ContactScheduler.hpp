@@ -115,7 +115,8 @@ private:
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
     // Common end of both pushed: the growths of the bounds (before the slack) added.
-    void grow_bounds(double speed, double reach, double tail, std::span<const double> q, std::span<const double> d);
+    void grow_bounds(double speed, double reach, double tail, std::span<const double> q, std::span<const double> d,
+                     double looseness);
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
     // Parking: the points and their envelope E_i, the amplitudes the parked points were tested
     // with (elementwise smallest: later amplitudes must stay within them), and which amplitudes
