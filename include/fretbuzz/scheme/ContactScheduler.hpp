@@ -52,7 +52,8 @@ public:
                 std::span<const std::pair<std::size_t, double>> forces, double scale);
     // The same with the impulse iota itself (many points, projected onto the modes in one go):
     // the bounds grow by sum_j |iota_j| R_j(1, 1) (times omega_j for the speed), one pass and no
-    // point's weight, and tighter than the sum over points.
+    // point's weight, and tighter than the sum over points; recomputed in full once the speed
+    // bound is 5 % above the last full one (such pushes come step after step).
     void pushed(std::span<const double> q, std::span<const double> d, std::span<const double> impulse);
     // As refresh, and also brings the per-mode amplitudes up to date (a change of head needs them).
     void refresh_amplitudes(std::span<const double> q, std::span<const double> d) {
