@@ -82,11 +82,7 @@ const ContactScheduler::PointWeight& ContactScheduler::point_weight(std::size_t 
 
 void ContactScheduler::pushed(std::span<const double> q, std::span<const double> d,
                               std::span<const std::pair<std::size_t, double>> forces, double scale) {
-    unpark();  // the envelope was the old motion's
-    if (queue_.empty()) {
-        stale_ = true;  // as motion_changed: nothing asleep needs the bound yet
-        return;
-    }
+    if (!bound_needed_after_push()) return;
     // The cached tails are beyond the default head (the only one while contact steps run).
     // A point's weight costs one pass over its row the first time: with many new points
     // (a flat obstacle's onset) the four passes of a full update are cheaper for this step,
@@ -113,11 +109,7 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
 }
 
 void ContactScheduler::pushed(std::span<const double> q, std::span<const double> d, std::span<const double> impulse) {
-    unpark();  // the envelope was the old motion's
-    if (queue_.empty()) {
-        stale_ = true;
-        return;
-    }
+    if (!bound_needed_after_push()) return;
     const std::size_t n = impulse.size(), head = std::min(kHeadModes, n);
     if (stale_ || head_ != head) {
         update_speed(q, d);
@@ -128,6 +120,13 @@ void ContactScheduler::pushed(std::span<const double> q, std::span<const double>
     kernels::weighted_abs_sums(push_reach_.data() + head, push_speed_.data() + head, impulse.data() + head, n - head,
                                tail, speed_tail);
     grow_bounds(speed_head + speed_tail, reach_head + tail, tail, q, d, kImpulseLooseness);
+}
+
+bool ContactScheduler::bound_needed_after_push() {
+    unpark();  // the envelope was the old motion's
+    if (!queue_.empty()) return true;
+    stale_ = true;  // as motion_changed: nothing asleep needs the bound yet
+    return false;
 }
 
 void ContactScheduler::grow_bounds(double speed, double reach, double tail, std::span<const double> q,

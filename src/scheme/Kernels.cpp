@@ -2,14 +2,7 @@
 
 #include <algorithm>
 
-// Both variants compute the same sums in the same order. GCC contracts a * b + c into a
-// fused multiply-add in C++ even in ISO mode (-ffp-contract=fast is its C++ default), so
-// the AVX2 variant may differ from the baseline one in the last bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FRETBUZZ_MULTIVERSION __attribute__((target_clones("default", "arch=x86-64-v3")))
-#else
-#define FRETBUZZ_MULTIVERSION
-#endif
+#include "Multiversion.hpp"  // both variants compute the same sums in the same order
 
 #if defined(__GNUC__)
 // GCC and Clang note that 32-byte vectors pass differently with and without AVX: the helpers that

@@ -10,6 +10,8 @@
 #include <system_error>
 #include <utility>
 
+#include "Multiversion.hpp"
+
 namespace fretbuzz {
 
 std::mutex& fftw_planner_mutex() {
@@ -114,14 +116,9 @@ namespace {
 // The copies around the DFT, compiled for AVX2 too where the processor has it (the baseline
 // build moved two numbers at a time: a tenth of a flat obstacle's contact step). Moves and one
 // product each: the same bits either way.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FRETBUZZ_COPY_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
-#else
-#define FRETBUZZ_COPY_CLONES
-#endif
 
 // 0, x_0 .. x_{n-1}, 0, -x_{n-1} .. -x_0 into out (2(n + 1) numbers).
-FRETBUZZ_COPY_CLONES void odd_extension(const double* __restrict x, double* __restrict out, std::size_t n) {
+FRETBUZZ_MULTIVERSION void odd_extension(const double* __restrict x, double* __restrict out, std::size_t n) {
     const std::size_t m = 2 * (n + 1);
     out[0] = out[n + 1] = 0.0;  // written every call: nothing relies on FFTW preserving its input
     for (std::size_t j = 0; j < n; ++j) out[j + 1] = x[j];
@@ -129,7 +126,7 @@ FRETBUZZ_COPY_CLONES void odd_extension(const double* __restrict x, double* __re
 }
 
 // out[k] = c Im X_{k+1}: the imaginary parts of a spectrum stored as (re, im) pairs.
-FRETBUZZ_COPY_CLONES void scaled_imaginary(const double* __restrict spectrum, double c, double* __restrict out,
+FRETBUZZ_MULTIVERSION void scaled_imaginary(const double* __restrict spectrum, double c, double* __restrict out,
                                            std::size_t n) {
     for (std::size_t k = 0; k < n; ++k) out[k] = c * spectrum[2 * (k + 1) + 1];
 }

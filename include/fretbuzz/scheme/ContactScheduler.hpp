@@ -115,6 +115,9 @@ private:
     bool amplitudes_behind_ = false;   // impulses since then are in the bounds, not in amplitude_
     void compute_push_weights();
     const PointWeight& point_weight(std::size_t i);
+    // Common start of both pushed: parked points released; false (the bound marked stale) if
+    // no point is asleep, so that the bound is not needed until one is.
+    bool bound_needed_after_push();
     // Common end of both pushed: the growths of the bounds (before the slack) added.
     void grow_bounds(double speed, double reach, double tail, std::span<const double> q, std::span<const double> d,
                      double looseness);

@@ -25,8 +25,8 @@ std::size_t fftw_plans_made();
 
 class SineTransform {
 public:
-    // Plans an unnormalised type-I sine transform (FFTW's RODFT00) of length n:
-    // y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)).
+    // Plans an unnormalised type-I sine transform of length n (what FFTW calls RODFT00),
+    // y_k = 2 sum_j x_j sin(pi (j+1)(k+1)/(n+1)), run as FFTW's real DFT of 2(n + 1) points.
     // measure = true lets FFTW time candidate algorithms (slower to plan, faster to run; the
     // wisdom cache makes that a one-off per machine).
     explicit SineTransform(std::size_t n, bool measure = false);
