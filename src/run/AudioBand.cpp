@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../scheme/Multiversion.hpp"
 #include "PerStepQueue.hpp"
 #include "fretbuzz/io/Resampler.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
@@ -18,8 +19,10 @@ constexpr long kBatchSamples = 4096;
 
 long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
-// a_j *= w_j for complex values held as parts (vectorises: no sum).
-void rotate(double* __restrict ar, double* __restrict ai, const double* __restrict wr, const double* __restrict wi,
+// a_j *= w_j for complex values held as parts (vectorises: no sum). Four modes per
+// instruction where the processor has AVX2: the closed-form samples and the regenerated
+// frames turn every phasor once per sample (a third of the audio thread's instructions).
+FRETBUZZ_MULTIVERSION void rotate(double* __restrict ar, double* __restrict ai, const double* __restrict wr, const double* __restrict wi,
             std::size_t n) {
     for (std::size_t j = 0; j < n; ++j) {
         const double re = ar[j] * wr[j] - ai[j] * wi[j];
@@ -119,7 +122,8 @@ void AudioBand::anchor(std::span<const double> q, std::span<const double> d, dou
     std::complex<double> c, z;
     for (std::size_t j = 0; j < count; ++j) {
         propagator_.free_phasor(j, q[j], d[j], c, z);
-        const std::complex<double> a = c * std::exp(z * t_minus_tn);
+        // At t_n itself, c (what c e^0 gives, without the exponential: once per flight)
+        const std::complex<double> a = t_minus_tn == 0.0 ? c : c * std::exp(z * t_minus_tn);
         out.re[j] = a.real();
         out.im[j] = a.imag();
     }
@@ -211,9 +215,37 @@ void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vect
     // The free motion of the modes the flights feed, step by step from `start` to n.
     Phasors b;
     anchor(q, d, static_cast<double>(start - n) * dt_, head_, b);
+    play(b, n - start + 1);
+}
+
+void AudioBand::flight_start(std::span<const double> q, std::span<const double> d) {
+    flight_q_ = head_of(q);
+    flight_d_ = head_of(d);
+}
+
+void AudioBand::flight_frames(long steps) {
+    if (steps <= 0) return;
+    auto job = [this, steps, q = std::move(flight_q_), d = std::move(flight_d_)] { free_frames(q, d, steps); };
+    flight_q_ = {};
+    flight_d_ = {};
+    if (queue_ != nullptr)
+        queue_->defer(std::move(job), static_cast<std::size_t>(steps));
+    else
+        job();
+}
+
+void AudioBand::free_frames(const std::vector<double>& q, const std::vector<double>& d, long steps) {
+    // The frames of the steps after the flight's start: the motion there, turned one step.
+    Phasors b;
+    anchor(q, d, 0.0, head_, b);
+    rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), head_);
+    play(b, steps);
+}
+
+void AudioBand::play(Phasors& b, long count) {
     const std::size_t h = head_;
     std::vector<double> frame_u(points_), frame_v(velocity_ ? points_ : 0);
-    for (long m = start; m <= n; ++m) {
+    for (long m = 0; m < count; ++m) {
         for (std::size_t p = 0; p < points_; ++p) {
             frame_u[p] = kernels::dot(shape_.data() + p * h, b.re.data(), h);
             if (velocity_)
@@ -221,7 +253,7 @@ void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vect
                              kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
         }
         for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
-        rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
+        if (m + 1 < count) rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
     }
 }
 

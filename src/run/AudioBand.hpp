@@ -42,6 +42,11 @@ public:
     void stepped(long n) { free_since_ = n; }
     // Per-step frames again from step n (state (q, d)) on; the frames up to n are regenerated.
     void resume(long n, std::span<const double> q, std::span<const double> d);
+    // A flight out of the band starts at state (q, d): its per-step frames are the free motion
+    // from there (flight_frames, after it has flown `steps`), made where the synthesis runs,
+    // in their place among the stepped frames, instead of by the run at every step.
+    void flight_start(std::span<const double> q, std::span<const double> d);
+    void flight_frames(long steps);
 
 private:
     struct Phasors {  // one complex value per mode, split into parts (vectorises)
@@ -52,6 +57,9 @@ private:
     void enter(long n, const std::vector<double>& q, const std::vector<double>& d);
     void emit(long up_to_step);
     void regenerate(long n, const std::vector<double>& q, const std::vector<double>& d);
+    void free_frames(const std::vector<double>& q, const std::vector<double>& d, long steps);
+    // `count` per-step frames of the free motion b, turned one step between frames.
+    void play(Phasors& b, long count);
     template <class Job>
     void run(Job&& job);
     void post_due_samples();  // the samples flights have made due, as one job
@@ -85,6 +93,7 @@ private:
     // batch_steps_ (0 inline: each flight's at once): a job per interval would cost more in
     // waking the thread than it saves.
     long due_step_ = -1, due_since_ = 0, batch_steps_ = 0;
+    std::vector<double> flight_q_, flight_d_;  // the first head_ modes where a flight starts
     std::vector<double> u_, v_;
 };
 

@@ -24,22 +24,39 @@ PerStepQueue::PerStepQueue(std::span<RunObserver* const> per_step, std::size_t p
 void PerStepQueue::frame(std::span<const double> u, std::span<const double> velocity) {
     u_.insert(u_.end(), u.begin(), u.end());
     if (velocity_) v_.insert(v_.end(), velocity.begin(), velocity.end());
-    if (u_.size() >= kBatchFrames * points_) flush();
+    if (u_.size() + deferred_frames_ * points_ >= kBatchFrames * points_) flush();
+}
+
+void PerStepQueue::defer(std::function<void()> job, std::size_t frames) {
+    deferred_.push_back({u_.size() / points_, std::move(job)});
+    deferred_frames_ += frames;
+    if (u_.size() + deferred_frames_ * points_ >= kBatchFrames * points_) flush();
 }
 
 void PerStepQueue::flush() {
-    if (u_.empty()) return;
-    queue_.post([observers = observers_, points = points_, u = std::move(u_), v = std::move(v_)] {
-        const std::size_t frames = u.size() / points;
-        for (std::size_t k = 0; k < frames; ++k) {
-            const std::span<const double> frame_u(u.data() + k * points, points);
-            const std::span<const double> frame_v =
-                v.empty() ? std::span<const double>() : std::span<const double>(v.data() + k * points, points);
-            for (RunObserver* o : observers) o->every_step(frame_u, frame_v);
+    if (u_.empty() && deferred_.empty()) return;
+    queue_.post([observers = observers_, points = points_, u = std::move(u_), v = std::move(v_),
+                 deferred = std::move(deferred_)] {
+        const auto deliver = [&](std::size_t from, std::size_t to) {
+            for (std::size_t k = from; k < to; ++k) {
+                const std::span<const double> frame_u(u.data() + k * points, points);
+                const std::span<const double> frame_v =
+                    v.empty() ? std::span<const double>() : std::span<const double>(v.data() + k * points, points);
+                for (RunObserver* o : observers) o->every_step(frame_u, frame_v);
+            }
+        };
+        std::size_t k = 0;
+        for (const Deferred& d : deferred) {
+            deliver(k, d.at);
+            d.job();
+            k = d.at;
         }
+        deliver(k, u.size() / points);
     });
     u_ = {};
     v_ = {};
+    deferred_ = {};
+    deferred_frames_ = 0;
     u_.reserve(kBatchFrames * points_);
     if (velocity_) v_.reserve(kBatchFrames * points_);
 }

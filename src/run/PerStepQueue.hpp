@@ -24,15 +24,24 @@ public:
 
     void frame(std::span<const double> u, std::span<const double> velocity);  // every_step, batched
     void post(std::function<void()> job);  // after the frames before it
-    void drain();                          // every call made; rethrows a failure
+    // A job that makes `frames` per-step calls of its own (a flight's free motion), run in its
+    // place among the batch's frames: in order, without a job and a wake-up of its own.
+    void defer(std::function<void()> job, std::size_t frames);
+    void drain();  // every call made; rethrows a failure
 
 private:
     void flush();
 
+    struct Deferred {
+        std::size_t at;  // frames of the batch before it
+        std::function<void()> job;
+    };
     std::span<RunObserver* const> observers_;
     std::size_t points_;
     bool velocity_;
     std::vector<double> u_, v_;  // the batch's frames, interleaved
+    std::vector<Deferred> deferred_;
+    std::size_t deferred_frames_ = 0;
     WriteQueue queue_;
 };
 

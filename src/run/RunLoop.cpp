@@ -171,13 +171,19 @@ void RunLoop::plan_free_flight() {
 long RunLoop::fly() {
     const long stride = layout_.output_stride;
     if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
-    // Per-step probe signals only for the observers that read them.
+    // Per-step probe signals only for the observers that read them, and only where the band
+    // cannot make them: out of it, it makes a flight's frames from the flight's start, on the
+    // per-step thread. The flight steps the audio modes one by one all the same: its checks
+    // use them (with fewer, flights stop at other steps, and the sound near contacts is
+    // worse), and so the string moves as it did with the frames made here, bit for bit.
     const bool in_band = band_ && band_->in_band();
-    const std::span<const std::vector<double>> probes = per_step_.empty() || in_band
+    const bool frames_by_band = band_ && !in_band;
+    if (frames_by_band) band_->flight_start(stepper_.modal_displacement(), stepper_.modal_difference());
+    const std::span<const std::vector<double>> probes = per_step_.empty() || band_
                                                             ? std::span<const std::vector<double>>()
                                                             : std::span<const std::vector<double>>(shapes_);
     return stepper_.free_flight(*flight_, in_band ? check_head_ : head_, probes, flight_u_,
-                                velocity_wanted_ ? &flight_v_ : nullptr);
+                                velocity_wanted_ ? &flight_v_ : nullptr, frames_by_band);
 }
 
 bool RunLoop::snapshot_due_within(long steps) const {
@@ -263,9 +269,11 @@ void RunLoop::report_flight(long flown) {
             band_->flown(n_, true, q, d);
         else
             band_->resume(n_, q, d);
+    } else if (band_) {
+        band_->flight_frames(flown);
+        band_->flown(n_, complete, q, d);
     } else {
         report_flight_rows(flown);
-        if (band_) band_->flown(n_, complete, q, d);
     }
     if (complete) {
         report_snapshots();
@@ -350,7 +358,9 @@ void RunLoop::report_output() {
     if (const SecondPolarisation* y = stepper_.second_polarisation())
         for (RunObserver* o : observers_)
             o->polarisation_energy(y->energy(), y->damping_dissipated(), y->friction_dissipated());
-    for (RunObserver* o : observers_) o->energy(t_half, h, stepper_.contact_energy(), stepper_.dissipated());
+    // Once, not per observer (the calls between are virtual: the compiler would sum them again)
+    const double contact = stepper_.contact_energy(), dissipated = stepper_.dissipated();
+    for (RunObserver* o : observers_) o->energy(t_half, h, contact, dissipated);
 }
 
 void RunLoop::report_played() {

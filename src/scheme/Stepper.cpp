@@ -271,7 +271,7 @@ void Stepper::step() {
 }
 
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
-                          std::vector<double>& u, std::vector<double>* v) {
+                          std::vector<double>& u, std::vector<double>* v, bool step_head) {
     const long steps = flight.steps();
     // A finger may touch at any time: its pad points are solved every step.
     if (n_ == 0 || !screening_ || pad_points_ != 0 || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
@@ -281,7 +281,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const double energy_before = modal_energy();
     const std::size_t width = probes.size();
     // With no per-step row wanted and no point due before its end, the whole flight is one jump.
-    if (width == 0 && !y_ && flight.first() == 0 && scheduler_.park_due(steps)) {
+    if (width == 0 && !step_head && !y_ && flight.first() == 0 && scheduler_.park_due(steps)) {
         land(flight, 0, steps);
         scheduler_.end_steps(steps);
         return end_flight(steps, energy_before);

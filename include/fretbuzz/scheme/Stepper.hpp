@@ -49,9 +49,12 @@ public:
     // values per step); the other modes jump in closed form at the end, and checks of
     // sleeping points use the head modes plus a bound on the rest. Stops early if a point
     // might touch (the state is then complete at that step). Returns the steps flown
-    // (0 if a flight cannot start). Energy and dissipation stay exact.
+    // (0 if a flight cannot start). Energy and dissipation stay exact. step_head: the head
+    // modes step one by one even with no probe, as they would for probes (a caller that makes
+    // the per-step signal elsewhere, from the flight's start, and wants the same steps, bit for
+    // bit; otherwise a flight with no point due is one jump of every mode).
     long free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
-                     std::vector<double>& u, std::vector<double>* v);
+                     std::vector<double>& u, std::vector<double>* v, bool step_head = false);
 
     // Gives the string its second polarisation y (plan.two_polarisations() must hold), from
     // modal displacement and velocity at n = 0; before the first step. Without it the
