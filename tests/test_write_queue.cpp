@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <span>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include "../src/io/WriteQueue.hpp"
+#include "../src/run/PerStepQueue.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -20,6 +22,51 @@ TEST(WriteQueue, RunsEveryJobInOrderBeforeDrainReturns) {
     queue.drain();
     ASSERT_EQ(done.size(), 1000u);
     for (int k = 0; k < 1000; ++k) EXPECT_EQ(done[static_cast<std::size_t>(k)], k);
+}
+
+// Per-step frames in batches, with deferred jobs (a flight's frames, made on the queue's thread)
+// and posted ones between them: the observer sees every call in the order the run made it.
+class FrameLog : public RunObserver {
+public:
+    bool wants_every_step() const override { return true; }
+    bool per_step_only() const override { return true; }
+    void every_step(std::span<const double> u, std::span<const double>) override { seen.push_back(u[0]); }
+    std::vector<double> seen;
+};
+
+TEST(PerStepQueue, DeferredJobsRunInTheirPlaceAmongTheFrames) {
+    FrameLog log;
+    RunObserver* observers[] = {&log};
+    std::vector<double> expected;
+    {
+        PerStepQueue queue(observers, 1, false);
+        double next = 0.0;
+        for (int round = 0; round < 50; ++round) {
+            for (int k = 0; k < 300 * (round % 4); ++k) {  // runs of frames, some empty
+                const double u[] = {next};
+                queue.frame(u, {});
+                expected.push_back(next++);
+            }
+            // A deferred job making frames of its own (a flight's), sometimes several in a row.
+            for (int j = 0; j <= round % 3; ++j) {
+                const double first = next;
+                const int frames = 1000 + 37 * round;
+                queue.defer(
+                    [&log, first, frames] {
+                        for (int k = 0; k < frames; ++k) {
+                            const double u[] = {first + k};
+                            log.every_step(u, {});
+                        }
+                    },
+                    static_cast<std::size_t>(frames));
+                for (int k = 0; k < frames; ++k) expected.push_back(next++);
+            }
+            if (round % 7 == 0) queue.post([] {});  // a posted job flushes the batch
+        }
+        queue.drain();
+    }
+    ASSERT_EQ(log.seen.size(), expected.size());
+    EXPECT_EQ(log.seen, expected);
 }
 
 TEST(WriteQueue, AFailedWriteIsRethrownAndTheWritesAfterItAreDropped) {

@@ -351,7 +351,7 @@ void RunLoop::check_state(double h) const {
 
 void RunLoop::report_output() {
     const double h = audit_energy();
-    if (n_ % layout_.output_stride != 0) return;
+    if (n_ % layout_.output_stride != 0 || observers_.empty()) return;  // audited, reported to no one
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
     if (stepper_.played()) report_played();
