@@ -200,7 +200,9 @@ void RunLoop::after_step() {
             if (summary_.first_contact_s < 0.0) summary_.first_contact_s = stepper_.time();
             summary_.last_contact_s = stepper_.time();
         }
-        if (orientation_ > 0.0) {
+        if (observers_.empty()) {
+            // no one to tell (a run for its summary: a sweep's, a benchmark's)
+        } else if (orientation_ > 0.0) {
             for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
         } else {
             mirrored_forces_.assign(stepper_.forces().begin(), stepper_.forces().end());

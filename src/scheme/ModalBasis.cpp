@@ -31,14 +31,11 @@ void ModalBasis::mode_shapes_at(double x, std::span<double> phi) const {
         phi[j] = norm * std::sin(static_cast<double>(j + 1) * std::numbers::pi * x / length_);
 }
 
-std::span<const double> ModalBasis::row(std::size_t i) const {
-    std::vector<double>& r = rows_[i];
-    if (r.empty()) {
-        std::vector<double> built(modes_);
-        fill_row(i, built);
-        r = std::move(built);
-    }
-    return r;
+std::span<const double> ModalBasis::build_row(std::size_t i) const {
+    std::vector<double> built(modes_);
+    fill_row(i, built);
+    rows_[i] = std::move(built);
+    return rows_[i];
 }
 
 std::span<const double> ModalBasis::row(std::size_t i, std::span<double> scratch) const {

@@ -26,8 +26,12 @@ public:
     std::vector<double> mode_shapes_at(double x) const;
     // The same into `phi` (mode_count() values), allocating nothing.
     void mode_shapes_at(double x, std::span<double> phi) const;
-    // Row i of S: phi_j(x_i) for j = 1..Nm (reference stays valid for the basis' life).
-    std::span<const double> row(std::size_t i) const;
+    // Row i of S: phi_j(x_i) for j = 1..Nm (reference stays valid for the basis' life). Inline
+    // once built: a step asks for its points' rows several times.
+    std::span<const double> row(std::size_t i) const {
+        const std::vector<double>& r = rows_[i];
+        return r.empty() ? build_row(i) : std::span<const double>(r);
+    }
     // Row i: the kept one if it was built, else written into `scratch` (size mode_count())
     // without keeping it. For passes over every point once (all rows kept would be N^2 numbers).
     std::span<const double> row(std::size_t i, std::span<double> scratch) const;
@@ -44,6 +48,7 @@ private:
     std::size_t modes_;
     double dx_;
     void fill_row(std::size_t i, std::span<double> r) const;
+    std::span<const double> build_row(std::size_t i) const;  // row i, built and kept
 
     std::vector<double> sine_table_;  // sin(pi k / N), k = 0..2N-1
     std::unique_ptr<SineTransform> transform_;
