@@ -212,7 +212,7 @@ void RunLoop::after_step() {
     }
     if (!per_step_.empty()) report_step();
     if (!snapshot_taps_.empty()) report_snapshots();
-    if (n_ % layout_.output_stride == 0 || n_ == 1) report_output();
+    if (on_output_row() || n_ == 1) report_output();
     if ((n_ & 0xfff) == 0) {
         // Between output rows too: a run gone to NaN stops within a few thousand steps.
         if (audited_step_ != n_) check_state(stepper_.energy());
@@ -353,7 +353,7 @@ void RunLoop::check_state(double h) const {
 
 void RunLoop::report_output() {
     const double h = audit_energy();
-    if (n_ % layout_.output_stride != 0 || observers_.empty()) return;  // audited, reported to no one
+    if (!on_output_row() || observers_.empty()) return;  // audited, reported to no one
     report_observation();
     const double t_half = (static_cast<double>(n_) - 0.5) * layout_.dt;
     if (stepper_.played()) report_played();

@@ -34,6 +34,8 @@ private:
     long fly();  // steps flown (0: none)
     bool snapshot_due_within(long steps) const;
     void after_step();
+    // Whether step n_ has an output row (every step at an audio rate: no integer division then).
+    bool on_output_row() const { return layout_.output_stride == 1 || n_ % layout_.output_stride == 0; }
     void report_observation();
     void report_step();
     void deliver_frame(std::span<const double> u, std::span<const double> v);  // to the per-step observers

@@ -27,6 +27,8 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
       on_pad_(q0.size(), 0) {
+    energy_scale_ = plan.linear_density() / (2.0 * plan.dt() * plan.dt());
+    loss_scale_ = plan.linear_density() / (4.0 * plan.dt() * plan.dt());
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
@@ -207,8 +209,7 @@ double Stepper::modal_energy() const {
 }
 
 void Stepper::keep_modal_energy(long step, double scaled) const {
-    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
-    modal_energy_ = scale * scaled;
+    modal_energy_ = energy_scale_ * scaled;
     energy_step_ = step;
 }
 
@@ -586,7 +587,8 @@ void Stepper::advance_modes() {
     // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
     const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
     const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
-    const bool audited = audit_stride_ > 0 && (n_ + 1) % audit_stride_ == 0;
+    // (at an audio rate every step: no integer division for it)
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
     forecast_.step = observed_step_ = -1;
     double losses = 0.0;
     // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
@@ -644,7 +646,7 @@ void Stepper::advance_modes() {
     } else {
         losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     }
-    dissipated_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
+    dissipated_ += loss_scale_ * losses;
     if (energy_formed) keep_modal_energy(n_ + 1, energy);
 }
 
