@@ -42,7 +42,8 @@ public:
     std::complex<double> gain(std::complex<double> s) const;
 
 private:
-    void measure() const;
+    void measure() const;           // the response, measured or as this process measured it
+    void measure_response() const;  // through a resampler of its own
 
     double input_rate_, output_rate_;
     std::size_t channels_;
