@@ -167,6 +167,23 @@ TEST(AudioBand, AudioOnItsOwnThreadIsTheAudioMadeInline) {
     }
 }
 
+// Out of the band (a run too short for it to enter), the frames of each flight are made on the
+// audio's thread from the flight's start, stepping the audio modes as the flight does: the
+// samples are those of the frames the run forms itself without the band, bit for bit.
+TEST(AudioBand, FlightFramesMadeBesideTheRunAreTheRunsOwn) {
+    Case pop = load_case("bass-pop");
+    pop.run.duration_s = 0.005;
+    pop.observation_points_m.push_back(0.3);
+    const Audio band = audio_of(pop, true), run = audio_of(pop, false);
+    ASSERT_GT(band.summary.free_flight_fraction, 0.5);
+    ASSERT_EQ(band.u.size(), run.u.size());
+    for (std::size_t p = 0; p < band.u.size(); ++p) {
+        ASSERT_GT(band.u[p].size(), 200u);
+        EXPECT_EQ(band.u[p], run.u[p]) << "point " << p;
+        EXPECT_EQ(band.v[p], run.v[p]) << "point " << p;
+    }
+}
+
 // An audio file that fails while the run goes on: the failure reaches the caller (and the run
 // stops), as a failed write of the results file does.
 class FailingAudio : public RunObserver {

@@ -122,8 +122,7 @@ void AudioBand::anchor(std::span<const double> q, std::span<const double> d, dou
     std::complex<double> c, z;
     for (std::size_t j = 0; j < count; ++j) {
         propagator_.free_phasor(j, q[j], d[j], c, z);
-        // At t_n itself, c (what c e^0 gives, without the exponential: once per flight)
-        const std::complex<double> a = t_minus_tn == 0.0 ? c : c * std::exp(z * t_minus_tn);
+        const std::complex<double> a = c * std::exp(z * t_minus_tn);
         out.re[j] = a.real();
         out.im[j] = a.imag();
     }
@@ -215,7 +214,18 @@ void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vect
     // The free motion of the modes the flights feed, step by step from `start` to n.
     Phasors b;
     anchor(q, d, static_cast<double>(start - n) * dt_, head_, b);
-    play(b, n - start + 1);
+    const std::size_t h = head_;
+    std::vector<double> frame_u(points_), frame_v(velocity_ ? points_ : 0);
+    for (long m = start; m <= n; ++m) {
+        for (std::size_t p = 0; p < points_; ++p) {
+            frame_u[p] = kernels::dot(shape_.data() + p * h, b.re.data(), h);
+            if (velocity_)
+                frame_v[p] = kernels::dot(shape_velocity_.re.data() + p * h, b.re.data(), h) -
+                             kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
+        }
+        for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
+        rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
+    }
 }
 
 void AudioBand::flight_start(std::span<const double> q, std::span<const double> d) {
@@ -225,7 +235,9 @@ void AudioBand::flight_start(std::span<const double> q, std::span<const double> 
 
 void AudioBand::flight_frames(long steps) {
     if (steps <= 0) return;
-    auto job = [this, steps, q = std::move(flight_q_), d = std::move(flight_d_)] { free_frames(q, d, steps); };
+    auto job = [this, steps, q = std::move(flight_q_), d = std::move(flight_d_)]() mutable {
+        free_frames(std::move(q), std::move(d), steps);
+    };
     flight_q_ = {};
     flight_d_ = {};
     if (queue_ != nullptr)
@@ -234,26 +246,21 @@ void AudioBand::flight_frames(long steps) {
         job();
 }
 
-void AudioBand::free_frames(const std::vector<double>& q, const std::vector<double>& d, long steps) {
-    // The frames of the steps after the flight's start: the motion there, turned one step.
-    Phasors b;
-    anchor(q, d, 0.0, head_, b);
-    rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), head_);
-    play(b, steps);
-}
-
-void AudioBand::play(Phasors& b, long count) {
+void AudioBand::free_frames(std::vector<double> q, std::vector<double> d, long steps) {
+    // The audio modes stepped from the flight's start as the flight steps them, and the pickup
+    // read as its probes read it: the frames the run used to form, bit for bit, at a third of
+    // a phasor turn's cost.
     const std::size_t h = head_;
+    const double* e = propagator_.decay().data();
+    const double* beta = propagator_.beta().data();
     std::vector<double> frame_u(points_), frame_v(velocity_ ? points_ : 0);
-    for (long m = 0; m < count; ++m) {
+    for (long m = 0; m < steps; ++m) {
+        kernels::advance(e, beta, nullptr, nullptr, q.data(), d.data(), h);
         for (std::size_t p = 0; p < points_; ++p) {
-            frame_u[p] = kernels::dot(shape_.data() + p * h, b.re.data(), h);
-            if (velocity_)
-                frame_v[p] = kernels::dot(shape_velocity_.re.data() + p * h, b.re.data(), h) -
-                             kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
+            frame_u[p] = kernels::dot(shape_.data() + p * h, q.data(), h);
+            if (velocity_) frame_v[p] = kernels::dot(shape_.data() + p * h, d.data(), h) / dt_;
         }
         for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
-        if (m + 1 < count) rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
     }
 }
 

@@ -42,9 +42,10 @@ public:
     void stepped(long n) { free_since_ = n; }
     // Per-step frames again from step n (state (q, d)) on; the frames up to n are regenerated.
     void resume(long n, std::span<const double> q, std::span<const double> d);
-    // A flight out of the band starts at state (q, d): its per-step frames are the free motion
-    // from there (flight_frames, after it has flown `steps`), made where the synthesis runs,
-    // in their place among the stepped frames, instead of by the run at every step.
+    // A flight out of the band starts at state (q, d): its per-step frames are the audio modes'
+    // free motion from there, stepped as the flight steps them (flight_frames, after it has
+    // flown `steps`), made where the synthesis runs, in their place among the stepped frames,
+    // instead of by the run at every step: the same frames, bit for bit.
     void flight_start(std::span<const double> q, std::span<const double> d);
     void flight_frames(long steps);
 
@@ -57,9 +58,7 @@ private:
     void enter(long n, const std::vector<double>& q, const std::vector<double>& d);
     void emit(long up_to_step);
     void regenerate(long n, const std::vector<double>& q, const std::vector<double>& d);
-    void free_frames(const std::vector<double>& q, const std::vector<double>& d, long steps);
-    // `count` per-step frames of the free motion b, turned one step between frames.
-    void play(Phasors& b, long count);
+    void free_frames(std::vector<double> q, std::vector<double> d, long steps);  // (stepped: copies)
     template <class Job>
     void run(Job&& job);
     void post_due_samples();  // the samples flights have made due, as one job
