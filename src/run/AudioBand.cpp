@@ -20,8 +20,8 @@ constexpr long kBatchSamples = 4096;
 long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // a_j *= w_j for complex values held as parts (vectorises: no sum). Four modes per
-// instruction where the processor has AVX2: the closed-form samples and the regenerated
-// frames turn every phasor once per sample (a third of the audio thread's instructions).
+// instruction where the processor has AVX2: the closed form's samples and the restarts'
+// frames turn every phasor once per sample.
 FRETBUZZ_MULTIVERSION void rotate(double* __restrict ar, double* __restrict ai, const double* __restrict wr, const double* __restrict wi,
             std::size_t n) {
     for (std::size_t j = 0; j < n; ++j) {
@@ -229,8 +229,9 @@ void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vect
 }
 
 void AudioBand::flight_start(std::span<const double> q, std::span<const double> d) {
-    flight_q_ = head_of(q);
-    flight_d_ = head_of(d);
+    // (assign: no allocation where the last call's flight did not start)
+    flight_q_.assign(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head_));
+    flight_d_.assign(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(head_));
 }
 
 void AudioBand::flight_frames(long steps) {
