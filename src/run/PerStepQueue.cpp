@@ -24,13 +24,18 @@ PerStepQueue::PerStepQueue(std::span<RunObserver* const> per_step, std::size_t p
 void PerStepQueue::frame(std::span<const double> u, std::span<const double> velocity) {
     u_.insert(u_.end(), u.begin(), u.end());
     if (velocity_) v_.insert(v_.end(), velocity.begin(), velocity.end());
-    if (u_.size() + deferred_frames_ * points_ >= kBatchFrames * points_) flush();
+    flush_if_full();
 }
 
 void PerStepQueue::defer(std::function<void()> job, std::size_t frames) {
     deferred_.push_back({u_.size() / points_, std::move(job)});
     deferred_frames_ += frames;
-    if (u_.size() + deferred_frames_ * points_ >= kBatchFrames * points_) flush();
+    flush_if_full();
+}
+
+void PerStepQueue::flush_if_full() {
+    // A batch counts its frames and those its deferred jobs will make.
+    if (u_.size() / points_ + deferred_frames_ >= kBatchFrames) flush();
 }
 
 void PerStepQueue::flush() {

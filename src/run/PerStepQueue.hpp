@@ -31,6 +31,7 @@ public:
 
 private:
     void flush();
+    void flush_if_full();
 
     struct Deferred {
         std::size_t at;  // frames of the batch before it

@@ -13,6 +13,8 @@ namespace fretbuzz {
 Plan::Plan(const Case& c, double dt, PlanOptions options)
     : dt_(dt),
       mu_(c.string.linear_density),
+      energy_scale_(mu_ / (2.0 * dt_ * dt_)),
+      loss_scale_(mu_ / (4.0 * dt_ * dt_)),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),

@@ -95,7 +95,7 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
     const double losses =
         kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
                          forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
-    damping_ += plan_.linear_density() / (4.0 * plan_.dt() * plan_.dt()) * losses;
+    damping_ += plan_.modal_loss_scale() * losses;
 }
 
 void SecondPolarisation::spread_forces() {
@@ -139,8 +139,7 @@ double SecondPolarisation::velocity(std::span<const double> mode_shapes) const {
 }
 
 double SecondPolarisation::energy() const {
-    const double scale = plan_.linear_density() / (2.0 * plan_.dt() * plan_.dt());
-    return scale * plan_.propagator_y().scaled_modal_energy(q_, d_);
+    return plan_.modal_energy_scale() * plan_.propagator_y().scaled_modal_energy(q_, d_);
 }
 
 double polarisation_share(double angle_deg, bool y) {

@@ -27,8 +27,6 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
       on_pad_(q0.size(), 0) {
-    energy_scale_ = plan.linear_density() / (2.0 * plan.dt() * plan.dt());
-    loss_scale_ = plan.linear_density() / (4.0 * plan.dt() * plan.dt());
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
@@ -209,7 +207,7 @@ double Stepper::modal_energy() const {
 }
 
 void Stepper::keep_modal_energy(long step, double scaled) const {
-    modal_energy_ = energy_scale_ * scaled;
+    modal_energy_ = plan_.modal_energy_scale() * scaled;
     energy_step_ = step;
 }
 
@@ -646,7 +644,7 @@ void Stepper::advance_modes() {
     } else {
         losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     }
-    dissipated_ += loss_scale_ * losses;
+    dissipated_ += plan_.modal_loss_scale() * losses;
     if (energy_formed) keep_modal_energy(n_ + 1, energy);
 }
 

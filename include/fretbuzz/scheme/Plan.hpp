@@ -57,6 +57,10 @@ public:
     std::size_t mode_count() const { return basis_.mode_count(); }
     double dt() const { return dt_; }
     double linear_density() const { return mu_; }
+    // rho / (2 dt^2) and rho / (4 dt^2): what scales the modal energy and the losses the
+    // kernels sum (scaled_modal_energy, advance's return), divided once for every stepper.
+    double modal_energy_scale() const { return energy_scale_; }
+    double modal_loss_scale() const { return loss_scale_; }
     const ModalBasis& basis() const { return basis_; }
     const ModalPropagator& propagator() const { return propagator_; }
     const PenaltyContact& contact() const { return contact_; }
@@ -116,6 +120,7 @@ public:
 private:
     double dt_;
     double mu_;
+    double energy_scale_, loss_scale_;
     ModalBasis basis_;
     ModalPropagator propagator_;
     PenaltyContact contact_;

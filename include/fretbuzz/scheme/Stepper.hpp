@@ -210,9 +210,6 @@ private:
     std::vector<double> flight_row_values_;
     long flight_rows_step_ = -1;              // the step flight_row_values_ belongs to
     long audit_stride_ = 0;                   // audit_every()
-    // rho / (2 dt^2) and rho / (4 dt^2): the modal energy's and the losses' scales, divided
-    // once (the same expressions: the same bits as at every step before)
-    double energy_scale_ = 0.0, loss_scale_ = 0.0;
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
 
