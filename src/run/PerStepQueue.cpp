@@ -34,8 +34,9 @@ void PerStepQueue::defer(std::function<void()> job, std::size_t frames) {
 }
 
 void PerStepQueue::flush_if_full() {
-    // A batch counts its frames and those its deferred jobs will make.
-    if (u_.size() / points_ + deferred_frames_ >= kBatchFrames) flush();
+    // A batch counts its frames and those its deferred jobs will make (in values: no division
+    // at every step).
+    if (u_.size() + deferred_frames_ * points_ >= kBatchFrames * points_) flush();
 }
 
 void PerStepQueue::flush() {
