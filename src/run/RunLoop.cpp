@@ -332,8 +332,7 @@ double RunLoop::audit_energy() {
     return h;
 }
 
-void RunLoop::check_state(double h) const {
-    if (std::isfinite(h) && std::isfinite(stepper_.dissipated())) return;
+void RunLoop::report_bad_state(double h) const {
     // Name the first quantity that went bad: a modal coordinate, else an energy term.
     std::string what = std::isfinite(h) ? "the dissipated energy" : "the energy";
     const std::span<const double> q = stepper_.modal_displacement();

@@ -3,6 +3,7 @@
 // intervals where no contact is possible) and hands every signal its observers asked for
 // to them, at the steps they asked for. Used by simulate().
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <span>
 #include <vector>
@@ -45,7 +46,12 @@ private:
     void report_output();
     void report_played();
     double audit_energy();  // H at this step, into the summary; throws SolverError if not finite
-    void check_state(double h) const;
+    // Throws SolverError, naming the first non-finite quantity, unless h and the dissipated
+    // energy are finite. The test inline (every step at audio rates), the message apart.
+    void check_state(double h) const {
+        if (!std::isfinite(h) || !std::isfinite(stepper_.dissipated())) report_bad_state(h);
+    }
+    [[noreturn, gnu::cold]] void report_bad_state(double h) const;
     void report_progress();
     void finish_summary();
 
