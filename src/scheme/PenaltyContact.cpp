@@ -387,8 +387,10 @@ double PenaltyContact::quotient(double a, double r, double anchor_a, double& roo
     if (a > 0.0 && a + r > 0.0) return quotient_inside(a, r, anchor_a, root);
     // At most one of the two potentials is non-zero here: no cancellation.
     if (law_ == Law::general) {
-        // Landing: the power of a + r is kept (the potential of a + r and the slope's Psi'(a + r)
-        // reuse it); leaving: the anchor is Psi(a)'s power. The same values as potential's.
+        // Landing: the power of a + r is kept (the potential of a + r reuses it); leaving: the
+        // anchor is Psi(a)'s power. The same values as potential's. (The slope's Psi'(a + r) from
+        // that power, root / (a + r), would save one more pow, but moves Newton's path: the
+        // contact energy, set by the solve's tolerance, moved by 1e-12 of itself on the sitar.)
         if (a + r > 0.0) {
             root = std::pow(a + r, alpha_ + 1.0);
             return potential_scale_ * root / r;
@@ -442,8 +444,6 @@ double PenaltyContact::slope(double a, double r, double quotient_value, double a
     }
     if (a > 0.0 && std::abs(r) < 1e-4 * a) return 0.5 * k_ * alpha_ * std::pow(a + 0.5 * r, alpha_ - 1.0);
     if (r == 0.0) return 0.0;
-    // A landing's general law: Psi'(a + r) from the power its quotient kept, one pow fewer.
-    if (law_ == Law::general && root != kNoRoot && a + r > 0.0) return (k_ * root / (a + r) - quotient_value) / r;
     return (force(a + r) - quotient_value) / r;
 }
 
@@ -545,8 +545,10 @@ double PenaltyContact::first_iterate(double a, double b, double k, double anchor
     // Where the force at b is small against b (a light touch), Newton from b is as good.
     if (k * potential(d) <= 0.01 * (b * b)) return b;
     double growth = 1.0;  // y0^(alpha-1)
-    if (law_ == Law::three_halves) growth = std::sqrt(landing_scale(a, d, c));
-    if (law_ == Law::general) growth = landing_growth(a, d, c);
+    if (law_ != Law::linear) {
+        const double y0 = landing_scale(a, d, c);
+        growth = law_ == Law::three_halves ? std::sqrt(y0) : std::pow(y0, alpha_ - 1.0);
+    }
     // (1 + c y0^(alpha-1)) y^2 - (a + d) y + a d = 0, its positive root without cancellation.
     const double curvature = 1.0 + c * growth, m = a + d;
     const double root_disc = std::sqrt(m * m - 4.0 * curvature * (a * d));
@@ -564,18 +566,6 @@ double PenaltyContact::landing_scale(double a, double d, double c) const {
     if (y1 > -a * (1.0 + margin)) return y1;
     const double y2 = std::pow(-a * d / c, 1.0 / (alpha_ + 1.0));
     return y1 < -a * (1.0 - margin) ? y2 : std::max(y1, y2);
-}
-
-double PenaltyContact::landing_growth(double a, double d, double c) const {
-    // y0^(alpha-1) as a power of y0's own base, beside the pow that chooses it: the two run at
-    // once, where pow(landing_scale(...), alpha - 1) waited for the first (a landing's solve is
-    // one chain of pows, and the step waits for it). Same choice of y1 or y2 as landing_scale.
-    const double u1 = d / c, y1 = std::pow(u1, 1.0 / alpha_), margin = 1e-9 * (alpha_ + 1.0);
-    const double g1 = std::pow(u1, (alpha_ - 1.0) / alpha_);
-    if (y1 > -a * (1.0 + margin)) return g1;
-    const double u2 = -a * d / c;
-    if (y1 < -a * (1.0 - margin)) return std::pow(u2, (alpha_ - 1.0) / (alpha_ + 1.0));
-    return std::pow(std::max(y1, std::pow(u2, 1.0 / (alpha_ + 1.0))), alpha_ - 1.0);
 }
 
 double PenaltyContact::first_iterate_or_b(double a, double b, double k, double anchor_a) const {

@@ -103,7 +103,6 @@ private:
     // The landing model's scale y0 (a <= 0 < d, c > 0): what std::max of its two pows gives, bit
     // for bit, most often from one of them.
     double landing_scale(double a, double d, double c) const;
-    double landing_growth(double a, double d, double c) const;  // the general law's y0^(alpha-1)
     // What solve starts from: first_iterate where it is finite and below b, else b.
     double first_iterate_or_b(double a, double b, double k, double anchor_a) const;
     double first_iterate_or_b(double a, double b, double k) const;  // any a and b
