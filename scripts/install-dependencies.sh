@@ -15,7 +15,8 @@ packages="build-essential cmake pkg-config
   doxygen help2man
   clang libclang-rt-14-dev
   lv2-dev liblilv-dev lilv-utils libsmf-dev
-  freepats"
+  freepats
+  valgrind"
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

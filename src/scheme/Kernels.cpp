@@ -150,8 +150,9 @@ FRETBUZZ_MULTIVERSION void predict_dot_rows(const double* e, const double* beta,
 
 // Left as arrays of partial sums: GCC compiles them with shuffles but without fused
 // multiply-adds in the loop, which vector types would fuse (other last bits of u at a woken
-// point). They run once per woken point, not once per step.
-FRETBUZZ_MULTIVERSION void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
+// point). They run once per woken point, not once per step. Compiled for AVX-512 the same loops
+// fuse other terms, so this kernel has no AVX-512 variant (an AVX-512 processor runs AVX2's).
+FRETBUZZ_MULTIVERSION_AVX2 void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
                                                 double& current, double& previous) {
     double now[kLanes] = {}, before[kLanes] = {};
     std::size_t j = 0;
@@ -676,7 +677,8 @@ FRETBUZZ_MULTIVERSION double weighted_abs_sum(const double* w, const double* x, 
         hi += load(w + j + 4) * magnitude(load(x + j + 4));
     }
     double total = 0.0;
-    for (; j < n; ++j) total += w[j] * __builtin_fabs(x[j]);
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) total = plus_rounded_product(total, w[j], __builtin_fabs(x[j]));
+    if (j < n) total += w[j] * __builtin_fabs(x[j]);  // a last odd term: fused
     return fold(total, lo, hi);
 }
 
@@ -692,7 +694,11 @@ FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, c
         s_hi += load(s + j + 4) * a_hi;
     }
     double tw = 0.0, ts = 0.0;
-    for (; j < n; ++j) {
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) {
+        tw = plus_rounded_product(tw, w[j], __builtin_fabs(x[j]));
+        ts = plus_rounded_product(ts, s[j], __builtin_fabs(x[j]));
+    }
+    if (j < n) {  // a last odd term: fused
         tw += w[j] * __builtin_fabs(x[j]);
         ts += s[j] * __builtin_fabs(x[j]);
     }
