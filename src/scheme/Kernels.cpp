@@ -152,8 +152,8 @@ FRETBUZZ_MULTIVERSION void predict_dot_rows(const double* e, const double* beta,
 // multiply-adds in the loop, which vector types would fuse (other last bits of u at a woken
 // point). They run once per woken point, not once per step. Compiled for AVX-512 the same loops
 // fuse other terms, so this kernel has no AVX-512 variant (an AVX-512 processor runs AVX2's).
-FRETBUZZ_MULTIVERSION_AVX2 void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
-                                                double& current, double& previous) {
+FRETBUZZ_MULTIVERSION_AVX2 void dot_current_previous(const double* row, const double* q, const double* d,
+                                                     std::size_t n, double& current, double& previous) {
     double now[kLanes] = {}, before[kLanes] = {};
     std::size_t j = 0;
     for (; j + kLanes <= n; j += kLanes)
@@ -677,7 +677,8 @@ FRETBUZZ_MULTIVERSION double weighted_abs_sum(const double* w, const double* x, 
         hi += load(w + j + 4) * magnitude(load(x + j + 4));
     }
     double total = 0.0;
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) total = plus_rounded_product(total, w[j], __builtin_fabs(x[j]));
+    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j)
+        total = plus_rounded_product(total, w[j], __builtin_fabs(x[j]));
     if (j < n) total += w[j] * __builtin_fabs(x[j]);  // a last odd term: fused
     return fold(total, lo, hi);
 }
