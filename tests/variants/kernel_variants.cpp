@@ -58,78 +58,123 @@ struct Inputs {
     }
 };
 
-// One kernel, run on one draw of inputs, its outputs added to the hash.
-void run_kernel(int k, Inputs& in, std::mt19937_64& g, Hash& h) {
-    const std::size_t n = in.n, m = in.m;
-    double* q = in.q.data();
-    double* d = in.d.data();
-    const double* e = in.e.data();
-    const double* beta = in.beta.data();
-    std::vector<double> out(kRows, 0.0);
-    double a = 0.0, b = 0.0;
-    switch (k) {
-        case 0: h.add(dot(q, d, n)); break;
-        case 1: dot_rows(in.row_ptrs.data(), m, in.x.data(), n, out.data()); h.add(out, m); break;
-        case 2: dot_current_previous(in.row_ptrs[0], q, d, n, a, b); h.add(a); h.add(b); break;
-        case 3: predict(e, beta, q, d, in.x.data(), n); h.add(in.x, n); break;
-        case 4: h.add(predict_dot(e, beta, q, d, in.row_ptrs[0], n)); break;
-        case 5: predict_dot_rows(e, beta, q, d, in.row_ptrs.data(), m, n, out.data()); h.add(out, m); break;
-        case 6: h.add(advance(e, beta, in.loss.data(), in.impulse.data(), q, d, n)); break;
-        case 7: h.add(advance(e, beta, nullptr, nullptr, q, d, n)); break;
-        case 8: h.add(advance_one_push(e, beta, in.loss.data(), in.c[0], in.row_ptrs[0], q, d, n)); break;
-        case 9: {
-            const std::size_t pushes = 1 + static_cast<std::size_t>(g() % 12);
-            h.add(advance_pushes(e, beta, in.loss.data(), in.c.data(), in.row_ptrs.data(), pushes, q, d, n));
-            break;
-        }
-        case 10:
-        case 11: {  // the pass with products, plain and with a finger's pad
-            const std::size_t pushes = static_cast<std::size_t>(g() % 12), predicted = static_cast<std::size_t>(g() % 12);
-            std::vector<double> p(kRows, 0.0);
-            double observed = 0.0, energy = 0.0;
-            StepProducts products;
-            products.predict_rows = in.row_ptrs.data() + 4;
-            products.predict_count = predicted;
-            products.predicted = p.data();
-            if (g() % 2) {
-                products.observe_row = in.row_ptrs[15];
-                products.observed = &observed;
-            }
-            if (g() % 2) products.energy = &energy;
-            const double* loss = g() % 3 ? in.loss.data() : nullptr;
-            const auto pass = k == 10 ? advance_with_products : advance_with_pad_products;
-            h.add(pass(e, beta, loss, in.c.data(), in.row_ptrs.data(), pushes, products, q, d, n));
-            h.add(p, predicted);
-            h.add(observed);
-            h.add(energy);
-            break;
-        }
-        case 12: h.add(modal_energy(e, beta, q, d, n)); break;
-        case 13: {
-            const std::size_t first = static_cast<std::size_t>(g() % (n + 1));
-            h.add(jump_with_products(in.qq.data(), in.qd.data(), in.dq.data(), in.dd.data(), first, e, beta,
-                                     in.row_ptrs.data(), m, q, d, n, out.data()));
-            h.add(out, m);
-            break;
-        }
-        case 14: free_amplitudes(in.aq.data(), in.ad.data(), q, d, in.x.data(), n); h.add(in.x, n); break;
-        case 15: h.add(sum(in.x.data(), n)); break;
-        case 16: h.add(weighted_abs_sum(in.w.data(), in.x.data(), n)); break;
-        case 17: weighted_abs_sums(in.w.data(), in.s.data(), in.x.data(), n, a, b); h.add(a); h.add(b); break;
-        case 18: axpy(in.c[0], in.x.data(), q, n); break;
-        case 19: jump(in.qq.data(), in.qd.data(), in.dq.data(), in.dd.data(), q, d, n); break;
-        default: break;
+// One kernel: its name, and how it runs on one draw of inputs, adding what it returns or
+// writes to the hash (main adds the state q, d that the kernels update in place).
+struct Kernel {
+    const char* name;
+    void (*run)(Inputs& in, std::mt19937_64& g, Hash& h);
+};
+
+// The pass with products, plain or with a finger's pad: any counts of pushes and predicted rows,
+// with or without the observation, the energy and the losses.
+template <auto Pass>
+void run_pass(Inputs& in, std::mt19937_64& g, Hash& h) {
+    const std::size_t pushes = static_cast<std::size_t>(g() % 12), predicted = static_cast<std::size_t>(g() % 12);
+    std::vector<double> p(kRows, 0.0);
+    double observed = 0.0, energy = 0.0;
+    StepProducts products;
+    products.predict_rows = in.row_ptrs.data() + 4;
+    products.predict_count = predicted;
+    products.predicted = p.data();
+    if (g() % 2) {
+        products.observe_row = in.row_ptrs[15];
+        products.observed = &observed;
     }
-    h.add(in.q, n);  // the state the kernels update in place
-    h.add(in.d, n);
+    if (g() % 2) products.energy = &energy;
+    const double* loss = g() % 3 ? in.loss.data() : nullptr;
+    h.add(Pass(in.e.data(), in.beta.data(), loss, in.c.data(), in.row_ptrs.data(), pushes, products, in.q.data(),
+               in.d.data(), in.n));
+    h.add(p, predicted);
+    h.add(observed);
+    h.add(energy);
 }
 
-constexpr const char* kNames[] = {"dot", "dot_rows", "dot_current_previous", "predict", "predict_dot",
-                                  "predict_dot_rows", "advance", "advance (lossless, no impulse)",
-                                  "advance_one_push", "advance_pushes", "advance_with_products",
-                                  "advance_with_pad_products", "modal_energy", "jump_with_products",
-                                  "free_amplitudes", "sum", "weighted_abs_sum", "weighted_abs_sums", "axpy",
-                                  "jump"};
+const Kernel kKernels[] = {
+    {"dot", [](Inputs& in, std::mt19937_64&, Hash& h) { h.add(dot(in.q.data(), in.d.data(), in.n)); }},
+    {"dot_rows",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         std::vector<double> out(kRows, 0.0);
+         dot_rows(in.row_ptrs.data(), in.m, in.x.data(), in.n, out.data());
+         h.add(out, in.m);
+     }},
+    {"dot_current_previous",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         double current = 0.0, previous = 0.0;
+         dot_current_previous(in.row_ptrs[0], in.q.data(), in.d.data(), in.n, current, previous);
+         h.add(current);
+         h.add(previous);
+     }},
+    {"predict",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         predict(in.e.data(), in.beta.data(), in.q.data(), in.d.data(), in.x.data(), in.n);
+         h.add(in.x, in.n);
+     }},
+    {"predict_dot",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         h.add(predict_dot(in.e.data(), in.beta.data(), in.q.data(), in.d.data(), in.row_ptrs[0], in.n));
+     }},
+    {"predict_dot_rows",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         std::vector<double> out(kRows, 0.0);
+         predict_dot_rows(in.e.data(), in.beta.data(), in.q.data(), in.d.data(), in.row_ptrs.data(), in.m, in.n,
+                          out.data());
+         h.add(out, in.m);
+     }},
+    {"advance",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         h.add(advance(in.e.data(), in.beta.data(), in.loss.data(), in.impulse.data(), in.q.data(), in.d.data(), in.n));
+     }},
+    {"advance (lossless, no impulse)",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         h.add(advance(in.e.data(), in.beta.data(), nullptr, nullptr, in.q.data(), in.d.data(), in.n));
+     }},
+    {"advance_one_push",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         h.add(advance_one_push(in.e.data(), in.beta.data(), in.loss.data(), in.c[0], in.row_ptrs[0], in.q.data(),
+                                in.d.data(), in.n));
+     }},
+    {"advance_pushes",
+     [](Inputs& in, std::mt19937_64& g, Hash& h) {
+         const std::size_t pushes = 1 + static_cast<std::size_t>(g() % 12);
+         h.add(advance_pushes(in.e.data(), in.beta.data(), in.loss.data(), in.c.data(), in.row_ptrs.data(), pushes,
+                              in.q.data(), in.d.data(), in.n));
+     }},
+    {"advance_with_products", run_pass<advance_with_products>},
+    {"advance_with_pad_products", run_pass<advance_with_pad_products>},
+    {"modal_energy",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         h.add(modal_energy(in.e.data(), in.beta.data(), in.q.data(), in.d.data(), in.n));
+     }},
+    {"jump_with_products",
+     [](Inputs& in, std::mt19937_64& g, Hash& h) {
+         std::vector<double> out(kRows, 0.0);
+         const std::size_t first = static_cast<std::size_t>(g() % (in.n + 1));
+         h.add(jump_with_products(in.qq.data(), in.qd.data(), in.dq.data(), in.dd.data(), first, in.e.data(),
+                                  in.beta.data(), in.row_ptrs.data(), in.m, in.q.data(), in.d.data(), in.n,
+                                  out.data()));
+         h.add(out, in.m);
+     }},
+    {"free_amplitudes",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         free_amplitudes(in.aq.data(), in.ad.data(), in.q.data(), in.d.data(), in.x.data(), in.n);
+         h.add(in.x, in.n);
+     }},
+    {"sum", [](Inputs& in, std::mt19937_64&, Hash& h) { h.add(sum(in.x.data(), in.n)); }},
+    {"weighted_abs_sum",
+     [](Inputs& in, std::mt19937_64&, Hash& h) { h.add(weighted_abs_sum(in.w.data(), in.x.data(), in.n)); }},
+    {"weighted_abs_sums",
+     [](Inputs& in, std::mt19937_64&, Hash& h) {
+         double by_w = 0.0, by_s = 0.0;
+         weighted_abs_sums(in.w.data(), in.s.data(), in.x.data(), in.n, by_w, by_s);
+         h.add(by_w);
+         h.add(by_s);
+     }},
+    {"axpy", [](Inputs& in, std::mt19937_64&, Hash&) { axpy(in.c[0], in.x.data(), in.q.data(), in.n); }},
+    {"jump",
+     [](Inputs& in, std::mt19937_64&, Hash&) {
+         jump(in.qq.data(), in.qd.data(), in.dq.data(), in.dd.data(), in.q.data(), in.d.data(), in.n);
+     }},
+};
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,15 +187,17 @@ int main(int argc, char** argv) {
 #endif
         return 0;
     }
-    for (int k = 0; k < static_cast<int>(std::size(kNames)); ++k) {
+    for (const Kernel& kernel : kKernels) {
         std::mt19937_64 g(2017);  // each kernel sees the same draws whatever runs before it
         Inputs in;
         Hash h;
         for (std::size_t trial = 0; trial < 400; ++trial) {
             in.draw(g, trial);
-            run_kernel(k, in, g, h);
+            kernel.run(in, g, h);
+            h.add(in.q, in.n);  // the state the kernels update in place
+            h.add(in.d, in.n);
         }
-        std::printf("%-32s %016llx\n", kNames[k], static_cast<unsigned long long>(h.h));
+        std::printf("%-32s %016llx\n", kernel.name, static_cast<unsigned long long>(h.h));
     }
     return 0;
 }
