@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/RateAccuracy.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
 

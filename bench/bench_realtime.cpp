@@ -22,7 +22,7 @@
 #include <memory>
 #include <vector>
 
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
 

@@ -35,9 +35,9 @@
 #include <tuple>
 #include <vector>
 
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/RunOutputs.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/output/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::testing {

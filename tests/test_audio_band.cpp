@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/run/Resampler.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 

@@ -9,8 +9,8 @@
 #include <unistd.h>
 #include <vector>
 
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <string>
 
-#include "fretbuzz/io/BuiltinFiles.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

@@ -9,10 +9,10 @@
 
 #include "SweepTestCases.hpp"
 #include "TestSupport.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/run/BuzzMetrics.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/analysis/BuzzMetrics.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/run/Sweep.hpp"
+#include "fretbuzz/sweep/Sweep.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/BuiltinFiles.hpp"
-#include "fretbuzz/io/CaseExport.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CaseExport.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/BuiltinFiles.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
 
 namespace fretbuzz {
 namespace {

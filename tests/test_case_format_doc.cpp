@@ -12,7 +12,7 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseExport.hpp"
+#include "fretbuzz/input/CaseExport.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

@@ -11,7 +11,7 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/geometry/InitialShape.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"

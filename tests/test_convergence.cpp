@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/run/Convergence.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/sweep/Convergence.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
-#include "fretbuzz/io/CsvWriters.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
+#include "fretbuzz/output/CsvWriters.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

@@ -9,9 +9,9 @@
 
 #include "fretbuzz/geometry/InitialShape.hpp"
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
-#include "fretbuzz/io/BuiltinFiles.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/Plan.hpp"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 
 namespace fretbuzz {
 namespace {

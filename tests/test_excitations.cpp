@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "fretbuzz/geometry/InitialShape.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 
 namespace fretbuzz {

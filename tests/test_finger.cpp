@@ -11,7 +11,7 @@
 #include <string>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"

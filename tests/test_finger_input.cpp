@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -10,8 +10,8 @@
 #include "SweepTestCases.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/run/Sweep.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/sweep/Sweep.hpp"
 
 namespace fretbuzz {
 namespace {

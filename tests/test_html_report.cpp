@@ -8,8 +8,8 @@
 #include <unistd.h>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/Base64.hpp"
-#include "fretbuzz/io/HtmlReport.hpp"
+#include "fretbuzz/output/Base64.hpp"
+#include "fretbuzz/output/HtmlReport.hpp"
 
 namespace fretbuzz {
 namespace {

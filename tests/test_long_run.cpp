@@ -9,8 +9,8 @@
 #include <numeric>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

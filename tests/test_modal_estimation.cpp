@@ -13,7 +13,7 @@
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModalEstimation.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"

@@ -8,9 +8,9 @@
 #include "fretbuzz/geometry/Fretboard.hpp"
 #include "fretbuzz/geometry/ParabolicBridge.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
-#include "fretbuzz/io/BuiltinFiles.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

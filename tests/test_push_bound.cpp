@@ -8,7 +8,7 @@
 #include <random>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/ContactScheduler.hpp"
 #include "fretbuzz/scheme/Plan.hpp"

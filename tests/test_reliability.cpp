@@ -25,8 +25,8 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 extern char** environ;

@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/BuiltinFiles.hpp"
-#include "fretbuzz/io/CsvTable.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/model/DampingModel.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
 #include "fretbuzz/model/ModeTableAssembly.hpp"

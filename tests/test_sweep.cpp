@@ -10,11 +10,11 @@
 #include "SweepTestCases.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/run/BuzzMetrics.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/analysis/BuzzMetrics.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/run/Sweep.hpp"
-#include "fretbuzz/run/SweepStore.hpp"
+#include "fretbuzz/sweep/Sweep.hpp"
+#include "fretbuzz/sweep/SweepStore.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "../src/io/WriteQueue.hpp"
+#include "fretbuzz/run/WriteQueue.hpp"
 #include "../src/run/PerStepQueue.hpp"
 
 namespace fretbuzz {

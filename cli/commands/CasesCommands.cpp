@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "../Commands.hpp"
-#include "fretbuzz/io/CaseExport.hpp"
+#include "fretbuzz/input/CaseExport.hpp"
 
 namespace fretbuzz::cli {
 

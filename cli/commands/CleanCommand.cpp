@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "../Commands.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
 
 namespace fretbuzz::cli {
 

@@ -12,10 +12,10 @@
 #include "../Commands.hpp"
 #include "../PythonScript.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
-#include "fretbuzz/run/Convergence.hpp"
-#include "fretbuzz/run/ConvergenceOutput.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
+#include "fretbuzz/sweep/Convergence.hpp"
+#include "fretbuzz/sweep/ConvergenceOutput.hpp"
 
 namespace fretbuzz::cli {
 

@@ -10,7 +10,7 @@
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
 #include "fretbuzz/reference/CrossCheck.hpp"
 
 namespace fretbuzz::cli {

@@ -15,8 +15,8 @@
 #include "fretbuzz/analysis/ModalEstimation.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
 #include "fretbuzz/analysis/Recording.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/OutputDirectory.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
 
 namespace fretbuzz::cli {
 

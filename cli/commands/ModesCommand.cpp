@@ -5,7 +5,7 @@
 #include <string>
 
 #include "../Commands.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 
 namespace fretbuzz::cli {
 

@@ -9,8 +9,8 @@
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
 namespace fretbuzz::cli {

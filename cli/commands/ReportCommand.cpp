@@ -6,7 +6,7 @@
 #include <string>
 
 #include "../Commands.hpp"
-#include "fretbuzz/io/HtmlReport.hpp"
+#include "fretbuzz/output/HtmlReport.hpp"
 
 namespace fretbuzz::cli {
 

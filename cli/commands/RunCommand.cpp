@@ -14,8 +14,8 @@
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
-#include "fretbuzz/io/RunOutputs.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/output/RunOutputs.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"

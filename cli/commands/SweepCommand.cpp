@@ -10,7 +10,7 @@
 #include "../Commands.hpp"
 #include "../PythonScript.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/run/Sweep.hpp"
+#include "fretbuzz/sweep/Sweep.hpp"
 
 namespace fretbuzz::cli {
 

@@ -14,7 +14,7 @@
 #include "Conversions.hpp"
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 
 namespace fretbuzz::python {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "Bindings.hpp"
-#include "fretbuzz/io/SummaryWriter.hpp"
+#include "fretbuzz/output/SummaryWriter.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 
 namespace fretbuzz::python {

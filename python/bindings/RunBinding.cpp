@@ -16,8 +16,8 @@
 #include "Bindings.hpp"
 #include "Conversions.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/AudioWriter.hpp"
-#include "fretbuzz/io/RunOutputs.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/output/RunOutputs.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 

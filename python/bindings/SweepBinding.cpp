@@ -17,8 +17,8 @@
 
 #include "Bindings.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/run/Sweep.hpp"
-#include "fretbuzz/run/SweepStore.hpp"
+#include "fretbuzz/sweep/Sweep.hpp"
+#include "fretbuzz/sweep/SweepStore.hpp"
 
 namespace fretbuzz::python {
 

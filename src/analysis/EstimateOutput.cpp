@@ -9,7 +9,7 @@
 #include <toml++/toml.h>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/model/DampingModel.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
 

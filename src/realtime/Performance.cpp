@@ -10,7 +10,7 @@
 #include <memory>
 #include <sstream>
 
-#include "../io/TomlSection.hpp"
+#include "../input/TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {

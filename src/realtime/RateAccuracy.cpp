@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "fretbuzz/run/BuzzMetrics.hpp"
+#include "fretbuzz/analysis/BuzzMetrics.hpp"
 
 namespace fretbuzz {
 

@@ -6,7 +6,7 @@
 
 #include "../scheme/Multiversion.hpp"
 #include "PerStepQueue.hpp"
-#include "fretbuzz/io/Resampler.hpp"
+#include "fretbuzz/run/Resampler.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {

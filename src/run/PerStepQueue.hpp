@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "../io/WriteQueue.hpp"
+#include "fretbuzz/run/WriteQueue.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {

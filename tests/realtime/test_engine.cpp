@@ -9,7 +9,7 @@
 
 #include "../TestSupport.hpp"
 #include "AllocationCounter.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Decimator.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"

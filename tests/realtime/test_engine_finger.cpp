@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "Pitch.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 
 namespace fretbuzz {

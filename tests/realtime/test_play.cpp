@@ -13,7 +13,7 @@
 
 #include "../TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
 namespace fretbuzz {

@@ -19,7 +19,7 @@
 
 #include "AllocationCounter.hpp"
 #include "Pitch.hpp"
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
 namespace {

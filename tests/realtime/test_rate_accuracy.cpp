@@ -7,7 +7,7 @@
 #include <numbers>
 #include <vector>
 
-#include "fretbuzz/io/CaseFile.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/realtime/RateAccuracy.hpp"
 
 namespace fretbuzz {

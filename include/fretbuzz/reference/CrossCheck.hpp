@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fretbuzz/reference/StringProblem.hpp"
-#include "fretbuzz/run/ConvergenceSignal.hpp"
+#include "fretbuzz/sweep/ConvergenceSignal.hpp"
 
 namespace fretbuzz::reference {
 

@@ -1,0 +1,221 @@
+#include "fretbuzz/input/CaseFile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "CaseSections.hpp"
+#include "TomlSection.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/SimpleObstacles.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/TextFile.hpp"
+
+namespace fretbuzz {
+
+DataSource DataSource::directory(std::filesystem::path dir) {
+    DataSource s;
+    s.dir_ = std::move(dir);
+    return s;
+}
+
+DataSource DataSource::builtin() {
+    DataSource s;
+    s.builtin_ = true;
+    return s;
+}
+
+std::string DataSource::read(const std::string& relative_path, const std::string& key) const {
+    if (builtin_) {
+        if (auto text = find_builtin_file(relative_path)) return std::string(*text);
+        throw InputError(key + " = \"" + relative_path + "\": no such built-in data file");
+    }
+    const std::filesystem::path given(relative_path);
+    const std::filesystem::path path = given.is_absolute() ? given : dir_ / given;
+    // A case copied out with `fretbuzz show` still finds the built-in data it names.
+    std::error_code ec;
+    if (!given.is_absolute() && !std::filesystem::exists(path, ec) && !ec)
+        if (auto text = find_builtin_file(relative_path)) return std::string(*text);
+    return read_text_file(path, key + " = \"" + relative_path + "\"", kMaxDataFileBytes);
+}
+
+namespace {
+
+constexpr std::string_view kCaseSuffix = ".toml";
+
+void read_contact_section(TomlSection s, Case& c) {
+    c.contact.stiffness = s.positive("K");
+    c.contact.exponent = s.number("alpha");
+    require_at_least(s.key_path("alpha"), c.contact.exponent, 1.0);
+    read_friction(s, c);
+    s.finish();
+}
+
+void read_run_section(TomlSection s, Case& c) {
+    c.run.sample_rate_hz = s.positive("fs");
+    c.run.duration_s = s.positive("duration");
+    if (const toml::node* rate = s.node("output_rate")) {
+        if (const auto* word = rate->as_string()) {
+            if (word->get() != "native")
+                throw InputError(s.key_path("output_rate") + " = \"" + word->get() + "\": must be a rate in Hz or \"native\"");
+            c.run.output_rate_hz.reset();
+        } else {
+            c.run.output_rate_hz = s.positive("output_rate");
+        }
+    }
+    c.run.allow_aliasing = s.optional_flag("allow_aliasing").value_or(false);
+    if (s.optional_flag("lossless").value_or(false)) c.make_lossless();
+    s.finish();
+}
+
+// Obstacles all lie on one side of the string: the contact solve takes one side per run.
+void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
+    std::vector<std::vector<double>> obstacles;
+    std::optional<ObstacleSide> side;
+    for (TomlSection& obstacle : sections) {
+        const ObstacleSide this_side = read_obstacle_side(obstacle);
+        if (side && this_side != *side)
+            throw InputError(obstacle.key_path("side") + " = \"" + to_string(this_side) + "\" but " +
+                             sections.front().key_path("side") + " is \"" + to_string(*side) +
+                             "\": all obstacles of a case must lie on the same side of the string");
+        side = this_side;
+        obstacles.push_back(read_obstacle_section(obstacle, data, c));
+        obstacle.finish();
+    }
+    if (obstacles.empty()) throw InputError("obstacle: the list of obstacles is empty; use type = \"none\" for none");
+    c.obstacle_above = side == ObstacleSide::above;
+    // Obstacles above combine by the lowest: mirror them, take the highest, mirror back.
+    const auto mirror = [](std::vector<double>& g) {
+        for (double& v : g)
+            if (std::isfinite(v)) v = -v;
+    };
+    if (c.obstacle_above) std::for_each(obstacles.begin(), obstacles.end(), mirror);
+    c.obstacle_height_m = highest_of(obstacles);
+    if (c.obstacle_above) mirror(c.obstacle_height_m);
+    // Frets stand out toward the string: find them on the heights as the solve sees them.
+    std::vector<double> toward_string = c.obstacle_height_m;
+    if (c.obstacle_above) mirror(toward_string);
+    c.fret_positions_m = find_frets(toward_string, c.grid_step());
+}
+
+void read_observe_section(TomlSection s, Case& c) {
+    c.observation_points_m = s.numbers("x");
+    for (std::size_t k = 0; k < c.observation_points_m.size(); ++k) {
+        const double x = c.observation_points_m[k];
+        if (!(x > 0.0 && x < c.string.length_m))
+            throw InputError(out_of_range_message(s.key_path("x") + "[" + std::to_string(k) + "]", x,
+                                                  "must lie inside the string, in (0, L) = (0, " +
+                                                      std::to_string(c.string.length_m) + ") m"));
+    }
+    s.finish();
+}
+
+void read_audio_section(TomlSection s, Case& c) {
+    c.run.audio_rate_hz = s.optional_positive("rate").value_or(c.run.audio_rate_hz);
+    read_pickup_angle(s, c);
+    s.finish();
+}
+
+}  // namespace
+
+Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data) {
+    const toml::table root = parse_toml_document(toml_text, source_name);
+    TomlSection top(root, "");
+    Case c;
+    c.source_text = std::string(toml_text);
+    c.name = top.text("name");
+    c.description = top.optional_text("description").value_or("");
+    StringDescription string;
+    {
+        TomlSection section = top.section("string");
+        string = read_string_section(section, c);
+        read_polarisation_count(section, c);
+        section.finish();
+    }
+    {
+        // An ideal string needs no [modes] table at all: its frequencies are j c / (2L).
+        std::optional<TomlSection> modes =
+            string.ideal ? top.optional_section("modes") : std::optional<TomlSection>(top.section("modes"));
+        const toml::table empty;
+        TomlSection none(empty, "modes");
+        // run.lossless is read with [run]; the mode table needs to know it now.
+        const auto* run = root["run"].as_table();
+        const bool lossless = run != nullptr && (*run)["lossless"].value_or(false);
+        read_modes_section(modes ? *modes : none, data, string, lossless, c);
+        if (modes) modes->finish();
+    }
+    // One obstacle, or several ([[obstacle]]) that the string meets wherever each is highest.
+    std::vector<TomlSection> obstacle_sections = top.sections("obstacle");
+    combine_obstacles(obstacle_sections, data, c);
+    {
+        TomlSection excitation = top.section("excitation");
+        read_excitation_section(excitation, data, c);
+        read_excitation_angle(excitation, c);
+        excitation.finish();
+    }
+    read_contact_section(top.section("contact"), c);
+    read_run_section(top.section("run"), c);
+    read_observe_section(top.section("observe"), c);
+    read_fingers(top, c);
+    read_gestures(top, c);
+    if (auto audio = top.optional_section("audio")) read_audio_section(*audio, c);
+    if (auto y = top.optional_section("polarisation_y")) {
+        read_polarisation_y_section(*y, data, c);
+        if (root["run"]["lossless"].value_or(false)) c.make_lossless();  // the y table too
+    }
+    top.finish();
+    return c;
+}
+
+std::vector<BuiltinCaseInfo> builtin_cases() {
+    std::vector<BuiltinCaseInfo> cases;
+    for (const EmbeddedFile& f : builtin_files()) {
+        const std::string_view name = f.name;
+        if (name.find('/') != std::string_view::npos || !name.ends_with(kCaseSuffix)) continue;
+        const toml::table root = parse_toml_document(f.text(), std::string(name));
+        cases.push_back({std::string(name.substr(0, name.size() - kCaseSuffix.size())),
+                         root["description"].value_or(std::string())});
+    }
+    return cases;
+}
+
+bool is_builtin_case(std::string_view name) {
+    return find_builtin_file(std::string(name) + std::string(kCaseSuffix)).has_value();
+}
+
+std::string builtin_case_text(std::string_view name) {
+    if (auto text = find_builtin_file(std::string(name) + std::string(kCaseSuffix))) return std::string(*text);
+    std::string names;
+    for (const auto& info : builtin_cases()) names += (names.empty() ? "" : ", ") + info.name;
+    throw InputError("unknown case '" + std::string(name) + "': give a built-in case (" + names +
+                     ") or the path of a .toml case file");
+}
+
+CaseText read_case_text(const std::string& name_or_path) {
+    if (is_builtin_case(name_or_path))
+        return {builtin_case_text(name_or_path), name_or_path + ".toml", DataSource::builtin()};
+    const std::filesystem::path path(name_or_path);
+    if (path.extension() == kCaseSuffix) {
+        return {read_text_file(path, "case file " + path.string(), kMaxCaseFileBytes), path.string(),
+                DataSource::directory(path.parent_path())};
+    }
+    builtin_case_text(name_or_path);  // throws the list of valid names
+    return {};
+}
+
+Case load_case(const std::string& name_or_path) {
+    const CaseText source = read_case_text(name_or_path);
+    return parse_case(source.text, source.source_name, source.data);
+}
+
+Case with_mode_count(const CaseText& source, std::size_t modes) {
+    toml::table root = parse_toml_document(source.text, source.source_name);
+    if (toml::table* string = root["string"].as_table())
+        string->insert_or_assign("modes", static_cast<std::int64_t>(modes));
+    std::ostringstream text;
+    text << root;
+    return parse_case(text.str(), source.source_name, source.data);
+}
+
+}  // namespace fretbuzz
