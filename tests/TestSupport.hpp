@@ -39,9 +39,8 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
-inline CommandResult run_cli(const std::string& arguments) {
-    const std::string command = std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1";
+// A shell command's exit status and output.
+inline CommandResult run_command(const std::string& command) {
     CommandResult result;
     FILE* pipe = ::popen(command.c_str(), "r");
     if (pipe == nullptr) return {-1, "popen failed"};
@@ -50,6 +49,11 @@ inline CommandResult run_cli(const std::string& arguments) {
     const int status = ::pclose(pipe);
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
+}
+
+// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
+inline CommandResult run_cli(const std::string& arguments) {
+    return run_command(std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1");
 }
 
 // A fresh, empty directory removed when the object goes away.
