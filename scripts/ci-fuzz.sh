@@ -20,6 +20,6 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 corpus="$build/fuzz-recordings"
 rm -rf "$corpus" && mkdir -p "$corpus"
 cp tests/fuzz/recordings/* "$corpus"/
-"$build"/tests/fuzz/recording_fuzzer "$corpus" -max_total_time="$recording_seconds" -max_len=8192 -timeout=10 \
-  -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/recording-"
+"$build"/tests/fuzz/recording_fuzzer "$corpus" -dict=tests/fuzz/recording.dict -max_total_time="$recording_seconds" \
+  -max_len=8192 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/recording-"
 echo "CI fuzz: $(( $(date +%s) - start )) s"

@@ -36,7 +36,8 @@ inline std::vector<TruePartial> decay_partials(const DecaySpec& s) {
     for (int j = 1; j <= s.modes; ++j) {
         const double f = s.f0_hz * j * std::sqrt(1.0 + s.inharmonicity * j * j), sigma = 0.5 + 0.3 * j;
         p.push_back({j, 1, f, sigma, 0.5 / j, 0.0});
-        if (s.ratio > 0.0) p.push_back({j, 2, f * (1.0 + s.separation), s.damping_ratio * sigma, s.ratio * 0.5 / j, 1.0 * j});
+        if (s.ratio > 0.0)
+            p.push_back({j, 2, f * (1.0 + s.separation), s.damping_ratio * sigma, s.ratio * 0.5 / j, 1.0 * j});
     }
     return p;
 }

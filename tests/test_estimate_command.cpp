@@ -28,6 +28,17 @@ using testing::run_cli;
 using testing::ScratchDir;
 namespace fs = std::filesystem;
 
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write_file(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
 TEST(EstimateCommand, NotAudioIsRejectedAndNothingIsWritten) {
     ScratchDir dir("estimate-bad");
     const fs::path text = dir.path() / "notes.wav", out = dir.path() / "out";
@@ -36,8 +47,9 @@ TEST(EstimateCommand, NotAudioIsRejectedAndNothingIsWritten) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(text.string() + ": not a WAV, FLAC or AIFF file"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
-    // A WAV header over text: libsndfile's refusal, naming the file.
-    std::ofstream(text) << "RIFF" << std::string(4, '\x10') << "WAVEfmt this is not audio either\n";
+    // A WAV whose chunks fit the file but whose format chunk is 4 bytes of text: libsndfile's
+    // refusal, naming the file.
+    write_file(text, std::string("RIFF\x10\0\0\0WAVEfmt \x04\0\0\0text", 24));
     r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(text.string() + ": not audio libsndfile can read"), std::string::npos) << r.output;
@@ -145,17 +157,6 @@ testing::CommandResult run_cli_within(int seconds, const std::string& arguments)
                                 " 2>&1");
 }
 
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void write_file(const fs::path& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary) << bytes;
-}
-
 // A FLAC file of the samples (16-bit), written by libsndfile.
 void write_flac(const fs::path& path, const std::vector<double>& x, int rate) {
     SF_INFO info{};
@@ -196,7 +197,8 @@ TEST(EstimateCommand, CaseSufficesWithoutDiameter) {
     EXPECT_NE(read_file(dir.path() / "b" / "case-snippet.toml").find("d = 0.0004\n"), std::string::npos);
     EXPECT_EQ(load_case((dir.path() / "b" / "case.toml").string()).string.length_m, 0.88);
     // A length that does not fit the case (its pluck and pickup lie beyond 0.5 m): refused.
-    r = run_cli("estimate " + wav.string() + " --case bass-pluck --L 0.5 --no-plots -q --out " + (dir.path() / "c").string());
+    r = run_cli("estimate " + wav.string() + " --case bass-pluck --L 0.5 --no-plots -q --out " +
+                (dir.path() / "c").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("the case written from --case bass-pluck is not valid"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir.path() / "c"));
@@ -290,6 +292,29 @@ TEST(EstimateCommand, OnlyWavFlacAndAiffAreRead) {
     EXPECT_NE(r.output.find(path.string() + ": not a WAV, FLAC or AIFF file"), std::string::npos) << r.output;
 }
 
+// A chunk that claims to run past the end of the file is refused before libsndfile parses
+// it: this 213-byte RF64 file (found by recording_fuzzer) keeps libsndfile 1.2's LIST
+// parser busy for minutes.
+TEST(EstimateCommand, ChunksPastTheEndOfTheFileAreRefused) {
+    const std::string hex =
+        "52463634ffffffff57415645647336341c0000005a01000000f0fffffffffffffffe0000f00000000000010000000000"
+        "666d74201000000001000100401f5d00401f0004010008004c495354b3abffffffffffffffffffffffffffffffffffff"
+        "ffffffffffffffffffffffffffffffffffffffffffffffffffffffffdfffffffffffffffffffffffffffffffffffffff"
+        "ffffffffffffffffffffffffffffffffffffffffff74201000000001000100409f8f7d6b5c605855939fa72aa8a2978a"
+        "7c6e635b57585e8f83776c635e5c5f66707c88939c";
+    std::string bytes;
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+        bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+    ScratchDir dir("estimate-chunks");
+    const fs::path path = dir.path() / "damaged.wav";
+    write_file(path, bytes);
+    const auto r = run_cli_within(20, "estimate " + path.string() + kString + "--out " + (dir.path() / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(path.string() + ": its 'LIST' chunk at byte 72 claims 4294945715 bytes, past the end"),
+              std::string::npos)
+        << r.output;
+}
+
 // A steady tone is refused as not a free decay (exit 2, nothing written).
 TEST(EstimateCommand, SteadyToneIsNotAFreeDecay) {
     ScratchDir dir("estimate-steady");
@@ -322,7 +347,8 @@ TEST(EstimateCommand, WritesBothPolarisationsWhenAsked) {
     r = run_cli("estimate " + wav.string() + options + " --polarisations 2");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(read_file(out / "partials.csv").find(",reliable,polarisation\n"), std::string::npos);
-    EXPECT_NE(read_file(out / "case-snippet.toml").find("[polarisation_y]\ntable = \"modes_y.csv\""), std::string::npos);
+    EXPECT_NE(read_file(out / "case-snippet.toml").find("[polarisation_y]\ntable = \"modes_y.csv\""),
+              std::string::npos);
     const Case c = load_case((out / "case.toml").string());
     ASSERT_TRUE(c.two_polarisations());
     const ModeTable y = c.y_modes();

@@ -100,7 +100,8 @@ int estimate_command(const EstimateArguments& a) {
     write_partials_csv(out.staged("partials.csv"), estimate);
     write_mode_table_csv(out.staged(kModeTableFile), table);
     if (two_polarisations) write_mode_table_csv(out.staged(kModeTableYFile), ModelFit::y_mode_table(table, estimate));
-    write_model_curves_csv(out.staged("model_curves.csv"), fit, std::max<std::size_t>(mode_count, estimate.partials.back().mode));
+    write_model_curves_csv(out.staged("model_curves.csv"), fit,
+                           std::max<std::size_t>(mode_count, estimate.partials.back().mode));
     write_fit_json(out.staged("fit.json"), estimate, fit, table);
     {
         const auto path = out.staged("case-snippet.toml");
@@ -130,7 +131,8 @@ int estimate_command(const EstimateArguments& a) {
     }
     if (!a.quiet)
         std::cerr << "fretbuzz: " << estimate.partials.size() << " partials (" << reliable << " reliable; "
-                  << doublets << " modes with both polarisations) in " << estimate.bands << " bands; f0 = " << fit.frequency.f0_hz << " Hz, B = "
+                  << doublets << " modes with both polarisations) in " << estimate.bands
+                  << " bands; f0 = " << fit.frequency.f0_hz << " Hz, B = "
                   << fit.frequency.inharmonicity << " (rms " << fit.frequency.rms_cents << " cents); delta_ve = "
                   << fit.damping.parameters.viscoelastic_loss << ", 1/Q_te = "
                   << fit.damping.parameters.thermoelastic_inverse_q << " (sigma rms error "

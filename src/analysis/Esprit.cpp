@@ -150,7 +150,8 @@ std::vector<double> Esprit::ester(std::size_t max_order) const {
         const Eigen::Index m = w.rows();
         const Matrix error = w.bottomRows(m - 1) - w.topRows(m - 1) * rotation(w);
         const Matrix square = error.adjoint() * error;  // ||E||_2^2: its largest eigenvalue
-        const double norm2 = Eigen::SelfAdjointEigenSolver<Matrix>(square, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+        const double norm2 =
+            Eigen::SelfAdjointEigenSolver<Matrix>(square, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
         j.push_back(1.0 / std::max(norm2, 1e-300));
     }
     return j;

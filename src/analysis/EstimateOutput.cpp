@@ -34,7 +34,8 @@ void close_checked(std::ofstream& out, const std::filesystem::path& path) {
 
 // The base case as TOML: a built-in case's text or the file's.
 toml::table parse_base_case(const std::string& base) {
-    const std::string text = is_builtin_case(base) ? builtin_case_text(base) : read_text_file(base, "--case", kMaxCaseFileBytes);
+    const std::string text =
+        is_builtin_case(base) ? builtin_case_text(base) : read_text_file(base, "--case", kMaxCaseFileBytes);
     try {
         return toml::parse(text, base);
     } catch (const toml::parse_error& e) {

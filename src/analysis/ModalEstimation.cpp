@@ -71,9 +71,10 @@ void check_free_decay(std::span<const double> decay, const ModalEstimate& e) {
     if (!(loss_db >= ModalEstimation::kMinDecayLossDb))
         throw InputError("recording: not a free decay: from the first to the last quarter of the " +
                          format(e.duration_s) + " s after the attack peak at " + format(e.start_s) +
-                         " s its level changes by " + format(-loss_db) + " dB (a plucked string's decay loses at least " +
-                         format(ModalEstimation::kMinDecayLossDb) +
-                         " dB); a steady or growing sound has no dampings to measure: record a note left to ring freely");
+                         " s its level changes by " + format(-loss_db) +
+                         " dB (a plucked string's decay loses at least " + format(ModalEstimation::kMinDecayLossDb) +
+                         " dB); a steady or growing sound has no dampings to measure: record a note left to ring "
+                         "freely");
 }
 
 // f0 by harmonic summation on the spectrum: the candidate whose first ten multiples sit

@@ -3,6 +3,7 @@
 #include <sndfile.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -35,6 +36,49 @@ bool known_container(std::string_view b) {
     if (b.size() < 12) return at(0, "fLaC");
     return ((at(0, "RIFF") || at(0, "RIFX") || at(0, "RF64")) && at(8, "WAVE")) || at(0, "fLaC") ||
            (at(0, "FORM") && (at(8, "AIFF") || at(8, "AIFC")));
+}
+
+std::uint64_t read_u32(std::string_view b, std::size_t at, bool big_endian) {
+    std::uint64_t v = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+        const auto byte = static_cast<std::uint64_t>(static_cast<unsigned char>(b[at + (big_endian ? i : 3 - i)]));
+        v = (v << 8) | byte;
+    }
+    return v;
+}
+
+std::string printable(std::string_view tag) {
+    std::string out(tag);
+    for (char& c : out)
+        if (c < 0x20 || c > 0x7e) c = '?';
+    return out;
+}
+
+// RIFF-style containers (WAV, RF64, AIFF): libsndfile's header parser can spin for minutes
+// over a chunk that claims to run far past the end of the file (a 213-byte RF64 file with
+// such a LIST chunk does it to libsndfile 1.2), so every chunk but the audio data must lie
+// inside the file. The audio data may end early: a recording cut short is still read.
+void check_chunks(std::string_view b, const std::string& what) {
+    if (b.substr(0, 4) == "fLaC") return;
+    const bool big_endian = b.substr(0, 4) == "RIFX" || b.substr(0, 4) == "FORM";
+    const bool rf64 = b.substr(0, 4) == "RF64";
+    const std::string_view audio = b.substr(0, 4) == "FORM" ? "SSND" : "data";
+    std::uint64_t rf64_data_bytes = 0;  // from the ds64 chunk
+    for (std::size_t at = 12; at + 8 <= b.size();) {
+        const std::string_view tag = b.substr(at, 4);
+        std::uint64_t size = read_u32(b, at + 4, big_endian);
+        const std::size_t left = b.size() - at - 8;
+        if (rf64 && tag == "ds64" && size >= 16 && left >= 16)
+            rf64_data_bytes = read_u32(b, at + 16, false) | (read_u32(b, at + 20, false) << 32);
+        if (tag == audio && rf64 && size == 0xffffffffu) size = rf64_data_bytes;
+        if (size > left) {
+            if (tag == audio) return;
+            throw InputError(what + ": its '" + printable(tag) + "' chunk at byte " + std::to_string(at) + " claims " +
+                             std::to_string(size) + " bytes, past the end of the file (" + std::to_string(b.size()) +
+                             " bytes): a damaged file");
+        }
+        at += 8 + static_cast<std::size_t>(size) + static_cast<std::size_t>(size & 1);
+    }
 }
 
 bool known_format(int format) {
@@ -90,6 +134,7 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
     const std::string what = "recording " + name;
     if (!known_container(bytes))
         throw InputError(what + ": not a WAV, FLAC or AIFF file (convert it, e.g. `sox in.ogg out.wav`)");
+    check_chunks(bytes, what);
     MemoryFile memory{bytes};
     SF_VIRTUAL_IO io{memory_length, memory_seek, memory_read, memory_write, memory_tell};
     SF_INFO info{};
