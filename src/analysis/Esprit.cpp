@@ -3,7 +3,6 @@
 #include <fftw3.h>
 
 #include <Eigen/Dense>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -129,12 +128,16 @@ Esprit::Esprit(std::span<const std::complex<double>> y, std::size_t rows, std::s
     Matrix start(static_cast<Eigen::Index>(cols), width);
     for (Eigen::Index j = 0; j < width; ++j)
         for (Eigen::Index i = 0; i < start.rows(); ++i) start(i, j) = {normal(random), normal(random)};
+    // Orthonormalised after each H H* (not in between: the squared spread of the singular
+    // values stays within what Gram-Schmidt twice handles, 150 dB of amplitude).
     Matrix q = orthonormal_columns(hankel.times(start));
-    for (int it = 0; it < kIterations; ++it)
-        q = orthonormal_columns(hankel.times(orthonormal_columns(hankel.adjoint_times(q))));
-    // H ~ Q Q* H = Q (H* Q)*; the SVD of the small (H* Q) = U S V* gives H's left vectors Q V.
-    const Eigen::BDCSVD<Matrix> svd(hankel.adjoint_times(q), Eigen::ComputeThinV);
-    const Matrix leading = q * svd.matrixV().leftCols(static_cast<Eigen::Index>(basis_columns_));
+    for (int it = 0; it < kIterations; ++it) q = orthonormal_columns(hankel.times(hankel.adjoint_times(q)));
+    // H ~ Q Q* H = Q (H* Q)*: with (H* Q) = U S V*, H's left singular vectors are Q V, and V
+    // holds the eigenvectors of the small (Q* H)(H* Q), whose eigenvalues are S^2 (ascending).
+    const Matrix projected = hankel.adjoint_times(q);
+    const Eigen::SelfAdjointEigenSolver<Matrix> eigen(projected.adjoint() * projected);
+    const Matrix leading =
+        q * eigen.eigenvectors().rowwise().reverse().leftCols(static_cast<Eigen::Index>(basis_columns_));
     basis_.assign(leading.data(), leading.data() + leading.size());
 }
 
