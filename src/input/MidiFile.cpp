@@ -222,6 +222,7 @@ Score parse_midi(std::string_view bytes, const std::string& source_name, int ope
     const std::vector<unsigned char> checked = checked_copy(bytes, source);
     const std::unique_ptr<smf_t, SmfDelete> smf(smf_load_from_memory(checked.data(), static_cast<int>(checked.size())));
     if (smf == nullptr) throw InputError(source + ": libsmf could not read it");
+    smf_rewind(smf.get());  // every track from its first event: events come in time order
     Score p;
     std::map<int, std::pair<double, double>> sounding;  // note and channel -> (start, velocity)
     long skipped = 0;

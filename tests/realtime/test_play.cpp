@@ -205,6 +205,22 @@ TEST(Play, ReadsWellFormedMidiWithLongMetaEventsAndTempoChanges) {
     EXPECT_EQ(s.notes[1].fret, 5);
     EXPECT_NEAR(s.notes[1].time_s, 0.5, 1e-12);
     EXPECT_NEAR(s.notes[1].duration_s, 1.0, 1e-12);
+    // Tracks are merged in time order, whichever comes first in the file: a tempo change in the
+    // last track times the notes of the first, and a track that starts later (here by 55 ticks
+    // of 1/960 s) ends the same notes of one that starts at once.
+    const Bytes early = testing::midi_notes({{40, 0, 960, 100}, {42, 960, 1920, 100}});
+    const Bytes tempo = {0x83, 0x60, 0xFF, 0x51, 0x03, 0x0F, 0x42, 0x40, 0x00, 0xFF, 0x2F, 0x00};
+    Bytes late = testing::midi_notes({{40, 0, 960, 100}});
+    late[0] = 55;
+    const Bytes merged = testing::midi_file({early, tempo, late});
+    const Score m = parse_midi(std::string(merged.begin(), merged.end()), "merged.mid", open);
+    ASSERT_EQ(m.notes.size(), 3u);
+    EXPECT_NEAR(m.notes[0].time_s, 0.0, 1e-12);
+    EXPECT_NEAR(m.notes[0].duration_s, 55.0 / 960.0, 1e-12);  // ended by the later track's note-on
+    EXPECT_NEAR(m.notes[1].time_s, 55.0 / 960.0, 1e-12);
+    EXPECT_NEAR(m.notes[1].time_s + m.notes[1].duration_s, 1.5, 1e-12);  // tick 960: 0.5 s + 1 s
+    EXPECT_NEAR(m.notes[2].time_s, 1.5, 1e-12);
+    EXPECT_NEAR(m.notes[2].duration_s, 2.0, 1e-12);
     // The program plays it whole: 1.5 s of notes and the 1 s tail, nothing dropped or logged.
     const testing::ScratchDir scratch("play-long-meta");
     testing::write_bytes(scratch.path() / "long-meta.mid", file);
