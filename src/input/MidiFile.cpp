@@ -269,6 +269,7 @@ Score parse_midi(std::string_view bytes, const std::string& source_name, int ope
 }
 
 Score load_midi(const std::filesystem::path& path, int open_note, int max_fret) {
+    // The checks of every file fretbuzz reads (regular, size first); the bytes come back as they are.
     return parse_midi(read_text_file(path, "--midi", kMaxMidiFileBytes), path.string(), open_note, max_fret);
 }
 
