@@ -294,6 +294,26 @@ TEST(StoppedString, UnstoppedItIsTheOpenStringWithFewerModes) {
     }
 }
 
+TEST(StoppedString, HoldsTheSecondPolarisationsOwnTableToo) {
+    // A measured y table (as many modes as z): held mode for mode like the z one, so the
+    // stopped case keeps one basis for both polarisations.
+    Case open = load_case("bass-neck");
+    open.polarisation.count = 2;
+    open.polarisation.table = open.modes;
+    for (double& f : open.polarisation.table.frequency_hz) f *= 1.002;
+    const double stop = fret_position(open.string.length_m, 7);
+    for (const std::size_t modes : {open.mode_count(), std::size_t{300}}) {
+        const Case stopped = stopped_string(open, stop, modes);
+        ASSERT_EQ(stopped.polarisation.table.size(), stopped.mode_count());
+        const ModeTable y = HeldString(open.polarisation.table, open.string.length_m, stop).sounding_partials(modes);
+        for (std::size_t n = 0; n < 10; ++n) {
+            EXPECT_EQ(stopped.polarisation.table.frequency_hz[n], y.frequency_hz[n]);
+            EXPECT_NEAR(cents(stopped.polarisation.table.frequency_hz[n], stopped.modes.frequency_hz[n]), 1200 * std::log2(1.002), 0.01);
+        }
+    }
+    EXPECT_EQ(stopped_string(open, 0.0, 300).polarisation.table.size(), 300u);
+}
+
 TEST(StoppedString, RefusesAStopOffTheStringNamingIt) {
     const Case open = load_case("bass-neck");
     const auto message = [&](double stop, std::size_t modes) {
