@@ -8,8 +8,8 @@
   modes above the table, the dispersion extrapolated past it as c^2 linear in k^2), the
   near-side overlaps integrated exactly, and the near side damped (zeta = 0.2, and 0.05 and
   0.5 to show that the partials do not depend on it) over every held mode up to 1.5 times the
-  partial at once; the partial is the least-damped complex mode with most of its energy on the
-  far side;
+  partial at once; the partial is the complex mode with most of its energy on the far side
+  nearest to the pinned piece's;
 - pinned stand-in: the piece from x_k to the bridge pinned at both ends (its inharmonicity
   B' = B (L / L')^2), as `fretbuzz setup` rebuilt it and the former stopped_string without
   the B fix (every frequency times L / L');
@@ -18,10 +18,13 @@
 - finger: `fretbuzz run` with `fret = k` (the lumped finger of scheme/Finger.hpp pressing the
   string onto fret k with 5 N) and the case's pop, made gentle (0.3 mm) so that the string
   stays off the other frets, at the case's Fe = 4 MHz for 1.5 s; each partial from u(0.854 m)
-  over 0.5-1.5 s (after the near side's fast transient), shifted to 0 Hz, decimated to 480 Hz and fitted by a matrix pencil (the
-  pole within 30 cents of the partial with the most energy over the window). Where a second
-  pole with a tenth of that energy or more lies within 20 cents (the near side's segment ringing with it: a beating
-  doublet) the partial is marked as mixed.
+  over 0.5-1.5 s (after the near side's fast transient), shifted to 0 Hz, decimated to 480 Hz
+  and fitted by a matrix pencil (the pole within 30 cents of the partial with the most energy over the window). Where u at a point
+  of the near side (37 % of the way to the fret) has a mode of its own within 30 cents of the
+  partial, stronger there than the partial, the partial is marked as mixed with the near side
+  (a dagger in the table). A star on a reference partial: the held string's undamped modes
+  mix the two sides there (near-side share between 0.02 and 0.98 within 30 cents), which the
+  near side's damping undoes.
 
 Run: /usr/bin/python3 scripts/validate_stopped_note.py [--jobs N]   (8 finger runs: about
 45 s of computing per simulated second each, 1.5 s simulated). --write-runs DIR writes the
@@ -30,6 +33,7 @@ runs' observation.csv files made there (DIR/<name>/observation.csv) instead of r
 """
 import argparse
 import math
+import time
 import os
 import re
 import subprocess
@@ -70,6 +74,10 @@ def finger_case_text(case, fret, data):
         text = (CASES / f"{case}.toml").read_text()
         text = re.sub(r"\[excitation\][^\[]*", '[excitation]\ntype = "sine"\nmode = 1\namplitude = 0.0\n\n', text)
         text = f"fret = {fret}\n" + text + "\n" + gesture
+    # A second observation point on the near side (37 % of the way to the fret), where the
+    # near side's own modes show.
+    near = 0.37 * 0.863 * (1 - 2 ** (-fret / 12))
+    text = text.replace("x = [0.854]", f"x = [0.854, {near:.4f}]")
     return text.replace('"data/', f'"{data}/')
 
 
@@ -197,33 +205,40 @@ def reference(freq, sigma, length, stop, guesses):
     return result, held_f[:m], shares
 
 
+def pencil(signal, dt, guess):
+    """Poles near `guess` of a sampled signal: (frequency, energy over the window) of each."""
+    import numpy as np
+    import scipy.signal as ss
+    y = signal * np.exp(-2j * math.pi * guess * dt * np.arange(len(signal)))
+    y = ss.decimate(ss.decimate(y, 10, ftype="fir", zero_phase=True), 10, ftype="fir", zero_phase=True)[20:-20]
+    step = 100 * dt
+    rows = len(y) // 2
+    hankel = np.array([y[i:i + rows + 1] for i in range(len(y) - rows)])
+    vh = np.linalg.svd(hankel, full_matrices=False)[2][:16].T
+    poles = np.linalg.eigvals(np.linalg.pinv(vh[:-1]) @ vh[1:])
+    amplitude = np.abs(np.linalg.lstsq(np.vander(poles, len(y), increasing=True).T, y, rcond=None)[0])
+    # Each pole's energy over the window (a fast-decaying pole's large initial amplitude counts less).
+    energy = amplitude ** 2 * np.array([np.sum(np.abs(p) ** (2 * np.arange(len(y)))) for p in poles])
+    f = guess + np.angle(poles) / (2 * math.pi * step)
+    return [(f[i], energy[i]) for i in range(len(poles)) if f[i] > 0 and abs(cents(f[i], guess)) < 30]
+
+
 def finger_partials(observation, guesses):
     """(frequency, mixed) of each partial from u(t) (see the module's docstring)."""
     import numpy as np
-    import scipy.signal as ss
     data = np.loadtxt(observation, delimiter=",", skiprows=1)
-    t, u = data[:, 0], data[:, 1]
-    keep = t >= 0.5
-    t, u = t[keep], u[keep] - u[keep].mean()
-    dt = t[1] - t[0]
+    keep = data[:, 0] >= 0.5
+    dt = data[1, 0] - data[0, 0]
+    far, near = (data[keep, c] - data[keep, c].mean() for c in (1, 2))
     out = []
     for guess in guesses:
-        y = u * np.exp(-2j * math.pi * guess * (t - t[0]))
-        y = ss.decimate(ss.decimate(y, 10, ftype="fir", zero_phase=True), 10, ftype="fir", zero_phase=True)[20:-20]
-        step = 100 * dt
-        rows = len(y) // 2
-        hankel = np.array([y[i:i + rows + 1] for i in range(len(y) - rows)])
-        vh = np.linalg.svd(hankel, full_matrices=False)[2][:16].T
-        poles = np.linalg.eigvals(np.linalg.pinv(vh[:-1]) @ vh[1:])
-        amplitude = np.abs(np.linalg.lstsq(np.vander(poles, len(y), increasing=True).T, y, rcond=None)[0])
-        # Each pole's energy over the window (a fast-decaying pole's large initial amplitude counts less).
-        energy = amplitude ** 2 * np.array([np.sum(np.abs(p) ** (2 * np.arange(len(y)))) for p in poles])
-        f = guess + np.angle(poles) / (2 * math.pi * step)
-        near = [i for i in range(len(poles)) if abs(1200 * math.log2(max(f[i], 1e-9) / guess)) < 30]
-        main = max(near, key=lambda i: energy[i])
-        mixed = any(i != main and abs(1200 * math.log2(f[i] / f[main])) < 20 and energy[i] > 0.1 * energy[main]
-                    for i in near)
-        out.append((f[main], mixed))
+        f = max(pencil(far, dt, guess), key=lambda p: p[1])[0]
+        # Mixed: on the near side, a mode of its own (more than a cent away) within 30 cents
+        # that is stronger there than the partial.
+        poles = pencil(near, dt, guess)
+        here = max((e for g, e in poles if abs(cents(g, f)) <= 1.0), default=0.0)
+        mixed = any(abs(cents(g, f)) > 1.0 and e > here for g, e in poles)
+        out.append((f, mixed))
     return out
 
 
@@ -259,7 +274,7 @@ def analyse(runs):
                 finger = finger_partials(observation, held)
                 cells = []
                 for (f, mixed), b in zip(finger, best):
-                    cells.append(f"{cents(f, b):+.2f}" + (" (mixed)" if mixed else ""))
+                    cells.append(f"{cents(f, b):+.2f}" + ("†" if mixed else ""))
                     if mixed:
                         summary["finger_mixed"] += 1
                     else:
@@ -297,7 +312,10 @@ def main():
         runs = ROOT / "build" / "stopped-note-runs"
         run_fingers(runs, a.jobs)
     analyse(runs)
+    print(f"run time: {time.perf_counter() - START:.0f} s")
 
+
+START = time.perf_counter()
 
 if __name__ == "__main__":
     main()
