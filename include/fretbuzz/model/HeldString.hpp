@@ -24,13 +24,14 @@
 // every pair mixes half and half, into a pinned-like and a clamped-like mode). The finger
 // damps the near side: the sounding partials are those of the held string with a damping
 // 2 zeta omega S added (S the near-side overlaps of the held modes, zeta = 0.2, omega the
-// partial's), each the least-damped complex mode of the window of held modes around the
-// partial with most of its energy on the far side (the quadratic eigenproblem in state space,
-// by Eigen). Over zeta = 0.05..0.5 the first 12 partials of the bass at frets 5, 12 and 15 move
-// by less than 0.1 cent: the near side's modes drop out, its static stiffness (the partial
-// clamp) stays. Partials above half the open table's highest frequency (where its truncation
-// moves them by more than 0.05 cents) follow the pinned piece's dispersion, scaled by the
-// held-to-pinned ratio of the last partial below.
+// partial's): each partial is, among the complex modes of the window of held modes around it
+// (the quadratic eigenproblem in state space, by Eigen), the one with most of its energy on
+// the far side nearest to the pinned piece's partial. With zeta = 0.05 or 0.5 instead, the first 10 partials of the bass at frets 1,
+// 5, 12 and 15 move by at most 0.05 cents: the near side's modes drop out, its static
+// stiffness (the partial clamp) stays. Partials above half the open table's highest frequency
+// (where the table's truncation starts to move the held modes by a few hundredths of a cent)
+// follow the pinned piece's dispersion, scaled by the held-to-pinned ratio of the last
+// partial below.
 #include <cstddef>
 #include <utility>
 #include <vector>
