@@ -15,8 +15,8 @@
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/output/RunOutputs.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 

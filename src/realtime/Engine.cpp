@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 #if defined(__x86_64__) || defined(__SSE2__)
