@@ -1,5 +1,5 @@
 // fretbuzz_bench_stopped: the cost of a stopped string (input/StoppedString.hpp), i.e. of the
-// held string's modes it takes its frequencies from (model/HeldString.hpp), per fret and for
+// held string's modes it takes its frequencies from (scheme/HeldString.hpp), per fret and for
 // the 24 frets that the LV2 plugin prepares when it is instantiated (one voice per fret, the
 // open string's full mode count). Times are the thread's CPU time (the machine is shared).
 #include <benchmark/benchmark.h>

@@ -15,7 +15,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 #include "fretbuzz/model/StringDispersion.hpp"
 
 namespace fretbuzz {

@@ -14,7 +14,7 @@
 
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 
 int main(int argc, char** argv) {
     try {

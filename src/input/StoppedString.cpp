@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 
 namespace fretbuzz {
 

@@ -14,7 +14,7 @@
 #include "Pitch.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 #include "fretbuzz/realtime/Decimator.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
@@ -303,7 +303,7 @@ TEST(Decimator, ReportsTheDelayOfItsImpulseResponse) {
 
 TEST(StoppedString, AStoppedVoiceSoundsAtTheHeldStringsPitch) {
     // A plugin voice stopped at fret k (an engine on stopped_string()'s Case, which drops the
-    // modes it cannot run) sounds at the held string's first partial (model/HeldString.hpp),
+    // modes it cannot run) sounds at the held string's first partial (scheme/HeldString.hpp),
     // the stiff string partly clamped on the fret: 2-5 cents above the pinned piece's.
     const Case open = load_case("bass-pluck");
     EXPECT_NEAR(fret_position(open.string.length_m, 12), 0.5 * open.string.length_m, 1e-12);

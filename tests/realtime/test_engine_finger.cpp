@@ -10,7 +10,7 @@
 
 #include "Pitch.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 
 namespace fretbuzz {
@@ -47,7 +47,7 @@ class FrettedNote : public ::testing::TestWithParam<int> {};
 
 TEST_P(FrettedNote, SoundsAtTheHeldStringsPitch) {
     // The stiff bass string stopped by the finger on fret k sounds at the held string's first
-    // partial (model/HeldString.hpp: the string held at x_k, partly clamped there), not at the
+    // partial (scheme/HeldString.hpp: the string held at x_k, partly clamped there), not at the
     // pinned piece's f_open L / (L - x_k), which lies 2-3.5 cents lower at these frets.
     // bass-neck: bass-pluck's string and neck with modelled modes.
     const int k = GetParam();

@@ -6,7 +6,7 @@
 // of the piece from x_stop to L (the contact grid needs them). With x_stop = 0 it is the open
 // string with at most `modes` modes.
 //
-// The modes' frequencies and dampings are those of the held string (model/HeldString.hpp):
+// The modes' frequencies and dampings are those of the held string (scheme/HeldString.hpp):
 // the open string's own modal model with u(x_stop) = 0 imposed and the string going on over
 // the fret to the nut, its near side damped by the finger. A stiff string held over a fret is
 // half clamped there: its stopped notes sound 1.8-4 cents above the pinned piece's pitch at

@@ -1,4 +1,4 @@
-#include "fretbuzz/model/HeldString.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
