@@ -37,8 +37,9 @@ struct RunSummary {
     double energy_initial_j = 0.0;  // H^{1/2}
     double energy_final_j = 0.0;
     double dissipated_j = 0.0;
-    double max_relative_energy_increase = 0.0;  // max over output samples of (H_k - H_{k-1}) / H^{1/2}
-    double max_relative_balance_error = 0.0;    // max |H + dissipated - H^{1/2}| / H^{1/2}
+    // Relative to E = max(H^{1/2}, the largest |work| so far), see EnergyAudit:
+    double max_relative_energy_increase = 0.0;  // largest rise of H - work between output samples, / E
+    double max_relative_balance_error = 0.0;    // max |H - work + dissipated - H^{1/2}| / E
     long contact_steps = 0;           // steps where the obstacle pushed on the string
     int max_newton_iterations = 0;
     double mean_points_solved = 0.0;  // contact solves per step
