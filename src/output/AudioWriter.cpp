@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "fretbuzz/output/CsvWriters.hpp"
+#include "fretbuzz/output/PickupHighPass.hpp"
 
 namespace fretbuzz {
 
@@ -86,14 +87,18 @@ double fade_weight(std::size_t k, std::size_t n) {
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                          std::size_t fade_in, std::size_t fade_out) {
     const std::size_t size = signal.size();
-    const auto faded = [&](std::size_t i) {
-        double v = signal[i];
+    // What a pickup passes (no DC), then the fades, then the peak: the gain is that of the
+    // file as heard. Taken twice in the same order (once for the peak, once to write) rather
+    // than kept: a long run's channel is megabytes of fresh pages.
+    const auto faded = [&](PickupHighPass& pickup, std::size_t i) {
+        double v = pickup(signal[i]);
         if (i < fade_in) v *= fade_weight(i, fade_in);
         if (size - i <= fade_out) v *= fade_weight(size - 1 - i, fade_out);
         return v;
     };
     double peak = 0.0;
-    for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(i)));
+    PickupHighPass pickup(rate_hz);
+    for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(pickup, i)));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
 
     SF_INFO info{};
@@ -107,9 +112,10 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     std::vector<double> block(std::min(size, kBlockFrames));
     std::string write_error;
+    pickup = PickupHighPass(rate_hz);
     for (std::size_t first = 0; first < size && write_error.empty(); first += block.size()) {
         const std::size_t n = std::min(block.size(), size - first);
-        for (std::size_t k = 0; k < n; ++k) block[k] = faded(first + k) * gain;
+        for (std::size_t k = 0; k < n; ++k) block[k] = faded(pickup, first + k) * gain;
         if (sf_write_double(file, block.data(), static_cast<sf_count_t>(n)) != static_cast<sf_count_t>(n))
             write_error = sf_strerror(file);
     }

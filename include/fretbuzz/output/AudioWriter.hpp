@@ -1,9 +1,9 @@
 #pragma once
 // Audio files, one mono WAV per observation point: the audio the run makes at the rate asked
 // for (band-limited and resampled from every time step, see RunObserver::audio_request),
-// collected, peak-normalised per file and written as 24-bit PCM WAV by libsndfile. The
-// displacement is what an optical sensor sees; the velocity is closer to what a magnetic
-// pickup senses.
+// collected, high-passed as a pickup would (no DC), peak-normalised per file and written as
+// 24-bit PCM WAV by libsndfile. The displacement is what an optical sensor sees; the velocity
+// is closer to what a magnetic pickup senses.
 #include <filesystem>
 #include <span>
 #include <string>
@@ -25,13 +25,15 @@ struct AudioFades {
 // for the first point, then "audio_<x>m.wav" with x in metres for the others.
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
 
-// Writes one mono signal peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or
-// Ogg Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's
-// inverse). std::runtime_error if the file cannot be written.
+// Writes one mono signal as a pickup passes it (no DC: PickupHighPass, from rest at the first
+// sample), peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or Ogg
+// Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's inverse).
+// std::runtime_error if the file cannot be written. Every audio file fretbuzz writes goes
+// through here (run outputs, `fretbuzz play`, the notes of sweeps and set-up studies).
 double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
                               int bits = 24);
 // The same with raised-cosine fades over the first `fade_in` and the last `fade_out` samples
-// (the peak is that of the faded signal), read without copying it.
+// (the peak is that of the high-passed, faded signal), read without copying it.
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                          std::size_t fade_in, std::size_t fade_out);
 
