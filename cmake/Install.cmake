@@ -22,3 +22,4 @@ configure_file(cmake/fretbuzz.pc.in ${CMAKE_BINARY_DIR}/fretbuzz.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/fretbuzz.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 install(DIRECTORY cases/ DESTINATION ${CMAKE_INSTALL_DATADIR}/fretbuzz/cases)
+install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
