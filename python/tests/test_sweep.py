@@ -223,10 +223,13 @@ class SweepTest(unittest.TestCase):
         try:
             wait_for(lambda: len(row_files(out)) >= 2 or driver.poll() is not None, 120, "two rows")
             os.killpg(driver.pid, signal.SIGINT)  # Ctrl-C
-            driver.communicate(timeout=60)
+            _, err = driver.communicate(timeout=60)
         finally:
             if driver.poll() is None:
                 driver.kill()
+        # Exit 130, and the message says how to finish (it used to die with no message).
+        self.assertEqual(driver.returncode, 130, err)
+        self.assertIn(f"--out {out} --scheduler {c.address} --resume", err)
         kept = row_files(out)
         self.assertGreaterEqual(len(kept), 2)
         self.assertLess(len(kept), 12, "the sweep finished before it could be interrupted")
