@@ -11,6 +11,7 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
@@ -302,6 +303,38 @@ TEST(ObstacleSide, RefusesMixedSidesAndAPenetratingStart) {
     EXPECT_NE(message_of(into).find("u(x, 0) <= g(x)"), std::string::npos) << message_of(into);
     const std::string typo = single_mode("", "lossless = true", "type = \"flat\"\nheight = 3e-4\nside = \"top\"");
     EXPECT_NE(message_of(typo).find("obstacle.side = \"top\""), std::string::npos) << message_of(typo);
+}
+
+// The second polarisation's measured table gets the checks of [modes]: a damping or a
+// frequency too large for the step is refused before the run, naming the table, the mode and
+// the column (it used to fail inside the run, exit 3, naming "the energy").
+TEST(PolarisationY, ItsTableIsCheckedAsTheModeTableIs) {
+    testing::ScratchDir scratch("y-table");
+    std::string table = std::string(*find_builtin_file("data/bass_fretted_modes.csv"));
+    const auto write_table = [&](const std::string& name, std::size_t column, const std::string& value) {
+        std::string text = table;
+        const std::size_t row = text.find("\n3,") + 1;
+        std::size_t start = row;
+        for (std::size_t c = 0; c < column; ++c) start = text.find(',', start) + 1;
+        const std::size_t end = text.find_first_of(",\n", start);
+        text.replace(start, end - start, value);
+        std::ofstream(scratch.path() / name) << text;
+    };
+    write_table("sigma.csv", 2, "1e300");
+    write_table("frequency.csv", 1, "1e300");
+    std::string y = builtin_case_text("bass-pluck-y");
+    y.replace(y.find("duration = 0.5"), 14, "duration = 0.001");
+    for (const auto& [file, column] : {std::pair<std::string, std::string>{"sigma.csv", "sigma_per_s"},
+                                       {"frequency.csv", "frequency_hz"}}) {
+        const std::filesystem::path path = scratch.path() / ("y-" + file + ".toml");
+        std::ofstream(path) << y << "\n[polarisation_y]\ntable = \"" << file << "\"\n";
+        const auto r = testing::run_cli("run " + path.string() + " -q --out " + (scratch.path() / "o").string());
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find("polarisation_y.table mode 3 " + column + " = 1.0000000000000001e+300 is out of range"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_FALSE(std::filesystem::exists(scratch.path() / "o"));
+    }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/RunLength.hpp"
 #include "fretbuzz/output/RunOutputs.hpp"
 #include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/Simulation.hpp"
@@ -59,7 +60,7 @@ double parse_rate(const std::string& text) {
 
 void apply_overrides(const RunArguments& a, Case& c) {
     if (a.fs) c.run.sample_rate_hz = *a.fs;
-    if (a.duration) c.run.duration_s = *a.duration;
+    if (a.duration) set_duration(c, *a.duration);  // the finger and gesture profiles cut to the run
     if (a.stiffness) c.contact.stiffness = *a.stiffness;
     if (a.exponent) c.contact.exponent = *a.exponent;
     if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
