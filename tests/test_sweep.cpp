@@ -443,6 +443,22 @@ TEST(SweepStore, ASecondSweepIntoTheSameFolderIsRefusedWhileTheFirstRuns) {
     EXPECT_EQ(run_sweep(spec, dir, resume).computed, 2u);  // the lock went with the first store
 }
 
+// `fretbuzz plot` (and report) on a sweep's folder: a clear refusal (exit 2) saying what the
+// folder holds, not a traceback from the plotting script reading the table as a run.
+TEST(SweepCommand, PlotOnASweepFolderSaysWhatItHolds) {
+    SweepFixture f;
+    const SweepSpec spec = f.spec("[[parameter]]\nkey = \"contact.K\"\nvalues = [1e9]\n");
+    const ScratchDir out("sweep-plot");
+    run_sweep(spec, out.path() / "s");
+    for (const char* command : {"plot ", "report "}) {
+        const auto r = testing::run_cli(command + (out.path() / "s").string());
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find("holds a sweep"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("fretbuzz.read_table"), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
+    }
+}
+
 // Ctrl-C (SIGINT) stops `fretbuzz sweep` with exit 130, the finished rows kept and the
 // command that finishes the sweep printed; --resume then completes it.
 TEST(SweepCommand, CtrlCExits130AndSaysHowToResume) {
