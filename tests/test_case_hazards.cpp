@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -14,6 +15,7 @@
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
@@ -126,6 +128,36 @@ TEST(Aliasing, BuiltinCasesKeepEveryModeBelowHalfFs) {
         EXPECT_TRUE(report.above_nyquist.empty()) << info.name << ": " << report.warnings.front();
         EXPECT_TRUE(c.warnings.empty()) << info.name << ": " << c.warnings.front();
     }
+}
+
+// Where nothing can touch the string (its free motion's envelope stays clear of the
+// obstacle, and no finger or gesture acts), the modal update is exact at any fs: no
+// aliasing warning or refusal. Where it can, the check is as before. The envelope is a
+// bound: a case it calls free runs without a contact step.
+TEST(Aliasing, ACaseThatCannotTouchIsNotWarnedAbout) {
+    const Case pluck = load_case("bass-pluck");  // 0.5 mm, more than 0.3 mm clear of every fret
+    EXPECT_FALSE(contact_possible(pluck));
+    EXPECT_TRUE(Plan(pluck, 1.0 / pluck.run.sample_rate_hz).warnings().empty());
+    EXPECT_TRUE(contact_possible(load_case("bass-pop")));
+    EXPECT_TRUE(contact_possible(load_case("bass-fret5-pop")));  // a finger
+    EXPECT_FALSE(Plan(load_case("bass-pop"), 1e-6).warnings().empty());
+    // A flat barrier 1 mm below at 0.1 mm and 1 mm of pluck: too far, and in reach.
+    for (const auto& [amplitude, possible] : {std::pair{"1e-4", false}, std::pair{"1e-3", true}}) {
+        std::string text = flat_barrier(100);
+        text.replace(text.find("amplitude = 2e-3"), 16, std::string("amplitude = ") + amplitude);
+        const Case c = parse(text);
+        EXPECT_EQ(contact_possible(c), possible) << amplitude;
+        if (!possible) {
+            EXPECT_EQ(simulate(c, {}).contact_steps, 0) << amplitude;
+        }
+    }
+    // At 48 kHz bass-pluck runs every mode without refusal (modes alias onto low
+    // frequencies only under contact, which cannot happen).
+    const auto r = testing::run_cli("run bass-pluck --fs 48000 --duration 0.01 -q --out " +
+                                    (std::filesystem::temp_directory_path() / "fretbuzz-test-pluck48k").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+    std::filesystem::remove_all(std::filesystem::temp_directory_path() / "fretbuzz-test-pluck48k");
 }
 
 TEST(StiffString, SitarUsesTheExactModelAndTheFirstOrderOneWarns) {
