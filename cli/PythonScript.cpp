@@ -118,13 +118,23 @@ int run_python_script(std::string_view script, const std::vector<std::string>& a
     return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+std::string package_directory() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return FRETBUZZ_BUILD_PYTHON_DIR;
+    const fs::path here = program.parent_path();
+    if (fs::equivalent(here, fs::path(FRETBUZZ_BUILD_CLI_DIR), ec)) return FRETBUZZ_BUILD_PYTHON_DIR;
+    return (here / FRETBUZZ_INSTALLED_PYTHON_DIR).lexically_normal().string();
+}
+
 int run_package_main(const std::string& module, const std::vector<std::string>& arguments) {
     const std::string script =
         "import importlib, sys\n"
         "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
         "module = importlib.import_module('fretbuzz.' + sys.argv.pop(1))\n"
         "sys.exit(module.main(sys.argv[1:]))\n";
-    std::string paths = FRETBUZZ_PYTHON_DIRS;
+    std::string paths = package_directory();
     if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
     std::vector<std::string> args{paths, module};
     args.insert(args.end(), arguments.begin(), arguments.end());
