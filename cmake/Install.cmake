@@ -23,6 +23,7 @@ configure_file(cmake/fretbuzz.pc.in ${CMAKE_BINARY_DIR}/fretbuzz.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/fretbuzz.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 install(DIRECTORY cases/ DESTINATION ${CMAKE_INSTALL_DATADIR}/fretbuzz/cases)
+install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 # The Python package for the installed program: <prefix>/<libdir>/fretbuzz/python/fretbuzz,
 # private to fretbuzz (the program finds it from its own place, cli/PythonScript.cpp; it is
