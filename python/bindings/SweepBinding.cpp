@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <memory>
 #include <filesystem>
 #include <mutex>
 #include <string>
@@ -161,11 +162,25 @@ void bind_sweep(py::module_& m) {
         .def("__len__", [](const PySweepSpec& s) { return s.spec.runs.size(); })
         .def(
             "check",
-            [](const PySweepSpec& s) {
+            [](const PySweepSpec& s, const py::object& progress) {
+                SweepCheckProgress report;
+                if (!progress.is_none()) {
+                    // At most twice a second (and at the end), with the interpreter's lock.
+                    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
+                    report = [&progress, last](std::size_t checked, std::size_t total) {
+                        const auto now = std::chrono::steady_clock::now();
+                        if (checked < total && now - *last < std::chrono::milliseconds(500)) return;
+                        *last = now;
+                        py::gil_scoped_acquire locked;
+                        progress(checked, total);
+                    };
+                }
                 py::gil_scoped_release unlocked;
-                check_sweep(s.spec);
+                check_sweep(s.spec, report);
             },
-             "Builds every run's case: InputError names the first bad value.")
+            py::arg("progress") = py::none(),
+            "Builds every run's case: InputError names the first bad value. progress(checked, total), if\n"
+            "given, is called about twice a second.")
         .def(
             "case",
             [](const PySweepSpec& s, std::size_t index) { return sweep_case(s.spec, s.spec.runs[index]); },

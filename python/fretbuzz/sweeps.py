@@ -63,6 +63,17 @@ def _line_printer(stream=sys.stderr) -> Callable[[SweepProgress], None]:
     return show
 
 
+def _checking_printer(stream=sys.stderr) -> Callable[[int, int], None]:
+    """The command's line while every run's case is checked, as `fretbuzz sweep` prints it."""
+    terminal = stream.isatty()
+
+    def show(checked: int, total: int) -> None:
+        end = "   " if terminal and checked < total else "\n"
+        print(("\r" if terminal else "") + f"fretbuzz: checking the runs' cases: {checked}/{total}", end=end,
+              file=stream, flush=True)
+    return show
+
+
 def _progress_handler(progress: ProgressLike, total: int):
     """(callback, closer): None, the caller's callable, or a bar (tqdm where installed, else a line)."""
     if progress is None or progress is False:
@@ -146,7 +157,8 @@ def _connect(scheduler: str, timeout: float):
 def _run_on_dask(spec: SweepSpec, out: str, scheduler: str, resume: bool,
                  progress: Optional[Callable[[SweepProgress], Any]], timeout: float) -> dict:
     from distributed import as_completed
-    spec.check()  # every value, before connecting or writing anything
+    # Every value, before connecting or writing anything (a large grid takes a while: said).
+    spec.check(None if progress is None else _checking_printer())
     client = _connect(scheduler, timeout)
     futures = []
     try:
