@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 

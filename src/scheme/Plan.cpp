@@ -26,8 +26,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       options_(options) {
     require_positive("time step dt (s)", dt);
     if (c.two_polarisations()) propagator_y_.emplace(c.y_modes(), dt);
-    // Without an obstacle the modal update is exact at any dt: nothing can alias.
-    if (c.has_obstacle()) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
+    // Without contact the modal update is exact at any dt: nothing can alias.
+    if (contact_possible(c)) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).
     if (c.obstacle_above)
         for (double& g : obstacle_)
