@@ -40,7 +40,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
 }
 
 void Plan::set_obstacle_offset(double offset) {
-    for (std::size_t i : obstacle_points_) obstacle_[i] = planned_obstacle_[i] + offset;
+    for (std::size_t i : obstacle_points_)
+        obstacle_[i] = std::min(planned_obstacle_[i] + offset, std::max(planned_obstacle_[i], 0.0));
 }
 
 void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> forces, std::span<double> grid,

@@ -146,6 +146,34 @@ TEST(RealtimeEngine, EnergyOnlyDecreasesBetweenEventsThroughContact) {
     EXPECT_EQ(engine.health().resets, 0);
 }
 
+// Raising the obstacle toward a string at rest puts no energy in: it rises at most to the
+// string's rest line, so nothing penetrates (raised into the string, frets and bridges
+// pushed it away with the penetration's energy: a note then peaked hundreds of times louder).
+TEST(RealtimeEngine, RaisingTheObstacleIntoARestingStringPutsInNoEnergy) {
+    const Case bass = load_case("bass-pluck");
+    const Case fifth = stopped_string(bass, fret_position(bass.string.length_m, 5), bass.mode_count());
+    const std::vector<Case> cases = {bass, fifth, load_case("sitar"), load_case("tanpura"), load_case("guitar-point")};
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        EngineOptions options;
+        options.max_oversampling = 4;
+        double peaks[2] = {0.0, 0.0};
+        for (int raised = 0; raised < 2; ++raised) {
+            Engine engine(c, options);
+            engine.set_obstacle_offset(raised * 1e-3);  // the most the engine allows
+            EXPECT_EQ(engine.injected(), 0.0);
+            EXPECT_EQ(engine.energy(), 0.0);
+            engine.strike({0.8 * engine.length_m(), 1.0, 0.01, false});
+            std::vector<float> block(24000);
+            engine.process(block);
+            for (float y : block) peaks[raised] = std::max(peaks[raised], std::abs(static_cast<double>(y)));
+            EXPECT_EQ(engine.health().resets, 0);
+        }
+        EXPECT_GT(peaks[0], 0.0);
+        EXPECT_LT(peaks[1], 2.0 * peaks[0]);
+    }
+}
+
 TEST(RealtimeEngine, MuteDampsTheString) {
     Engine engine(load_case("guitar-point"), {});
     engine.strike({0.2, 0.5, 0.02, false});
@@ -213,19 +241,27 @@ TEST(RealtimeEngine, AudioPathNeverAllocates) {
 }
 
 TEST(RealtimeEngine, SineTransformsNeverAllocate) {
-    // A fretboard or a flat obstacle with many points due moves the state to the grid and
-    // back by sine transforms inside a block: they run in buffers planned ahead.
-    for (std::size_t n : {399UL, 862UL, 999UL}) {
+    // A fretboard or a flat obstacle with many points due moves the state to the grid and back
+    // by sine transforms inside a block: they run in buffers planned ahead, and FFTW's own
+    // algorithms allocate nothing for every length the engine transforms (n + 1 without a prime
+    // factor above 31; for the others it evaluates rows of S).
+    std::size_t lengths = 0;
+    for (std::size_t n = 1; n <= 4096; ++n) {
+        if (sine_transform_allocates(n)) continue;
+        ++lengths;
         const SineTransform transform(n);
         std::vector<double> x(n, 1.0), y(n);
         const long before = testing::allocations();
         {
             const testing::Counting counting;
-            for (int k = 0; k < 3; ++k) transform.apply(x, y, 1.0);
+            for (int k = 0; k < 2; ++k) transform.apply(x, y, 1.0);
         }
-        EXPECT_EQ(testing::allocations() - before, 0) << "n = " << n;
+        ASSERT_EQ(testing::allocations() - before, 0) << "n = " << n;
         EXPECT_TRUE(std::isfinite(y[n / 2]));
     }
+    EXPECT_GT(lengths, 1000u);
+    EXPECT_TRUE(sine_transform_allocates(400));  // 401 is prime: FFTW runs Rader's algorithm
+    EXPECT_FALSE(sine_transform_allocates(399));
 }
 
 TEST(RealtimeEngine, FuzzedEventsStayFiniteAndNeverAllocate) {
