@@ -88,13 +88,14 @@ double fade_weight(std::size_t k, std::size_t n) {
     return 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
 }
 
-// The format the extension names (any case): Ogg Vorbis or (any other) WAV.
+// The format the extension names (any case): Ogg Vorbis, FLAC or (any other) WAV.
 int format_of(const std::filesystem::path& path, int bits) {
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     const int pcm = bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24;
     if (extension == ".ogg") return SF_FORMAT_OGG | SF_FORMAT_VORBIS;
+    if (extension == ".flac") return SF_FORMAT_FLAC | pcm;
     return SF_FORMAT_WAV | pcm;
 }
 }  // namespace
