@@ -3,7 +3,9 @@
 // FIFO, socket or device node in the way stops the run, exit 2, naming it); a symbolic link
 // given as --out leads to its folder and stays a link; a path the file system cannot hold
 // the run's files under is refused before anything is computed.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sndfile.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -160,6 +162,40 @@ TEST(OutputDirectory, APathTooLongForTheRunsFilesIsRefusedBeforeTheRun) {
     const auto long_name = run_cli(kShortRun + scratch.str() + "/" + std::string(300, 'n'));
     EXPECT_EQ(long_name.exit_code, 2) << long_name.output;
     EXPECT_NE(long_name.output.find("bytes"), std::string::npos) << long_name.output;
+}
+
+// The check and the writers agree: the longest --out the check lets through is written whole,
+// its audio file included (the writers open files through the system, whose limits the check
+// knows; libsndfile alone would refuse any path over about a kilobyte), whatever the process
+// id of the run (the check counts its widest).
+TEST(OutputDirectory, TheLongestPathItAcceptsIsWrittenWhole) {
+    ScratchDir scratch("out-longest");
+    std::string path = scratch.str();
+    while (path.size() < 3900) path += "/" + std::string(std::min<std::size_t>(200, 3900 - path.size()), 'd');
+    fs::create_directories(path);
+    std::string longest;
+    for (std::size_t k = 1; k < 200; ++k) {
+        const std::string out = path + "/" + std::string(k, 'x');
+        try {
+            const OutputDirectory probe(out);
+            longest = out;
+        } catch (const InputError&) {
+            break;
+        }
+    }
+    ASSERT_GT(longest.size(), path.size() + 10) << "the check left no room";
+    const auto r = run_cli(kShortRun + longest);
+    ASSERT_EQ(r.exit_code, 0) << longest.size() << " bytes: " << r.output;
+    const int fd = ::open((longest + "/audio.wav").c_str(), O_RDONLY | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    SF_INFO info{};
+    SNDFILE* wav = sf_open_fd(fd, SFM_READ, &info, SF_TRUE);
+    ASSERT_NE(wav, nullptr) << sf_strerror(nullptr);
+    EXPECT_EQ(info.samplerate, 48000);
+    EXPECT_NEAR(static_cast<double>(info.frames), 0.005 * 48000.0, 1.0);  // 5 ms at 48 kHz
+    sf_close(wav);
+    EXPECT_TRUE(fs::is_regular_file(longest + "/results.h5"));
+    EXPECT_TRUE(fs::is_regular_file(longest + "/summary.json"));
 }
 
 }  // namespace

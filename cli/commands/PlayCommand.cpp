@@ -23,7 +23,7 @@ namespace fretbuzz::cli {
 namespace {
 
 // The formats the audio writer writes, named by the extension (any case).
-constexpr std::array<const char*, 2> kAudioExtensions = {".wav", ".ogg"};
+constexpr std::array<const char*, 3> kAudioExtensions = {".wav", ".flac", ".ogg"};
 
 struct PlayArguments {
     std::string case_name;
@@ -43,7 +43,7 @@ void check_extension(const std::filesystem::path& out) {
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (std::find(kAudioExtensions.begin(), kAudioExtensions.end(), extension) != kAudioExtensions.end()) return;
-    throw InputError("--out " + out.string() + ": the extension names the format: .wav (PCM, --bits) or .ogg (Ogg Vorbis)");
+    throw InputError("--out " + out.string() + ": the extension names the format: .wav (PCM, --bits), .flac (FLAC, --bits) or .ogg (Ogg Vorbis)");
 }
 
 int play(const PlayArguments& a) {
@@ -88,11 +88,11 @@ void add_play_command(CLI::App& app, Action& action) {
     cmd->add_option("case", a->case_name, "Built-in case name or path to a .toml file")->required();
     cmd->add_option("--notes", a->notes, "Note list (TOML: [[note]] time, fret, duration, velocity, position)");
     cmd->add_option("--midi", a->midi, "Standard MIDI file: note - open-string note = fret");
-    cmd->add_option("--out", a->out, "Output audio file: .wav or .ogg (Ogg Vorbis); written whole or not at all")->required();
+    cmd->add_option("--out", a->out, "Output audio file: .wav, .flac or .ogg (Ogg Vorbis); written whole or not at all")->required();
     cmd->add_option("--rate", a->rate, "Host sampling rate, Hz (default 48000)");
     cmd->add_option("--oversampling", a->oversampling, "Internal rate / host rate (default: chosen from the modes)");
     cmd->add_option("--max-oversampling", a->max_oversampling, "Largest automatic oversampling (default 8)");
-    cmd->add_option("--bits", a->bits, "WAV sample size, 16 or 24 (default 24)");
+    cmd->add_option("--bits", a->bits, "WAV or FLAC sample size, 16 or 24 (default 24)");
     cmd->add_option("--open-note", a->open_note, "MIDI note of the open string (default: nearest its first mode)");
     cmd->add_option("--block", a->block, "Block size in samples, 1 to 4096 (default 256)");
     cmd->callback([a, &action] { action = [a] { return play(*a); }; });

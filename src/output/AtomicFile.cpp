@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "fretbuzz/Error.hpp"
@@ -70,15 +71,26 @@ AtomicFile::AtomicFile(const fs::path& target, const std::string& what) : target
         }
     }
     // A name of our own beside the target, short enough for the file system, with the target's
-    // extension; created exclusively, so no other process writes it.
+    // extension; created exclusively, so no other process writes it. Its length is checked
+    // with the process id and the counter at their widest: whether a target is accepted does
+    // not depend on them.
     static std::atomic<unsigned> counter{0};
     const std::string given = target.extension().string();
     const std::string extension = given.size() <= 16 ? lower(given) : "";
-    const std::string tag = ".tmp-" + std::to_string(::getpid()) + "-";
-    const std::size_t room = NAME_MAX - 1 - tag.size() - 10 - extension.size();
-    const std::string stem = target.stem().string().substr(0, room);
+    const auto name_with = [&](const std::string& stem, auto pid, auto n) {
+        return "." + stem + ".tmp-" + std::to_string(pid) + "-" + std::to_string(n) + extension;
+    };
+    const std::size_t widest =
+        name_with("", std::numeric_limits<pid_t>::max(), std::numeric_limits<unsigned>::max()).size();
+    const std::string stem = target.stem().string().substr(0, NAME_MAX - widest);
+    const fs::path longest =
+        folder / name_with(stem, std::numeric_limits<pid_t>::max(), std::numeric_limits<unsigned>::max());
+    if (longest.string().size() >= PATH_MAX)
+        throw InputError(what + " " + target.string().substr(0, 32) + "...: too long: the file is written first beside it, as " +
+                         longest.filename().string() + " (up to " + std::to_string(longest.string().size()) +
+                         " bytes); paths may have at most " + std::to_string(PATH_MAX - 1) + " bytes");
     for (int attempt = 0;; ++attempt) {
-        temporary_ = folder / ("." + stem + tag + std::to_string(counter++) + extension);
+        temporary_ = folder / name_with(stem, ::getpid(), counter++);
         const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, mode);
         if (fd >= 0) {
             if (keep_mode) (void)::fchmod(fd, mode);  // the umask would otherwise narrow it

@@ -1,14 +1,19 @@
 #include "fretbuzz/output/AudioWriter.hpp"
 
+#include <fcntl.h>
 #include <sndfile.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
+#include "../FileDescriptor.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
 #include "fretbuzz/output/PickupHighPass.hpp"
 
@@ -82,6 +87,17 @@ namespace {
 double fade_weight(std::size_t k, std::size_t n) {
     return 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
 }
+
+// The format the extension names (any case): Ogg Vorbis, FLAC or (any other) WAV.
+int format_of(const std::filesystem::path& path, int bits) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const int pcm = bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24;
+    if (extension == ".ogg") return SF_FORMAT_OGG | SF_FORMAT_VORBIS;
+    if (extension == ".flac") return SF_FORMAT_FLAC | pcm;
+    return SF_FORMAT_WAV | pcm;
+}
 }  // namespace
 
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
@@ -104,11 +120,12 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(rate_hz));
     info.channels = 1;
-    if (path.extension() == ".ogg")
-        info.format = SF_FORMAT_OGG | SF_FORMAT_VORBIS;
-    else
-        info.format = SF_FORMAT_WAV | (bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
-    SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+    info.format = format_of(path, bits);
+    // Opened by the system and handed to libsndfile: libsndfile keeps a path it opens in a
+    // buffer of its own (about 1 kB), and only the kernel's limits (checked up front) apply.
+    FileDescriptor fd(::open(path.c_str(), O_CREAT | O_WRONLY | O_TRUNC | O_CLOEXEC, 0666));
+    if (fd.get() < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+    SNDFILE* file = sf_open_fd(fd.get(), SFM_WRITE, &info, SF_FALSE);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     std::vector<double> block(std::min(size, kBlockFrames));
     std::string write_error;
@@ -123,6 +140,7 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     const int close_error = sf_close(file);
     if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
     if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
+    if (fd.close() != 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
     return 1.0 / gain;
 }
 

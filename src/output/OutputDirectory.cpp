@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -27,6 +28,8 @@ constexpr std::string_view kStagingPrefix = ".fretbuzz-staging-";
 constexpr std::string_view kLockPrefix = ".fretbuzz-lock-";
 constexpr std::string_view kOldStagingPrefix = ".fretbuzz-partial-";  // inside --out, before staging moved beside it
 constexpr std::size_t kLeafInName = 100;  // keeps the staging name under NAME_MAX
+constexpr unsigned kTagRange = 1000000;   // the random number in a staging folder's name
+constexpr std::string_view kAsideSuffix = "-old";  // the old set, where folders cannot be swapped
 
 std::string system_message(int error) { return std::strerror(error); }
 
@@ -65,7 +68,7 @@ void check_name_lengths(const std::string& given, const fs::path& dir, const Nam
 
 void check_path_length(const std::string& given, const fs::path& path, const NameLimits& limits) {
     if (path.string().size() > limits.path)
-        throw InputError("--out " + shortened(given) + ": too long: a file of the run would be " + path.string().substr(0, 32) +
+        throw InputError("--out " + shortened(given) + ": too long: a file of the run could be " + path.string().substr(0, 32) +
                          "..." + path.filename().string() + ", " + std::to_string(path.string().size()) +
                          " bytes; paths there may have at most " + std::to_string(limits.path) + " bytes");
 }
@@ -96,10 +99,16 @@ bool process_is_gone(const std::string& pid_text) {
     }
 }
 
+std::string tag_of(pid_t pid, unsigned random) { return std::to_string(pid) + "-" + std::to_string(random); }
+
 std::string random_tag() {
     std::random_device device;
-    return std::to_string(::getpid()) + "-" + std::to_string(device() % 1000000);
+    return tag_of(::getpid(), device() % kTagRange);
 }
+
+// The longest tag of any run: its process id and random number at their widest. Names are
+// checked with it, so that whether a --out is accepted does not depend on the process id.
+std::string widest_tag() { return tag_of(std::numeric_limits<pid_t>::max(), kTagRange - 1); }
 
 // Removes stale staging folders in `parent` (any directory's); counts them.
 std::size_t remove_stale_in(const fs::path& parent) {
@@ -219,11 +228,14 @@ OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     const fs::path parent = target_.parent_path();
     limits_ = limits_at(target_);
     check_name_lengths(given, target_, limits_);
-    const std::string tag = random_tag() + "-" + target_.filename().string().substr(0, kLeafInName);
+    const std::string leaf = target_.filename().string().substr(0, kLeafInName);
+    const std::string tag = random_tag() + "-" + leaf;
     lock_ = parent / (std::string(kLockPrefix) + tag);
     staging_ = parent / (std::string(kStagingPrefix) + tag);
-    check_name_lengths(given, staging_, limits_);
-    check_path_length(given, staging_ / kLongestOutputName, limits_);
+    widest_staging_ = parent / (std::string(kStagingPrefix) + widest_tag() + "-" + leaf);
+    check_name_lengths(given, widest_staging_, limits_);
+    check_path_length(given, widest_staging_ / kLongestOutputName, limits_);
+    check_path_length(given, widest_staging_.string() + std::string(kAsideSuffix), limits_);
     check_path_length(given, target_ / kLongestOutputName, limits_);
 
     if (exists) {
@@ -307,7 +319,7 @@ fs::path OutputDirectory::staged(const std::string& name) {
         throw InputError("--out " + shortened(dir_.string()) + ": the file name " + name.substr(0, 32) + "... is " +
                          std::to_string(name.size()) + " bytes long; names there may have at most " +
                          std::to_string(limits_.name) + " bytes");
-    check_path_length(shortened(dir_.string()), staging_ / name, limits_);
+    check_path_length(shortened(dir_.string()), widest_staging_ / name, limits_);
     check_path_length(shortened(dir_.string()), target_ / name, limits_);
     names_.push_back(name);
     return staging_ / name;
@@ -355,7 +367,7 @@ void OutputDirectory::commit() {
         } else if (errno == EINVAL || errno == ENOSYS || errno == EOPNOTSUPP) {
             // No RENAME_EXCHANGE here (some network file systems): move the old set aside
             // first; a reader then briefly finds no directory, never a mix.
-            const fs::path aside = staging_.string() + "-old";
+            const fs::path aside = staging_.string() + std::string(kAsideSuffix);
             const bool had_old = ::rename(target_.c_str(), aside.c_str()) == 0;
             if (!had_old && errno != ENOENT) io_failure("replace", target_, errno);
             if (::rename(staging_.c_str(), target_.c_str()) != 0) {

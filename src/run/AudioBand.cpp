@@ -161,6 +161,7 @@ void AudioBand::enter(long n, const std::vector<double>& q, const std::vector<do
     const long last = floor_div(n * output_period_, input_period_) - reach_;
     streams_.end_segment(last);
     next_sample_ = last + 1;
+    closed_from_ = next_sample_;
     anchor(q, d, static_cast<double>(next_sample_) / rate_ - static_cast<double>(n) * dt_, band_, now_);
     emit(n);
 }
@@ -190,11 +191,15 @@ void AudioBand::emit(long up_to_step) {
     streams_.band_samples(next_sample_, u_, v_);
     next_sample_ = last + 1;
     // Contact may come back at this step at the earliest: a segment would start from there.
-    streams_.settled_before(first_valid(segment_start(up_to_step)));
+    streams_.settled_before(restart_sample(up_to_step));
 }
 
 void AudioBand::resume(long n, std::span<const double> q, std::span<const double> d) {
     if (!in_band_) return;
+    // The motion was free up to n: the closed form's samples up to there are due, so that
+    // the segment started again for n (from 2 reach before it, however far n lies past the
+    // last complete flight) finds them up to its first sample.
+    due_step_ = n;
     post_due_samples();
     in_band_ = false;
     free_since_ = n;
@@ -207,11 +212,19 @@ long AudioBand::segment_start(long n) const {
 
 long AudioBand::first_valid(long start) const { return start / input_period_ * output_period_ + reach_; }
 
+long AudioBand::restart_sample(long n) const {
+    // Valid from 1 reach after its start, 2 reach before n: about 1 reach before t_n. That is
+    // where the segment before the band ended (and handed out its samples, which never felt
+    // its end) when the band was entered at n or within the rounding of n to the output
+    // grid: then the new segment starts after them, never writing a sample handed out.
+    return std::max(first_valid(segment_start(n)), closed_from_);
+}
+
 void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vector<double>& d) {
     // A fresh stream from a step on the output grid, 2 reach before n: its outputs are valid
     // from 1 reach after its start, while the closed form's still are.
     const long start = segment_start(n);
-    streams_.begin_segment(start, first_valid(start));
+    streams_.begin_segment(start, restart_sample(n));
     // The free motion of the modes the flights feed, step by step from `start` to n.
     Phasors b;
     anchor(q, d, static_cast<double>(start - n) * dt_, head_, b);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -318,6 +319,8 @@ TEST(Play, WritesItsOutputWholeOrNotAtAll) {
     // The extension names the format, in any case.
     ASSERT_EQ(play(notes + " --out " + (dir / "take.OGG").string()).exit_code, 0);
     EXPECT_EQ(read_all(dir / "take.OGG").substr(0, 4), "OggS");
+    ASSERT_EQ(play(notes + " --out " + (dir / "take.Flac").string()).exit_code, 0);
+    EXPECT_EQ(read_all(dir / "take.Flac").substr(0, 4), "fLaC");
     ASSERT_EQ(play(notes + " --out " + (dir / "take.wav").string()).exit_code, 0);
     const std::string earlier = read_all(dir / "take.wav");
     EXPECT_EQ(earlier.substr(0, 4), "RIFF");
@@ -333,8 +336,37 @@ TEST(Play, WritesItsOutputWholeOrNotAtAll) {
     struct stat info {};
     ASSERT_EQ(::stat((dir / "take.wav").c_str(), &info), 0);
     EXPECT_EQ(info.st_mode & 0777, 0640u);
-    EXPECT_EQ(others(dir, {"one.toml", "slow.toml", "long.toml", "folder.wav", "pipe.wav", "take.OGG", "take.wav"}),
+    EXPECT_EQ(others(dir, {"one.toml", "slow.toml", "long.toml", "folder.wav", "pipe.wav", "take.OGG", "take.Flac",
+                           "take.wav"}),
               std::vector<std::string>{});
+}
+
+// A take is written wherever the system can write it: deep in the file tree (libsndfile alone
+// refuses a path over about a kilobyte, after the work); a path whose temporary file beside it
+// would be too long for the system, whatever the process id, is refused before the work.
+TEST(Play, WritesATakeAnywhereTheSystemCan) {
+    const testing::ScratchDir scratch("play-deep");
+    std::string deep = scratch.str();
+    while (deep.size() < 3000) deep += "/" + std::string(200, 'd');
+    fs::create_directories(deep);
+    std::ofstream(scratch.path() / "one.toml") << "[play]\ntail = 0.2\n[[note]]\ntime = 0\nduration = 0.3\n";
+    const std::string notes = "bass-pluck --notes " + (scratch.path() / "one.toml").string();
+    const fs::path take = deep + "/take.flac";
+    const CommandResult r = play(notes + " --out " + take.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() - std::min<std::size_t>(r.output.size(), 300));
+    EXPECT_EQ(read_all(take).substr(0, 4), "fLaC");
+    EXPECT_EQ(others(deep, {"take.flac"}), std::vector<std::string>{});
+
+    while (deep.size() < 4000) deep += "/" + std::string(std::min<std::size_t>(200, 4000 - deep.size()), 'd');
+    fs::create_directories(deep);
+    // 4080 bytes: under PATH_MAX, and so could be ".ttt.tmp-PID-N.flac" beside it with a
+    // short process id, but not with every one.
+    const std::string too_long = deep + "/" + std::string(4080 - deep.size() - 1 - 5, 't') + ".flac";
+    ASSERT_EQ(too_long.size(), 4080u);
+    const auto start = std::chrono::steady_clock::now();
+    expect_refused(play(notes + " --out " + too_long), "--out");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+    EXPECT_EQ(others(deep, {}), std::vector<std::string>{});
 }
 
 }  // namespace

@@ -26,8 +26,9 @@ struct AudioFades {
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
 
 // Writes one mono signal as a pickup passes it (no DC: PickupHighPass, from rest at the first
-// sample), peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or Ogg
-// Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's inverse).
+// sample), peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, FLAC of `bits` bits
+// when the path ends in .flac, or Ogg Vorbis when it ends in .ogg (in any case); returns what
+// full scale stands for (the gain's inverse).
 // std::runtime_error if the file cannot be written. Every audio file fretbuzz writes goes
 // through here (run outputs, `fretbuzz play`, the notes of sweeps and set-up studies).
 double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,

@@ -55,6 +55,7 @@ private:
     std::filesystem::path dir_;      // as given
     std::filesystem::path target_;   // absolute, symbolic links followed: what gets swapped
     std::filesystem::path staging_;  // sibling of target_
+    std::filesystem::path widest_staging_;  // as long as any run's staging folder: what names are checked in
     std::filesystem::path lock_;     // held while this run lives: a staging folder without a held lock is stale
     int lock_fd_ = -1;
     std::vector<std::string> names_;
