@@ -1,25 +1,25 @@
 #!/usr/bin/env bash
-# CI: short libFuzzer runs (clang from Debian, with ASan and UBSan) over the case-file
-# parser, seeded with the built-in cases, and over the recording reader of `estimate`,
-# seeded with tests/fuzz/recordings/. FRETBUZZ_FUZZ_SECONDS sets the first's length
-# (120 s), FRETBUZZ_RECORDING_FUZZ_SECONDS the second's (60 s).
+# CI: short libFuzzer runs (clang from Debian, with ASan and UBSan) over the case-file parser,
+# seeded with the built-in cases, over the MIDI file reader, seeded with
+# tests/fuzz/midi-seeds, and over the recording reader of `estimate`, seeded with
+# tests/fuzz/recordings (with a dictionary of chunk tags). FRETBUZZ_FUZZ_SECONDS sets each
+# run's length (120 s).
 # Reuses the build of ci-sanitizers.sh when it ran first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${FRETBUZZ_SANITIZER_BUILD:-build-sanitizers}
 seconds=${FRETBUZZ_FUZZ_SECONDS:-120}
-recording_seconds=${FRETBUZZ_RECORDING_FUZZ_SECONDS:-60}
 start=$(date +%s)
-scripts/ci-sanitizer-build.sh case_file_fuzzer recording_fuzzer
-corpus="$build/fuzz-corpus"
-rm -rf "$corpus" && mkdir -p "$corpus"
-cp cases/*.toml "$corpus"/
+scripts/ci-sanitizer-build.sh case_file_fuzzer midi_file_fuzzer recording_fuzzer
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
-"$build"/tests/fuzz/case_file_fuzzer "$corpus" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
-  -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/"
-corpus="$build/fuzz-recordings"
-rm -rf "$corpus" && mkdir -p "$corpus"
-cp tests/fuzz/recordings/* "$corpus"/
-"$build"/tests/fuzz/recording_fuzzer "$corpus" -dict=tests/fuzz/recording.dict -max_total_time="$recording_seconds" \
-  -max_len=8192 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/recording-"
+fuzz() {  # fuzzer, seed files, longest input, further libFuzzer options
+  local corpus="$build/fuzz-corpus-$1"
+  rm -rf "$corpus" && mkdir -p "$corpus"
+  cp $2 "$corpus"/
+  "$build"/tests/fuzz/"$1" "$corpus" -max_total_time="$seconds" -max_len="$3" -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/$1-" "${@:4}"
+}
+fuzz case_file_fuzzer "cases/*.toml" 16384
+fuzz midi_file_fuzzer "tests/fuzz/midi-seeds/*.mid" 8192
+fuzz recording_fuzzer "tests/fuzz/recordings/*" 8192 -dict=tests/fuzz/recording.dict
 echo "CI fuzz: $(( $(date +%s) - start )) s"

@@ -39,10 +39,10 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// A shell command's exit status and output.
-inline CommandResult run_command(const std::string& command) {
+// Runs a shell command line, its stderr with its stdout.
+inline CommandResult run_shell(const std::string& command) {
     CommandResult result;
-    FILE* pipe = ::popen(command.c_str(), "r");
+    FILE* pipe = ::popen(("(" + command + ") 2>&1").c_str(), "r");
     if (pipe == nullptr) return {-1, "popen failed"};
     char buffer[4096];
     while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) result.output.append(buffer, n);
@@ -52,9 +52,7 @@ inline CommandResult run_command(const std::string& command) {
 }
 
 // Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
-inline CommandResult run_cli(const std::string& arguments) {
-    return run_command(std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1");
-}
+inline CommandResult run_cli(const std::string& arguments) { return run_shell(std::string(FRETBUZZ_CLI) + " " + arguments); }
 
 // A fresh, empty directory removed when the object goes away.
 class ScratchDir {

@@ -153,8 +153,7 @@ TEST(EstimateCommand, RunEstimateAndCaseRoundTrip) {
 // The program under `timeout`: a command that would block ends (exit 124) instead of
 // hanging the test.
 testing::CommandResult run_cli_within(int seconds, const std::string& arguments) {
-    return testing::run_command("timeout -s KILL " + std::to_string(seconds) + " " + FRETBUZZ_CLI + " " + arguments +
-                                " 2>&1");
+    return testing::run_shell("timeout -s KILL " + std::to_string(seconds) + " " + FRETBUZZ_CLI + " " + arguments);
 }
 
 // A FLAC file of the samples (16-bit), written by libsndfile.
