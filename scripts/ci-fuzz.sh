@@ -3,12 +3,12 @@
 # seeded with the built-in cases, over the MIDI file reader, seeded with
 # tests/fuzz/midi-seeds, and over the recording reader of `estimate`, seeded with
 # tests/fuzz/recordings (with a dictionary of chunk tags). FRETBUZZ_FUZZ_SECONDS sets each
-# run's length (120 s).
+# run's length (60 s).
 # Reuses the build of ci-sanitizers.sh when it ran first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${FRETBUZZ_SANITIZER_BUILD:-build-sanitizers}
-seconds=${FRETBUZZ_FUZZ_SECONDS:-120}
+seconds=${FRETBUZZ_FUZZ_SECONDS:-60}
 start=$(date +%s)
 scripts/ci-sanitizer-build.sh case_file_fuzzer midi_file_fuzzer recording_fuzzer
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
