@@ -12,7 +12,18 @@
 namespace fretbuzz {
 
 bool Case::has_obstacle() const {
-    return std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+    return !point_obstacles.empty() || std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+}
+
+std::vector<double> Case::obstacle_on_grid() const {
+    std::vector<double> g = obstacle_height_m;
+    const double toward = contact_orientation();
+    for (const PointObstacle& p : point_obstacles) {
+        const double index = std::clamp(std::round(p.x_m / grid_step()) - 1.0, 0.0, static_cast<double>(g.size()) - 1.0);
+        double& gi = g[static_cast<std::size_t>(index)];
+        if (!std::isfinite(gi) || toward * p.height_m > toward * gi) gi = p.height_m;
+    }
+    return g;
 }
 
 void Case::make_lossless() {
@@ -359,6 +370,16 @@ void Case::validate() const {
                                                   "must be finite (or -inf for no obstacle)"));
         require_finite("initial displacement of mode " + std::to_string(i + 1), initial_displacement[i]);
         require_finite("initial velocity of mode " + std::to_string(i + 1), initial_velocity[i]);
+    }
+    for (std::size_t k = 0; k < point_obstacles.size(); ++k) {
+        const PointObstacle& p = point_obstacles[k];
+        const std::string item = "obstacle point " + std::to_string(k);
+        if (!(p.x_m > 0.0 && p.x_m < string.length_m))
+            throw InputError(out_of_range_message(item + " x (m)", p.x_m, "must lie inside the string, in (0, L)"));
+        if (!(std::abs(p.height_m) <= 0.1))
+            throw InputError(out_of_range_message(item + " height (m)", p.height_m, "must be in [-0.1, 0.1] m"));
+        if (!(p.weight_m > 0.0 && p.weight_m <= string.length_m))
+            throw InputError(out_of_range_message(item + " width (m)", p.weight_m, "must be in (0, L]"));
     }
     require_positive("contact.K (penalty stiffness)", contact.stiffness);
     require_at_least("contact.alpha (penalty exponent)", contact.exponent, 1.0);
