@@ -158,6 +158,24 @@ TEST(PointContact, GridPathEqualsThePointSolve) {
     EXPECT_EQ(fast.first_contact_s, slow.first_contact_s);
 }
 
+// The step that pushes with the points' rows and forms their next prediction in the same pass
+// (the fast path) against separate passes and an impulse vector (fused_step = false).
+TEST(PointContact, FusedStepEqualsSeparatePasses) {
+    const Case c = parse_case(ideal_string(110, "x = [0.2, 0.202, 0.204]\nheight = -1e-3", 1e5, 1e5), "ideal-point.toml",
+                              DataSource::builtin());
+    PlanOptions separate;
+    separate.fused_step = false;
+    const PointRun fused = run_points(c, 0.6), slow = run_points(c, 0.6, separate);
+    double num = 0.0, den = 0.0;
+    for (std::size_t k = 0; k < fused.observed.size(); ++k) {
+        num += (fused.observed[k] - slow.observed[k]) * (fused.observed[k] - slow.observed[k]);
+        den += slow.observed[k] * slow.observed[k];
+    }
+    std::printf("fused point step against separate passes: relative L2 %.2g\n", std::sqrt(num / den));
+    EXPECT_LT(std::sqrt(num / den), 1e-12);
+    EXPECT_EQ(fused.first_contact_s, slow.first_contact_s);
+}
+
 TEST(PointContact, BadWidthIsRefusedWithExit2) {
     ScratchDir dir("point-width");
     for (const char* width : {"0", "-1e-3", "2.0"}) {

@@ -28,7 +28,8 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       eta_curr_(q0.size(), 0.0),
       on_pad_(q0.size(), 0),
       points_(plan.point_contact().make_state()),
-      point_predicted_(plan.point_contact().size(), 0.0) {
+      point_predicted_(plan.point_contact().size(), 0.0),
+      point_forecast_(plan.point_contact().size(), 0.0) {
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
@@ -91,7 +92,7 @@ void Stepper::silence() {
 
 void Stepper::restart() {
     energy_step_ = -1;
-    forecast_.step = observed_step_ = flight_rows_step_ = -1;  // formed from the state before the change
+    forecast_.step = observed_step_ = flight_rows_step_ = point_forecast_step_ = -1;  // formed from the state before the change
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse), where
     // they are read: at the obstacle's points and the pads of the fingers on the string. By
@@ -589,9 +590,12 @@ void Stepper::retire_plucker(const Pluck& pluck) {
 bool Stepper::solve_points() {
     const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
-    for (std::size_t p = 0; p < points.size(); ++p)
-        point_predicted_[p] = kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(),
-                                                   points.row(p).data(), q_.size());
+    if (point_forecast_step_ == n_)  // the last step's pass formed it
+        std::copy(point_forecast_.begin(), point_forecast_.end(), point_predicted_.begin());
+    else
+        for (std::size_t p = 0; p < points.size(); ++p)
+            point_predicted_[p] = kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(),
+                                                       points.row(p).data(), q_.size());
     const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
@@ -618,9 +622,67 @@ void Stepper::report_point_forces() {
     }
 }
 
+bool Stepper::points_by_rows() const {
+    const std::size_t pushes = forces_.size() + plan_.point_contact().size();
+    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxForecastRows &&
+           pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
+}
+
+void Stepper::advance_with_points() {
+    const ModalPropagator& prop = plan_.propagator();
+    const PointContact& points = plan_.point_contact();
+    std::array<double, Plan::kMaxInlinePushes> coefficients;
+    std::array<const double*, Plan::kMaxInlinePushes> push_rows;
+    std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+    std::size_t pushes = 0;
+    if (points_pushed_)
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.force[p] != 0.0) {
+                coefficients[pushes] = plan_.force_to_displacement() * points.weight(p) * points_.force[p];
+                push_rows[pushes++] = points.row(p).data();
+            }
+    for (const auto& [i, f] : forces_) {
+        coefficients[pushes] = plan_.impulse_scale() * f;
+        push_rows[pushes++] = plan_.basis().row(i).data();
+    }
+    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
+    const double* e = prop.decay().data();
+    const double* beta = prop.beta().data();
+    forecast_.step = observed_step_ = -1;
+    if (!plan_.options().fused_step) {  // the reference: the same pushes, the products in passes of their own
+        const double losses =
+            pushes == 0   ? kernels::advance(e, beta, loss, nullptr, q_.data(), d_.data(), q_.size())
+            : pushes == 1 ? kernels::advance_one_push(e, beta, loss, coefficients[0], push_rows[0], q_.data(), d_.data(), q_.size())
+                          : kernels::advance_pushes(e, beta, loss, coefficients.data(), push_rows.data(), pushes, q_.data(),
+                                                    d_.data(), q_.size());
+        dissipated_ += plan_.modal_loss_scale() * losses;
+        return;
+    }
+    for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
+    kernels::StepProducts products;
+    products.predict_rows = predict_rows.data();
+    products.predict_count = points.size();
+    products.predicted = point_forecast_.data();
+    if (observed_row_ != nullptr) {
+        products.observe_row = observed_row_;
+        products.observed = &observed_;
+    }
+    double energy = 0.0;
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
+    if (audited) products.energy = &energy;
+    const bool few = pushes <= kernels::kMaxRowsPerPass && points.size() <= kernels::kMaxRowsPerPass;
+    const auto advance = few ? kernels::advance_with_products : kernels::advance_with_pad_products;
+    const double losses =
+        advance(e, beta, loss, coefficients.data(), push_rows.data(), pushes, products, q_.data(), d_.data(), q_.size());
+    dissipated_ += plan_.modal_loss_scale() * losses;
+    point_forecast_step_ = n_ + 1;
+    observed_step_ = observed_row_ != nullptr ? n_ + 1 : -1;
+    if (audited) keep_modal_energy(n_ + 1, energy);
+}
+
 void Stepper::apply_impulse() {
     if (points_pushed_) {
-        apply_point_impulse();
+        if (!points_by_rows()) apply_point_impulse();
         return;
     }
     if (forces_.empty() || plan_.pushes_inline(forces_.size())) return;  // advance_modes adds the rows
@@ -633,6 +695,10 @@ void Stepper::advance_modes() {
     const double* e = prop.decay().data();
     const double* beta = prop.beta().data();
     const std::size_t n = q_.size();
+    if (!plan_.point_contact().empty() && points_by_rows()) {
+        advance_with_points();
+        return;
+    }
     if (points_pushed_) {  // apply_point_impulse holds every force
         forecast_.step = observed_step_ = -1;
         dissipated_ += plan_.modal_loss_scale() * kernels::advance(e, beta, loss, impulse_.data(), q_.data(), d_.data(), n);
