@@ -29,7 +29,7 @@ constexpr std::string_view kSuffix = ".toml";
 constexpr std::string_view kSetsFile = "strings/sets.toml";
 constexpr double kSteelYoungModulus = 200e9;  // Pa: the cores of wound strings and plain strings
 constexpr std::size_t kMaxStrings = 12;
-constexpr std::size_t kMaxFrets = 36;
+constexpr std::size_t kMaxFrets = 24;  // a stopped string reaches 3 L / 4 at most (stopped_string)
 
 std::string number_text(double v) {
     std::ostringstream out;
@@ -440,6 +440,12 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
                                          {100.0, 0.5 * b.output_rate_hz, false, true, "Hz", 1.0})
                          .value_or(2000.0);
     b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -25.0;
+    if (const auto stops = t.optional_text("stopped_modes")) {
+        if (*stops != "held" && *stops != "pinned")
+            throw InputError(t.key_path("stopped_modes") + " = \"" + *stops +
+                             "\": must be \"held\" (the string held on the fret) or \"pinned\" (pinned at the fret)");
+        b.pinned_stops = *stops == "pinned";
+    }
     if (s) s->finish();
 }
 

@@ -159,7 +159,6 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
             board_x_.push_back(board_end_);
             board_z_.push_back(board_z_.back());
         }
-        if (neck.body_depth_m) body_depth_ = *neck.body_depth_m;
     }
     // The truss rod (what-ifs): a bow down toward mid-span, zero at the nut end and the last fret.
     if (neck.truss_rod_bow_m != 0.0) {
@@ -183,6 +182,12 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
     const auto [xb, zb] = end_point(s.bridge, false);
     nut_height_ = za + (zb - za) * (0.0 - xa) / (xb - xa);
     saddle_height_ = za + (zb - za) * (length_ - xa) / (xb - xa);
+    // The body: fixed to the neck, parallel to the fret plane, as deep below the open
+    // string at the board's end as the file says (or where pinning the string's ends put it).
+    if (s.body_height_m)
+        body_ = *s.body_height_m;
+    else if (neck.body_depth_m && !measured_)
+        body_ = string_height(board_end_) - *neck.body_depth_m;
     for (std::size_t n = 1; n <= frets; ++n)
         if (!(gap(n) > 0.0))
             throw InputError(key + " (" + name_ + "): the open string would lie on fret " + std::to_string(n) +
@@ -192,7 +197,7 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
 
 double StringNeck::surface(double x) const {
     if (x <= board_end_) return interpolate(board_x_, board_z_, x);
-    if (body_depth_ >= 0.0) return string_height(x) - body_depth_;
+    if (body_) return *body_;
     return -kInfinity;
 }
 
@@ -207,10 +212,12 @@ double StringNeck::rest_height(std::size_t k, double x) const {
     return top_[k] + (saddle_height_ - top_[k]) * (x - x_[k]) / (length_ - x_[k]);
 }
 
-std::size_t StringNeck::choking_fret(std::size_t k) const {
+std::optional<std::size_t> StringNeck::rests_on(std::size_t k) const {
     for (std::size_t n = k + 1; n <= fret_count(); ++n)
         if (!(clearance(k, n) > 0.0)) return n;
-    return 0;
+    for (double x = x_[k] + 5e-4; x < length_; x += 5e-4)
+        if (surface(x) >= rest_height(k, x)) return 0;
+    return std::nullopt;
 }
 
 std::vector<double> StringNeck::note_obstacle(std::size_t k, const Grid& grid) const {

@@ -60,6 +60,9 @@ struct InstrumentString {
     // (as the paper's bass data). Replaces the neck's geometry under this string.
     std::vector<double> profile_x_m, profile_height_m;
     std::string profile_source;
+    // The body's height above the fret plane under this string, once what-ifs have pinned the
+    // string's ends (the body stays with the neck when the string moves); none: from body_depth_m.
+    std::optional<double> body_height_m;
 };
 
 struct NeckDescription {
@@ -73,7 +76,7 @@ struct NeckDescription {
     double bridge_spacing_m = 0.0;                 // the same at the bridge
     std::optional<std::size_t> perpendicular_fret;  // multiscale: the fret square to the neck
     double board_end_m = 0.0;                      // end of the fingerboard, from the nut along the string
-    std::optional<double> body_depth_m;            // past the board: the body this far below the open string
+    std::optional<double> body_depth_m;            // past the board: the body, this far below the open string at the board's end
 };
 
 // How the strings are played. Finger plucks (soft, medium, hard) and the pop release the
@@ -106,6 +109,9 @@ struct BenchSettings {
     double contact_exponent = 1.5;     // alpha
     double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2
     double damping_eta2 = 0.0;
+    // Stopped notes' modes: false, the string held on the fret (the library's stopped_string);
+    // true, the string pinned at the fret (its own models at the stopped length).
+    bool pinned_stops = false;
 };
 
 struct Instrument {

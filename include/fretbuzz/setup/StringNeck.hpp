@@ -9,13 +9,14 @@
 //    strings fan out over a cylinder: the outer ones see a crowned fret line). Each fret's
 //    top is the fret line plus its own offset (proud or low); a scan gives the tops directly.
 //  - The board one fret height below the fret line, straight from fret to fret, flat past
-//    the last fret up to the board's end; past it the body, parallel to the open string.
+//    the last fret up to the board's end; past it the body, parallel to the fret plane.
 //  - The open string: the straight line from the nut to the saddle, placed by the gap over
 //    fret 1 and the action over fret 12 (or the heights of its ends).
 // From this come what a luthier measures (the gap over each fret, the relief) and the
 // obstacle of every stopped note (the string from fret k's top to the saddle, over the frets
 // beyond): the geometry is computed here and nowhere else.
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
@@ -52,13 +53,16 @@ public:
     double rest_height(std::size_t k, double x) const;
     // How far fret n's top lies below the string stopped at fret k (n > k); <= 0: the string rests on it.
     double clearance(std::size_t k, std::size_t n) const { return rest_height(k, x_[n]) - top_[n]; }
-    // The first fret past k whose top reaches the stopped string (0: none): the note frets out.
-    std::size_t choking_fret(std::size_t k) const;
+    // What the note stopped at fret k rests on before it is even played (it frets out): the
+    // first fret past k whose top reaches its string at rest, or 0 for the board or body
+    // (checked every 0.5 mm); nothing when it lies clear.
+    std::optional<std::size_t> rests_on(std::size_t k) const;
     // The obstacle of the note stopped at fret k on its grid (points s = (i + 1) dx from fret
     // k, the sounding length L - x_k), relative to the note's string at rest: the surface
     // below, and each fret beyond k on its nearest grid point.
     std::vector<double> note_obstacle(std::size_t k, const Grid& grid) const;
     bool measured_profile() const { return measured_; }
+    std::optional<double> body_height() const { return body_; }
 
 private:
     std::string name_;
@@ -67,7 +71,7 @@ private:
     std::vector<double> x_, line_, top_;           // 0 .. N
     std::vector<double> board_x_, board_z_;        // the board surface, point by point
     double board_end_ = 0.0;
-    double body_depth_ = -1.0;                     // < 0: no body
+    std::optional<double> body_;                   // the body's height past the board (none: nothing)
     double nut_height_ = 0.0, saddle_height_ = 0.0;
     bool measured_ = false;
 };
