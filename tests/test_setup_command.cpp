@@ -4,6 +4,7 @@
 // and its range, exit status 2, and nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -67,6 +68,24 @@ TEST(SetupCommand, AMapWritesItsFiles) {
     for (std::size_t i = wav.samples.size() - 20; i < wav.samples.size(); ++i) tail = std::max(tail, std::abs(wav.samples[i]));
     EXPECT_GT(peak, 0.5);
     EXPECT_LT(tail, 1e-3 * peak);
+}
+
+// --advice writes its searches as JSON and text; --compare marks the notes that changed.
+TEST(SetupCommand, AdviceAndComparisonAreWritten) {
+    ScratchDir dir("setup-advice");
+    const std::string first = (dir.path() / "a").string(), second = (dir.path() / "b").string();
+    const std::string quick = " --strings G --ensemble 1 --fs 300kHz --duration 0.05 --quiet --strength medium";
+    ASSERT_EQ(run_cli("setup jazz-bass --out " + first + quick).exit_code, 0);
+    const auto r = run_cli("setup jazz-bass --out " + second + quick + " --fret-offset 15=0.08 --compare " + first +
+                           " --advice");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string advice = read_file(dir.path() / "b" / "advice.txt");
+    EXPECT_NE(advice.find("string G: action over fret 12 now"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("fret 15 stands proud"), std::string::npos) << advice;
+    EXPECT_NE(read_file(dir.path() / "b" / "advice.json").find("\"lowest_clean_action12_mm\""), std::string::npos);
+    const std::string compare = read_file(dir.path() / "b" / "compare.csv");
+    EXPECT_EQ(std::count(compare.begin(), compare.end(), '\n'), 22) << compare;  // a header and 21 notes
+    EXPECT_NE(compare.find("G,14,medium,"), std::string::npos) << compare;
 }
 
 struct Refusal {
