@@ -439,7 +439,7 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
     b.buzz_band_hz = r.optional_quantity(t, "buzz_band", Quantity::frequency,
                                          {100.0, 0.5 * b.output_rate_hz, false, true, "Hz", 1.0})
                          .value_or(2000.0);
-    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -25.0;
+    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -30.0;
     if (const auto stops = t.optional_text("stopped_modes")) {
         if (*stops != "held" && *stops != "pinned")
             throw InputError(t.key_path("stopped_modes") + " = \"" + *stops +

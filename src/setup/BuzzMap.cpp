@@ -101,6 +101,7 @@ std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& r
 BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) {
     const std::vector<MapNote> notes = map_notes(instrument, request);
     const auto start = std::chrono::steady_clock::now();
+    if (!request.audio_dir.empty()) std::filesystem::create_directories(request.audio_dir);
     std::vector<std::unique_ptr<NoteMaker>> makers(instrument.strings.size());
     for (const MapNote& n : notes)
         if (!makers[n.string]) makers[n.string] = std::make_unique<NoteMaker>(instrument, n.string);
@@ -183,6 +184,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
             try {
                 {
                     std::lock_guard lock(mutex);
+                    if (!result.stopped_early && request.stop && request.stop()) result.stopped_early = true;
                     if (result.stopped_early) break;
                 }
                 throw_if_stopped();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/analysis/BuzzMetrics.hpp"
@@ -141,6 +142,10 @@ std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, 
             o.signal = contacts.signal();
             o.signal_rate_hz = contacts.output_rate_hz();
             o.contacts = contacts.stretches();
+            if (audio) {
+                o.audio = audio->samples(0);
+                o.audio_rate_hz = audio->rate_hz();
+            }
         }
         if (!o.touched) continue;
         const double rate = contacts.output_rate_hz();
@@ -168,6 +173,43 @@ std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, 
         o.buzz_db = level_db(contacts.signal(), free, rate, request.band_hz);
     }
     return outcomes;
+}
+
+PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
+                          std::size_t member, bool finger) {
+    if (string >= instrument.strings.size())
+        throw InputError(out_of_range_message("string", static_cast<double>(string), "must be a string of " +
+                                                                                         instrument.name));
+    if (fret > instrument.neck.fret_count)
+        throw InputError(out_of_range_message("fret", static_cast<double>(fret),
+                                              "must be in [0, " + std::to_string(instrument.neck.fret_count) + "]"));
+    const std::vector<PluckVariation> members = ensemble(instrument.attack, string, fret);
+    if (member >= members.size())
+        throw InputError(out_of_range_message("member", static_cast<double>(member),
+                                              "must be in [0, " + std::to_string(members.size() - 1) + "]"));
+    const NoteMaker maker(instrument, string);
+    PluckRequest request;
+    request.finger = finger;
+    request.band_hz = instrument.bench.buzz_band_hz;
+    request.keep_details = true;
+    // The audio goes through the note's own WAV writer, into a folder of its own.
+    std::random_device random;
+    const std::filesystem::path folder =
+        std::filesystem::temp_directory_path() / ("fretbuzz-note-" + std::to_string(random()) + std::to_string(random()));
+    std::filesystem::create_directory(folder);
+    const std::vector<std::filesystem::path> wav{folder / "note.wav"};
+    const Attack attacks[] = {attack};
+    std::vector<PluckOutcome> outcome;
+    try {
+        outcome = play_plucks(maker, fret, attacks, members[member], request, wav);
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove_all(folder, ec);
+        throw;
+    }
+    std::error_code ec;
+    std::filesystem::remove_all(folder, ec);
+    return std::move(outcome.front());
 }
 
 }  // namespace fretbuzz

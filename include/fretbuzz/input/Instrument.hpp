@@ -104,7 +104,7 @@ struct BenchSettings {
     double output_rate_hz = 48000.0;   // rows of the observed signal
     double observe_from_bridge_m = 0.0;  // where the signal is taken (a bridge pickup)
     double buzz_band_hz = 2000.0;      // the buzz band's lower edge
-    double audible_db = -25.0;         // a pluck buzzes audibly when its buzz level is at least this
+    double audible_db = -30.0;         // a pluck buzzes audibly when its buzz level is at least this (docs/setup.md)
     double contact_stiffness = 1e13;   // K
     double contact_exponent = 1.5;     // alpha
     double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2

@@ -55,6 +55,9 @@ struct MapRequest {
     // Stops the map early (the notes under way finish) once a verdict satisfies it: a search
     // that only asks whether a map is clean needs no more than its first buzzing note.
     std::function<bool(const NoteVerdict&)> stop_when;
+    // Asked before each pluck starts: true stops the map there (the plucks under way finish),
+    // as stop_when does.
+    std::function<bool()> stop;
 };
 
 struct BuzzMapResult {

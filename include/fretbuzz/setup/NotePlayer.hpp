@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/input/Instrument.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 #include "fretbuzz/setup/NoteCase.hpp"
 
@@ -44,6 +45,8 @@ struct PluckOutcome {
     std::vector<ContactStretch> contacts;  // kept only when asked (keep_details)
     std::vector<double> signal;            // u at the pickup at the output rate (keep_details)
     double signal_rate_hz = 0.0;
+    std::vector<double> audio;             // the same band-limited to 48 kHz (keep_details with a WAV)
+    double audio_rate_hz = 0.0;
 };
 
 // Observes a note's run: the pickup signal and the obstacle's contacts, fret by fret (a
@@ -93,5 +96,10 @@ struct PluckRequest {
 std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, std::span<const Attack> attacks,
                                       const PluckVariation& pluck, const PluckRequest& request,
                                       std::span<const std::filesystem::path> wav_paths = {});
+
+// One pluck of a note (member `member` of its ensemble) with everything kept: the pickup
+// signal, its audio at 48 kHz (as the note's WAV, before normalising) and the contacts over time.
+PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
+                          std::size_t member = 0, bool finger = false);
 
 }  // namespace fretbuzz
