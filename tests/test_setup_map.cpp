@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "SetupTestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
@@ -20,15 +21,7 @@
 namespace fretbuzz {
 namespace {
 
-// A light instrument for unit tests: the jazz bass simulated coarsely.
-Instrument quick_bass(std::size_t ensemble = 3) {
-    Instrument bass = load_instrument("jazz-bass");
-    bass.bench.sample_rate_hz = 5e5;
-    bass.bench.duration_s = 0.08;
-    bass.bench.grid_step_m = 2e-3;
-    bass.attack.ensemble = ensemble;
-    return bass;
-}
+Instrument quick_bass(std::size_t ensemble = 3) { return testing::quick_bass(ensemble, 0.08); }
 
 Attack pluck_of(const Instrument& instrument, const std::string& label) {
     return parse_attacks(label, instrument.attack).front();

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 
+#include "SetupTestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/setup/Advice.hpp"
@@ -22,14 +23,7 @@
 namespace fretbuzz {
 namespace {
 
-Instrument quick_bass(std::size_t ensemble = 3) {
-    Instrument bass = load_instrument("jazz-bass");
-    bass.bench.sample_rate_hz = 5e5;
-    bass.bench.duration_s = 0.1;
-    bass.bench.grid_step_m = 2e-3;
-    bass.attack.ensemble = ensemble;
-    return bass;
-}
+Instrument quick_bass(std::size_t ensemble = 3) { return testing::quick_bass(ensemble, 0.1); }
 
 std::vector<NoteVerdict> play(const Instrument& instrument, const std::string& attacks, std::vector<std::size_t> frets,
                               std::vector<std::size_t> strings = {}) {

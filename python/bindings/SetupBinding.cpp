@@ -6,16 +6,11 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
-#include <exception>
-#include <mutex>
 #include <string>
-#include <thread>
+#include <tuple>
 
+#include "BackgroundRun.hpp"
 #include "Bindings.hpp"
 #include "Conversions.hpp"
 #include "fretbuzz/Error.hpp"
@@ -218,64 +213,24 @@ MapRequest map_request(const Instrument& instrument, const std::string& strength
     return r;
 }
 
-// play_map on a thread of its own while this (the interpreter's) thread hands each finished
-// note to `progress`, looks for Ctrl-C every 0.2 s and asks `stop`. A callback that raises
-// stops the map and its exception propagates; Ctrl-C stops it with KeyboardInterrupt.
+// play_map in the background (BackgroundRun): `progress` gets each finished note on this
+// thread; a callback that raises stops the map and its exception propagates; Ctrl-C stops it
+// with KeyboardInterrupt; `stop()` returning True stops it and returns the notes so far.
 py::list run_map(const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
                  const std::vector<std::size_t>& frets, bool finger, unsigned jobs, const std::string& audio_dir,
                  const py::object& progress, const py::object& stop) {
     MapRequest request = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, jobs); });
     request.audio_dir = audio_dir;
-    std::mutex mutex;
-    std::condition_variable wake;
-    std::deque<std::tuple<NoteVerdict, std::size_t, std::size_t>> reports;
-    bool finished = false;
-    std::atomic<bool> halt{false};
+    BackgroundRun<std::tuple<NoteVerdict, std::size_t, std::size_t>> background;
+    request.stop = [&background] { return background.stopping(); };
+    request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) { background.post({v, done, total}); };
     BuzzMapResult result;
-    std::exception_ptr failure;
-    request.stop = [&halt] { return halt.load(); };
-    request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) {
-        std::lock_guard lock(mutex);
-        reports.emplace_back(v, done, total);
-        wake.notify_one();
-    };
-    std::thread runner([&] {
-        try {
-            result = play_map(instrument, request);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-        std::lock_guard lock(mutex);
-        finished = true;
-        wake.notify_one();
-    });
-    try {
-        while (true) {
-            std::deque<std::tuple<NoteVerdict, std::size_t, std::size_t>> batch;
-            bool done = false;
-            {
-                py::gil_scoped_release unlocked;
-                std::unique_lock lock(mutex);
-                wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished || !reports.empty(); });
-                batch.swap(reports);
-                done = finished;
-            }
-            for (const auto& [v, count, total] : batch)
-                if (!progress.is_none()) progress(verdict_dict(v), count, total);
-            if (done) break;
-            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-            if (!stop.is_none() && stop().cast<bool>()) halt = true;
-        }
-    } catch (...) {
-        halt = true;
-        {
-            py::gil_scoped_release unlocked;
-            runner.join();
-        }
-        throw;
-    }
-    runner.join();
-    if (failure) std::rethrow_exception(failure);
+    background.run([&] { result = play_map(instrument, request); },
+                   [&](const auto& report) {
+                       const auto& [v, done, total] = report;
+                       if (!progress.is_none()) progress(verdict_dict(v), done, total);
+                   },
+                   [&] { return !stop.is_none() && stop().cast<bool>(); });
     py::list notes;
     for (const NoteVerdict& v : result.notes) notes.append(verdict_dict(v));
     return notes;
