@@ -39,9 +39,9 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
-inline CommandResult run_cli(const std::string& arguments) {
-    const std::string command = std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1";
+// Runs a shell command line; its output (stdout and stderr) and exit status.
+inline CommandResult run_shell(const std::string& command_line) {
+    const std::string command = command_line + " 2>&1";
     CommandResult result;
     FILE* pipe = ::popen(command.c_str(), "r");
     if (pipe == nullptr) return {-1, "popen failed"};
@@ -51,6 +51,9 @@ inline CommandResult run_cli(const std::string& arguments) {
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
 }
+
+// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
+inline CommandResult run_cli(const std::string& arguments) { return run_shell(std::string(FRETBUZZ_CLI) + " " + arguments); }
 
 // A fresh, empty directory removed when the object goes away.
 class ScratchDir {

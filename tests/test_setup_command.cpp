@@ -21,6 +21,11 @@ using testing::ScratchDir;
 // A quick map: two notes of the G string, coarse and short.
 const std::string kQuick = " --strings G --frets 19,20 --ensemble 2 --fs 500kHz --duration 0.08 --quiet";
 
+// The program sent SIGINT after 2 s (as Ctrl-C does), its own exit status kept.
+testing::CommandResult run_cli_with_timeout(const std::string& arguments) {
+    return testing::run_shell("timeout --preserve-status --signal=INT 2 " + std::string(FRETBUZZ_CLI) + " " + arguments);
+}
+
 std::string read_file(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::stringstream s;
@@ -86,6 +91,18 @@ TEST(SetupCommand, AdviceAndComparisonAreWritten) {
     const std::string compare = read_file(dir.path() / "b" / "compare.csv");
     EXPECT_EQ(std::count(compare.begin(), compare.end(), '\n'), 22) << compare;  // a header and 21 notes
     EXPECT_NE(compare.find("G,14,medium,"), std::string::npos) << compare;
+}
+
+// Ctrl-C: exit status 130, a message that says the map is lost, and nothing written.
+TEST(SetupCommand, CtrlCStopsTheMapAndWritesNothing) {
+    ScratchDir dir("setup-interrupt");
+    const std::string out = (dir.path() / "map").string();
+    const auto r = run_cli_with_timeout("setup jazz-bass --fs 4MHz --duration 1 --out " + out + " --quiet");
+    EXPECT_EQ(r.exit_code, 130) << r.output;
+    EXPECT_NE(r.output.find("the map is lost"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("nothing was written"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    for (const auto& e : std::filesystem::directory_iterator(dir.path())) ADD_FAILURE() << "left behind: " << e.path();
 }
 
 struct Refusal {

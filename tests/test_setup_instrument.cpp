@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
@@ -205,6 +209,53 @@ TEST(InstrumentFile, AMeasuredProfileIsAcceptedAsTheNeckUnderAString) {
     const Case pop = load_case("bass-pop");
     const std::vector<double> g = neck.note_obstacle(0, Grid{pop.string.length_m, pop.mode_count()});
     for (std::size_t i = 0; i < g.size(); ++i) EXPECT_NEAR(g[i], pop.obstacle_height_m[i], 1e-15) << i;
+}
+
+// docs/instrument-format.md against the reader: every key the reader looks up while reading
+// the built-in instruments has a row in one of the page's tables (or is a table's heading).
+TEST(InstrumentFile, EveryKeyTheReaderLooksUpIsDocumented) {
+    std::ifstream in(std::string(FRETBUZZ_SOURCE_DIR) + "/docs/instrument-format.md");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string doc = text.str();
+    std::set<std::string> documented;
+    const std::regex row(R"(\n\| `([A-Za-z0-9_.]+)` \|)"), heading(R"(\n## [^\n]*)"), table(R"(\[+([a-z.]+)\]+)");
+    for (auto it = std::sregex_iterator(doc.begin(), doc.end(), row); it != std::sregex_iterator(); ++it)
+        documented.insert((*it)[1].str());
+    for (auto h = std::sregex_iterator(doc.begin(), doc.end(), heading); h != std::sregex_iterator(); ++h) {
+        const std::string line = h->str();
+        for (auto it = std::sregex_iterator(line.begin(), line.end(), table); it != std::sregex_iterator(); ++it)
+            documented.insert((*it)[1].str());
+    }
+    std::set<std::string> looked_up;
+    for (const auto& info : builtin_instruments()) {
+        const std::string file = "instruments/" + info.name + ".toml";
+        const std::set<std::string> keys =
+            instrument_keys_looked_up(*find_builtin_file(file), file, DataSource::builtin());
+        looked_up.insert(keys.begin(), keys.end());
+    }
+    ASSERT_GT(looked_up.size(), 40u);
+    for (const std::string& key : looked_up) {
+        if (key == "obstacle" || key == "excitation") continue;  // only asked to tell a case file apart
+        EXPECT_TRUE(documented.contains(key)) << key << " is not in docs/instrument-format.md";
+    }
+}
+
+// The instrument file of docs/setup.md's tutorial reads (and gives back what it says).
+TEST(InstrumentFile, TheTutorialsInstrumentReads) {
+    std::ifstream in(std::string(FRETBUZZ_SOURCE_DIR) + "/docs/setup.md");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string doc = text.str();
+    std::smatch block;
+    const std::regex marker(R"(<!-- instrument: my-bass -->\s*```toml\n([\s\S]*?)```)");
+    ASSERT_TRUE(std::regex_search(doc, block, marker));
+    const Instrument bass = parse_instrument(block[1].str(), "my-bass.toml", DataSource::builtin());
+    ASSERT_EQ(bass.strings.size(), 4u);
+    const StringNeck e(bass, 0);
+    EXPECT_NEAR(e.gap(12), 7.0 / 64.0 * 0.0254, 1e-15);
+    EXPECT_NEAR(e.gap(1), 0.024 * 0.0254, 1e-15);
+    EXPECT_NEAR(e.relief_gap(8), 0.012 * 0.0254, 1e-15);
 }
 
 }  // namespace

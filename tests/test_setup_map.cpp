@@ -135,6 +135,29 @@ TEST(SetupNotes, EnsemblesAreDeterministicAndCentredOnTheAttack) {
     }
 }
 
+// The two models of a stopped note agree where the answer is clear: with fret 9 of the
+// bass-neck 0.05 mm proud and a 1 mm pluck, the note of fret 8 buzzes against fret 9 and
+// the note of fret 7 touches nothing, with the stand-in and with a finger on the string.
+TEST(SetupNotes, TheFingerModelAgreesWithTheStandInWhereTheAnswerIsClear) {
+    SetupChange raise;
+    raise.frets = {{9, 0.05e-3}};
+    Instrument bass = apply_change(load_instrument("bass-neck"), raise);
+    bass.bench.sample_rate_hz = 1e6;
+    bass.bench.duration_s = 0.1;
+    bass.attack.ensemble = 1;
+    for (bool finger : {false, true}) {
+        MapRequest request;
+        request.attacks = parse_attacks("1mm", bass.attack);
+        request.frets = {7, 8};
+        request.finger = finger;
+        const BuzzMapResult map = play_map(bass, request);
+        ASSERT_EQ(map.notes.size(), 2u);
+        EXPECT_EQ(map.notes[0].touch_fraction, 0.0) << (finger ? "finger" : "stand-in");
+        EXPECT_EQ(map.notes[1].buzz_fraction, 1.0) << (finger ? "finger" : "stand-in");
+        EXPECT_EQ(map.notes[1].buzz_fret, 9) << (finger ? "finger" : "stand-in");
+    }
+}
+
 // The case-based set-up study of the bass-neck case (`fretbuzz setup bass-neck` of the
 // previous version, which rewrote the case file for each fret and ran it as a sweep: its
 // buzz_map.csv, computed with the build of main at 6bc2dd5 as

@@ -193,6 +193,7 @@ TEST(SetupAdvice, ARaisedFretIsFoundProud) {
     EXPECT_EQ(proud.front().fret, 9u);
     EXPECT_LE(proud.front().lower_by_m, 0.1e-3 + 1e-15);
     EXPECT_FALSE(proud.front().cleared.empty());
+    EXPECT_TRUE(proud.front().worse.empty());  // levelling it harms no note
 }
 
 TEST(SetupAdvice, TheReliefRangeHoldsTheCleanSettings) {

@@ -5,10 +5,16 @@
 // This file only reads the options and hands over to the library.
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -220,7 +226,13 @@ int setup_command(const SetupArguments& a) {
         if (!a.quiet) std::cerr << advice_text(advice);
     }
     write_map_json(out.staged("map.json"), instrument, doc);
-    const int drawn = run_package_main("setup_report", {staging.string(), "--out", out.staged("buzz_map.html").string()});
+    // The page is drawn by the Python package; without it the map is still whole (CSV, JSON, WAVs).
+    int drawn = 1;
+    try {
+        drawn = run_package_main("setup_report", {staging.string(), "--out", out.staged("buzz_map.html").string()});
+    } catch (const std::runtime_error& e) {
+        std::cerr << "fretbuzz: warning: " << e.what() << "\n";
+    }
     if (drawn != 0)
         std::cerr << "fretbuzz: warning: buzz_map.html was not drawn (the Python package fretbuzz with Jinja2 is needed: "
                      "apt-get install python3-jinja2); the map is in buzz_map.csv and map.json, draw it later with "
@@ -231,7 +243,8 @@ int setup_command(const SetupArguments& a) {
     for (const NoteVerdict& v : map.notes) buzzing += v.buzz_fraction > 0.0;
     std::cerr << "fretbuzz: " << map.notes.size() << " notes (" << buzzing << " buzz audibly in some plucks; "
               << map.plucks_simulated << " plucks simulated, " << map.plucks_clear << " clear of every fret) on "
-              << map.jobs << " threads in " << map.wall_seconds << " s; map in " << a.out << "/buzz_map.html and buzz_map.csv\n";
+              << map.jobs << " threads in " << std::fixed << std::setprecision(1) << map.wall_seconds << " s; map in "
+              << a.out << "/buzz_map.html and buzz_map.csv\n";
     return 0;
 }
 
@@ -249,18 +262,23 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--strength", args->strength,
                     "Attacks: soft,medium,hard (finger plucks, the default), pop, slap, or a pluck's amplitude in mm");
     cmd->add_option("--relief", args->relief, "What-if: the truss rod set for this relief (mm, the luthier's gap)");
-    cmd->add_option("--action12", args->action12, "What-if: STRING=MM, that string's gap over fret 12 (repeatable)");
-    cmd->add_option("--nut", args->nut, "What-if: STRING=MM, that string's gap over fret 1 (repeatable)");
+    cmd->add_option("--action12", args->action12, "What-if: STRING=MM, that string's gap over fret 12 (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--nut", args->nut, "What-if: STRING=MM, that string's gap over fret 1 (repeatable)")
+        ->allow_extra_args(false);
     cmd->add_option("--saddle", args->saddle,
-                    "What-if: STRING=MM, that string's saddle height above the fret plane (repeatable)");
+                    "What-if: STRING=MM, that string's saddle height above the fret plane (repeatable)")
+        ->allow_extra_args(false);
     cmd->add_option("--fret-offset", args->fret_offsets,
-                    "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)");
+                    "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)")
+        ->allow_extra_args(false);
     cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");
     cmd->add_option("--compare", args->compare, "An earlier map's --out: mark the notes that changed");
     cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");
     cmd->add_option("--frets", args->frets, "Frets to play, e.g. 0-20 or 0,5,7 (default: every one)");
     cmd->add_flag("--advice", args->advice,
-                  "Also search the lowest clean action per string, the proud frets and the clean relief range");
+                  "Also search the lowest clean action per string, the proud frets and the clean relief range, at the "
+                  "last attack of --strength");
     cmd->add_option("--jobs", args->jobs, "Threads (default: every core)");
     cmd->add_option("--ensemble", args->ensemble, "Plucks per note (default: the instrument's, 5)");
     cmd->add_option("--fs", args->fs, "Sampling rate (default: the instrument's)");

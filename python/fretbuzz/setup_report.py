@@ -41,21 +41,23 @@ def note_colour(note: dict) -> str:
 def side_view(strings: List[dict], width: float = 900.0, height: float = 150.0) -> List[dict]:
     """Side views of the neck under each string, in SVG coordinates: x to scale along the
     string (nut left), heights exaggerated by a stated factor (the drawing's `exaggeration`)
-    so that tenths of a millimetre show."""
+    so that tenths of a millimetre show. The vertical range holds the string, the fret tops
+    and the board; a body far below is drawn on the bottom edge."""
     views = []
     for s in strings:
         length = s["scale_length_m"]
-        heights = [z for z in s["fret_top_m"] + s["surface_z_m"] if z is not None]
-        heights += [s["nut_height_m"], s["saddle_height_m"]]
+        board_end = max(s["fret_x_m"])
+        board = [z for x, z in zip(s["surface_x_m"], s["surface_z_m"]) if x <= board_end + 1e-9 and z is not None]
+        heights = [z for z in s["fret_top_m"] if z is not None] + board + [s["nut_height_m"], s["saddle_height_m"]]
         low, high = min(heights), max(heights)
         span = max(high - low, 1e-4)
-        exaggeration = (height - 20.0) / span / (width / length)
+        exaggeration = (height - 20.0) / span / ((width - 20.0) / length)
 
         def X(x: float) -> float:
             return 10.0 + (width - 20.0) * x / length
 
         def Y(z: float) -> float:
-            return 10.0 + (height - 20.0) * (high - z) / span
+            return min(height - 2.0, 10.0 + (height - 20.0) * (high - z) / span)
 
         surface = " ".join(f"{X(x):.1f},{Y(z):.1f}" for x, z in zip(s["surface_x_m"], s["surface_z_m"]) if z is not None)
         frets = [{"x": round(X(x), 1), "top": round(Y(t), 1), "base": round(Y(t - 1e-3), 1), "n": n}

@@ -221,8 +221,16 @@ std::vector<double> string_scales(const std::vector<double>& scales, std::size_t
     return each;
 }
 
+std::vector<StringSet> read_string_sets();
+
+// The built-in sets, read once.
+const std::vector<StringSet>& string_sets() {
+    static const std::vector<StringSet> sets = read_string_sets();
+    return sets;
+}
+
 const StringSet& find_set(const std::string& name, const std::string& key) {
-    static const std::vector<StringSet> sets = builtin_string_sets();
+    const std::vector<StringSet>& sets = string_sets();
     for (const StringSet& s : sets)
         if (s.name == name) return s;
     std::string names;
@@ -526,6 +534,15 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     return inst;
 }
 
+std::set<std::string> instrument_keys_looked_up(std::string_view text, const std::string& source_name,
+                                                const DataSource& data) {
+    string_sets();  // read apart: their keys are not an instrument's
+    std::set<std::string> keys;
+    KeyLogScope log(keys);
+    parse_instrument(text, source_name, data);
+    return keys;
+}
+
 std::vector<BuiltinInstrumentInfo> builtin_instruments() {
     std::vector<BuiltinInstrumentInfo> list;
     for (const EmbeddedFile& f : builtin_files()) {
@@ -557,7 +574,11 @@ Instrument load_instrument(const std::string& name_or_path) {
                      ") or the path of an instrument file (.toml)");
 }
 
-std::vector<StringSet> builtin_string_sets() {
+std::vector<StringSet> builtin_string_sets() { return string_sets(); }
+
+namespace {
+
+std::vector<StringSet> read_string_sets() {
     const auto text = find_builtin_file(std::string(kSetsFile));
     if (!text) return {};
     const toml::table root = parse_toml_document(*text, std::string(kSetsFile));
@@ -587,5 +608,7 @@ std::vector<StringSet> builtin_string_sets() {
     }
     return sets;
 }
+
+}  // namespace
 
 }  // namespace fretbuzz

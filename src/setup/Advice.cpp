@@ -163,7 +163,7 @@ std::vector<ProudFret> proud_frets(const Instrument& instrument, const std::vect
     }
     std::vector<ProudFret> proud;
     for (const auto& [fret, notes] : against) {
-        for (double by : {0.05e-3, 0.1e-3}) {
+        for (double by : {0.02e-3, 0.04e-3, 0.06e-3, 0.08e-3, 0.1e-3}) {
             SetupChange change;
             change.frets = {{fret, -by}};
             Instrument lowered;
@@ -199,7 +199,7 @@ std::vector<ProudFret> proud_frets(const Instrument& instrument, const std::vect
                         p.worse.push_back(note_name(after));
                 }
             }
-            if (all_cleared) {
+            if (all_cleared && p.worse.empty()) {  // a fret merely in line moves the buzz onto its own note
                 proud.push_back(p);
                 break;
             }
@@ -327,14 +327,11 @@ std::string advice_text(const Advice& a) {
             out << "no action up to " << mm(kHighestAction) << " is free of buzz" << (x.below.empty() ? "" : ": " + x.below)
                 << "\n";
     }
-    if (a.proud.empty()) out << "  no fret stands proud (no buzz goes away by lowering one fret by 0.1 mm or less)\n";
+    if (a.proud.empty())
+        out << "  no fret stands proud (lowering one fret by 0.1 mm or less clears no buzz without adding some)\n";
     for (const ProudFret& p : a.proud) {
         out << "  fret " << p.fret << " stands proud: lowering it by " << mm(p.lower_by_m) << " clears";
         for (const std::string& n : p.cleared) out << " " << n;
-        if (!p.worse.empty()) {
-            out << "; but then more buzz on";
-            for (const std::string& n : p.worse) out << " " << n;
-        }
         out << "\n";
     }
     const ReliefAdvice& r = a.relief;

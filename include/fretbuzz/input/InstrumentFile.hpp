@@ -4,6 +4,7 @@
 // simulated); docs/instrument-format.md gives every key with its unit and range. Built-in
 // instruments are such files, compiled in from cases/instruments/. Every value is checked
 // as it is read: an InputError names the key and its allowed range.
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +24,10 @@ bool is_builtin_instrument(std::string_view name);
 
 // Reads an instrument file's text; data files (a neck profile, a fret scan) come from `data`.
 Instrument parse_instrument(std::string_view toml_text, const std::string& source_name, const DataSource& data);
+// The key paths (array indices dropped: "string.nut") that reading this text looks up,
+// present or not: the schema as the reader enforces it (its documentation is tested against it).
+std::set<std::string> instrument_keys_looked_up(std::string_view toml_text, const std::string& source_name,
+                                                const DataSource& data);
 // A built-in instrument's name, or the path of an instrument file (.toml). InputError lists
 // the built-in names when it is neither, and says so when the file is a case file.
 Instrument load_instrument(const std::string& name_or_path);

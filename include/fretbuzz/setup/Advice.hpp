@@ -5,9 +5,10 @@
 //    ensemble buzzes); found by bisection between a clean action and a buzzing one (or one
 //    that would put the open string on a fret), so that the answer is clean and the step
 //    below it is not.
-//  - The proud frets: a fret the buzzing notes buzz against, whose lowering by 0.05 or
-//    0.1 mm removes their buzz (the notes stopped on it are played too: lowering a fret
-//    can make them buzz on the next one).
+//  - The proud frets: a fret the buzzing notes buzz against, whose lowering by at most
+//    0.1 mm (0.02 mm steps) removes their buzz without making any note buzz more (the notes
+//    stopped on it are played too: lowering a fret that is merely in line with its
+//    neighbours moves the buzz onto its own note, the next fret now standing higher).
 //  - The relief range: the truss-rod settings (the luthier's relief gap, 0.05 mm grid, the
 //    strings' nut and saddle left where they are) over which the whole map is clean.
 // "Clean" here is the map's verdict: buzz_fraction = 0 for every note of the strings searched.
@@ -46,7 +47,7 @@ struct ProudFret {
     std::size_t fret = 0;
     double lower_by_m = 0.0;
     std::vector<std::string> cleared;  // the notes whose buzz it removes ("E 7")
-    std::vector<std::string> worse;    // notes that buzz more after it ("E 8")
+    std::vector<std::string> worse;    // notes that buzz more after it ("E 8"): none for a proud fret
 };
 
 struct ReliefAdvice {
