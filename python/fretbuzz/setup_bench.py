@@ -75,7 +75,24 @@ def _jobs(jobs: Optional[int]) -> int:
 
 def _frame(rows: List[dict], columns: Sequence[str]):
     import pandas
-    return pandas.DataFrame(rows, columns=list(columns))
+    frame = pandas.DataFrame(rows, columns=list(columns))
+    for name in ("buzz_fret", "buzz_fret_before", "fret"):  # fret numbers stay whole, None stays None
+        if name in frame.columns and frame[name].dtype.kind == "f":
+            frame[name] = pandas.Series([r.get(name) for r in rows], dtype=object, index=frame.index)
+    return frame
+
+
+def _records(table) -> List[dict]:
+    """A map's rows as the library reads them (a DataFrame's NaN as None, its float frets as int)."""
+    records = table.to_dict("records") if hasattr(table, "to_dict") else [dict(r) for r in table]
+    for r in records:
+        for key in ("buzz_dB", "buzz_fret"):
+            value = r.get(key)
+            if isinstance(value, float) and value != value:
+                r[key] = None
+        if isinstance(r.get("buzz_fret"), float):
+            r["buzz_fret"] = int(r["buzz_fret"])
+    return records
 
 
 MAP_COLUMNS = ("string", "fret", "strength", "buzz_fraction", "buzz_dB", "buzz_fret", "touch_fraction", "plucks",
@@ -266,17 +283,7 @@ class Bench:
         read from two buzz_map.csv files): the map's columns and change ("worse": more of its
         plucks buzz, or as many 3 dB louder; "better"; "moved": as many, against another fret;
         "same"; "new": not in `before`), buzz_fraction_before, buzz_dB_before, buzz_fret_before."""
-        def rows(table) -> List[dict]:
-            records = table.to_dict("records") if hasattr(table, "to_dict") else list(table)
-            for r in records:
-                for k in ("buzz_dB", "buzz_fret"):
-                    v = r.get(k)
-                    if isinstance(v, float) and v != v:
-                        r[k] = None
-                if isinstance(r.get("buzz_fret"), float):
-                    r["buzz_fret"] = int(r["buzz_fret"])
-            return records
-        out = _core._setup_compare(rows(now), rows(before))
+        out = _core._setup_compare(_records(now), _records(before))
         return _frame(out, MAP_COLUMNS + ("change", "buzz_fraction_before", "buzz_dB_before", "buzz_fret_before"))
 
     def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None) -> dict:
@@ -289,12 +296,8 @@ class Bench:
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
             map = self.map(strings=strings, strengths=attack)
-        records = map.to_dict("records") if hasattr(map, "to_dict") else list(map)
-        for r in records:
-            for k in ("buzz_dB",):
-                if isinstance(r.get(k), float) and r[k] != r[k]:
-                    r[k] = None
-        return json.loads(_core._setup_advice(self.instrument, records, attack, _names(strings), self.finger, self.jobs))
+        return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), self.finger,
+                                              self.jobs))
 
     def __repr__(self) -> str:
         changes = f", changes {self.changes}" if self.changes else ""

@@ -111,6 +111,12 @@ class MapTest(unittest.TestCase):
         self.assertEqual(set(advice), {"attack", "step_mm", "lowest_action", "proud_frets", "relief", "maps_played",
                                        "wall_seconds"})
         self.assertEqual(advice["lowest_action"][0]["string"], "G")
+        # A map whose notes buzz (its buzz_fret column holds whole numbers and None) is read back.
+        quick = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05)
+        hard = quick.map(strings="G", strengths="hard")
+        self.assertTrue(any(isinstance(f, int) for f in hard["buzz_fret"]))
+        proud = quick.advise(hard, strength="hard", strings="G")["proud_frets"]
+        self.assertTrue(all(p["worse"] == [] for p in proud))
 
 
 @unittest.skipUnless(CLI, "FRETBUZZ_CLI (the fretbuzz program) is not set")
