@@ -5,7 +5,10 @@
 // name the key and its range.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <regex>
@@ -18,6 +21,7 @@
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/setup/InstrumentGeometry.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 
 namespace fretbuzz {
@@ -256,6 +260,54 @@ TEST(InstrumentFile, TheTutorialsInstrumentReads) {
     EXPECT_NEAR(e.gap(12), 7.0 / 64.0 * 0.0254, 1e-15);
     EXPECT_NEAR(e.gap(1), 0.024 * 0.0254, 1e-15);
     EXPECT_NEAR(e.relief_gap(8), 0.012 * 0.0254, 1e-15);
+}
+
+// A scan of the fret tops (fret, string, height above the straightedge on fret 1 and the last
+// fret) in place of the relief: the scan of a neck gives back that neck, gap for gap.
+TEST(InstrumentFile, AFretScanGivesBackTheNeckItWasTakenFrom) {
+    const Instrument bass = load_instrument("jazz-bass");
+    const StringNeck e(bass, 0);
+    const std::size_t last = e.fret_count();
+    const auto path = std::filesystem::temp_directory_path() / ("fretbuzz-scan-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(path);
+    {
+        std::ofstream csv(path / "scan.csv");
+        csv.precision(17);
+        csv << "fret,string,height_mm\n";
+        for (std::size_t n = 1; n <= last; ++n) {
+            const double chord = e.fret_top(1) + (e.fret_top(last) - e.fret_top(1)) * (e.fret_x(n) - e.fret_x(1)) /
+                                                     (e.fret_x(last) - e.fret_x(1));
+            csv << n << ",1," << (e.fret_top(n) - chord) * 1e3 << "\n";
+        }
+        std::string text = bass.source_text;
+        const std::string relief = text.substr(text.find("[neck.relief]"), text.find("[strings]") - text.find("[neck.relief]"));
+        text.replace(text.find(relief), relief.size(), "");
+        text.replace(text.find("frets = 20"), 10, "frets = 20\nscan = \"scan.csv\"");
+        std::ofstream(path / "scanned.toml") << text;
+    }
+    const Instrument scanned = load_instrument((path / "scanned.toml").string());
+    std::filesystem::remove_all(path);
+    const StringNeck s(scanned, 0);
+    for (std::size_t n = 1; n <= last; ++n) EXPECT_NEAR(s.gap(n), e.gap(n), 1e-12) << "fret " << n;
+    EXPECT_NEAR(s.relief_gap(8), e.relief_gap(8), 1e-12);
+    // The other strings, not scanned, keep the neck's relief (none here: the curve was removed).
+    EXPECT_NEAR(StringNeck(scanned, 1).relief_gap(8), 0.0, 1e-15);
+}
+
+// A fanned neck: each string's frets on its own scale, its nut placed so that the
+// perpendicular fret lines up across the strings.
+TEST(StringNeck, AFannedNeckLinesUpItsPerpendicularFret) {
+    std::string text(*find_builtin_file("instruments/jazz-bass.toml"));
+    text.replace(text.find("scale = \"863 mm\""), 16, "scale = [\"35.5 in\", \"34 in\"]\nperpendicular_fret = 7");
+    const Instrument fan = parse_instrument(text, "fan.toml", DataSource::builtin());
+    const std::vector<StringGeometry> g = describe_geometry(fan);
+    ASSERT_EQ(g.size(), 4u);
+    EXPECT_NEAR(g[0].scale_length_m, 35.5 * 0.0254, 1e-15);
+    EXPECT_NEAR(g[3].scale_length_m, 34 * 0.0254, 1e-15);
+    EXPECT_NEAR(g[1].scale_length_m, (2 * 35.5 + 34) / 3 * 0.0254, 1e-12);
+    for (std::size_t s = 0; s < 4; ++s)  // fret 7 at one place along the neck
+        EXPECT_NEAR(g[s].nut_axial_m + g[s].fret_x_m[7], g[0].nut_axial_m + g[0].fret_x_m[7], 1e-12);
+    EXPECT_GT(g[3].nut_axial_m, g[0].nut_axial_m);  // the short string's nut lies further along
 }
 
 }  // namespace
