@@ -1,5 +1,6 @@
 # `cmake --install`: the libraries, the public headers, the CMake package (fretbuzz::fretbuzz),
-# a pkg-config file, the program, its man page and the built-in cases.
+# a pkg-config file, the program, its man page, the built-in cases and, with the Python
+# module built, the Python package the program runs (setup, sweep --scheduler).
 include(CMakePackageConfigHelpers)
 set(FRETBUZZ_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/fretbuzz)
 
@@ -22,3 +23,15 @@ configure_file(cmake/fretbuzz.pc.in ${CMAKE_BINARY_DIR}/fretbuzz.pc @ONLY)
 install(FILES ${CMAKE_BINARY_DIR}/fretbuzz.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 install(DIRECTORY cases/ DESTINATION ${CMAKE_INSTALL_DATADIR}/fretbuzz/cases)
+install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+# The Python package for the installed program: <prefix>/<libdir>/fretbuzz/python/fretbuzz,
+# private to fretbuzz (the program finds it from its own place, cli/PythonScript.cpp; it is
+# built for the interpreter the program runs, /usr/bin/python3 unless Python_EXECUTABLE
+# says otherwise). `pip install .` installs the same package for a Python environment.
+set(FRETBUZZ_PYTHON_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/fretbuzz/python)
+if(FRETBUZZ_BUILD_PYTHON)
+  install(FILES $<TARGET_FILE:fretbuzz_python> DESTINATION ${FRETBUZZ_PYTHON_INSTALL_DIR}/fretbuzz)
+  install(DIRECTORY python/fretbuzz/ DESTINATION ${FRETBUZZ_PYTHON_INSTALL_DIR}/fretbuzz
+    FILES_MATCHING PATTERN "*.py" PATTERN "*.pyi" PATTERN "py.typed" PATTERN "__pycache__" EXCLUDE)
+endif()

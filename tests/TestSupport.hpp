@@ -39,11 +39,10 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs a shell command line; its output (stdout and stderr) and exit status.
-inline CommandResult run_shell(const std::string& command_line) {
-    const std::string command = command_line + " 2>&1";
+// Runs a shell command line, its stderr with its stdout.
+inline CommandResult run_shell(const std::string& command) {
     CommandResult result;
-    FILE* pipe = ::popen(command.c_str(), "r");
+    FILE* pipe = ::popen(("(" + command + ") 2>&1").c_str(), "r");
     if (pipe == nullptr) return {-1, "popen failed"};
     char buffer[4096];
     while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) result.output.append(buffer, n);

@@ -86,7 +86,8 @@ TEST(SetupCommand, AdviceAndComparisonAreWritten) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string advice = read_file(dir.path() / "b" / "advice.txt");
     EXPECT_NE(advice.find("string G: action over fret 12 now"), std::string::npos) << advice;
-    EXPECT_NE(advice.find("fret 15 stands proud"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("stands proud"), std::string::npos) << advice;  // which ones: SetupAdvice's tests
+    EXPECT_NE(advice.find("relief (gap at fret 8) now"), std::string::npos) << advice;
     EXPECT_NE(read_file(dir.path() / "b" / "advice.json").find("\"lowest_clean_action12_mm\""), std::string::npos);
     const std::string compare = read_file(dir.path() / "b" / "compare.csv");
     EXPECT_EQ(std::count(compare.begin(), compare.end(), '\n'), 22) << compare;  // a header and 21 notes

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "BackgroundRun.hpp"
@@ -27,12 +28,13 @@ struct PySweepSpec {
     std::string base_dir;
 };
 
-PySweepSpec parse_spec(const std::string& text, const std::string& source_name, const std::string& base_dir) {
-    return {parse_sweep(text, source_name, base_dir), base_dir};
+PySweepSpec parse_spec(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                       std::size_t max_runs) {
+    return {parse_sweep(text, source_name, base_dir, max_runs), base_dir};
 }
 
-PySweepSpec load_spec(const std::string& path) {
-    return {load_sweep(path), std::filesystem::path(path).parent_path().string()};
+PySweepSpec load_spec(const std::string& path, std::size_t max_runs) {
+    return {load_sweep(path, max_runs), std::filesystem::path(path).parent_path().string()};
 }
 
 // A store and the spec it refers to, kept alive together.
@@ -95,25 +97,42 @@ void bind_sweep(py::module_& m) {
 
     py::class_<PySweepSpec, std::shared_ptr<PySweepSpec>>(m, "SweepSpec",
                                                           "A sweep spec: a case and the values to run it over.")
-        .def_static("load", &load_spec, py::arg("path"), "Reads a spec file (.toml); InputError names a bad key.")
+        .def_static("load", &load_spec, py::arg("path"), py::arg("max_runs") = kDefaultMaxSweepRuns,
+                    "Reads a spec file (.toml); InputError names a bad key, or the lists' lengths when they make\n"
+                    "more than max_runs runs.")
         .def_static("parse", &parse_spec, py::arg("text"), py::arg("source_name") = "sweep spec",
-                    py::arg("base_dir") = ".",
+                    py::arg("base_dir") = ".", py::arg("max_runs") = kDefaultMaxSweepRuns,
                     "A spec from its TOML text; a relative case path is read from base_dir.")
+        .def_property_readonly("max_runs", [](const PySweepSpec& s) { return s.spec.max_runs; })
         .def_property_readonly("text", [](const PySweepSpec& s) { return s.spec.text; })
         .def_property_readonly("source_name", [](const PySweepSpec& s) { return s.spec.source_name; })
         .def_property_readonly("parameter_keys", [](const PySweepSpec& s) { return s.spec.parameter_keys; })
         .def_property_readonly("audio", [](const PySweepSpec& s) { return s.spec.audio; })
         .def("__len__", [](const PySweepSpec& s) { return s.spec.runs.size(); })
-        .def("check", [](const PySweepSpec& s) { check_sweep(s.spec); },
-             "Builds every run's case: InputError names the first bad value.")
+        .def(
+            "check",
+            [](const PySweepSpec& s, const py::object& progress) {
+                SweepCheckProgress report;
+                if (!progress.is_none()) {
+                    // At most twice a second (and at the end), with the interpreter's lock.
+                    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
+                    report = [&progress, last](std::size_t checked, std::size_t total) {
+                        const auto now = std::chrono::steady_clock::now();
+                        if (checked < total && now - *last < std::chrono::milliseconds(500)) return;
+                        *last = now;
+                        py::gil_scoped_acquire locked;
+                        progress(checked, total);
+                    };
+                }
+                py::gil_scoped_release unlocked;
+                check_sweep(s.spec, report);
+            },
+            py::arg("progress") = py::none(),
+            "Builds every run's case: InputError names the first bad value. progress(checked, total), if\n"
+            "given, is called about twice a second.")
         .def(
             "case",
-            [](const PySweepSpec& s, std::size_t index) {
-                if (index >= s.spec.runs.size())
-                    throw InputError("run " + std::to_string(index) + " is not in the sweep's " +
-                                     std::to_string(s.spec.runs.size()) + " runs");
-                return sweep_case(s.spec, s.spec.runs[index]);
-            },
+            [](const PySweepSpec& s, std::size_t index) { return sweep_case(s.spec, s.spec.runs[index]); },
             py::arg("index"), "The Case of one run: the base case with its values written in.")
         .def(
             "run_row",
@@ -123,11 +142,14 @@ void bind_sweep(py::module_& m) {
             },
             py::arg("index"), py::arg("audio_dir") = "",
             "Runs one run (and its obstacle-free reference); its row as one line of JSON.")
-        .def(py::pickle([](const PySweepSpec& s) { return py::make_tuple(s.spec.text, s.spec.source_name, s.base_dir); },
-                        [](const py::tuple& t) {
-                            return std::make_shared<PySweepSpec>(parse_spec(
-                                t[0].cast<std::string>(), t[1].cast<std::string>(), t[2].cast<std::string>()));
-                        }));
+        .def(py::pickle(
+            [](const PySweepSpec& s) {
+                return py::make_tuple(s.spec.text, s.spec.source_name, s.base_dir, s.spec.max_runs);
+            },
+            [](const py::tuple& t) {
+                return std::make_shared<PySweepSpec>(parse_spec(t[0].cast<std::string>(), t[1].cast<std::string>(),
+                                                                t[2].cast<std::string>(), t[3].cast<std::size_t>()));
+            }));
 
     py::class_<PySweepStore>(m, "SweepStore",
                              "The row files and tables of a sweep in a directory (see `fretbuzz sweep`).")

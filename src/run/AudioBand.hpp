@@ -15,7 +15,7 @@
 #include <span>
 #include <vector>
 
-#include "fretbuzz/run/RunObserver.hpp"
+#include "AudioStreams.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 
 namespace fretbuzz {
@@ -24,15 +24,14 @@ class PerStepQueue;
 
 class AudioBand {
 public:
-    // Whether the per-step observers all take band samples from one kind of resampler, and the
-    // modes fed to them during flights (the first `head`) all have a closed form.
-    static bool applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+    // Whether the audio streams all resample to one rate along z (one filter describes them),
+    // and the modes fed to them during flights (the first `head`) all have a closed form.
+    static bool applies(const AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
                         long output_stride);
-    // With a queue, the synthesis (and every call to the observers) runs on the queue's thread,
+    // With a queue, the synthesis (and every call to the streams) runs on the queue's thread,
     // in order; without, here. Which steps are in the band is decided here either way.
-    AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
-              std::span<const std::vector<double>> shapes, bool velocity, long output_stride,
-              PerStepQueue* queue = nullptr);
+    AudioBand(AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
+              std::span<const std::vector<double>> shapes, long output_stride, PerStepQueue* queue = nullptr);
 
     // True while the observers want no per-step frames.
     bool in_band() const { return in_band_; }
@@ -62,12 +61,14 @@ private:
     template <class Job>
     void run(Job&& job);
     void post_due_samples();  // the samples flights have made due, as one job
+    long segment_start(long n) const;  // where a segment that starts again at step n begins
+    long first_valid(long start) const;  // its first output sample that never felt its start
     std::vector<double> head_of(std::span<const double> x) const;  // the first head_ values: what a job keeps of q or d
     // c_j e^{z_j (t - t_n)} for the first `count` modes, from the state at step n.
     void anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
                 Phasors& out) const;
 
-    std::span<RunObserver* const> observers_;
+    AudioStreams& streams_;
     PerStepQueue* queue_;
     const ModalPropagator& propagator_;
     double dt_, rate_;

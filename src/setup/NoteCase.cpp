@@ -12,7 +12,7 @@
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 #include "fretbuzz/model/ModeTableAssembly.hpp"
 #include "fretbuzz/model/WavenumberDamping.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
@@ -29,6 +29,34 @@ constexpr double kRelease = 1e-4;
 
 std::size_t grid_points(double length, double step) {
     return static_cast<std::size_t>(std::max(2L, std::lround(length / step) - 1));
+}
+
+// stopped_string of an obstacle-free open string, kept for the process: the held string's modes
+// cost tens of ms per note and do not change with the set-up (relief, action, frets), so a
+// what-if after a map, or a search playing the same string again and again, finds them here.
+// Keyed by everything they come from: the open string's modes and length, the stop, the count.
+Case held_string(const Case& bare, double stop, std::size_t modes) {
+    struct Key {
+        std::vector<double> values;
+        bool operator==(const Key&) const = default;
+    };
+    static std::mutex mutex;
+    static std::vector<std::pair<Key, std::shared_ptr<const Case>>> kept;
+    constexpr std::size_t kMaxKept = 512;
+    Key key{{bare.string.length_m, bare.string.tension_n, bare.string.linear_density, stop,
+             static_cast<double>(modes), static_cast<double>(bare.mode_count())}};
+    key.values.insert(key.values.end(), bare.modes.frequency_hz.begin(), bare.modes.frequency_hz.end());
+    key.values.insert(key.values.end(), bare.modes.sigma_per_s.begin(), bare.modes.sigma_per_s.end());
+    {
+        std::lock_guard lock(mutex);
+        for (const auto& [k, c] : kept)
+            if (k == key) return *c;
+    }
+    auto c = std::make_shared<const Case>(stopped_string(bare, stop, modes));
+    std::lock_guard lock(mutex);
+    if (kept.size() >= kMaxKept) kept.clear();
+    kept.emplace_back(std::move(key), c);
+    return *c;
 }
 
 }  // namespace
@@ -62,6 +90,8 @@ NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
     bare_ = open_;
     bare_.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
     bare_.fret_positions_m.clear();
+    stopped_.resize(neck_.fret_count() + 1);
+    once_ = std::vector<std::once_flag>(neck_.fret_count() + 1);
 }
 
 ModeTable NoteMaker::string_modes(double length, std::size_t modes) const {
@@ -103,25 +133,46 @@ void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluc
                        c.initial_displacement);
 }
 
+const Case& NoteMaker::stopped(std::size_t fret) const {
+    std::call_once(once_.at(fret), [&] {
+        const double stop = neck_.fret_x(fret);
+        const double sounding = neck_.length() - stop;
+        std::size_t n = grid_points(sounding, grid_step_m_);
+        const double fs = open_.run.sample_rate_hz;
+        Case c;
+        if (pinned_) {
+            c = bare_;
+            c.string.length_m = sounding;
+            c.modes = string_modes(sounding, n);
+            if (const std::size_t in_band = modes_below_nyquist(c.modes, fs); in_band < n) {
+                n = std::max<std::size_t>(in_band, 2);
+                c.modes = string_modes(sounding, n);
+            }
+        } else {
+            // The string part only: the neck under the note is StringNeck's (stopped_string would
+            // resample the open string's obstacle, and judge a fret far below the string to be none).
+            c = held_string(bare_, stop, n);
+            if (const std::size_t in_band = modes_below_nyquist(c.modes, fs); in_band < c.mode_count())
+                c = held_string(bare_, stop, std::max<std::size_t>(in_band, 2));
+            n = c.mode_count();
+        }
+        c.name = open_.name + "-fret" + std::to_string(fret);
+        c.obstacle_height_m = neck_.note_obstacle(fret, Grid{sounding, n});
+        c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
+        c.initial_displacement.assign(n, 0.0);
+        c.initial_velocity.assign(n, 0.0);
+        c.observation_points_m = {sounding - observe_from_bridge_m_};
+        c.run = open_.run;
+        c.fingers.clear();
+        c.forces.clear();
+        c.plucks.clear();
+        stopped_[fret] = std::make_unique<Case>(std::move(c));
+    });
+    return *stopped_[fret];
+}
+
 Case NoteMaker::stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const {
-    const double stop = neck_.fret_x(fret);
-    const double sounding = neck_.length() - stop;
-    const std::size_t wanted = grid_points(sounding, grid_step_m_);
-    // The string part only: the neck under the note is StringNeck's (stopped_string would
-    // resample the open string's obstacle, and judge a fret far below the string to be none).
-    Case c = stopped_string(bare_, stop, wanted);
-    const std::size_t in_band = modes_below_nyquist(c.modes, open_.run.sample_rate_hz);
-    if (in_band < c.mode_count()) c = stopped_string(bare_, stop, std::max<std::size_t>(in_band, 2));
-    const std::size_t n = c.mode_count();
-    if (pinned_) c.modes = string_modes(sounding, n);
-    c.name = open_.name + "-fret" + std::to_string(fret);
-    c.obstacle_height_m = neck_.note_obstacle(fret, Grid{sounding, n});
-    c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
-    c.observation_points_m = {sounding - observe_from_bridge_m_};
-    c.run = open_.run;
-    c.fingers.clear();
-    c.forces.clear();
-    c.plucks.clear();
+    Case c = stopped(fret);
     excite(c, attack, pluck);
     return c;
 }

@@ -15,6 +15,8 @@
 // Every note shares the open string's grid step (fret tops one grid point each) unless the
 // sampling rate calls for fewer modes: every mode stays below fs / 2.
 #include <cstddef>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +41,9 @@ public:
     std::optional<std::string> unplayable(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
                                           bool finger) const;
     Case stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const;
+    // The stand-in note of a fret before it is plucked: its string and obstacle, built once
+    // (the held string's modes cost tens of ms) and shared by every pluck of the note (threads too).
+    const Case& stopped(std::size_t fret) const;
     Case fingered(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const;
     // Where the frets the note can buzz against lie on its string (m from the note's own nut):
     // the frets past the stop, numbered as on the neck (fret_numbers).
@@ -55,6 +60,8 @@ private:
     StringNeck neck_;
     Case open_;
     Case bare_;  // the open string with nothing to touch: what stopped_string shortens
+    mutable std::vector<std::unique_ptr<Case>> stopped_;
+    mutable std::vector<std::once_flag> once_;
     double observe_from_bridge_m_;
     double grid_step_m_;
     bool pinned_;
