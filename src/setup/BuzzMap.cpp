@@ -119,10 +119,15 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
         std::optional<std::size_t> choke;  // what the note rests on (0: the board or body)
     };
     std::vector<NoteWork> work(notes.size());
+    // A note's string (the stand-in's held string) is built once, by a task of its own queued
+    // one note ahead: while one thread plays a note's plucks, the other prepares the next note,
+    // instead of waiting for it behind the first pluck that needs it.
     struct Task {
         std::size_t note, member;
+        bool prepare = false;
     };
     std::vector<Task> tasks;
+    std::vector<std::size_t> playable;
     for (std::size_t i = 0; i < notes.size(); ++i) {
         const MapNote& n = notes[i];
         NoteWork& w = work[i];
@@ -130,8 +135,14 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
         w.members = ensemble(instrument.attack, n.string, n.fret);
         w.outcomes.resize(w.members.size());
         w.left = w.choke ? 0 : w.members.size();
-        if (!w.choke)
-            for (std::size_t m = 0; m < w.members.size(); ++m) tasks.push_back({i, m});
+        if (!w.choke) playable.push_back(i);
+    }
+    for (std::size_t p = 0; p < playable.size(); ++p) {
+        if (!request.finger) {
+            if (p == 0) tasks.push_back({playable[0], 0, true});
+            if (p + 1 < playable.size()) tasks.push_back({playable[p + 1], 0, true});
+        }
+        for (std::size_t m = 0; m < work[playable[p]].members.size(); ++m) tasks.push_back({playable[p], m});
     }
 
     BuzzMapResult result;
@@ -190,6 +201,10 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                 throw_if_stopped();
                 const Task& task = tasks[t];
                 const MapNote& n = notes[task.note];
+                if (task.prepare) {
+                    makers[n.string]->stopped(n.fret);
+                    continue;
+                }
                 std::vector<std::filesystem::path> wavs;
                 if (task.member == 0 && !request.audio_dir.empty())
                     for (const Attack& a : request.attacks)

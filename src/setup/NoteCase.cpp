@@ -151,7 +151,12 @@ const Case& NoteMaker::stopped(std::size_t fret) const {
         } else {
             // The string part only: the neck under the note is StringNeck's (stopped_string would
             // resample the open string's obstacle, and judge a fret far below the string to be none).
-            c = held_string(bare_, stop, n);
+            // Every mode below fs / 2: the pinned piece's frequencies (the held string's are a few
+            // cents higher: 1 % of margin) tell how many, before the held string is built.
+            const ModeTable pinned = string_modes(sounding, n);
+            std::size_t count = n;
+            while (count > 2 && 1.01 * pinned.frequency_hz[count - 1] > 0.5 * fs) --count;
+            c = held_string(bare_, stop, count);
             if (const std::size_t in_band = modes_below_nyquist(c.modes, fs); in_band < c.mode_count())
                 c = held_string(bare_, stop, std::max<std::size_t>(in_band, 2));
             n = c.mode_count();
