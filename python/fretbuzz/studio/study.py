@@ -238,6 +238,7 @@ class Study:
                 old.superseded_by = job.id
                 if old.kind == "map":
                     old.record.status = "superseded"
+                    self.maps.pop(old.record.id, None)  # never played: nothing of it to show
                 else:
                     old.record.advice_status = ""
                 self.superseded.append(old)
