@@ -107,7 +107,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     shown = f"[{host.strip('[]')}]" if ":" in host else host
     print(f"fretbuzz studio: http://{shown}:{port}/ ({bench.instrument.name}; study folder {study.folder}; Ctrl-C stops it)",
           flush=True)
-    if args.host is not None:
+    from .app import is_loopback
+    if args.host is not None and not is_loopback(host.strip("[]")) and host != "localhost":
         print(f"fretbuzz studio: serving other computers on {host}: anyone who reaches port {port} may use it", flush=True)
     study.start()
     serve(study, sock, args.host)
