@@ -332,6 +332,13 @@ void bind_setup(py::module_& m) {
     }, "The built-in instruments: {name: description}.");
     m.def("_setup_map", &run_map, py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"),
           py::arg("finger"), py::arg("jobs"), py::arg("audio_dir"), py::arg("progress"), py::arg("stop"));
+    m.def("_setup_check", [](const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
+                             const std::vector<std::size_t>& frets, bool finger) {
+              const MapRequest r = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, 0); });
+              return map_notes(instrument, r).size() * r.attacks.size();
+          },
+          py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"), py::arg("finger"),
+          "The number of notes a map would play; InputError, before anything runs, for what _setup_map would refuse.");
     m.def("_setup_note", &record, py::arg("instrument"), py::arg("string"), py::arg("fret"), py::arg("strength"),
           py::arg("member"), py::arg("finger"));
     m.def("_setup_compare", [](const py::iterable& now, const py::iterable& before) {

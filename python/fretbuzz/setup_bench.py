@@ -215,6 +215,12 @@ class Bench:
                                 self.finger, self.jobs, audio_dir or "", progress, stop)
         return _frame(rows, MAP_COLUMNS)
 
+    def check(self, *, strings: Union[str, Iterable[str], None] = None, frets: Union[int, Iterable[int], None] = None,
+              strengths: Optional[str] = None) -> int:
+        """The number of notes (times attacks) map() would play with these arguments, without
+        playing any; InputError for anything map() would refuse (a page checks its controls)."""
+        return _core._setup_check(self.instrument, strengths or self.strengths, _names(strings), _frets(frets), self.finger)
+
     def notes(self, *, strings=None, frets=None, strengths: Optional[str] = None) -> Iterator[dict]:
         """The map as an iterator: yields each note (a dict with the map's columns) as it is
         ready, plays them on a thread of its own. Closing the iterator early stops the map."""
