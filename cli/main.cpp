@@ -156,6 +156,7 @@ int main(int argc, char** argv) {
     cli::add_report_command(app, action);
     cli::add_sweep_command(app, action);
     cli::add_setup_command(app, action);
+    cli::add_studio_command(app, action);
     cli::add_estimate_command(app, action);
     cli::add_play_command(app, action);
     cli::add_clean_command(app, action);

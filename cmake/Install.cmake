@@ -17,6 +17,13 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/fretbuzzConfigVersion.cmake
 install(FILES ${CMAKE_BINARY_DIR}/fretbuzzConfig.cmake ${CMAKE_BINARY_DIR}/fretbuzzConfigVersion.cmake
   DESTINATION ${FRETBUZZ_CMAKE_DIR})
 
+# The Python package's data files (the page templates, the studio's script and style sheet),
+# installed next to its modules in <prefix>/<libdir>/fretbuzz/python/fretbuzz.
+if(FRETBUZZ_BUILD_PYTHON)
+  install(DIRECTORY python/fretbuzz/ DESTINATION ${CMAKE_INSTALL_LIBDIR}/fretbuzz/python/fretbuzz
+    FILES_MATCHING PATTERN "*.j2" PATTERN "*.js" PATTERN "*.css")
+endif()
+
 # Relocatable: the prefix is found from the .pc file's own place (pkg-config's pcfiledir).
 file(RELATIVE_PATH FRETBUZZ_PC_TO_PREFIX /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
 configure_file(cmake/fretbuzz.pc.in ${CMAKE_BINARY_DIR}/fretbuzz.pc @ONLY)

@@ -5,17 +5,11 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <deque>
-#include <exception>
-#include <memory>
 #include <filesystem>
-#include <mutex>
+#include <memory>
 #include <string>
-#include <thread>
 
+#include "BackgroundRun.hpp"
 #include "Bindings.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/sweep/Sweep.hpp"
@@ -61,67 +55,22 @@ py::dict outcome_dict(const SweepOutcome& o) {
     return d;
 }
 
-// run_sweep on a thread of its own while this (the interpreter's main) thread waits: it
-// hands each progress report to `progress` and looks for Ctrl-C every 0.2 s. Ctrl-C stops
-// the sweep after the runs under way (their rows are kept) and raises KeyboardInterrupt.
+// run_sweep in the background (BackgroundRun): `progress` gets each report on this thread.
+// Ctrl-C stops the sweep after the runs under way (their rows are kept) and raises
+// KeyboardInterrupt.
 py::dict run_local(const std::shared_ptr<PySweepSpec>& spec, const std::string& out, unsigned jobs, bool resume,
                    const py::object& progress) {
-    std::mutex mutex;
-    std::condition_variable wake;
-    std::deque<SweepProgress> reports;
-    bool finished = false;
-    std::atomic<bool> stop{false};
+    BackgroundRun<SweepProgress> background;
     SweepOutcome outcome;
-    std::exception_ptr failure;
     SweepOptions options;
     options.jobs = jobs;
     options.resume = resume;
-    options.stop = [&stop] { return stop.load(); };
-    options.progress = [&](const SweepProgress& p) {
-        std::lock_guard lock(mutex);
-        reports.push_back(p);
-        wake.notify_one();
-    };
-    std::thread runner([&] {
-        try {
-            outcome = run_sweep(spec->spec, out, options);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-        std::lock_guard lock(mutex);
-        finished = true;
-        wake.notify_one();
-    });
-    const auto deliver = [&](std::deque<SweepProgress>& batch) {
-        if (!progress.is_none())
-            for (const SweepProgress& p : batch) progress(p);
-        batch.clear();
-    };
-    try {
-        while (true) {
-            std::deque<SweepProgress> batch;
-            bool done = false;
-            {
-                py::gil_scoped_release unlocked;
-                std::unique_lock lock(mutex);
-                wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished || !reports.empty(); });
-                batch.swap(reports);
-                done = finished;
-            }
-            deliver(batch);
-            if (done) break;
-            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        }
-    } catch (...) {
-        stop = true;
-        {
-            py::gil_scoped_release unlocked;
-            runner.join();
-        }
-        throw;
-    }
-    runner.join();
-    if (failure) std::rethrow_exception(failure);
+    options.stop = [&background] { return background.stopping(); };
+    options.progress = [&](const SweepProgress& p) { background.post(p); };
+    background.run([&] { outcome = run_sweep(spec->spec, out, options); },
+                   [&](const SweepProgress& p) {
+                       if (!progress.is_none()) progress(p);
+                   });
     return outcome_dict(outcome);
 }
 

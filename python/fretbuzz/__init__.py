@@ -40,8 +40,9 @@ for _name in dir(_core):
         __all__.append(_name)
 
 from .sweeps import read_table, sweep  # noqa: E402  (after the compiled names it uses)
+from .setup_bench import Bench, setup  # noqa: E402
 
-__all__ += ["sweep", "read_table"]
+__all__ += ["sweep", "read_table", "Bench", "setup"]
 
 CaseLike = Union[str, "os.PathLike[str]", Case]
 
