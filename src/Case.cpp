@@ -69,18 +69,26 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     for (double v : u0) scale = std::max(scale, std::abs(v));
     const double tolerance = 1e-12 * scale;
     const double s = c.contact_orientation();
-    for (std::size_t i = 0; i < u0.size(); ++i) {
-        const double g = c.obstacle_height_m[i];
-        if (!std::isfinite(g)) continue;  // nothing to touch here
-        if (s * u0[i] < s * g - tolerance) {
-            std::ostringstream out;
-            out.precision(6);
-            out << "initial shape penetrates the obstacle at x = " << c.grid_point(i) << " m: u = " << u0[i] << " m is "
-                << (c.obstacle_above ? "above" : "below") << " the obstacle height " << g
-                << " m; the initial displacement must satisfy u(x, 0) " << (c.obstacle_above ? "<=" : ">=")
-                << " g(x) everywhere";
-            throw InputError(out.str());
-        }
+    const auto check = [&](const char* what, double x, double u, double g) {
+        if (!(s * u < s * g - tolerance)) return;
+        std::ostringstream out;
+        out.precision(6);
+        out << "initial shape penetrates " << what << " at x = " << x << " m: u = " << u << " m is "
+            << (c.obstacle_above ? "above" : "below") << " the obstacle height " << g
+            << " m; the initial displacement must satisfy u(x, 0) " << (c.obstacle_above ? "<=" : ">=")
+            << " g(x) everywhere";
+        throw InputError(out.str());
+    };
+    for (std::size_t i = 0; i < u0.size(); ++i)
+        if (std::isfinite(c.obstacle_height_m[i]))  // else nothing to touch here
+            check("the obstacle", c.grid_point(i), u0[i], c.obstacle_height_m[i]);
+    // Exact points: the shape at x itself (the same direct sine sum).
+    for (const PointObstacle& p : c.point_obstacles) {
+        double u = 0.0;
+        for (std::size_t j = 0; j < c.initial_displacement.size(); ++j)
+            u += c.initial_displacement[j] * std::sqrt(2.0 / c.string.length_m) *
+                 std::sin(static_cast<double>(j + 1) * std::numbers::pi * p.x_m / c.string.length_m);
+        check("the point obstacle", p.x_m, u, p.height_m);
     }
 }
 

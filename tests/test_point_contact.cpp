@@ -168,8 +168,16 @@ TEST(PointContact, FusedStepEqualsSeparatePasses) {
     EXPECT_EQ(fused.first_contact_s, slow.first_contact_s);
 }
 
-TEST(PointContact, BadWidthIsRefusedWithExit2) {
+TEST(PointContact, BadInputIsRefusedWithExit2) {
     ScratchDir dir("point-width");
+    {  // an initial shape through a point (u = 1 cm at x = 0.25, the point 2 cm up)
+        const std::string path = (dir.path() / "through.toml").string();
+        std::ofstream(path) << ideal_string(110, "x = 0.25\nheight = 0.02");
+        const CommandResult r = run_cli("run " + path + " --out " + (dir.path() / "out").string() + " -q");
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find("initial shape penetrates"), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(dir.path() / "out"));
+    }
     for (const char* width : {"0", "-1e-3", "2.0"}) {
         const std::string path = (dir.path() / "bad.toml").string();
         std::ofstream(path) << ideal_string(110, "x = 0.2\nheight = -1e-3\nwidth = " + std::string(width));
