@@ -14,6 +14,7 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -97,6 +98,14 @@ TEST(PointContact, FirstContactWhereDAlembertPutsIt) {
         EXPECT_NEAR(r.first_contact_s, 0.3875, 5e-5) << modes << " modes";
         std::printf("%zu modes: first contact at %.5f s\n", modes, r.first_contact_s);
     }
+    // The mirror image through a whole run: plucked down onto a point 1 mm above the string
+    // (side = "above"), the first contact as the run's summary gives it.
+    std::string text = ideal_string(110, "side = \"above\"\nx = 0.2\nheight = 1e-3");
+    text.replace(text.find("amplitude = 0.01"), 16, "amplitude = -0.01");
+    Case mirrored = parse_case(text, "ideal-point.toml", DataSource::builtin());
+    mirrored.run.duration_s = 0.45;
+    const RunSummary summary = simulate(mirrored, {});
+    EXPECT_NEAR(summary.first_contact_s, 0.3875, 5e-5);
 }
 
 // The point acts at x = 0.2 whatever the grid: runs at 200, 400 and 800 modes (the point
