@@ -128,15 +128,20 @@ TEST(PointContact, ResultsIndependentOfTheModeCount) {
 // Three points 2 mm apart, off the grid, under a soft penalty: they couple through the modes
 // and push at the same steps; the coupled discrete-gradient solve keeps H constant to round-off.
 TEST(PointContact, EnergyConservedWithSeveralCoupledPointsInContact) {
-    const Case c = parse_case(ideal_string(110, "x = [0.2, 0.202, 0.204]\nheight = -1e-3", 1e5, 1e5), "ideal-point.toml",
-                              DataSource::builtin());
-    const PointRun r = run_points(c, 0.6);
-    EXPECT_TRUE(r.coupled);
-    EXPECT_GE(r.most_points_pushing, 2u);
-    double worst = 0.0;
-    for (double h : r.energy) worst = std::max(worst, std::abs(h - r.energy.front()) / r.energy.front());
-    std::printf("%zu points pushing at once at most; energy drift %.2g\n", r.most_points_pushing, worst);
-    EXPECT_LT(worst, 1e-12);
+    // alpha = 1.5 (closed form), 1 (linear), 2.5 (the general law through pow)
+    for (const double alpha : {1.5, 1.0, 2.5}) {
+        std::string text = ideal_string(110, "x = [0.2, 0.202, 0.204]\nheight = -1e-3", 1e5, 1e5);
+        text.replace(text.find("alpha = 1.5"), 11, "alpha = " + std::to_string(alpha));
+        const Case c = parse_case(text, "ideal-point.toml", DataSource::builtin());
+        const PointRun r = run_points(c, 0.6);
+        EXPECT_TRUE(r.coupled);
+        EXPECT_GE(r.most_points_pushing, 2u) << "alpha " << alpha;
+        double worst = 0.0;
+        for (double h : r.energy) worst = std::max(worst, std::abs(h - r.energy.front()) / r.energy.front());
+        std::printf("alpha %.1f: %zu points pushing at once at most; energy drift %.2g\n", alpha, r.most_points_pushing,
+                    worst);
+        EXPECT_LT(worst, 1e-12) << "alpha " << alpha;
+    }
 }
 
 // Points on grid points, one grid step wide: the grid's scalar solve with screening (the fast
