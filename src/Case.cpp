@@ -12,7 +12,18 @@
 namespace fretbuzz {
 
 bool Case::has_obstacle() const {
-    return std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+    return !point_obstacles.empty() || std::any_of(obstacle_height_m.begin(), obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+}
+
+std::vector<double> Case::obstacle_on_grid() const {
+    std::vector<double> g = obstacle_height_m;
+    const double toward = contact_orientation();
+    for (const PointObstacle& p : point_obstacles) {
+        const double index = std::clamp(std::round(p.x_m / grid_step()) - 1.0, 0.0, static_cast<double>(g.size()) - 1.0);
+        double& gi = g[static_cast<std::size_t>(index)];
+        if (!std::isfinite(gi) || toward * p.height_m > toward * gi) gi = p.height_m;
+    }
+    return g;
 }
 
 void Case::make_lossless() {
@@ -58,18 +69,26 @@ void check_initial_shape_clears_obstacle(const Case& c) {
     for (double v : u0) scale = std::max(scale, std::abs(v));
     const double tolerance = 1e-12 * scale;
     const double s = c.contact_orientation();
-    for (std::size_t i = 0; i < u0.size(); ++i) {
-        const double g = c.obstacle_height_m[i];
-        if (!std::isfinite(g)) continue;  // nothing to touch here
-        if (s * u0[i] < s * g - tolerance) {
-            std::ostringstream out;
-            out.precision(6);
-            out << "initial shape penetrates the obstacle at x = " << c.grid_point(i) << " m: u = " << u0[i] << " m is "
-                << (c.obstacle_above ? "above" : "below") << " the obstacle height " << g
-                << " m; the initial displacement must satisfy u(x, 0) " << (c.obstacle_above ? "<=" : ">=")
-                << " g(x) everywhere";
-            throw InputError(out.str());
-        }
+    const auto check = [&](const char* what, double x, double u, double g) {
+        if (!(s * u < s * g - tolerance)) return;
+        std::ostringstream out;
+        out.precision(6);
+        out << "initial shape penetrates " << what << " at x = " << x << " m: u = " << u << " m is "
+            << (c.obstacle_above ? "above" : "below") << " the obstacle height " << g
+            << " m; the initial displacement must satisfy u(x, 0) " << (c.obstacle_above ? "<=" : ">=")
+            << " g(x) everywhere";
+        throw InputError(out.str());
+    };
+    for (std::size_t i = 0; i < u0.size(); ++i)
+        if (std::isfinite(c.obstacle_height_m[i]))  // else nothing to touch here
+            check("the obstacle", c.grid_point(i), u0[i], c.obstacle_height_m[i]);
+    // Exact points: the shape at x itself (the same direct sine sum).
+    for (const PointObstacle& p : c.point_obstacles) {
+        double u = 0.0;
+        for (std::size_t j = 0; j < c.initial_displacement.size(); ++j)
+            u += c.initial_displacement[j] * std::sqrt(2.0 / c.string.length_m) *
+                 std::sin(static_cast<double>(j + 1) * std::numbers::pi * p.x_m / c.string.length_m);
+        check("the point obstacle", p.x_m, u, p.height_m);
     }
 }
 
@@ -358,6 +377,16 @@ void Case::validate() const {
                                                   "must be finite (or -inf for no obstacle)"));
         require_finite("initial displacement of mode " + std::to_string(i + 1), initial_displacement[i]);
         require_finite("initial velocity of mode " + std::to_string(i + 1), initial_velocity[i]);
+    }
+    for (std::size_t k = 0; k < point_obstacles.size(); ++k) {
+        const PointObstacle& p = point_obstacles[k];
+        const std::string item = "obstacle point " + std::to_string(k);
+        if (!(p.x_m > 0.0 && p.x_m < string.length_m))
+            throw InputError(out_of_range_message(item + " x (m)", p.x_m, "must lie inside the string, in (0, L)"));
+        if (!(std::abs(p.height_m) <= 0.1))
+            throw InputError(out_of_range_message(item + " height (m)", p.height_m, "must be in [-0.1, 0.1] m"));
+        if (!(p.weight_m > 0.0 && p.weight_m <= string.length_m))
+            throw InputError(out_of_range_message(item + " width (m)", p.weight_m, "must be in (0, L]"));
     }
     require_positive("contact.K (penalty stiffness)", contact.stiffness);
     require_at_least("contact.alpha (penalty exponent)", contact.exponent, 1.0);

@@ -106,6 +106,7 @@ TEST(Sweep, RowsEqualSingleRunsOverKAndFs) {
         // with no obstacle, in the buzz band.
         Case free_case = c;
         free_case.obstacle_height_m.assign(c.obstacle_height_m.size(), -std::numeric_limits<double>::infinity());
+        free_case.point_obstacles.clear();
         BuzzMetrics free_metrics(spec.buzz_band_hz);
         RunObserver* free_observers[] = {&free_metrics};
         simulate(free_case, free_observers);

@@ -94,6 +94,15 @@ struct PolarisationSettings {
     bool pickup_angle_given = false;
 };
 
+// A point obstacle at its exact position (a tanpura's thread, a capo edge): its contact row is
+// phi_j(x) at x itself, whatever the mode count. K acts on it over `weight_m` of string (the
+// penalty's force per length times that length is the point's force).
+struct PointObstacle {
+    double x_m = 0.0;
+    double height_m = 0.0;
+    double weight_m = 0.0;
+};
+
 struct RunSettings {
     double sample_rate_hz = 0.0;              // Fe
     double duration_s = 0.0;
@@ -111,6 +120,9 @@ struct Case {
     // Obstacle height g(x_i) at the interior grid points x_i = i L / (Nm + 1), i = 1..Nm.
     // -infinity where nothing can be touched.
     std::vector<double> obstacle_height_m;
+    // Point obstacles at their exact positions, besides the grid's heights (a case whose
+    // obstacles are all points; see PointObstacle). Same side and sign convention as the heights.
+    std::vector<PointObstacle> point_obstacles;
     // The obstacle lies above the string: contact where u > g, the force pushes down.
     // The scheme runs the mirror image (u -> -u) and mirrors its outputs back.
     bool obstacle_above = false;
@@ -140,7 +152,10 @@ struct Case {
     // +1, or -1 when the obstacle is above: multiplies u to get the coordinate in which
     // the contact solve sees an obstacle below.
     double contact_orientation() const { return obstacle_above ? -1.0 : 1.0; }
-    // Whether any grid point has an obstacle to touch.
+    // The obstacle on the grid with each exact point at its nearest grid point (for outputs
+    // and maps; the solve keeps the points where they are).
+    std::vector<double> obstacle_on_grid() const;
+    // Whether any grid point or exact point has an obstacle to touch.
     bool has_obstacle() const;
 
     bool two_polarisations() const { return polarisation.count == 2; }

@@ -61,6 +61,21 @@ const std::vector<Field>& fields() {
         {"sigma", "modal damping sigma_j (1/s)", [](const Case& c) { return py::object(to_read_only_numpy(c.modes.sigma_per_s)); },
          [](Case& c, py::handle v) { set_mode_column(c, &ModeTable::sigma_per_s, v, "sigma"); }},
         array("obstacle_height", "obstacle height g at the grid points (m; -inf: none)", &Case::obstacle_height_m),
+        {"point_obstacles", "point obstacles at their exact positions: a list of (x m, height m, width m)",
+         [](const Case& c) {
+             py::list points;
+             for (const PointObstacle& p : c.point_obstacles) points.append(py::make_tuple(p.x_m, p.height_m, p.weight_m));
+             return py::object(points);
+         },
+         [](Case& c, py::handle v) {
+             std::vector<PointObstacle> points;
+             for (const py::handle item : v) {
+                 const std::vector<double> p = to_vector(item, "point_obstacles element");
+                 if (p.size() != 3) throw py::type_error("point_obstacles element: expected (x, height, width)");
+                 points.push_back({p[0], p[1], p[2]});
+             }
+             c.point_obstacles = std::move(points);
+         }},
         array("initial_displacement", "modal displacement q_j(0)", &Case::initial_displacement),
         array("initial_velocity", "modal velocity dq_j/dt(0)", &Case::initial_velocity),
         scalar("K", "penalty stiffness", &Case::contact, &ContactLaw::stiffness),

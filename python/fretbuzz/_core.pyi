@@ -1,6 +1,6 @@
 # Type stubs of the compiled part of fretbuzz (python/bindings/*.cpp).
 import os
-from typing import Any, Callable, Dict, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -23,6 +23,7 @@ class Case:
     frequencies: npt.NDArray[np.float64]
     sigma: npt.NDArray[np.float64]
     obstacle_height: npt.NDArray[np.float64]
+    point_obstacles: List[Tuple[float, float, float]]
     initial_displacement: npt.NDArray[np.float64]
     initial_velocity: npt.NDArray[np.float64]
     K: float

@@ -98,6 +98,18 @@ class Editing(unittest.TestCase):
         with self.assertRaisesRegex(KeyError, "no case field 'Tension'"):
             fretbuzz.Case(Tension=1.0)
 
+    def test_point_obstacles_are_exact_and_editable(self):
+        c = fretbuzz.load_case("tanpura")
+        ((x, height, width),) = c.point_obstacles
+        self.assertEqual((x, height), (0.004, 0.0))
+        self.assertAlmostEqual(width, c.L / 401, delta=1e-15)  # the grid step of its 400 modes
+        self.assertTrue(np.all(np.isneginf(c.obstacle_height)))  # nothing on the grid
+        c.point_obstacles = [(0.5, -1e-3, 2e-3)]
+        self.assertEqual(c.point_obstacles, [(0.5, -1e-3, 2e-3)])
+        with self.assertRaisesRegex(ValueError, "obstacle point 0 x"):
+            c.point_obstacles = [(2.0, 0.0, 1e-3)]
+        self.assertEqual(c.point_obstacles, [(0.5, -1e-3, 2e-3)])  # all or nothing
+
     def test_case_from_toml_text(self):
         text = subprocess_free_case_text("bass-pop")
         c = fretbuzz.Case.from_toml(text.replace("duration = 3.0", "duration = 0.5"))

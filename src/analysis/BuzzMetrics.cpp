@@ -72,7 +72,7 @@ std::size_t first_buzz_point(const Case& c) {
     if (c.fingers.empty()) return 0;
     double edge = 0.0;
     for (const FingerSpec& f : c.fingers) edge = std::max(edge, f.position_m + 0.5 * f.width_m);
-    const std::vector<std::size_t> feature = obstacle_features(c.obstacle_height_m);
+    const std::vector<std::size_t> feature = obstacle_features(c.obstacle_on_grid());
     const std::size_t n = c.obstacle_height_m.size();
     const auto point_at = [&](double x) {
         const double i = std::round(x / c.grid_step()) - 1.0;
@@ -90,7 +90,7 @@ void BuzzMetrics::begin(const RunLayout& layout) {
     dt_ = layout.dt;
     output_rate_ = layout.output_rate_hz;
     dx_ = layout.source->grid_step();
-    feature_of_point_ = obstacle_features(layout.source->obstacle_height_m);
+    feature_of_point_ = obstacle_features(layout.source->obstacle_on_grid());
     const std::size_t features =
         feature_of_point_.empty() ? 0 : *std::max_element(feature_of_point_.begin(), feature_of_point_.end());
     feature_impulse_.assign(features + 1, 0.0);

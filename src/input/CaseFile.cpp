@@ -71,9 +71,14 @@ void read_run_section(TomlSection s, Case& c) {
 }
 
 // Obstacles all lie on one side of the string: the contact solve takes one side per run.
+// Where every obstacle is a point, the points keep their exact positions (Case::point_obstacles);
+// mixed with a profile, they take their nearest grid points, solved with the profile's.
 void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
     std::vector<std::vector<double>> obstacles;
     std::optional<ObstacleSide> side;
+    const bool all_points = !sections.empty() && std::all_of(sections.begin(), sections.end(), [](TomlSection& s) {
+        return is_point_section(s);
+    });
     for (TomlSection& obstacle : sections) {
         const ObstacleSide this_side = read_obstacle_side(obstacle);
         if (side && this_side != *side)
@@ -81,7 +86,13 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
                              sections.front().key_path("side") + " is \"" + to_string(*side) +
                              "\": all obstacles of a case must lie on the same side of the string");
         side = this_side;
-        obstacles.push_back(read_obstacle_section(obstacle, data, c));
+        if (all_points) {
+            const std::vector<PointObstacle> points = read_point_section(obstacle, c);
+            c.point_obstacles.insert(c.point_obstacles.end(), points.begin(), points.end());
+            obstacles.push_back(no_obstacle(Grid{c.string.length_m, c.mode_count()}));
+        } else {
+            obstacles.push_back(read_obstacle_section(obstacle, data, c));
+        }
         obstacle.finish();
     }
     if (obstacles.empty()) throw InputError("obstacle: the list of obstacles is empty; use type = \"none\" for none");
@@ -221,6 +232,18 @@ Case load_case(const std::string& name_or_path) {
 
 Case with_mode_count(const CaseText& source, std::size_t modes) {
     toml::table root = parse_toml_document(source.text, source.source_name);
+    // Point obstacles keep the contact width they had at the case's own mode count (their
+    // default width is its grid step): the same points, only the modes change.
+    const Case as_written = parse_case_document(root, source.text, source.data);
+    const double width = as_written.grid_step();
+    const auto keep_width = [&](toml::table& obstacle) {
+        if (obstacle["type"].value_or(std::string()) == "points" && !obstacle.contains("width"))
+            obstacle.insert_or_assign("width", width);
+    };
+    if (toml::table* one = root["obstacle"].as_table()) keep_width(*one);
+    if (toml::array* several = root["obstacle"].as_array())
+        for (toml::node& node : *several)
+            if (toml::table* t = node.as_table()) keep_width(*t);
     if (toml::table* string = root["string"].as_table())
         string->insert_or_assign("modes", static_cast<std::int64_t>(modes));
     return parse_case_document(root, toml_text(root), source.data);

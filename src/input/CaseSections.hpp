@@ -36,6 +36,9 @@ void read_modes_section(TomlSection& section, const DataSource& data, const Stri
                         bool lossless, Case& c);
 // obstacle.side: "below" (the default) or "above".
 ObstacleSide read_obstacle_side(TomlSection& section);
+// Whether an [obstacle] is of type "points", and its points at their exact positions.
+bool is_point_section(TomlSection& section);
+std::vector<PointObstacle> read_point_section(TomlSection& section, const Case& c);
 // [obstacle] (or one entry of [[obstacle]]): heights on the grid of c.
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c);
 // [excitation]: initial modal displacement and velocity on the modes of c.

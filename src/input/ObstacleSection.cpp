@@ -50,13 +50,19 @@ std::vector<double> read_flat(TomlSection& s, const Grid& grid) {
     return flat_obstacle(grid, height, start, end);
 }
 
-std::vector<double> read_points(TomlSection& s, const Grid& grid) {
+// The points at their exact positions, each acting over `width` of string (default: the
+// case's grid step, the length a grid point stands for).
+std::vector<PointObstacle> read_point_list(TomlSection& s, const Grid& grid) {
     const std::vector<double> x = s.numbers("x");
     std::vector<double> heights = s.numbers("height");
     if (heights.size() == 1) heights.resize(x.size(), heights.front());
     if (heights.size() != x.size())
         throw InputError(s.key_path("height") + " has " + std::to_string(heights.size()) + " values but " +
                          s.key_path("x") + " has " + std::to_string(x.size()) + ": give one height, or one per point");
+    const double width = s.optional_positive("width").value_or(grid.step());
+    if (!(width <= grid.length_m))
+        throw InputError(out_of_range_message(s.key_path("width"), width, "must be in (0, L] m"));
+    std::vector<PointObstacle> points;
     for (std::size_t k = 0; k < x.size(); ++k) {
         const std::string item = std::string("[").append(std::to_string(k)).append("]");
         if (!(x[k] > 0.0 && x[k] < grid.length_m))
@@ -65,6 +71,16 @@ std::vector<double> read_points(TomlSection& s, const Grid& grid) {
         if (!(std::abs(heights[k]) <= 0.1))
             throw InputError(
                 out_of_range_message(s.key_path("height").append(item), heights[k], "must be in [-0.1, 0.1] m"));
+        points.push_back({x[k], heights[k], width});
+    }
+    return points;
+}
+
+std::vector<double> read_points(TomlSection& s, const Grid& grid) {
+    std::vector<double> x, heights;
+    for (const PointObstacle& p : read_point_list(s, grid)) {
+        x.push_back(p.x_m);
+        heights.push_back(p.height_m);
     }
     return point_obstacles(grid, x, heights);
 }
@@ -98,6 +114,12 @@ ObstacleSide read_obstacle_side(TomlSection& section) {
     if (side == "above") return ObstacleSide::above;
     throw InputError(section.key_path("side") + " = \"" + side + "\": must be \"below\" (the default: contact where "
                      "u < g) or \"above\" (contact where u > g)");
+}
+
+bool is_point_section(TomlSection& section) { return section.text("type") == "points"; }
+
+std::vector<PointObstacle> read_point_section(TomlSection& section, const Case& c) {
+    return read_point_list(section, Grid{c.string.length_m, c.mode_count()});
 }
 
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c) {

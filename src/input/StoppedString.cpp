@@ -21,6 +21,7 @@ namespace {
 Case mirrored(const Case& c) {
     Case m = c;
     std::reverse(m.obstacle_height_m.begin(), m.obstacle_height_m.end());
+    for (PointObstacle& p : m.point_obstacles) p.x_m = c.string.length_m - p.x_m;
     for (std::size_t j = 1; j < m.mode_count(); j += 2) {
         m.initial_displacement[j] = -m.initial_displacement[j];
         m.initial_velocity[j] = -m.initial_velocity[j];
@@ -38,6 +39,10 @@ bool stops_at_far_end(const Case& c) {
             sum += c.grid_point(i);
             ++count;
         }
+    for (const PointObstacle& p : c.point_obstacles) {
+        sum += p.x_m;
+        ++count;
+    }
     return count > 0 && sum / static_cast<double>(count) < 0.25 * c.string.length_m;
 }
 
@@ -118,6 +123,13 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
         if (fret) c.fret_positions_m.push_back(s);
         const double g = fret ? top_of_cell(s) : open.obstacle_height_m[nearest(stop_m + s)];
         if (std::isfinite(g)) c.obstacle_height_m[i] = g - stop_height * (1.0 - s / sounding);
+    }
+    // Exact points stay where they are on the string (beyond the stop), their widths kept.
+    c.point_obstacles.clear();
+    for (const PointObstacle& p : open.point_obstacles) {
+        const double s = p.x_m - stop_m;
+        if (stop_m > 0.0 && s < 1.5 * dx_open) continue;  // under the finger
+        if (s > 0.0 && s < sounding) c.point_obstacles.push_back({s, p.height_m - stop_height * (1.0 - s / sounding), p.weight_m});
     }
     c.observation_points_m.clear();
     for (double x : open.observation_points_m)

@@ -216,7 +216,7 @@ void Hdf5Writer::begin(const RunLayout& layout) {
     std::vector<double> grid_x(grid_size);
     for (std::size_t i = 0; i < grid_size; ++i) grid_x[i] = c.grid_point(i);
     write_array(f.grid.get(), "x_m", grid_x);
-    write_array(f.grid.get(), "obstacle_height_m", c.obstacle_height_m);
+    write_array(f.grid.get(), "obstacle_height_m", c.obstacle_on_grid());
 
     f.contact = create_group(root, "contact");
     const long interval = contact_interval_steps(layout, options_.max_contact_map_rate_hz);

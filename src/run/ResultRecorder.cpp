@@ -16,7 +16,7 @@ void ResultRecorder::begin(const RunLayout& layout) {
     for (auto* v : {&run_.energy_time, &run_.energy, &run_.contact_energy, &run_.dissipated}) v->reserve(rows);
     run_.grid_x.resize(c.mode_count());
     for (std::size_t i = 0; i < c.mode_count(); ++i) run_.grid_x[i] = c.grid_point(i);
-    run_.obstacle_height = c.obstacle_height_m;
+    run_.obstacle_height = c.obstacle_on_grid();
     const double never = std::numeric_limits<double>::quiet_NaN();
     run_.first_contact_s.assign(c.mode_count(), never);
     run_.last_contact_s.assign(c.mode_count(), never);

@@ -10,6 +10,16 @@
 
 namespace fretbuzz {
 
+namespace {
+// A point the grid's own solve takes: on a grid point, one grid step wide (or any point of a
+// case with two polarisations, whose friction acts at grid points).
+bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
+    const double dx = c.grid_step();
+    const double x = (std::round(p.x_m / dx)) * dx;
+    return c.two_polarisations() || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
+}
+}  // namespace
+
 Plan::Plan(const Case& c, double dt, PlanOptions options)
     : dt_(dt),
       mu_(c.string.linear_density),
@@ -32,6 +42,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     if (c.obstacle_above)
         for (double& g : obstacle_)
             if (std::isfinite(g)) g = -g;
+    place_points(c);
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
     planned_obstacle_ = obstacle_;
@@ -39,7 +50,28 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
                                                             : default_transform_threshold(mode_count(), basis_.transform_flops());
 }
 
+void Plan::place_points(const Case& c) {
+    // Points that all join the grid (see joins_grid) are solved as grid points. Otherwise every
+    // point is solved by PointContact: an off-grid point's row is not orthogonal to a grid
+    // point's, so their equations couple.
+    const bool all_on_grid = std::all_of(c.point_obstacles.begin(), c.point_obstacles.end(),
+                                         [&](const PointObstacle& p) { return joins_grid(c, p, options_); });
+    std::vector<PointObstacle> points = c.point_obstacles;
+    for (PointObstacle& p : points)
+        if (c.obstacle_above) p.height_m = -p.height_m;
+    if (!all_on_grid) {
+        point_contact_ = PointContact(basis_, std::move(points));
+        return;
+    }
+    for (const PointObstacle& p : points) {
+        const double index = std::clamp(std::round(p.x_m / basis_.grid_step()) - 1.0, 0.0, static_cast<double>(obstacle_.size() - 1));
+        double& g = obstacle_[static_cast<std::size_t>(index)];
+        g = std::max(g, p.height_m);
+    }
+}
+
 void Plan::set_obstacle_offset(double offset) {
+    point_contact_.set_offset(offset);
     for (std::size_t i : obstacle_points_)
         obstacle_[i] = std::min(planned_obstacle_[i] + offset, std::max(planned_obstacle_[i], 0.0));
 }
@@ -94,11 +126,17 @@ ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool
     // string keeps touching it while it sounds: free flight comes rarely, if ever.
     constexpr double kRestingGap = 1e-6;
     bool rests_on_it = false;
-    for (double h : c.obstacle_height_m) {
-        if (!std::isfinite(h)) continue;
+    // Points off the grid are solved every step (PointContact): nothing to screen.
+    const bool off_grid = std::any_of(c.point_obstacles.begin(), c.point_obstacles.end(),
+                                      [&](const PointObstacle& p) { return !joins_grid(c, p, options); });
+    if (off_grid && options.choose_screening) return {false, "off (automatic: exact point obstacles)"};
+    const auto count = [&](double h) {
         ++points;
         rests_on_it = rests_on_it || c.contact_orientation() * h >= -kRestingGap;
-    }
+    };
+    for (double h : c.obstacle_height_m)
+        if (std::isfinite(h)) count(h);
+    for (const PointObstacle& p : c.point_obstacles) count(p.height_m);
     if (!options.choose_screening) return {true, "on (asked for)"};
     if (points <= kFewPoints && (rests_on_it || !can_fly))
         return {false, "off (automatic: obstacle grid points: " + std::to_string(points) + ", " +

@@ -110,13 +110,18 @@ bool contact_possible(const Case& c) {
     const ModalBasis basis(c.string.length_m, n);
     std::vector<double> row(n);
     const double s = c.contact_orientation();
-    for (std::size_t i = 0; i < n; ++i) {
-        const double g = c.obstacle_height_m[i];
-        if (!std::isfinite(g)) continue;
-        const std::span<const double> phi = basis.row(i, row);
+    const auto reaches = [&](std::span<const double> phi, double g) {
         double bound = 0.0;
         for (std::size_t j = 0; j < n; ++j) bound += std::abs(phi[j]) * reach[j];
-        if (bound * (1.0 + 1e-9) >= -s * g) return true;  // u can reach g (a margin for round-off)
+        return bound * (1.0 + 1e-9) >= -s * g;  // u can reach g (a margin for round-off)
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = c.obstacle_height_m[i];
+        if (std::isfinite(g) && reaches(basis.row(i, row), g)) return true;
+    }
+    for (const PointObstacle& p : c.point_obstacles) {
+        basis.mode_shapes_at(p.x_m, row);
+        if (reaches(row, p.height_m)) return true;
     }
     return false;
 }

@@ -26,7 +26,10 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
-      on_pad_(q0.size(), 0) {
+      on_pad_(q0.size(), 0),
+      points_(plan.point_contact().make_state()),
+      point_predicted_(plan.point_contact().size(), 0.0),
+      point_forecast_(plan.point_contact().size(), 0.0) {
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
     active_.reserve(q0.size());
@@ -89,7 +92,7 @@ void Stepper::silence() {
 
 void Stepper::restart() {
     energy_step_ = -1;
-    forecast_.step = observed_step_ = flight_rows_step_ = -1;  // formed from the state before the change
+    forecast_.step = observed_step_ = flight_rows_step_ = point_forecast_step_ = -1;  // formed from the state before the change
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse), where
     // they are read: at the obstacle's points and the pads of the fingers on the string. By
@@ -112,6 +115,7 @@ void Stepper::restart() {
     scheduler_.clear();
     active_.clear();
     psi_prev_ = psi_curr_ = 0.0;
+    plan_.point_contact().start(points_, q_, d_);
     if (screening_) {
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
@@ -252,7 +256,12 @@ double Stepper::work() const {
     return y_ ? e + y_->work() : e;
 }
 
-double Stepper::contact_energy() const { return 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_); }
+double Stepper::contact_energy() const {
+    const double grid = 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_);
+    const PointContact& points = plan_.point_contact();
+    if (points.empty()) return grid;
+    return grid + 0.5 * (points.potential(points_, plan_.contact(), true) + points.potential(points_, plan_.contact(), false));
+}
 
 void Stepper::step() {
     if (n_ == 0) {
@@ -280,14 +289,15 @@ void Stepper::step() {
         }
         put_points_to_sleep();
     }
+    if (points_pushed_) report_point_forces();
     ++n_;
 }
 
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                           std::vector<double>& u, std::vector<double>* v, bool step_head) {
     const long steps = flight.steps();
-    // A finger may touch at any time: its pad points are solved every step.
-    if (n_ == 0 || !screening_ || pad_points_ != 0 || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+    // A finger may touch at any time: its pad points are solved every step (and exact points).
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || !plan_.point_contact().empty() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
         return 0;
     scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
     const ModalPropagator& prop = plan_.propagator();
@@ -369,6 +379,7 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, grid_);
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
+    plan_.point_contact().start(points_, q_, d_);
     // Each played part starts from the string under its pad at levels 0 and 1.
     for (Finger& f : fingers_) start_part(f, u0, grid_);
     for (ForceProfile& gesture : gestures_) start_part(gesture, u0, grid_);
@@ -421,8 +432,12 @@ void Stepper::solve_contacts() {
     touched_obstacle_ = false;
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
-    stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
-    if (active_.empty() && pad_points_ == 0) return;
+    stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + plan_.point_contact().size());
+    points_pushed_ = !plan_.point_contact().empty() && solve_points();
+    if (active_.empty() && pad_points_ == 0) {
+        if (points_pushed_) ++stats_.contact_steps;
+        return;
+    }
 
     const ModalPropagator& prop = plan_.propagator();
     const std::size_t n = q_.size();
@@ -572,7 +587,104 @@ void Stepper::retire_plucker(const Pluck& pluck) {
     pad_points_ -= pad.size();
 }
 
+bool Stepper::solve_points() {
+    const ModalPropagator& prop = plan_.propagator();
+    const PointContact& points = plan_.point_contact();
+    if (point_forecast_step_ == n_)  // the last step's pass formed it
+        std::copy(point_forecast_.begin(), point_forecast_.end(), point_predicted_.begin());
+    else
+        for (std::size_t p = 0; p < points.size(); ++p)
+            point_predicted_[p] = kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(),
+                                                       points.row(p).data(), q_.size());
+    const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
+    touched_obstacle_ = touched_obstacle_ || pushed;
+    return pushed;
+}
+
+void Stepper::apply_point_impulse() {
+    // With a point pushing, every force goes through one impulse vector (advance_modes' plain path).
+    if (forces_.empty())
+        std::fill(impulse_.begin(), impulse_.end(), 0.0);
+    else
+        plan_.forces_to_modes(forces_, grid_, impulse_);
+    plan_.point_contact().add_impulse(points_, plan_.force_to_displacement(), impulse_);
+}
+
+void Stepper::report_point_forces() {
+    // Each point's force as a force per length at its nearest grid point, the same total force.
+    const double dx = plan_.basis().grid_step();
+    const PointContact& points = plan_.point_contact();
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        if (points_.force[p] == 0.0) continue;
+        const double index = std::clamp(std::round(points.point(p).x_m / dx) - 1.0, 0.0, static_cast<double>(q_.size() - 1));
+        forces_.emplace_back(static_cast<std::size_t>(index), points_.force[p] * points.weight(p) / dx);
+    }
+}
+
+bool Stepper::points_by_rows() const {
+    const std::size_t pushes = forces_.size() + plan_.point_contact().size();
+    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxForecastRows &&
+           pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
+}
+
+void Stepper::advance_with_points() {
+    const ModalPropagator& prop = plan_.propagator();
+    const PointContact& points = plan_.point_contact();
+    std::array<double, Plan::kMaxInlinePushes> coefficients;
+    std::array<const double*, Plan::kMaxInlinePushes> push_rows;
+    std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+    std::size_t pushes = 0;
+    if (points_pushed_)
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.force[p] != 0.0) {
+                coefficients[pushes] = plan_.force_to_displacement() * points.weight(p) * points_.force[p];
+                push_rows[pushes++] = points.row(p).data();
+            }
+    for (const auto& [i, f] : forces_) {
+        coefficients[pushes] = plan_.impulse_scale() * f;
+        push_rows[pushes++] = plan_.basis().row(i).data();
+    }
+    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
+    const double* e = prop.decay().data();
+    const double* beta = prop.beta().data();
+    forecast_.step = observed_step_ = -1;
+    if (!plan_.options().fused_step) {  // the reference: the same pushes, the products in passes of their own
+        const double losses =
+            pushes == 0   ? kernels::advance(e, beta, loss, nullptr, q_.data(), d_.data(), q_.size())
+            : pushes == 1 ? kernels::advance_one_push(e, beta, loss, coefficients[0], push_rows[0], q_.data(), d_.data(), q_.size())
+                          : kernels::advance_pushes(e, beta, loss, coefficients.data(), push_rows.data(), pushes, q_.data(),
+                                                    d_.data(), q_.size());
+        dissipated_ += plan_.modal_loss_scale() * losses;
+        return;
+    }
+    for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
+    kernels::StepProducts products;
+    products.predict_rows = predict_rows.data();
+    products.predict_count = points.size();
+    products.predicted = point_forecast_.data();
+    if (observed_row_ != nullptr) {
+        products.observe_row = observed_row_;
+        products.observed = &observed_;
+    }
+    double energy = 0.0;
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
+    if (audited) products.energy = &energy;
+    const bool few = pushes <= kernels::kMaxRowsPerPass && points.size() <= kernels::kMaxRowsPerPass;
+    const auto advance = few ? kernels::advance_with_products : kernels::advance_with_pad_products;
+    const double losses =
+        advance(e, beta, loss, coefficients.data(), push_rows.data(), pushes, products, q_.data(), d_.data(), q_.size());
+    dissipated_ += plan_.modal_loss_scale() * losses;
+    point_forecast_step_ = n_ + 1;
+    observed_step_ = observed_row_ != nullptr ? n_ + 1 : -1;
+    if (audited) keep_modal_energy(n_ + 1, energy);
+}
+
 void Stepper::apply_impulse() {
+    if (points_pushed_) {
+        if (!points_by_rows()) apply_point_impulse();
+        return;
+    }
     if (forces_.empty() || plan_.pushes_inline(forces_.size())) return;  // advance_modes adds the rows
     plan_.forces_to_modes(forces_, grid_, impulse_);
 }
@@ -583,6 +695,15 @@ void Stepper::advance_modes() {
     const double* e = prop.decay().data();
     const double* beta = prop.beta().data();
     const std::size_t n = q_.size();
+    if (!plan_.point_contact().empty() && points_by_rows()) {
+        advance_with_points();
+        return;
+    }
+    if (points_pushed_) {  // apply_point_impulse holds every force
+        forecast_.step = observed_step_ = -1;
+        dissipated_ += plan_.modal_loss_scale() * kernels::advance(e, beta, loss, impulse_.data(), q_.data(), d_.data(), n);
+        return;
+    }
     const std::size_t pushes = forces_.size();
     const bool pushes_inline = plan_.pushes_inline(pushes);
     // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only

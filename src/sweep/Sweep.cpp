@@ -23,6 +23,8 @@ Case obstacle_free_case(const SweepSpec& spec, const SweepRun& run) {
     const std::size_t first = first_buzz_point(c);
     for (std::size_t i = first; i < c.obstacle_height_m.size(); ++i)
         c.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
+    const double from = c.grid_point(first) - 0.5 * c.grid_step();
+    std::erase_if(c.point_obstacles, [&](const PointObstacle& p) { return p.x_m >= from; });
     return c;
 }
 

@@ -105,6 +105,27 @@ TEST(RealtimeEngine, ChoosesTheRateThatKeepsEveryModeBelowNyquist) {
     EXPECT_LT(limited.voice_case().modes.frequency_hz.back(), 0.45 * 96000.0);
 }
 
+TEST(RealtimeEngine, KeepsItsPointObstacleWhereTheCasePutsItWithFewerModes) {
+    // The tanpura's bridge point, 4 mm from the end: a voice with fewer modes (a coarser grid)
+    // keeps it there with the width it had, and its energy balance holds through the contacts.
+    const Case c = load_case("tanpura");
+    EngineOptions low;
+    low.max_oversampling = 2;
+    Engine limited(c, low);
+    ASSERT_LT(limited.mode_count(), c.mode_count());
+    const Case& voice = limited.voice_case();
+    ASSERT_EQ(voice.point_obstacles.size(), 1u);
+    EXPECT_EQ(voice.point_obstacles[0].x_m, c.point_obstacles[0].x_m);
+    EXPECT_EQ(voice.point_obstacles[0].weight_m, c.point_obstacles[0].weight_m);
+    EXPECT_EQ(c.point_obstacles[0].x_m, 0.004);
+    limited.strike({0.3, 1.0, 0.02, false});
+    std::vector<float> block(256);
+    for (int b = 0; b < 100; ++b) {
+        limited.process(block);
+        EXPECT_NEAR((limited.energy() + limited.dissipated()) / limited.injected(), 1.0, 1e-9);
+    }
+}
+
 TEST(RealtimeEngine, PluckInjectsTheKineticEnergyOfItsVelocity) {
     // A raised-cosine velocity V (1 + cos(pi r)) / 2 of width w on a string at rest carries
     // (mu/2) V^2 (3 w / 8): the engine's discrete energy after the strike is that, to the

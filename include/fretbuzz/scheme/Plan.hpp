@@ -17,6 +17,7 @@
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/PointContact.hpp"
 
 namespace fretbuzz {
 
@@ -38,6 +39,10 @@ struct PlanOptions {
     // few active points and the observation row's displacement (Stepper::observe); false: a
     // pass for each (the reference, the same bits).
     bool fused_step = true;
+    // Point obstacles that all lie on grid points, one grid step wide, are solved as grid points
+    // (screening, free flight, the grid's kernels); false: by PointContact like any other
+    // points (the reference the grid's path is tested against).
+    bool grid_points_on_grid = true;
 };
 
 // Screening pays by skipping points that cannot touch and by free flight between contacts.
@@ -98,6 +103,9 @@ public:
                       std::span<const double> q, std::span<const double> d, std::span<double> grid) const;
     // What planning found doubtful but allowed (modes above fs/2, see SamplingCheck).
     const std::vector<std::string>& warnings() const { return warnings_; }
+    // Point obstacles at their exact positions, off the grid (those on a grid point, with the
+    // grid step as their width, are grid obstacle points: the scalar solve, screening and all).
+    const PointContact& point_contact() const { return point_contact_; }
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
     // The fingers of the case (they press toward the obstacle side, see Finger).
@@ -120,6 +128,8 @@ public:
     void prepare_rows() const;
 
 private:
+    void place_points(const Case& c);  // the case's exact points: onto the grid, or into point_contact_
+
     double dt_;
     double mu_;
     double energy_scale_, loss_scale_;
@@ -131,6 +141,7 @@ private:
     std::vector<double> obstacle_;
     std::vector<double> planned_obstacle_;  // obstacle_ at zero offset
     std::vector<std::size_t> obstacle_points_;
+    PointContact point_contact_;
     std::vector<FingerSpec> fingers_;
     std::vector<ForceSpec> forces_;
     std::vector<PluckSpec> plucks_;

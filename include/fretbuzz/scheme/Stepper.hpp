@@ -149,6 +149,16 @@ private:
     // Into grid_ at `points`: the forecast where it has them, row products otherwise.
     void predict_points(std::span<const std::size_t> points);
     void apply_impulse();
+    // The exact point obstacles (Plan::point_contact): their step, their impulse with the grid's
+    // forces, and their forces reported at their nearest grid points (forces()).
+    bool solve_points();
+    void apply_point_impulse();
+    void report_point_forces();
+    // Whether the step pushes with the points' rows (and the grid's) on the fly, in the pass that
+    // also forms the next prediction at every point where the step is fused (else through
+    // apply_point_impulse's vector).
+    bool points_by_rows() const;
+    void advance_with_points();
     void advance_modes();
     void put_points_to_sleep();
     // by_rows: each pad point's prediction by predict_points (else from the transform in grid_,
@@ -188,6 +198,11 @@ private:
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
     std::vector<std::pair<std::size_t, double>> rubbing_;  // scratch: where friction acts, F_n
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
+    PointContact::State points_;            // the exact point obstacles' state
+    std::vector<double> point_predicted_;   // scratch: u at each point after a free step
+    bool points_pushed_ = false;            // a point pushed in the step being taken
+    std::vector<double> point_forecast_;    // the free prediction at each point, formed by the last step
+    long point_forecast_step_ = -1;         // the step it belongs to
     double dissipated_ = 0.0;
     bool touched_obstacle_ = false;
     long next_speed_refresh_ = 0;

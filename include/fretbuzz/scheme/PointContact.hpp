@@ -1,0 +1,71 @@
+#pragma once
+// Contact at point obstacles held at their exact positions x_p (not at grid points): each
+// point's row is phi_j(x_p), and K acts on it over a width c_p of string. The scheme's
+// discrete-gradient force keeps its form at every point,
+//     f_p = (Psi(eta_p^{n+1}) - Psi(eta_p^{n-1})) / (eta_p^{n+1} - eta_p^{n-1}),
+//     q^{n+1} = C q^n - C~ q^{n-1} + (dt^2/mu) sum_p c_p f_p phi(x_p),
+// so the energy balance stays exact, with sum_p c_p Psi(eta_p) as the contact energy. Off the
+// grid, a force at one point moves the others in the same step (phi(x_p) . phi(x_q) != 0 for
+// p != q): with r_p = eta_p^{n+1} - eta_p^{n-1}, a_p = eta_p^{n-1} and b_p the free step's r_p,
+//     r_p + (dt^2/mu) sum_q G_pq f_q(r_q) = b_p,   G_pq = c_q phi(x_p) . phi(x_q),
+// a P x P system solved by Newton's method (Eigen's LU for its steps; up to 16 points on the
+// stack: stepping allocates nothing) from each point's own
+// scalar root. A single point, or points that do not couple (on the grid), take the scalar
+// solve of PenaltyContact with the step factor scaled by G_pp.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
+
+namespace fretbuzz {
+
+class PointContact {
+public:
+    PointContact() = default;
+    // points: heights in the solve's coordinate (obstacle below the string).
+    PointContact(const ModalBasis& basis, std::vector<PointObstacle> points);
+
+    std::size_t size() const { return points_.size(); }
+    bool empty() const { return points_.empty(); }
+    const PointObstacle& point(std::size_t p) const { return points_[p]; }
+    std::span<const double> row(std::size_t p) const { return rows_[p]; }
+    double height(std::size_t p) const { return heights_[p]; }
+    double weight(std::size_t p) const { return points_[p].weight_m; }
+    // Whether the points move one another within a step (see above).
+    bool coupled() const { return coupled_; }
+    // Raises every point by `offset` but none above the rest line (see Plan::set_obstacle_offset).
+    void set_offset(double offset);
+
+    // What a stepper keeps between steps: eta at levels n - 1 and n, the last forces, and the
+    // Newton system's storage (made once: stepping allocates nothing).
+    struct State {
+        std::vector<double> eta_prev, eta_curr, force, increment, b, quotient, slope, residual;
+        int iterations = 0;
+    };
+    State make_state() const;
+    // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)).
+    void start(State& s, std::span<const double> q, std::span<const double> d) const;
+    // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
+    // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const;
+    // sum_p c_p Psi(eta_p) at the current and the previous level.
+    double potential(const State& s, const PenaltyContact& law, bool current) const;
+    // Adds the modal impulse k sum_p c_p f_p phi(x_p) to `impulse`.
+    void add_impulse(const State& s, double k, std::span<double> impulse) const;
+
+private:
+    template <class Matrix>
+    void solve_coupled(State& s, const PenaltyContact& law, double k) const;
+    double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
+
+    std::vector<PointObstacle> points_;
+    std::vector<double> planned_heights_, heights_;
+    std::vector<std::vector<double>> rows_;
+    std::vector<double> gram_;  // G_pq = c_q phi(x_p) . phi(x_q), row by row
+    bool coupled_ = false;
+};
+
+}  // namespace fretbuzz
