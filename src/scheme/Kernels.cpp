@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "Multiversion.hpp"  // both variants compute the same sums in the same order
+#include "Multiversion.hpp"
 
 #if defined(__GNUC__)
 // GCC and Clang note that 32-byte vectors pass differently with and without AVX: the helpers that
@@ -14,10 +14,8 @@
 // baseline one, called by both).
 #if defined(__GNUC__)
 #define FRETBUZZ_INLINE [[gnu::always_inline]] inline
-#define FRETBUZZ_INLINE_LAMBDA __attribute__((always_inline))
 #else
 #define FRETBUZZ_INLINE inline
-#define FRETBUZZ_INLINE_LAMBDA
 #endif
 
 namespace fretbuzz::kernels {
@@ -26,9 +24,8 @@ namespace {
 // Eight independent partial sums (enough to fill two AVX2 adders), held as two 4-lane
 // vectors: lanes 0-3 and 4-7. Written with vector types because GCC vectorises the
 // equivalent scalar loops over 8 lanes with heavy shuffles (vunpcklpd/vpermpd) for some
-// of them; these give plain loads and multiply-adds, the same sums in the same order.
-// A dot product's lanes: 16 (four AVX2 chains instead of two) was measured no faster in the
-// engine (its scalar remainder grows) and would change the sums in the last bits.
+// of them; these give plain loads, multiplies and adds. A dot product's lanes: 16 (four
+// AVX2 chains instead of two) was measured no faster in the engine (its scalar remainder grows).
 typedef double v4 __attribute__((vector_size(32)));
 constexpr std::size_t kLanes = 8;
 
@@ -43,29 +40,6 @@ FRETBUZZ_INLINE void store(double* p, const v4& v) { __builtin_memcpy(p, &v, siz
 FRETBUZZ_INLINE double fold(double sum, const v4& lo, const v4& hi) {
     for (int l = 0; l < 4; ++l) sum += lo[l];
     for (int l = 0; l < 4; ++l) sum += hi[l];
-    return sum;
-}
-
-// The remainder (n mod 8 terms) is summed serially in order. The scalar loops these kernels
-// replace were compiled (AVX2 variant) with that remainder vectorised in chunks of 4 and 2,
-// each product rounded before its add, and only a last odd term fused into a multiply-add;
-// the remainder here does the same (plus_rounded_product, then a fused last odd term), so that every sum keeps its last bits.
-FRETBUZZ_INLINE void opaque(double& x) {
-#if defined(__GNUC__) && defined(__x86_64__)
-    asm("" : "+x"(x));  // the compiler can neither fuse across it nor vectorise the loop
-#else
-    (void)x;
-#endif
-}
-// Where a remainder from j to n has its last odd term (n if it has none).
-FRETBUZZ_INLINE std::size_t last_odd_term(std::size_t j, std::size_t n) { return (n - j) % 2 == 1 ? n - 1 : n; }
-
-// sum + a b, the product rounded first (a chunk of the remainder).
-FRETBUZZ_INLINE double plus_rounded_product(double sum, double a, double b) {
-    double product = a * b;
-    opaque(product);
-    sum += product;
-    opaque(sum);
     return sum;
 }
 
@@ -98,13 +72,8 @@ FRETBUZZ_INLINE void row_products(const double* const* rows, const double* x, co
         }
     }
     double tail[M] = {};
-    const auto x_at = [&](std::size_t k) FRETBUZZ_INLINE_LAMBDA { return Predict ? predicted(e[k], beta[k], q[k], d[k]) : x[k]; };
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) {
-        const double xj = x_at(j);
-        for (std::size_t r = 0; r < M; ++r) tail[r] = plus_rounded_product(tail[r], rows[r][j], xj);
-    }
-    if (j < n) {  // a last odd term: fused
-        const double xj = x_at(j);
+    for (; j < n; ++j) {
+        const double xj = Predict ? predicted(e[j], beta[j], q[j], d[j]) : x[j];
         for (std::size_t r = 0; r < M; ++r) tail[r] += rows[r][j] * xj;
     }
     for (std::size_t r = 0; r < M; ++r) out[r] = fold(tail[r], lo[r], hi[r]);
@@ -148,30 +117,25 @@ FRETBUZZ_MULTIVERSION void predict_dot_rows(const double* e, const double* beta,
         row_products_upto4<true>(rows + r, std::min(m - r, kMaxRowsPerPass), nullptr, e, beta, q, d, n, out + r);
 }
 
-// Left as arrays of partial sums: GCC compiles them with shuffles but without fused
-// multiply-adds in the loop, which vector types would fuse (other last bits of u at a woken
-// point). They run once per woken point, not once per step. Compiled for AVX-512 the same loops
-// fuse other terms, so this kernel has no AVX-512 variant (an AVX-512 processor runs AVX2's).
-FRETBUZZ_MULTIVERSION_AVX2 void dot_current_previous(const double* row, const double* q, const double* d,
-                                                     std::size_t n, double& current, double& previous) {
-    double now[kLanes] = {}, before[kLanes] = {};
+// Runs once per woken point, not once per step.
+FRETBUZZ_MULTIVERSION void dot_current_previous(const double* row, const double* q, const double* d, std::size_t n,
+                                                double& current, double& previous) {
+    v4 now_lo{}, now_hi{}, before_lo{}, before_hi{};
     std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes)
-        for (std::size_t l = 0; l < kLanes; ++l) {
-            now[l] += row[j + l] * q[j + l];
-            before[l] += row[j + l] * (q[j + l] - d[j + l]);
-        }
+    for (; j + kLanes <= n; j += kLanes) {
+        const v4 r_lo = load(row + j), r_hi = load(row + j + 4), q_lo = load(q + j), q_hi = load(q + j + 4);
+        now_lo += r_lo * q_lo;
+        now_hi += r_hi * q_hi;
+        before_lo += r_lo * (q_lo - load(d + j));
+        before_hi += r_hi * (q_hi - load(d + j + 4));
+    }
     double c = 0.0, p = 0.0;
     for (; j < n; ++j) {
         c += row[j] * q[j];
         p += row[j] * (q[j] - d[j]);
     }
-    for (std::size_t l = 0; l < kLanes; ++l) {
-        c += now[l];
-        p += before[l];
-    }
-    current = c;
-    previous = p;
+    current = fold(c, now_lo, now_hi);
+    previous = fold(p, before_lo, before_hi);
 }
 
 FRETBUZZ_MULTIVERSION void predict(const double* e, const double* beta, const double* q, const double* d, double* p,
@@ -186,28 +150,22 @@ namespace {
 enum class Push { none, array, row, rows };
 
 // One mode of the scalar remainder: d_k <- e_k d_k - beta_k q_k + push, q_k += d_k, the loss
-// term added to sum (rounded: the product rounded before its add). Returns the new d_k.
+// term added to sum. Returns the new d_k.
 template <Push Pushed, bool Lossy>
 FRETBUZZ_INLINE double step_one(const double* e, const double* beta, const double* loss, const double* impulse, double c,
                                 const double* const* rows, const double* coefficients, std::size_t m, double* q,
-                                double* d, std::size_t k, bool rounded, double& sum) {
+                                double* d, std::size_t k, double& sum) {
     double next = e[k] * d[k] - beta[k] * q[k];
     if constexpr (Pushed == Push::array) next += impulse[k];
     if constexpr (Pushed == Push::row) next += c * impulse[k];
     if constexpr (Pushed == Push::rows) {
-        double push = coefficients[0] * rows[0][k] + 0.0;
-        for (std::size_t r = 1; r < m; ++r) {
-            push = push + coefficients[r] * rows[r][k];  // as axpy's loop (elementwise: all fused)
-            opaque(push);
-        }
+        double push = coefficients[0] * rows[0][k];
+        for (std::size_t r = 1; r < m; ++r) push += coefficients[r] * rows[r][k];
         next += push;
     }
     if constexpr (Lossy) {
         const double span = next + d[k];
-        if (rounded)
-            sum = plus_rounded_product(sum, loss[k] * span, span);
-        else
-            sum += loss[k] * span * span;
+        sum += loss[k] * span * span;
     }
     q[k] += next;
     d[k] = next;
@@ -224,8 +182,8 @@ FRETBUZZ_INLINE v4 lane_step(v4 ek, v4 bk, v4 qk, v4 dk, const double* __restric
     if constexpr (Pushed == Push::array) next += load(impulse + k);
     if constexpr (Pushed == Push::row) next += c * load(impulse + k);
     if constexpr (Pushed == Push::rows) {
-        v4 push = coefficients[0] * load(rows[0] + k) + v4{};  // as axpy into a zeroed array
-        for (std::size_t r = 1; r < m; ++r) push = push + coefficients[r] * load(rows[r] + k);
+        v4 push = coefficients[0] * load(rows[0] + k);
+        for (std::size_t r = 1; r < m; ++r) push += coefficients[r] * load(rows[r] + k);
         next += push;
     }
     if constexpr (Lossy) {
@@ -255,11 +213,7 @@ FRETBUZZ_INLINE double advance_variant(const double* __restrict e, const double*
         }
     }
     double sum = 0.0;
-    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        step_one<Pushed, Lossy>(e, beta, loss, impulse, c, rows, coefficients, m, q, d, k, rounded, sum);
-    };
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
-    for (; j < n; ++j) one(j, false);
+    for (; j < n; ++j) step_one<Pushed, Lossy>(e, beta, loss, impulse, c, rows, coefficients, m, q, d, j, sum);
     return Lossy ? fold(sum, partial_lo, partial_hi) : 0.0;
 }
 
@@ -311,7 +265,7 @@ FRETBUZZ_INLINE T energy_term(const T& e, const T& beta, const T& q, const T& d)
 // advance_variant with, in the same pass, the products of q^{n+1} that the next step and the
 // caller read: P rows with the next step's free prediction (formed from q^{n+1} and
 // q^{n+1} - q^n as predict_dot forms it from memory) and O rows with q^{n+1} itself (as dot).
-// Each sum has the lanes, the order and the multiply-adds of predict_dot's or dot's.
+// Each sum has the lanes and the order of predict_dot's or dot's.
 template <Push Pushed, bool Lossy, std::size_t P, std::size_t O, std::size_t M, bool E>
 FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double* __restrict beta,
                                         const double* __restrict loss, double c, const double* row,
@@ -327,8 +281,7 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
     v4 lo[kSize], hi[kSize];
     for (std::size_t r = 0; r < R; ++r) lo[r] = hi[r] = v4{};
     v4 partial_lo{}, partial_hi{};
-    v4 energy_lo{}, energy_hi{};  // modal_energy's lanes (E: a template argument, so that the
-                                  // passes without it compile as before, to the last bit)
+    v4 energy_lo{}, energy_hi{};  // modal_energy's lanes
     std::size_t j = 0;
     for (; j + kLanes <= n; j += kLanes) {
         for (std::size_t h = 0; h < kLanes; h += 4) {
@@ -349,22 +302,14 @@ FRETBUZZ_INLINE double advance_products(const double* __restrict e, const double
     }
     double sum = 0.0;
     double tail[kSize] = {};
-    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        const double next = step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, k, rounded, sum);
-        const double q_next = q[k];
-        double x = 0.0;
-        if constexpr (P != 0) x = predicted(e[k], beta[k], q_next, next);
-        for (std::size_t r = 0; r < R; ++r) {
-            const double y = r < P ? x : q_next;
-            if (rounded)
-                tail[r] = plus_rounded_product(tail[r], out_rows[r][k], y);
-            else
-                tail[r] += out_rows[r][k] * y;
-        }
-    };
     [[maybe_unused]] const std::size_t rest = j;
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
-    for (; j < n; ++j) one(j, false);
+    for (; j < n; ++j) {
+        const double next = step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, j, sum);
+        const double q_next = q[j];
+        double x = 0.0;
+        if constexpr (P != 0) x = predicted(e[j], beta[j], q_next, next);
+        for (std::size_t r = 0; r < R; ++r) tail[r] += out_rows[r][j] * (r < P ? x : q_next);
+    }
     for (std::size_t r = 0; r < P; ++r) products.predicted[r] = fold(tail[r], lo[r], hi[r]);
     if constexpr (O == 1) *products.observed = fold(tail[P], lo[P], hi[P]);
     if constexpr (E) {  // the remainder as modal_energy sums it
@@ -473,11 +418,7 @@ FRETBUZZ_INLINE double advance_many_products(const double* __restrict e, const d
     // own remainder, on the stored q^{n+1} and d^{n+1}), 4 rows at a time.
     double sum = 0.0;
     const std::size_t rest = j;
-    const auto one = [&](std::size_t k, bool rounded) FRETBUZZ_INLINE_LAMBDA {
-        step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, k, rounded, sum);
-    };
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) one(j, true);
-    for (; j < n; ++j) one(j, false);
+    for (; j < n; ++j) step_one<Pushed, Lossy>(e, beta, loss, row, c, rows, coefficients, m, q, d, j, sum);
     double tail[kMost] = {};
     const double* shifted[kMost];
     for (std::size_t r = 0; r < R; ++r) shifted[r] = out_rows[r] + rest;
@@ -503,8 +444,6 @@ FRETBUZZ_INLINE double advance_many_lossy(const double* e, const double* beta, c
 
 }  // namespace
 
-// A function of its own: compiled inside advance_with_products, it made GCC fuse the few-rows
-// variants' multiply-adds differently there (other last bits).
 FRETBUZZ_MULTIVERSION double advance_with_pad_products(const double* e, const double* beta, const double* loss,
                                                            const double* coefficients, const double* const* rows,
                                                            std::size_t m, const StepProducts& products, double* q,
@@ -523,23 +462,9 @@ FRETBUZZ_MULTIVERSION double advance_with_pad_products(const double* e, const do
     }
 }
 
-namespace {
-// The passes that also form the modal energy: a function of their own, so that the passes
-// without it compile as before (inside one function GCC fused other multiply-adds: other bits).
-FRETBUZZ_MULTIVERSION [[gnu::noinline]] double advance_with_products_and_energy(
-    const double* e, const double* beta, const double* loss, const double* coefficients, const double* const* rows,
-    std::size_t m, const StepProducts& products, double* q, double* d, std::size_t n) {
-    return products.observe_row != nullptr
-               ? advance_products_counted<1, true>(e, beta, loss, coefficients, rows, m, products, q, d, n)
-               : advance_products_counted<0, true>(e, beta, loss, coefficients, rows, m, products, q, d, n);
-}
-}  // namespace
-
 FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double* beta, const double* loss,
                                                    const double* coefficients, const double* const* rows, std::size_t m,
                                                    const StepProducts& products, double* q, double* d, std::size_t n) {
-    // The pushes' count is a template argument: with a count known only at run time (one loop
-    // for any number of rows) GCC formed the pickup's sum with other last bits.
     if (m > kMaxRowsPerPass) {  // many pushes: the separate passes
         const double losses = advance_pushes(e, beta, loss, coefficients, rows, m, q, d, n);
         if (products.predict_count != 0)
@@ -549,7 +474,9 @@ FRETBUZZ_MULTIVERSION double advance_with_products(const double* e, const double
         return losses;
     }
     if (products.energy != nullptr)
-        return advance_with_products_and_energy(e, beta, loss, coefficients, rows, m, products, q, d, n);
+        return products.observe_row != nullptr
+                   ? advance_products_counted<1, true>(e, beta, loss, coefficients, rows, m, products, q, d, n)
+                   : advance_products_counted<0, true>(e, beta, loss, coefficients, rows, m, products, q, d, n);
     return products.observe_row != nullptr
                ? advance_products_counted<1, false>(e, beta, loss, coefficients, rows, m, products, q, d, n)
                : advance_products_counted<0, false>(e, beta, loss, coefficients, rows, m, products, q, d, n);
@@ -593,11 +520,10 @@ FRETBUZZ_INLINE double jump_products(const double* __restrict qq, const double* 
     // The remainder as modal_energy and dot form theirs.
     for (std::size_t k = std::max(j, jumped); k < n; ++k) jump_one(qq[k], qd[k], dq[k], dd[k], q[k], d[k]);
     double energy = 0.0, tail[M + 1] = {};
-    for (std::size_t k = j; k < n; ++k) energy += energy_term(e[k], beta[k], q[k], d[k]);
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j)
-        for (std::size_t r = 0; r < M; ++r) tail[r] = plus_rounded_product(tail[r], rows[r][j], q[j]);
-    if (j < n)  // a last odd term: fused
+    for (; j < n; ++j) {
+        energy += energy_term(e[j], beta[j], q[j], d[j]);
         for (std::size_t r = 0; r < M; ++r) tail[r] += rows[r][j] * q[j];
+    }
     for (std::size_t r = 0; r < M; ++r) out[r] = fold(tail[r], lo[r], hi[r]);
     return fold(energy, energy_lo, energy_hi);
 }
@@ -677,9 +603,7 @@ FRETBUZZ_MULTIVERSION double weighted_abs_sum(const double* w, const double* x, 
         hi += load(w + j + 4) * magnitude(load(x + j + 4));
     }
     double total = 0.0;
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j)
-        total = plus_rounded_product(total, w[j], __builtin_fabs(x[j]));
-    if (j < n) total += w[j] * __builtin_fabs(x[j]);  // a last odd term: fused
+    for (; j < n; ++j) total += w[j] * __builtin_fabs(x[j]);
     return fold(total, lo, hi);
 }
 
@@ -695,11 +619,7 @@ FRETBUZZ_MULTIVERSION void weighted_abs_sums(const double* w, const double* s, c
         s_hi += load(s + j + 4) * a_hi;
     }
     double tw = 0.0, ts = 0.0;
-    for (const std::size_t odd = last_odd_term(j, n); j < odd; ++j) {
-        tw = plus_rounded_product(tw, w[j], __builtin_fabs(x[j]));
-        ts = plus_rounded_product(ts, s[j], __builtin_fabs(x[j]));
-    }
-    if (j < n) {  // a last odd term: fused
+    for (; j < n; ++j) {
         tw += w[j] * __builtin_fabs(x[j]);
         ts += s[j] * __builtin_fabs(x[j]);
     }
