@@ -67,7 +67,7 @@ def main():
                 if label not in order:
                     order.append(label)
         print(f"round {r + 1} of {options.rounds} done", file=sys.stderr)
-    unit = "us" if "--contact" in args else "ms"
+    unit = "table's unit" if "--contact" in args else "ms"
     print(f"| row | old CPU ({unit}) | new CPU ({unit}) | new/old CPU | old wall | new wall | samples |")
     print("|---|---|---|---|---|---|---|")
     for label in order:

@@ -23,8 +23,9 @@ constexpr int kMaxIterations = 200;
 #else
 #define FRETBUZZ_INLINE inline
 #endif
-// The batch is compiled for each processor variant (FRETBUZZ_MULTIVERSION). The library is built
-// with -ffp-contract=off: no multiply-add is fused, so each lane rounds as the scalar solve does.
+// The batch is compiled for each processor variant (FRETBUZZ_MULTIVERSION): each lane does the
+// scalar solve's operations in its order (where a variant fuses multiply-adds, the results
+// agree with the scalar solve's to round-off).
 typedef double v4 __attribute__((vector_size(32)));
 using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 

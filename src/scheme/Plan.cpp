@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
@@ -17,6 +16,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       loss_scale_(mu_ / (4.0 * dt_ * dt_)),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
+      step_kernel_(propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
@@ -37,6 +37,11 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     planned_obstacle_ = obstacle_;
     transform_threshold_ = options.transform_threshold != 0 ? options.transform_threshold
                                                             : default_transform_threshold(mode_count(), basis_.transform_flops());
+}
+
+void Plan::set_damping(std::span<const double> sigma_per_s) {
+    propagator_.set_damping(sigma_per_s);
+    step_kernel_ = propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy;
 }
 
 void Plan::set_obstacle_offset(double offset) {
@@ -60,11 +65,6 @@ void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> force
 void Plan::predicted_at(std::span<const std::size_t> points, std::span<const double> predicted,
                         std::span<const double> q, std::span<const double> d, std::span<double> grid) const {
     const std::size_t n = mode_count();
-    if (points.size() == 1 && predicted.empty()) {  // a string resting on a point obstacle: the common case
-        grid[points[0]] = kernels::predict_dot(propagator_.decay().data(), propagator_.beta().data(), q.data(), d.data(),
-                                               basis_.row(points[0]).data(), n);
-        return;
-    }
     std::array<const double*, kernels::kMaxRowsPerPass> rows;
     std::array<double, kernels::kMaxRowsPerPass> values;
     for (std::size_t first = 0; first < points.size(); first += rows.size()) {

@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
@@ -38,6 +37,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     rubbing_.reserve(q0.size());
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
+    others_.reserve(q0.size());
     for (const FingerSpec& spec : plan.fingers()) {
         fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
                               plan.force_to_displacement());
@@ -88,8 +88,10 @@ void Stepper::silence() {
 }
 
 void Stepper::restart() {
-    energy_step_ = -1;
-    forecast_.step = observed_step_ = flight_rows_step_ = -1;  // formed from the state before the change
+    // What the passes formed belongs to the state before the change.
+    energy_step_ = flight_rows_step_ = -1;
+    forecast_.count = 0;
+    keep_observation();
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse).
     for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
@@ -174,24 +176,35 @@ double Stepper::displacement(std::span<const double> mode_shapes) const {
 
 void Stepper::observe(std::span<const double> mode_shapes) {
     observed_row_ = mode_shapes.data();
-    observed_step_ = -1;  // the row's values may have changed
+    keep_observation();  // (the row's values may have changed)
+    landing_rows();
+}
+
+void Stepper::keep_observation() {
+    if (observed_row_ != nullptr) observed_ = kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
 double Stepper::observation() const {
     if (observed_row_ == nullptr) throw std::logic_error("Stepper::observation: no row to observe (call observe first)");
-    return observed_step_ == n_ ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
+    return plan_.options().fused_step ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
 void Stepper::observe_rows(std::span<const double* const> rows) {
     flight_rows_.assign(rows.begin(), rows.end());
-    flight_row_values_.resize(rows.size());
     flight_rows_step_ = -1;  // the rows' values may have changed
+    landing_rows();
+}
+
+void Stepper::landing_rows() {
+    landing_rows_ = flight_rows_;
+    if (observed_row_ != nullptr) landing_rows_.push_back(observed_row_);
+    landing_values_.resize(landing_rows_.size());
 }
 
 void Stepper::row_displacements(std::span<double> out) const {
     if (out.size() != flight_rows_.size()) throw std::logic_error("Stepper::row_displacements: not the observed rows");
     if (flight_rows_step_ == n_)
-        std::copy(flight_row_values_.begin(), flight_row_values_.end(), out.begin());
+        std::copy(landing_values_.begin(), landing_values_.begin() + static_cast<long>(out.size()), out.begin());
     else
         kernels::dot_rows(flight_rows_.data(), flight_rows_.size(), q_.data(), q_.size(), out.data());
 }
@@ -320,6 +333,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         for (long m = 0; m < flown; ++m)
             kernels::advance(prop.decay().data() + head, prop.beta().data() + head, nullptr, nullptr,
                              q_.data() + head, d_.data() + head, rest);
+        keep_observation();
     }
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
@@ -328,12 +342,14 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
 }
 
 void Stepper::land(const FreeFlight& flight, std::size_t first, long flown) {
-    keep_modal_energy(n_ + flown, flight.jump_with_products(q_, d_, first, plan_.propagator(), flight_rows_,
-                                                            flight_row_values_.data()));
+    keep_modal_energy(n_ + flown, flight.jump_with_products(q_, d_, first, plan_.propagator(), landing_rows_,
+                                                            landing_values_.data()));
     flight_rows_step_ = n_ + flown;
+    if (observed_row_ != nullptr) observed_ = landing_values_.back();
 }
 
 long Stepper::end_flight(long flown, double energy_before) {
+    forecast_.count = 0;  // (formed for points now asleep, before the flight)
     forces_.clear();
     touched_obstacle_ = false;
     n_ += flown;
@@ -353,6 +369,7 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);
     plan_.basis().to_grid(q_, grid_);
+    keep_observation();
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
     // Each played part starts from the string under its pad at levels 0 and 1.
@@ -410,26 +427,19 @@ void Stepper::solve_contacts() {
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_);
     if (active_.empty() && pad_points_ == 0) return;
 
-    const ModalPropagator& prop = plan_.propagator();
-    const std::size_t n = q_.size();
+    // The predicted height at every point to solve, into grid_: by one transform, or by rows.
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
-    // A few points and no pad: their row products form the prediction on the fly, one pass
-    // fewer; otherwise it is stored for the transform, the pads or the rows.
-    // With a pad, the last step's pass formed the predictions at its points and the active ones.
-    const bool on_the_fly = !use_transform && (pad_points_ == 0 ? active_.size() <= kernels::kMaxRowsPerPass
-                                                                : forecast_.step == n_);
-    if (!on_the_fly) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
-    // The predicted height at every active point, into grid_ (by one transform, or by rows).
-    if (use_transform)
+    if (use_transform) {
+        const ModalPropagator& prop = plan_.propagator();
+        kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
         plan_.basis().to_grid(predicted_, grid_);
-    else if (on_the_fly)
+    } else {
         predict_points(active_);
-    else
-        plan_.predicted_at(active_, predicted_, q_, d_, grid_);
+    }
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (played()) solve_fingers(use_transform, on_the_fly);
+    if (played()) solve_fingers(use_transform);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform;
@@ -485,43 +495,40 @@ void Stepper::solve_contacts() {
 }
 
 void Stepper::predict_points(std::span<const std::size_t> points) {
-    // The last step's pass formed the prediction at the points it was given (the bits of
-    // predict_dot at this step): the others, woken since, take row products of their own.
-    const bool current = forecast_.step == n_;
-    // Most often the very points the pass was given, in its order (a point or a bridge resting).
-    if (current && points.size() == forecast_.count &&
-        std::equal(points.begin(), points.end(), forecast_.points.begin())) {
-        for (std::size_t r = 0; r < points.size(); ++r) grid_[points[r]] = forecast_.values[r];
+    // The last step's pass formed the prediction at the points it was given: most often these
+    // very points, in this order (a string resting on a point or a bridge).
+    const Forecast& f = forecast_;
+    if (points.size() == f.count && std::equal(points.begin(), points.end(), f.points.begin())) {
+        for (std::size_t r = 0; r < points.size(); ++r) grid_[points[r]] = f.values[r];
         return;
     }
-    std::array<std::size_t, kernels::kMaxForecastRows> others;  // (the first `count` are read)
-    std::size_t count = 0;
+    // The others (woken since, or no forecast): row products, the prediction formed on the fly
+    // for a few, stored first for many (then read by each pass of rows).
+    others_.clear();
     for (std::size_t i : points) {
         std::size_t r = 0;
-        if (current)
-            while (r < forecast_.count && forecast_.points[r] != i) ++r;
-        if (current && r < forecast_.count) {
-            grid_[i] = forecast_.values[r];
-            continue;
-        }
-        others[count++] = i;
-        if (count == others.size()) {
-            plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
-            count = 0;
-        }
+        while (r < f.count && f.points[r] != i) ++r;
+        if (r < f.count)
+            grid_[i] = f.values[r];
+        else
+            others_.push_back(i);
     }
-    if (count != 0) plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
+    if (others_.empty()) return;
+    if (others_.size() <= kernels::kMaxRowsPerPass) {
+        plan_.predicted_at(others_, {}, q_, d_, grid_);
+        return;
+    }
+    const ModalPropagator& prop = plan_.propagator();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
+    plan_.predicted_at(others_, predicted_, q_, d_, grid_);
 }
 
-void Stepper::solve_fingers(bool use_transform, bool by_rows) {
+void Stepper::solve_fingers(bool use_transform) {
     bool acted = false;
     const auto solve = [&](auto& part) {
-        // The pad's predicted heights: from the transform, the forecast, or by its rows 4 per
-        // pass (into grid_ at the pad's points, which are not active points: their values stay).
-        if (by_rows)
-            predict_points(part.pad());
-        else if (!use_transform)
-            plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
+        // The pad's predicted heights: from the transform, or the forecast and rows (into grid_
+        // at the pad's points, which are not active points: their values stay).
+        if (!use_transform) predict_points(part.pad());
         pad_w_.clear();
         for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
@@ -565,87 +572,64 @@ void Stepper::apply_impulse() {
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
-    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
-    const double* e = prop.decay().data();
-    const double* beta = prop.beta().data();
     const std::size_t n = q_.size();
     const std::size_t pushes = forces_.size();
-    const bool pushes_inline = plan_.pushes_inline(pushes);
-    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only
-    // the first `pushes` are read.
-    std::array<double, Plan::kMaxInlinePushes> coefficients;
-    std::array<const double*, Plan::kMaxInlinePushes> rows;
-    if (pushes_inline)
+    kernels::StepPass pass;
+    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only the
+    // first entries are read.
+    std::array<double, kernels::kMaxPassRows> coefficients;
+    std::array<const double*, kernels::kMaxPassRows> push_rows, predict_rows;
+    if (plan_.pushes_inline(pushes)) {  // the pass adds the rows; otherwise apply_impulse made the vector
         for (std::size_t r = 0; r < pushes; ++r) {
             coefficients[r] = plan_.impulse_scale() * forces_[r].second;
-            rows[r] = plan_.basis().row(forces_[r].first).data();
+            push_rows[r] = plan_.basis().row(forces_[r].first).data();
         }
-    // The few points solved now are likely solved again at the next step (a string resting on a
-    // point or a bridge), and the caller reads its observation row after the step: the pass
-    // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
-    const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
-    const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
-    // (at an audio rate every step: no integer division for it)
-    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
-    forecast_.step = observed_step_ = -1;
-    double losses = 0.0;
-    // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
-    // active points, predicted in the same pass as many pushes.
-    const std::size_t pad_forecast = active_.size() + pad_points_;
-    const bool pad_pass = pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
-                          pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold();
-    double energy = 0.0;
-    bool energy_formed = false;
-    if (pad_pass || (fused && (forecast || observed_row_ != nullptr || audited))) {
-        std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+        pass.push_rows = push_rows.data();
+        pass.push_coefficients = coefficients.data();
+        pass.pushes = pushes;
+    } else if (pushes != 0) {
+        pass.impulse = impulse_.data();
+    }
+    // What the next step and the caller read of the state the pass leaves, formed while it holds
+    // it (one pass over the modes instead of one per product): the next prediction at the points
+    // solved now (a string resting on a bridge, a finger's pad: most are solved again), the
+    // observation row, and the energy where the caller audits it.
+    forecast_.count = 0;
+    const bool fused = plan_.options().fused_step;
+    const std::size_t solved = active_.size() + pad_points_;
+    if (fused && solved != 0 && solved <= kernels::kMaxPassRows && solved <= plan_.transform_threshold()) {
         std::size_t count = 0;
         const auto add = [&](std::size_t i) {
-            if (count == kernels::kMaxForecastRows) return;  // (pads counted above: never reached)
             forecast_.points[count] = i;
             predict_rows[count++] = plan_.basis().row(i).data();
         };
-        if (pad_pass || forecast)
-            for (std::size_t i : active_) add(i);
-        if (pad_pass) {
-            for (std::size_t f = 0; f < fingers_.size(); ++f)
-                if (finger_on_[f] != 0)
-                    for (std::size_t i : fingers_[f].pad()) add(i);
-            for (const ForceProfile& g : gestures_)
-                for (std::size_t i : g.pad()) add(i);
-            for (std::size_t p = 0; p < plucks_.size(); ++p)
-                if (plucker_on_[p] != 0)
-                    for (std::size_t i : plucks_[p].pad()) add(i);
-        }
-        kernels::StepProducts products;
-        if (count != 0) {
-            forecast_.count = count;
-            products.predict_rows = predict_rows.data();
-            products.predict_count = count;
-            products.predicted = forecast_.values.data();
-            forecast_.step = n_ + 1;
-        }
-        if (observed_row_ != nullptr) {
-            products.observe_row = observed_row_;
-            products.observed = &observed_;
-            observed_step_ = n_ + 1;
-        }
-        if (audited) {
-            products.energy = &energy;
-            energy_formed = true;
-        }
-        losses = pad_pass ? kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
-                                                               products, q_.data(), d_.data(), n)
-                          : kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
-                                                           products, q_.data(), d_.data(), n);
-    } else if (pushes == 1 && pushes_inline) {
-        losses = kernels::advance_one_push(e, beta, loss, coefficients[0], rows[0], q_.data(), d_.data(), n);
-    } else if (pushes_inline) {
-        losses = kernels::advance_pushes(e, beta, loss, coefficients.data(), rows.data(), pushes, q_.data(), d_.data(), n);
-    } else {
-        losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+        for (std::size_t i : active_) add(i);
+        for (std::size_t f = 0; f < fingers_.size(); ++f)
+            if (finger_on_[f] != 0)
+                for (std::size_t i : fingers_[f].pad()) add(i);
+        for (const ForceProfile& g : gestures_)
+            for (std::size_t i : g.pad()) add(i);
+        for (std::size_t p = 0; p < plucks_.size(); ++p)
+            if (plucker_on_[p] != 0)
+                for (std::size_t i : plucks_[p].pad()) add(i);
+        forecast_.count = count;
+        pass.predict_rows = predict_rows.data();
+        pass.predict_count = count;
+        pass.predicted = forecast_.values.data();
     }
+    if (fused && observed_row_ != nullptr) {
+        pass.observe_row = observed_row_;
+        pass.observed = &observed_;
+    }
+    // (at an audio rate every step: no integer division for it)
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
+    double energy = 0.0;
+    if (fused && audited) pass.energy = &energy;
+    const double losses = plan_.step_kernel()(prop.decay().data(), prop.beta().data(),
+                                              prop.lossless() ? nullptr : prop.loss().data(), pass, q_.data(),
+                                              d_.data(), n);
     dissipated_ += plan_.modal_loss_scale() * losses;
-    if (energy_formed) keep_modal_energy(n_ + 1, energy);
+    if (pass.energy != nullptr) keep_modal_energy(n_ + 1, energy);
 }
 
 void Stepper::put_points_to_sleep() {

@@ -94,18 +94,18 @@ public:
     // (u(x, t_n) - u(x, t_{n-1})) / dt
     double velocity(std::span<const double> mode_shapes) const;
     // An observation row (a pickup's mode shapes, kept by the caller, which may change its
-    // values and then calls observe again): observation() is displacement(mode_shapes), bit
-    // for bit, formed by the step's own pass over the modes when it can (one pass fewer).
+    // values and then calls observe again): observation() is displacement(mode_shapes), formed
+    // by the step's own pass over the modes (one pass fewer).
     void observe(std::span<const double> mode_shapes);
     double observation() const;
     // Rows read after free flights (an output row's probes and bridge, kept by the caller, which
-    // calls observe_rows again after changing their values): out[r] = displacement(rows[r]) bit
-    // for bit, formed by a flight's closing jump in its own pass over the modes when it can.
+    // calls observe_rows again after changing their values): out[r] = displacement(rows[r]),
+    // formed by a flight's closing jump in its own pass over the modes when it can.
     void observe_rows(std::span<const double* const> rows);
     void row_displacements(std::span<double> out) const;
     // The caller reads energy() after every step that is a multiple of `steps` (its audit at
     // each output row; 0: no such promise): the pass that steps the modes into such a step
-    // forms the modal energy too, bit for bit modal_energy's (one pass fewer at an audio rate).
+    // forms the modal energy too (one pass fewer at an audio rate).
     void audit_every(long steps) { audit_stride_ = steps; }
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
@@ -148,12 +148,13 @@ private:
     void solve_contacts();
     // Into grid_ at `points`: the forecast where it has them, row products otherwise.
     void predict_points(std::span<const std::size_t> points);
+    void keep_observation();  // observed_ from the state as it is
+    void landing_rows();      // the rows a flight's closing jump forms: flight_rows_, then the observed one
     void apply_impulse();
     void advance_modes();
     void put_points_to_sleep();
-    // by_rows: each pad point's prediction by predict_points (else from the transform in grid_,
-    // or by rows over the stored prediction).
-    void solve_fingers(bool use_transform, bool by_rows);
+    // use_transform: the predictions are in grid_ already.
+    void solve_fingers(bool use_transform);
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire_plucker(const Pluck& pluck);
@@ -191,24 +192,34 @@ private:
     double dissipated_ = 0.0;
     bool touched_obstacle_ = false;
     long next_speed_refresh_ = 0;
-    mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
+    // The modal energy of step energy_step_, formed by the pass into an audited step (audit_every)
+    // or a flight's closing jump, else by modal_energy() when asked. Kept because it pays: without
+    // it, a run stepping at an audio rate makes a pass more per step (the sitar bridge at 48 kHz,
+    // fretbuzz_bench --contact: 13 % slower).
+    mutable long energy_step_ = -1;
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
-    // The next step's free prediction at a few active points, formed by advance_modes while it
-    // holds q^{n+1}; solve_contacts reads it at step `step` (restart forgets it: the state changed).
+    // The next step's free prediction at the points solved now (active, pads), formed by
+    // advance_modes while it holds q^{n+1}; the next solve_contacts reads it. Whatever else
+    // changes the state (restart, a flight) empties it. Without it, a string resting on a
+    // bridge or held by a finger makes a pass more per step (fretbuzz_bench: the fretted pop
+    // 9 % slower, the bass pop's contact window 5.5 %, the sitar bridge 4.7 %).
     struct Forecast {
-        long step = -1;
         std::size_t count = 0;
-        std::array<std::size_t, kernels::kMaxForecastRows> points{};
-        std::array<double, kernels::kMaxForecastRows> values{};
+        std::array<std::size_t, kernels::kMaxPassRows> points{};
+        std::array<double, kernels::kMaxPassRows> values{};
     };
     Forecast forecast_;
+    std::vector<std::size_t> others_;       // scratch: points predict_points finds no forecast for
     const double* observed_row_ = nullptr;  // observe(): one row, or none
-    long observed_step_ = -1;               // the step observed_ belongs to
-    double observed_ = 0.0;
-    std::vector<const double*> flight_rows_;  // observe_rows()
-    std::vector<double> flight_row_values_;
-    long flight_rows_step_ = -1;              // the step flight_row_values_ belongs to
+    double observed_ = 0.0;                 // its displacement in the current state (fused_step)
+    std::vector<const double*> flight_rows_;    // observe_rows()
+    std::vector<const double*> landing_rows_;   // flight_rows_, then observed_row_ if any
+    // Their products, formed by the closing jump of the flight that ended at step
+    // flight_rows_step_. Kept because it pays: without it, every output row after a flight takes
+    // a pass of its own (fretbuzz_bench: Outputs/bass-pop-3s 16 % slower, Fast/bass-pop 6 %).
+    std::vector<double> landing_values_;
+    long flight_rows_step_ = -1;
     long audit_stride_ = 0;                   // audit_every()
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
