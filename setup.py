@@ -8,6 +8,7 @@ already built fretbuzz._core instead (the test suite's pip test uses the one its
 for the same interpreter, to stay fast on small machines).
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -16,6 +17,27 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
+
+
+class Progress:
+    """Lines on the terminal while CMake builds: pip keeps a build's output to itself (it shows
+    it with -v, or when the build fails), and the C++ library takes minutes to compile. Written
+    to /dev/tty when there is one, else nowhere (the lines still go to pip's log)."""
+
+    def __init__(self):
+        try:
+            self.tty = open("/dev/tty", "w")
+        except OSError:
+            self.tty = None
+
+    def say(self, text, end="\n"):
+        if self.tty is not None:
+            self.tty.write("\r" + text + end)
+            self.tty.flush()
+
+    def close(self):
+        if self.tty is not None:
+            self.tty.close()
 
 
 class CMakeExtension(Extension):
@@ -37,9 +59,25 @@ class CMakeBuild(build_ext):
                      "-DFRETBUZZ_BUILD_BENCH=OFF"]
         if shutil.which("ccache"):
             configure.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
-        subprocess.run(configure, check=True)
-        jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", "2")
-        subprocess.run(["cmake", "--build", build_dir, "--target", "fretbuzz_python", "-j", jobs], check=True)
+        progress = Progress()
+        try:
+            progress.say("fretbuzz: configuring the C++ build (CMake)")
+            subprocess.run(configure, check=True)
+            jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", "2")
+            progress.say(f"fretbuzz: compiling the C++ library and the extension on {jobs} cores: 10 to 15 minutes on "
+                         "two (less with ccache); `pip install -v` shows the compiler's lines")
+            build = subprocess.Popen(["cmake", "--build", build_dir, "--target", "fretbuzz_python", "-j", jobs],
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            for line in build.stdout:
+                sys.stdout.write(line)  # pip's log
+                done = re.match(r"\[\s*(\d+)%\]", line)
+                if done:
+                    progress.say(f"fretbuzz: building: {done.group(1)}%", end="")
+            if build.wait() != 0:
+                raise subprocess.CalledProcessError(build.returncode, build.args)
+            progress.say("fretbuzz: building: done")
+        finally:
+            progress.close()
         package = os.path.join(build_dir, "python", "module", "fretbuzz")
         built = [name for name in os.listdir(package) if name.startswith("_core.") and name.endswith(".so")]
         if len(built) != 1:

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/realtime/RateAccuracy.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 
 int main() {
     using namespace fretbuzz;

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 
 namespace {
 

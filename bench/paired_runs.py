@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Wall time of whole `fretbuzz run` commands, variants side by side in one session.
+"""Wall time of whole `fretbuzz run` (or `fretbuzz setup`) commands, variants side by side in one session.
 
 Each repetition runs every variant once, in turn, so that the load of a shared machine
 falls on all of them alike; the table gives the median wall time of each variant (over
@@ -36,7 +36,8 @@ def run_once(command, out_dir):
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if result.returncode != 0:
         sys.exit(f"{shlex.join(command)} failed ({result.returncode}): {result.stderr.strip()}")
-    summary = json.loads((out_dir / "summary.json").read_text())
+    summary_file = out_dir / "summary.json"  # a run's; a set-up map has none (no seconds simulated)
+    summary = json.loads(summary_file.read_text()) if summary_file.exists() else {}
     return wall, cpu, summary
 
 

@@ -25,6 +25,7 @@ void add_plot_command(CLI::App& app, Action& action);
 void add_report_command(CLI::App& app, Action& action);
 void add_sweep_command(CLI::App& app, Action& action);  // parameter sweeps, local or Dask
 void add_setup_command(CLI::App& app, Action& action);  // neck set-up study, buzz map
+void add_studio_command(CLI::App& app, Action& action);  // the set-up bench in a browser
 void add_estimate_command(CLI::App& app, Action& action);  // recording -> mode table
 void add_play_command(CLI::App& app, Action& action);  // performance through the real-time engine
 void add_clean_command(CLI::App& app, Action& action);  // stale staging folders of killed runs

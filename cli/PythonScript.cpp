@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -49,6 +50,37 @@ private:
     std::string path_;
 };
 
+// While the interpreter runs, Ctrl-C is its to handle (the terminal sends SIGINT to both:
+// this process ignores it and reports the script's own exit, 130 with its message), and a
+// SIGTERM sent to this process alone is passed on to it.
+volatile std::sig_atomic_t child_pid = 0;
+extern "C" void forward_signal(int signal) {
+    if (child_pid > 0) ::kill(static_cast<pid_t>(child_pid), signal);
+}
+
+class SignalsToChild {
+public:
+    SignalsToChild() {
+        struct sigaction ignore {}, forward {};
+        ignore.sa_handler = SIG_IGN;
+        forward.sa_handler = forward_signal;
+        sigemptyset(&ignore.sa_mask);
+        sigemptyset(&forward.sa_mask);
+        ::sigaction(SIGINT, &ignore, &int_);
+        ::sigaction(SIGTERM, &forward, &term_);
+    }
+    ~SignalsToChild() {
+        ::sigaction(SIGINT, &int_, nullptr);
+        ::sigaction(SIGTERM, &term_, nullptr);
+        child_pid = 0;
+    }
+    SignalsToChild(const SignalsToChild&) = delete;
+    SignalsToChild& operator=(const SignalsToChild&) = delete;
+
+private:
+    struct sigaction int_ {}, term_ {};
+};
+
 }  // namespace
 
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments) {
@@ -60,8 +92,21 @@ int run_python_script(std::string_view script, const std::vector<std::string>& a
     for (std::string& w : words) argv.push_back(w.data());
     argv.push_back(nullptr);
     pid_t pid = 0;
+    // The interpreter starts with the default actions for SIGINT and SIGTERM, whatever this
+    // process does with them.
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t defaults;
+    sigemptyset(&defaults);
+    sigaddset(&defaults, SIGINT);
+    sigaddset(&defaults, SIGTERM);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
+    const SignalsToChild signals;
     // No shell in between: directory names reach the script verbatim.
-    const int error = ::posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
+    const int error = ::posix_spawn(&pid, python.c_str(), nullptr, &attributes, argv.data(), environ);
+    posix_spawnattr_destroy(&attributes);
+    child_pid = pid;
     if (error != 0)
         throw std::runtime_error("cannot run " + python + " (" + std::strerror(error) +
                                  "); install python3-matplotlib python3-numpy python3-h5py or set FRETBUZZ_PYTHON");
@@ -73,13 +118,23 @@ int run_python_script(std::string_view script, const std::vector<std::string>& a
     return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+std::string package_directory() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return FRETBUZZ_BUILD_PYTHON_DIR;
+    const fs::path here = program.parent_path();
+    if (fs::equivalent(here, fs::path(FRETBUZZ_BUILD_CLI_DIR), ec)) return FRETBUZZ_BUILD_PYTHON_DIR;
+    return (here / FRETBUZZ_INSTALLED_PYTHON_DIR).lexically_normal().string();
+}
+
 int run_package_main(const std::string& module, const std::vector<std::string>& arguments) {
     const std::string script =
         "import importlib, sys\n"
         "sys.path[:0] = [p for p in sys.argv.pop(1).split(':') if p]\n"
         "module = importlib.import_module('fretbuzz.' + sys.argv.pop(1))\n"
         "sys.exit(module.main(sys.argv[1:]))\n";
-    std::string paths = FRETBUZZ_PYTHON_DIRS;
+    std::string paths = package_directory();
     if (const char* extra = std::getenv("FRETBUZZ_PYTHONPATH")) paths = std::string(extra) + ":" + paths;
     std::vector<std::string> args{paths, module};
     args.insert(args.end(), arguments.begin(), arguments.end());

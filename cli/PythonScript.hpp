@@ -13,8 +13,12 @@ std::string_view plot_script();  // python/fretbuzz/plots.py, embedded at build 
 // The script's exit status; throws std::runtime_error if the interpreter cannot be started.
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments);
 
-// Runs main(arguments) of a module of the fretbuzz Python package (e.g. "sweeps"), this
-// build's copy first (then $FRETBUZZ_PYTHONPATH, then an installed one); its exit status.
+// Runs main(arguments) of a module of the fretbuzz Python package (e.g. "sweeps"); its exit
+// status. The package is looked for in $FRETBUZZ_PYTHONPATH first, then where this program
+// belongs: its build's module when it runs from the build tree, else the package installed
+// with it (<prefix>/<libdir>/fretbuzz/python, found from /proc/self/exe), then the
+// interpreter's own path.
+std::string package_directory();
 int run_package_main(const std::string& module, const std::vector<std::string>& arguments);
 
 }  // namespace fretbuzz::cli

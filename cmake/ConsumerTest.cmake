@@ -36,4 +36,29 @@ step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 step(${WORK_DIR}/build/consumer)
 step(${WORK_DIR}/build/consumer_pkgconfig)
 step(${WORK_DIR}/build/consumer_static)
+step(${WORK_DIR}/build/consumer_pkgconfig_static)
 step(${prefix}/bin/fretbuzz show bass-pop)
+
+# The installed program runs the installed Python package (setup, sweep --scheduler), not
+# the build's: Python's import log (PYTHONVERBOSE) must name the package under the prefix
+# only. An unreachable scheduler: the package imports, reads the spec, then refuses (exit 2).
+if(EXISTS ${BUILD_DIR}/python/module/fretbuzz/__init__.py)
+  file(GLOB_RECURSE package_init ${prefix}/*/fretbuzz/python/fretbuzz/__init__.py)
+  file(GLOB_RECURSE package_core ${prefix}/*/fretbuzz/python/fretbuzz/_core*.so)
+  if(NOT package_init OR NOT package_core)
+    message(FATAL_ERROR "the Python package is not installed under ${prefix}/<libdir>/fretbuzz/python")
+  endif()
+  file(WRITE ${WORK_DIR}/spec.toml "[sweep]\ncase = \"bass-pluck\"\n[[parameter]]\nkey = \"contact.K\"\nvalues = [1e12]\n")
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONVERBOSE=1 --unset=FRETBUZZ_PYTHONPATH
+                          ${prefix}/bin/fretbuzz sweep ${WORK_DIR}/spec.toml --out ${WORK_DIR}/sweep
+                          --scheduler tcp://127.0.0.1:9 --scheduler-timeout 2
+                  RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 2 OR NOT err MATCHES "--scheduler tcp://127.0.0.1:9")
+    message(FATAL_ERROR "the installed program's sweep --scheduler: exit ${status}, expected 2 (no scheduler):\n${err}")
+  endif()
+  string(FIND "${err}" "${prefix}/" at_prefix)
+  string(FIND "${err}" "${BUILD_DIR}/python/module" at_build)
+  if(at_prefix EQUAL -1 OR NOT at_build EQUAL -1)
+    message(FATAL_ERROR "the installed program did not import the installed package (import log):\n${err}")
+  endif()
+endif()

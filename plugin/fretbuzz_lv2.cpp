@@ -1,8 +1,13 @@
 // The fretbuzz LV2 instrument: a thin shell over the real-time Engine. One string of a preset
 // (bass, guitar, sitar, tanpura); MIDI note n plays fret n - (the open string's note), velocity
 // sets the pluck strength, note-off mutes. Each fret is a voice prepared at instantiation (the
-// string stopped at that fret: a stand-in for a modelled finger); at most kPolyphony notes
-// sound at once (the oldest is muted to make room). run() allocates nothing and takes no lock.
+// string stopped at that fret: a stand-in for a modelled finger).
+//
+// The work of a block is bounded whatever the host sends: at most kVoices voices sound at once
+// (a note beyond them takes the voice released longest ago, or else the one held longest,
+// which fades out over kFadeFrames), and at most kVoices notes start in one block: of a burst
+// of note-ons only the block's last kVoices start, since the earlier ones would have been
+// taken for the later ones within the block anyway. run() allocates nothing and takes no lock.
 #include <lv2/atom/atom.h>
 #include <lv2/atom/util.h>
 #include <lv2/core/lv2.h>
@@ -21,17 +26,18 @@
 #include <vector>
 
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 
 namespace {
 
 using namespace fretbuzz;
 
-constexpr int kPolyphony = 6;  // held notes at once
+constexpr int kVoices = 6;  // sounding at once, and started in one block
 constexpr int kFrets = kMaxFret + 1;
 constexpr std::size_t kChunk = 4096;
+constexpr uint32_t kFadeFrames = 64;  // a voice taken for another note fades out over 1.3 ms at 48 kHz
 constexpr double kFullStrength = 1.5;  // m/s at MIDI velocity 127
 
 enum Port : uint32_t { kMidiIn, kOut, kPluck, kPickup, kBuzz, kDamping, kPortCount };
@@ -59,13 +65,15 @@ struct Voice {
     std::unique_ptr<Engine> engine;
     std::array<float, kPortCount> applied{};  // control values this voice last took
     long started = -1;                        // note-on order; -1: not held
-    bool active = false;                      // sounding (held or ringing out)
+    long released = -1;                       // note-off order, while it rings out
+    bool active = false;                      // sounding (held, ringing out or fading)
+    uint32_t fading = 0;                      // frames left of its fade-out; 0: none
 };
 
 struct Instrument {
     std::array<Voice, kFrets> voices;
     int open_note = 40;
-    long notes = 0;
+    long events = 0;  // note-ons and -offs so far: the order voices are taken in
     std::array<const float*, kPortCount> controls{};
     const LV2_Atom_Sequence* midi = nullptr;
     float* out = nullptr;
@@ -96,40 +104,77 @@ struct Instrument {
         v.applied = now;
     }
 
-    void note_on(int fret, int velocity, const std::array<float, kPortCount>& now) {
-        Voice& v = voices[static_cast<std::size_t>(fret)];
-        if (v.started < 0) {
-            // Room for one more: mute the oldest held note beyond the polyphony.
-            int held = 0;
-            Voice* oldest = nullptr;
-            for (Voice& o : voices)
-                if (o.started >= 0) {
-                    ++held;
-                    if (oldest == nullptr || o.started < oldest->started) oldest = &o;
-                }
-            if (held >= kPolyphony && oldest != nullptr) note_off(*oldest);
+    // The MIDI note's voice, or nullptr for a note outside the frets.
+    Voice* voice_of(const uint8_t* msg) {
+        const int fret = msg[1] - open_note;
+        return fret >= 0 && fret < kFrets ? &voices[static_cast<std::size_t>(fret)] : nullptr;
+    }
+
+    static bool is_note_on(const uint8_t* msg) { return lv2_midi_message_type(msg) == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0; }
+
+    // Room for `v` to sound: beyond kVoices, the voice released longest ago (or else the one
+    // held longest) fades out.
+    void make_room(const Voice& v) {
+        int sounding = 0;
+        Voice* taken = nullptr;
+        const auto older = [](const Voice& a, const Voice& b) {
+            if ((a.started < 0) != (b.started < 0)) return a.started < 0;  // released before held
+            return a.started < 0 ? a.released < b.released : a.started < b.started;
+        };
+        for (Voice& o : voices) {
+            if (!o.active || o.fading > 0 || &o == &v) continue;
+            ++sounding;
+            if (taken == nullptr || older(o, *taken)) taken = &o;
         }
+        if (sounding >= kVoices && taken != nullptr) {
+            taken->fading = kFadeFrames;
+            taken->started = taken->released = -1;
+        }
+    }
+
+    void note_on(Voice& v, int velocity, const std::array<float, kPortCount>& now) {
+        if (v.fading > 0) stop(v);  // taken for another note in this block: it starts afresh
+        make_room(v);
         sync(v, now);
         v.engine->mute(false);
         v.engine->strike({now[kPluck] * v.engine->length_m(), kFullStrength * velocity / 127.0, 0.01, false});
-        v.started = notes++;
+        v.started = events++;
+        v.released = -1;
         v.active = true;
     }
 
-    static void note_off(Voice& v) {
+    void note_off(Voice& v) {
         v.engine->mute(true);
         v.started = -1;
+        v.released = events++;
+    }
+
+    static void stop(Voice& v) {
+        v.engine->stop();
+        v.active = false;
+        v.fading = 0;
+        v.started = v.released = -1;
     }
 
     void render(uint32_t from, uint32_t to) {
         while (from < to) {
             const uint32_t n = std::min<uint32_t>(to - from, kChunk);
-            const std::span<float> chunk(scratch.data(), n);
             for (Voice& v : voices) {
                 if (!v.active) continue;
+                const uint32_t frames = v.fading > 0 ? std::min(n, v.fading) : n;
+                const std::span<float> chunk(scratch.data(), frames);
                 v.engine->process(chunk);
-                for (uint32_t i = 0; i < n; ++i) out[from + i] += chunk[i];
-                if (v.started < 0 && !v.engine->sounding()) v.active = false;
+                for (uint32_t i = 0; i < frames; ++i) {
+                    const float gain = v.fading > 0 ? static_cast<float>(v.fading - i) / kFadeFrames : 1.0f;
+                    out[from + i] += gain * chunk[i];
+                }
+                if (v.fading > 0) {
+                    v.fading -= frames;
+                    if (v.fading == 0) stop(v);
+                } else if (v.started < 0 && !v.engine->sounding()) {
+                    v.active = false;
+                    v.released = -1;
+                }
             }
             from += n;
         }
@@ -141,22 +186,35 @@ struct Instrument {
         std::array<float, kPortCount> now{};
         for (uint32_t p = kPluck; p < kPortCount; ++p) now[p] = control(p);
         for (Voice& v : voices)
-            if (v.active) sync(v, now);
+            if (v.active && v.fading == 0) sync(v, now);
+        // Only the block's last kVoices note-ons start (see the top of this file).
+        long note_ons = 0;
+        LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
+            const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
+            if (ev->body.type == midi_event && ev->body.size >= 3 && is_note_on(msg) && voice_of(msg) != nullptr) ++note_ons;
+        }
+        long skip = std::max(0L, note_ons - kVoices);
         uint32_t done = 0;
         LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
-            if (ev->body.type != midi_event) continue;
+            if (ev->body.type != midi_event || ev->body.size < 3) continue;
             const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
+            Voice* v = voice_of(msg);
+            if (v == nullptr) continue;
+            const uint8_t status = lv2_midi_message_type(msg);
+            const bool on = is_note_on(msg);
+            if (on && skip > 0) {
+                --skip;
+                continue;
+            }
+            const bool off = !on && (status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON);
+            if (!on && !(off && v->started >= 0)) continue;
             const auto at = static_cast<uint32_t>(std::clamp<int64_t>(ev->time.frames, done, frames));
             render(done, at);
             done = at;
-            const uint8_t status = lv2_midi_message_type(msg);
-            const int fret = msg[1] - open_note;
-            if (fret < 0 || fret >= kFrets) continue;
-            Voice& v = voices[static_cast<std::size_t>(fret)];
-            if (status == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0)
-                note_on(fret, msg[2], now);
-            else if ((status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON) && v.started >= 0)
-                note_off(v);
+            if (on)
+                note_on(*v, msg[2], now);
+            else
+                note_off(*v);
         }
         render(done, frames);
     }

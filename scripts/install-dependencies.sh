@@ -5,13 +5,15 @@
 #                                   the run, its plots and its report)
 #   install-dependencies.sh --all   also what the tests, sanitizers, fuzzing, benchmarks, the
 #                                   Python package, the LV2 plugin, the set-up studio and the API
-#                                   docs need (the test command uses this)
+#                                   docs need (the test command uses this; libmp3lame-dev: what
+#                                   `pkg-config --static --libs sndfile` names, for the static
+#                                   consumer test)
 set -eu
 build_and_run="build-essential cmake pkg-config
   libfftw3-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libsndfile1-dev libsoxr-dev libhdf5-dev nettle-dev libsmf-dev libeigen3-dev
   python3-numpy python3-matplotlib python3-h5py python3-jinja2"
-everything_else="libgtest-dev libgmock-dev libbenchmark-dev ccache
+everything_else="libgtest-dev libgmock-dev libbenchmark-dev ccache libmp3lame-dev
   pybind11-dev python3-dev
   ffmpeg chromium chromium-driver python3-selenium
   python3-pandas python3-tqdm python3-dask python3-distributed

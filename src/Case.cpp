@@ -31,6 +31,18 @@ ModeTable Case::y_modes() const {
 
 namespace {
 
+// Ranges of the fingers' and gestures' parameters (docs/case-format.md says why):
+// a finger from 10 mg to 10 kg: M fs^2 and the pressing force's F dt^2 / M stay far from
+// overflow and underflow at any rate;
+constexpr double kMinFingerMass = 1e-5, kMaxFingerMass = 10.0;
+// a Hunt-Crossley loss lambda makes an impact at speed v lose about lambda v of its energy:
+// at 1000 s/m even a 1 mm/s touch is fully plastic, and beyond it the contact solves stall;
+constexpr double kMaxContactLoss = 1000.0;
+// a plucker pad of 1e15 N/m is rigid (1e-14 m under 10 N): stiffer only overflows its powers;
+constexpr double kMaxPluckStiffness = 1e15;
+// a gesture slower than 0.1 mm/s takes more than a minute to pull a string by 6 mm.
+constexpr double kMinGestureSpeed = 1e-4;
+
 void require_length(const std::string& name, std::size_t actual, std::size_t expected) {
     if (actual != expected) {
         std::ostringstream out;
@@ -79,37 +91,22 @@ void check_pad(const std::string& k, double position, double width, bool point_a
                                               "(0, L): it overlaps an end of the string"));
 }
 
-void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile, const Case& c,
-                         bool may_outlast_run = false) {
+// A profile's points may lie past the run's end (a case shortened with --duration keeps its
+// profiles): only the part within the run acts.
+void check_force_profile(const std::string& k, const std::vector<std::array<double, 2>>& profile) {
+    if (profile.empty())
+        throw InputError(k + ".force = []: an empty profile never presses; give a force in N or points [[t_s, F_N], ...]");
     for (std::size_t p = 0; p < profile.size(); ++p) {
         const std::string item = k + ".force[" + std::to_string(p) + "]";
         const double t = profile[p][0], force = profile[p][1];
         require_finite(item + "[0] (time, s)", t);
-        if (!(t >= 0.0 && (may_outlast_run || t <= c.run.duration_s)))
-            throw InputError(out_of_range_message(item + "[0] (time, s)", t,
-                                                  "must lie within the run, in [0, run.duration = " +
-                                                      std::to_string(c.run.duration_s) + "] s"));
+        if (!(t >= 0.0))
+            throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must be >= 0 (from the start of the run)"));
         if (p > 0 && !(t > profile[p - 1][0]))
             throw InputError(out_of_range_message(item + "[0] (time, s)", t, "must increase from point to point"));
         require_non_negative(item + "[1] (force, N)", force);
         if (force > 1000.0) throw InputError(out_of_range_message(item + "[1] (force, N)", force, "must be in [0, 1000] N"));
     }
-}
-
-void check_finger(const FingerSpec& f, const Case& c) {
-    const std::string& k = f.key;
-    check_pad(k, f.position_m, f.width_m, false, c);
-    require_positive(k + ".mass (kg)", f.mass_kg);
-    require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
-    require_at_least(k + ".exponent", f.exponent, 1.0);
-    if (f.exponent > 3.0) throw InputError(out_of_range_message(k + ".exponent", f.exponent, "must be in [1, 3]"));
-    require_non_negative(k + ".loss (s/m)", f.loss);
-    require_non_negative(k + ".gap (m)", f.initial_gap_m);
-    if (f.initial_gap_m > 0.05) throw InputError(out_of_range_message(k + ".gap (m)", f.initial_gap_m, "must be in [0, 0.05] m"));
-    require_finite(k + ".velocity (m/s)", f.initial_velocity);
-    if (std::abs(f.initial_velocity) > 100.0)
-        throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
-    check_force_profile(k, f.force_profile, c, f.default_force);
 }
 
 void require_in(const std::string& name, double value, double lo, double hi, const char* unit) {
@@ -121,23 +118,62 @@ void require_in(const std::string& name, double value, double lo, double hi, con
     }
 }
 
+// The pad's stiffness as the finger's solve sees it: k = dF/d(eta) where the pad carries the
+// largest pressing force of the profile (at least 1 N), exponent alpha: alpha K^(1/alpha) F^(1-1/alpha).
+double pad_stiffness(const FingerSpec& f) {
+    double force = 1.0;
+    for (const auto& point : f.force_profile) force = std::max(force, point[1]);
+    return f.exponent * std::pow(f.stiffness, 1.0 / f.exponent) * std::pow(force, 1.0 - 1.0 / f.exponent);
+}
+
+void check_finger(const FingerSpec& f, const Case& c) {
+    const std::string& k = f.key;
+    check_pad(k, f.position_m, f.width_m, false, c);
+    require_in(k + ".mass (kg)", f.mass_kg, kMinFingerMass, kMaxFingerMass, "kg");
+    require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
+    require_at_least(k + ".exponent", f.exponent, 1.0);
+    if (f.exponent > 3.0) throw InputError(out_of_range_message(k + ".exponent", f.exponent, "must be in [1, 3]"));
+    // The finger on its pad is a mass on a spring of angular frequency sqrt(k / M): the step
+    // must resolve it (omega dt <= 1). Past that the nested contact solve of the finger is
+    // ill-conditioned (its Newton steps stall short of round-off) and the motion is not
+    // resolved anyway.
+    const double fs = c.run.sample_rate_hz;
+    const double most = f.mass_kg * fs * fs;
+    if (const double k_pad = pad_stiffness(f); !(k_pad <= most)) {
+        std::ostringstream allowed;
+        allowed.precision(4);
+        allowed << "with mass " << f.mass_kg << " kg at run.fs = " << fs << " Hz the pad's resonance sqrt(k/M) = "
+                << std::sqrt(k_pad / f.mass_kg) << " rad/s (k = " << k_pad
+                << " N/m under the largest pressing force) must stay below fs: k <= M fs^2 = " << most
+                << " N/m (lower the stiffness, raise the mass or raise run.fs)";
+        throw InputError(out_of_range_message(k + ".stiffness (N/m^exponent)", f.stiffness, allowed.str()));
+    }
+    require_in(k + ".loss (s/m)", f.loss, 0.0, kMaxContactLoss, "s/m");
+    require_non_negative(k + ".gap (m)", f.initial_gap_m);
+    if (f.initial_gap_m > 0.05) throw InputError(out_of_range_message(k + ".gap (m)", f.initial_gap_m, "must be in [0, 0.05] m"));
+    require_finite(k + ".velocity (m/s)", f.initial_velocity);
+    if (std::abs(f.initial_velocity) > 100.0)
+        throw InputError(out_of_range_message(k + ".velocity (m/s)", f.initial_velocity, "must be in [-100, 100] m/s"));
+    // No profile: no pressing force (a thumb that strikes and bounces off).
+    if (!f.force_profile.empty()) check_force_profile(k, f.force_profile);
+}
+
 void check_pluck(const PluckSpec& f, const Case& c) {
     const std::string& k = f.key;
     check_pad(k, f.position_m, f.width_m, false, c);
     require_in(k + ".time (s)", f.start_s, 0.0, c.run.duration_s, "s (within the run)");
     require_in(k + ".gap (m)", f.gap_m, 0.0, 0.05, "m");
-    require_positive(k + ".speed (m/s)", f.speed);
-    require_in(k + ".speed (m/s)", f.speed, 0.0, 100.0, "m/s");
+    require_in(k + ".speed (m/s)", f.speed, kMinGestureSpeed, 100.0, "m/s");
     require_positive(k + ".stiffness (N/m^exponent)", f.stiffness);
+    require_in(k + ".stiffness (N/m^exponent)", f.stiffness, 0.0, kMaxPluckStiffness, "N/m^exponent");
     require_in(k + ".exponent", f.exponent, 1.0, 3.0, "");
-    require_non_negative(k + ".loss (s/m)", f.loss);
+    require_in(k + ".loss (s/m)", f.loss, 0.0, kMaxContactLoss, "s/m");
     require_in(k + ".release_force (N)", f.release_force_n, 0.0, 1000.0, "N");
     require_in(k + ".release_displacement (m)", f.release_displacement_m, 0.0, 0.05, "m");
     if (!(f.release_force_n > 0.0 || f.release_displacement_m > 0.0))
         throw InputError(k + ".release_force (N) and " + k +
                          ".release_displacement (m): give at least one > 0 (when the plucker lets go)");
-    require_positive(k + ".withdraw_speed (m/s)", f.withdraw_speed);
-    require_in(k + ".withdraw_speed (m/s)", f.withdraw_speed, 0.0, 1000.0, "m/s");
+    require_in(k + ".withdraw_speed (m/s)", f.withdraw_speed, kMinGestureSpeed, 1000.0, "m/s");
 }
 
 void check_pads_apart(const Case& c) {
@@ -157,6 +193,30 @@ void check_pads_apart(const Case& c) {
                                                           " (pads must be apart by more than one grid step)"));
 }
 
+// Each mode's step at run.fs (`what` names the table in messages).
+void check_mode_steps(const ModeTable& modes, double fs, const std::string& what) {
+    const double dt = 1.0 / fs;
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+        const std::string mode = what + "mode " + std::to_string(j + 1);
+        // e^{-sigma dt} and sinh of the overdamped rate overflow or underflow near sigma dt = 700;
+        // a mode that loses e^-100 of its amplitude in one step is not a physical input anyway.
+        const double sigma_dt = modes.sigma_per_s[j] * dt;
+        if (!(sigma_dt <= Case::kMaxSigmaDt)) {
+            std::ostringstream allowed;
+            allowed << "sigma * dt = " << sigma_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxSigmaDt
+                    << " (lower the damping or raise fs)";
+            throw InputError(out_of_range_message(mode + " sigma_per_s", modes.sigma_per_s[j], allowed.str()));
+        }
+        // The one-step map evaluates sin(omega dt): far above fs its phase is round-off.
+        const double omega_dt = 2.0 * std::numbers::pi * modes.frequency_hz[j] * dt;
+        if (!(omega_dt <= Case::kMaxOmegaDt)) {
+            std::ostringstream allowed;
+            allowed << "omega * dt = " << omega_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxOmegaDt;
+            throw InputError(out_of_range_message(mode + " frequency_hz", modes.frequency_hz[j], allowed.str()));
+        }
+    }
+}
+
 // Quantities derived from several inputs, checked before a run plans anything: each would
 // otherwise overflow deep inside the scheme and surface as a divergence naming nothing.
 void check_derived_quantities(const Case& c) {
@@ -167,25 +227,13 @@ void check_derived_quantities(const Case& c) {
         allowed << "must be at least one time step, 1/run.fs = " << dt << " s";
         throw InputError(out_of_range_message("run.duration (s)", c.run.duration_s, allowed.str()));
     }
-    for (std::size_t j = 0; j < c.mode_count(); ++j) {
-        const std::string mode = "mode " + std::to_string(j + 1);
-        // e^{-sigma dt} and sinh of the overdamped rate overflow or underflow near sigma dt = 700;
-        // a mode that loses e^-100 of its amplitude in one step is not a physical input anyway.
-        const double sigma_dt = c.modes.sigma_per_s[j] * dt;
-        if (!(sigma_dt <= Case::kMaxSigmaDt)) {
-            std::ostringstream allowed;
-            allowed << "sigma * dt = " << sigma_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxSigmaDt
-                    << " (lower the damping or raise fs)";
-            throw InputError(out_of_range_message(mode + " sigma_per_s", c.modes.sigma_per_s[j], allowed.str()));
-        }
-        // The one-step map evaluates sin(omega dt): far above fs its phase is round-off.
-        const double omega_dt = 2.0 * std::numbers::pi * c.modes.frequency_hz[j] * dt;
-        if (!(omega_dt <= Case::kMaxOmegaDt)) {
-            std::ostringstream allowed;
-            allowed << "omega * dt = " << omega_dt << " at run.fs = " << fs << " Hz; must be <= " << Case::kMaxOmegaDt;
-            throw InputError(out_of_range_message(mode + " frequency_hz", c.modes.frequency_hz[j], allowed.str()));
-        }
-    }
+    check_mode_steps(c.modes, fs, "");
+    // The second polarisation's modes go through the same one-step map.
+    if (c.two_polarisations())
+        check_mode_steps(c.y_modes(), fs,
+                         c.polarisation.table.size() > 0
+                             ? "polarisation_y.table "
+                             : "polarisation_y (string's modes times frequency_scale and damping_scale) ");
     // The energy is mu / (2 dt^2) times a sum over modes: both must be representable.
     const double scale = c.string.linear_density / (2.0 * dt * dt);
     if (!std::isfinite(scale)) {
@@ -345,7 +393,7 @@ void Case::validate() const {
     for (const FingerSpec& f : fingers) check_finger(f, *this);
     for (const ForceSpec& f : forces) {
         check_pad(f.key, f.position_m, f.width_m, true, *this);
-        check_force_profile(f.key, f.force_profile, *this);
+        check_force_profile(f.key, f.force_profile);
     }
     for (const PluckSpec& f : plucks) check_pluck(f, *this);
     check_pads_apart(*this);

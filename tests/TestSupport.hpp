@@ -39,11 +39,10 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
-inline CommandResult run_cli(const std::string& arguments) {
-    const std::string command = std::string(FRETBUZZ_CLI) + " " + arguments + " 2>&1";
+// Runs a shell command line, its stderr with its stdout.
+inline CommandResult run_shell(const std::string& command) {
     CommandResult result;
-    FILE* pipe = ::popen(command.c_str(), "r");
+    FILE* pipe = ::popen(("(" + command + ") 2>&1").c_str(), "r");
     if (pipe == nullptr) return {-1, "popen failed"};
     char buffer[4096];
     while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) result.output.append(buffer, n);
@@ -51,6 +50,9 @@ inline CommandResult run_cli(const std::string& arguments) {
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
 }
+
+// Runs the fretbuzz CLI with the given arguments (a shell-quoted string).
+inline CommandResult run_cli(const std::string& arguments) { return run_shell(std::string(FRETBUZZ_CLI) + " " + arguments); }
 
 // A fresh, empty directory removed when the object goes away.
 class ScratchDir {

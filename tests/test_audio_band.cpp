@@ -184,18 +184,64 @@ TEST(AudioBand, FlightFramesMadeBesideTheRunAreTheRunsOwn) {
     }
 }
 
+// What an observer that asks for audio receives: finished samples at its rate, in order, from
+// sample 0 to the run's end, while the run goes on (not all at its end), the same samples an
+// audio file gets; audio along y asked of a run with one polarisation is refused.
+class AudioLog : public RunObserver {
+public:
+    AudioRequest audio_request() const override { return {.rate_hz = 48000.0}; }
+    void observation(double, std::span<const double>) override { ++rows; }
+    void audio(long first_sample, std::span<const double> samples) override {
+        if (calls++ == 0) rows_at_first_audio = rows;
+        contiguous = contiguous && first_sample == static_cast<long>(received.size() / 2);
+        received.insert(received.end(), samples.begin(), samples.end());
+    }
+    long rows = 0, rows_at_first_audio = -1, calls = 0;
+    bool contiguous = true;
+    std::vector<double> received;  // two points, interleaved
+};
+
+TEST(AudioBand, ObserversReceiveFinishedSamplesInOrderWhileTheRunGoesOn) {
+    Case c = load_case("bass-pop");
+    c.run.duration_s = 0.3;
+    c.observation_points_m.push_back(0.3);
+    AudioLog log;
+    AudioWriter writer({"/dev/null", "/dev/null"}, 48000.0);
+    RunObserver* observers[] = {&log, &writer};
+    RunOptions options;
+    options.per_step_thread = false;  // (the calls' order against the rows is then the run's own)
+    const RunSummary s = simulate(c, observers, options);
+    ASSERT_GT(s.free_flight_fraction, 0.5);  // the closed form wrote most of it
+    EXPECT_TRUE(log.contiguous);
+    EXPECT_GT(log.calls, 10);
+    EXPECT_GT(log.rows_at_first_audio, 0);
+    EXPECT_LT(log.rows_at_first_audio, log.rows / 2);
+    // Up to the run's end: round(duration x rate) samples, or one more where the last falls on it.
+    ASSERT_EQ(log.received.size(), 2 * writer.samples(0).size());
+    EXPECT_NEAR(static_cast<double>(writer.samples(0).size()), 0.3 * 48000.0, 1.0);
+    for (std::size_t k = 0; k < log.received.size() / 2; ++k) {
+        ASSERT_EQ(log.received[2 * k], writer.samples(0)[k]) << k;
+        ASSERT_EQ(log.received[2 * k + 1], writer.samples(1)[k]) << k;
+    }
+    struct AlongY : AudioLog {
+        AudioRequest audio_request() const override { return {.rate_hz = 48000.0, .angle_deg = 90.0}; }
+    } y;
+    RunObserver* along_y[] = {&y};
+    EXPECT_THROW(simulate(c, along_y), std::invalid_argument);
+}
+
 // An audio file that fails while the run goes on: the failure reaches the caller (and the run
 // stops), as a failed write of the results file does.
 class FailingAudio : public RunObserver {
 public:
-    bool wants_every_step() const override { return true; }
-    bool per_step_only() const override { return true; }
-    void every_step(std::span<const double>, std::span<const double>) override {
-        if (++frames_ == 20000) throw std::runtime_error("audio: the disk is full");
+    AudioRequest audio_request() const override { return {.rate_hz = 48000.0}; }
+    void audio(long, std::span<const double> samples) override {
+        samples_ += static_cast<long>(samples.size());
+        if (samples_ >= 20000) throw std::runtime_error("audio: the disk is full");
     }
 
 private:
-    long frames_ = 0;
+    long samples_ = 0;
 };
 
 TEST(AudioBand, AFailureOnTheAudioThreadReachesTheCaller) {

@@ -1,15 +1,20 @@
 // Audio files: one WAV per observation point at the requested rate, the velocity on
 // request, and names that say which point each file is.
 #include <gtest/gtest.h>
+#include <sndfile.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <numbers>
 #include <numeric>
 #include <unistd.h>
 #include <vector>
 
+#include "TestSupport.hpp"
 #include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/output/PickupHighPass.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
@@ -61,6 +66,69 @@ TEST(AudioWriter, WritesOneFilePerPointAtEachSupportedRate) {
         EXPECT_GT(rms(velocity.samples(0)), 100.0 * rms(displacement.samples(0)));  // m/s vs m, at audio frequencies
     }
     fs::remove_all(dir);
+}
+
+// A mono file as libsndfile reads it: its format, rate, and samples as doubles and as integers.
+struct ReadBack {
+    SF_INFO info{};
+    std::vector<double> samples;
+    std::vector<int> integers;  // (left-justified in 32 bits)
+};
+
+ReadBack read_back(const fs::path& path) {
+    ReadBack r;
+    SNDFILE* f = sf_open(path.c_str(), SFM_READ, &r.info);
+    EXPECT_NE(f, nullptr) << path << ": " << sf_strerror(nullptr);
+    if (f == nullptr) return r;
+    r.samples.resize(static_cast<std::size_t>(r.info.frames));
+    r.integers.resize(r.samples.size());
+    EXPECT_EQ(sf_read_double(f, r.samples.data(), r.info.frames), r.info.frames);
+    sf_seek(f, 0, SEEK_SET);
+    EXPECT_EQ(sf_read_int(f, r.integers.data(), r.info.frames), r.info.frames);
+    sf_close(f);
+    return r;
+}
+
+// FLAC by its extension (any case): read back by libsndfile as FLAC of the sample size asked
+// for, at the rate, with every sample: the integers of the WAV of that size (FLAC is
+// lossless), each within its quantisation of the high-passed, normalised signal.
+TEST(AudioWriter, WritesFlacOfTheSampleSizeAskedFor) {
+    const testing::ScratchDir scratch("flac");
+    const double rate = 44100.0;
+    std::vector<double> x(30001);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        const double t = static_cast<double>(k) / rate;
+        x[k] = 1e-3 * std::exp(-3.0 * t) *
+               (std::sin(2.0 * std::numbers::pi * 110.0 * t) + 0.3 * std::sin(2.0 * std::numbers::pi * 2345.0 * t));
+    }
+    for (const int bits : {16, 24}) {
+        const fs::path wav = scratch.path() / "take.wav";
+        write_normalised_audio(wav, x, rate, bits);
+        const ReadBack pcm = read_back(wav);
+        for (const char* name : {"take.flac", "TAKE.FLAC"}) {
+            SCOPED_TRACE(std::string(name) + ", " + std::to_string(bits) + " bits");
+            const fs::path path = scratch.path() / name;
+            const double full_scale = write_normalised_audio(path, x, rate, bits);
+            const ReadBack flac = read_back(path);
+            EXPECT_EQ(flac.info.format & SF_FORMAT_TYPEMASK, SF_FORMAT_FLAC);
+            EXPECT_EQ(flac.info.format & SF_FORMAT_SUBMASK, bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
+            EXPECT_EQ(flac.info.samplerate, 44100);
+            EXPECT_EQ(flac.info.channels, 1);
+            ASSERT_EQ(flac.samples.size(), x.size());
+            EXPECT_EQ(flac.integers, pcm.integers);
+            // libsndfile writes v (2^(b-1) - 1) rounded and reads n / 2^(b-1): within a step
+            // and a half of full scale.
+            PickupHighPass pickup(rate);
+            const double step = std::ldexp(1.0, 1 - bits);
+            double worst = 0.0, peak = 0.0;
+            for (std::size_t k = 0; k < x.size(); ++k) {
+                worst = std::max(worst, std::abs(flac.samples[k] - pickup(x[k]) / full_scale));
+                peak = std::max(peak, std::abs(flac.samples[k]));
+            }
+            EXPECT_LE(worst, 1.5 * step) << worst / step << " steps";
+            EXPECT_NEAR(peak, 0.99, 1.5 * step);
+        }
+    }
 }
 
 }  // namespace

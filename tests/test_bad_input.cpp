@@ -54,6 +54,29 @@ TEST(BadInput, CommandLineValuesAreCheckedAndNamed) {
     for (const BadRun& bad : cases) expect_refused(bad);
 }
 
+// A misspelt subcommand or option gets the nearest registered name (exit 2); a word far
+// from every name gets no guess.
+TEST(BadInput, MisspeltCommandsAndOptionsSuggestTheNearest) {
+    const std::pair<std::string, std::string> cases[] = {
+        {"runn bass-pop", "unknown command 'runn'; did you mean `fretbuzz run`?"},
+        {"swep spec.toml", "did you mean `fretbuzz sweep`?"},
+        {"shwo bass-pop", "did you mean `fretbuzz show`?"},
+        {"run bass-pop --duratoin 0.1", "unknown option --duratoin of `fretbuzz run`; did you mean --duration?"},
+        {"run bass-pop --fs 4e5 --alhpa=2", "did you mean --alpha?"},
+        {"sweep spec.toml --out x --max-run 3", "did you mean --max-runs?"},
+        {"--versoin", "did you mean --version?"},
+        {"xyzzy", "unknown command 'xyzzy' (fretbuzz --help lists the commands)"},
+    };
+    for (const auto& [arguments, said] : cases) {
+        const auto r = run_cli(arguments);
+        EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.output;
+        EXPECT_NE(r.output.find(said), std::string::npos) << arguments << " should say " << said << ": " << r.output;
+    }
+    const auto far = run_cli("run bass-pop --zzzzzzzz 1");
+    EXPECT_EQ(far.exit_code, 2) << far.output;
+    EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << far.output;
+}
+
 TEST(BadInput, CaseFilesAreCheckedAndNamed) {
     ScratchDir scratch("bad-case");
     const auto write = [&](const std::string& name, const std::string& text) {

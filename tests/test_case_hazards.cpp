@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -11,8 +12,10 @@
 
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
@@ -125,6 +128,36 @@ TEST(Aliasing, BuiltinCasesKeepEveryModeBelowHalfFs) {
         EXPECT_TRUE(report.above_nyquist.empty()) << info.name << ": " << report.warnings.front();
         EXPECT_TRUE(c.warnings.empty()) << info.name << ": " << c.warnings.front();
     }
+}
+
+// Where nothing can touch the string (its free motion's envelope stays clear of the
+// obstacle, and no finger or gesture acts), the modal update is exact at any fs: no
+// aliasing warning or refusal. Where it can, the check is as before. The envelope is a
+// bound: a case it calls free runs without a contact step.
+TEST(Aliasing, ACaseThatCannotTouchIsNotWarnedAbout) {
+    const Case pluck = load_case("bass-pluck");  // 0.5 mm, more than 0.3 mm clear of every fret
+    EXPECT_FALSE(contact_possible(pluck));
+    EXPECT_TRUE(Plan(pluck, 1.0 / pluck.run.sample_rate_hz).warnings().empty());
+    EXPECT_TRUE(contact_possible(load_case("bass-pop")));
+    EXPECT_TRUE(contact_possible(load_case("bass-fret5-pop")));  // a finger
+    EXPECT_FALSE(Plan(load_case("bass-pop"), 1e-6).warnings().empty());
+    // A flat barrier 1 mm below at 0.1 mm and 1 mm of pluck: too far, and in reach.
+    for (const auto& [amplitude, possible] : {std::pair{"1e-4", false}, std::pair{"1e-3", true}}) {
+        std::string text = flat_barrier(100);
+        text.replace(text.find("amplitude = 2e-3"), 16, std::string("amplitude = ") + amplitude);
+        const Case c = parse(text);
+        EXPECT_EQ(contact_possible(c), possible) << amplitude;
+        if (!possible) {
+            EXPECT_EQ(simulate(c, {}).contact_steps, 0) << amplitude;
+        }
+    }
+    // At 48 kHz bass-pluck runs every mode without refusal (modes alias onto low
+    // frequencies only under contact, which cannot happen).
+    const auto r = testing::run_cli("run bass-pluck --fs 48000 --duration 0.01 -q --out " +
+                                    (std::filesystem::temp_directory_path() / "fretbuzz-test-pluck48k").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+    std::filesystem::remove_all(std::filesystem::temp_directory_path() / "fretbuzz-test-pluck48k");
 }
 
 TEST(StiffString, SitarUsesTheExactModelAndTheFirstOrderOneWarns) {
@@ -302,6 +335,38 @@ TEST(ObstacleSide, RefusesMixedSidesAndAPenetratingStart) {
     EXPECT_NE(message_of(into).find("u(x, 0) <= g(x)"), std::string::npos) << message_of(into);
     const std::string typo = single_mode("", "lossless = true", "type = \"flat\"\nheight = 3e-4\nside = \"top\"");
     EXPECT_NE(message_of(typo).find("obstacle.side = \"top\""), std::string::npos) << message_of(typo);
+}
+
+// The second polarisation's measured table gets the checks of [modes]: a damping or a
+// frequency too large for the step is refused before the run, naming the table, the mode and
+// the column (it used to fail inside the run, exit 3, naming "the energy").
+TEST(PolarisationY, ItsTableIsCheckedAsTheModeTableIs) {
+    testing::ScratchDir scratch("y-table");
+    std::string table = std::string(*find_builtin_file("data/bass_fretted_modes.csv"));
+    const auto write_table = [&](const std::string& name, std::size_t column, const std::string& value) {
+        std::string text = table;
+        const std::size_t row = text.find("\n3,") + 1;
+        std::size_t start = row;
+        for (std::size_t c = 0; c < column; ++c) start = text.find(',', start) + 1;
+        const std::size_t end = text.find_first_of(",\n", start);
+        text.replace(start, end - start, value);
+        std::ofstream(scratch.path() / name) << text;
+    };
+    write_table("sigma.csv", 2, "1e300");
+    write_table("frequency.csv", 1, "1e300");
+    std::string y = builtin_case_text("bass-pluck-y");
+    y.replace(y.find("duration = 0.5"), 14, "duration = 0.001");
+    for (const auto& [file, column] : {std::pair<std::string, std::string>{"sigma.csv", "sigma_per_s"},
+                                       {"frequency.csv", "frequency_hz"}}) {
+        const std::filesystem::path path = scratch.path() / ("y-" + file + ".toml");
+        std::ofstream(path) << y << "\n[polarisation_y]\ntable = \"" << file << "\"\n";
+        const auto r = testing::run_cli("run " + path.string() + " -q --out " + (scratch.path() / "o").string());
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find("polarisation_y.table mode 3 " + column + " = 1.0000000000000001e+300 is out of range"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_FALSE(std::filesystem::exists(scratch.path() / "o"));
+    }
 }
 
 }  // namespace

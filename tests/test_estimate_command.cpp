@@ -1,10 +1,14 @@
 // `fretbuzz estimate`: bad input exits 2 and writes nothing; a simulated free decay goes
 // through estimate -> case.toml -> the mode table the case resolves to.
 #include <gtest/gtest.h>
+#include <sndfile.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <numbers>
 #include <fstream>
@@ -13,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "SyntheticDecay.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 
@@ -23,14 +28,31 @@ using testing::run_cli;
 using testing::ScratchDir;
 namespace fs = std::filesystem;
 
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write_file(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
 TEST(EstimateCommand, NotAudioIsRejectedAndNothingIsWritten) {
     ScratchDir dir("estimate-bad");
-    const fs::path text = dir.path() / "notes.wav";
+    const fs::path text = dir.path() / "notes.wav", out = dir.path() / "out";
     std::ofstream(text) << "this is not audio\n";
-    const fs::path out = dir.path() / "out";
-    const auto r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
+    auto r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("not an audio file"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(text.string() + ": not a WAV, FLAC or AIFF file"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    // A WAV whose chunks fit the file but whose format chunk is 4 bytes of text: libsndfile's
+    // refusal, naming the file.
+    write_file(text, std::string("RIFF\x10\0\0\0WAVEfmt \x04\0\0\0text", 24));
+    r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(text.string() + ": not audio libsndfile can read"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
 }
 
@@ -55,19 +77,21 @@ void write_wav(const fs::path& path, const std::vector<double>& x, int rate) {
     for (const double v : x) u16(static_cast<std::uint16_t>(static_cast<std::int16_t>(std::lround(32767.0 * v))));
 }
 
-// Twelve decaying partials of a stiff string at 110 Hz, `seconds` long, peak `peak`.
-std::vector<double> decay(double seconds, int rate, double peak) {
-    std::vector<double> x(static_cast<std::size_t>(seconds * rate));
-    for (std::size_t n = 0; n < x.size(); ++n) {
-        const double t = static_cast<double>(n) / rate;
-        for (int j = 1; j <= 12; ++j)
-            x[n] += 0.5 / j * std::exp(-(0.5 + 0.3 * j) * t) *
-                    std::cos(2.0 * std::numbers::pi * 110.0 * j * std::sqrt(1 + 1e-4 * j * j) * t);
-    }
+// `spec`'s decay scaled to the peak `peak`.
+std::vector<double> scaled(const testing::DecaySpec& spec, double peak) {
+    std::vector<double> x = testing::decay_signal(spec);
     double top = 0.0;
     for (const double v : x) top = std::max(top, std::abs(v));
     for (double& v : x) v *= peak / top;
     return x;
+}
+
+// Twelve decaying partials of a stiff string at 110 Hz, `seconds` long, peak `peak`.
+std::vector<double> decay(double seconds, int rate, double peak) {
+    testing::DecaySpec spec;
+    spec.seconds = seconds;
+    spec.rate_hz = rate;
+    return scaled(spec, peak);
 }
 
 TEST(EstimateCommand, BadRecordingsExitTwoAndWriteNothing) {
@@ -124,6 +148,220 @@ TEST(EstimateCommand, RunEstimateAndCaseRoundTrip) {
     EXPECT_NEAR(estimated.string.length_m, original.string.length_m, 1e-12);
     EXPECT_EQ(estimated.modes.source.front(), ModeSource::measured);
     EXPECT_EQ(estimated.modes.source.back(), ModeSource::model);  // mode 120 (11.8 kHz) lies above --band
+}
+
+// The program under `timeout`: a command that would block ends (exit 124) instead of
+// hanging the test.
+testing::CommandResult run_cli_within(int seconds, const std::string& arguments) {
+    return testing::run_shell("timeout -s KILL " + std::to_string(seconds) + " " + FRETBUZZ_CLI + " " + arguments);
+}
+
+// A FLAC file of the samples (16-bit), written by libsndfile.
+void write_flac(const fs::path& path, const std::vector<double>& x, int rate) {
+    SF_INFO info{};
+    info.samplerate = rate;
+    info.channels = 1;
+    info.format = SF_FORMAT_FLAC | SF_FORMAT_PCM_16;
+    SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+    ASSERT_NE(file, nullptr) << sf_strerror(nullptr);
+    sf_writef_double(file, x.data(), static_cast<sf_count_t>(x.size()));
+    sf_close(file);
+}
+
+const std::string kString = " --L 0.65 --mu 6e-3 --d 1.1e-3 --no-plots -q ";
+
+// The file is checked before anything else: a missing recording is named first.
+TEST(EstimateCommand, ChecksTheRecordingFirst) {
+    ScratchDir dir("estimate-missing");
+    const fs::path out = dir.path() / "out";
+    const auto r = run_cli("estimate " + (dir.path() / "missing.wav").string() + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("missing.wav"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("--L"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+// --case gives L, mu and, where the case has it, d; otherwise a steel string's d is assumed.
+TEST(EstimateCommand, CaseSufficesWithoutDiameter) {
+    ScratchDir dir("estimate-case-d");
+    const fs::path wav = dir.path() / "good.wav";
+    write_wav(wav, decay(1.0, 16000, 0.5), 16000);
+    auto r = run_cli("estimate " + wav.string() + " --case bass-pluck --no-plots --out " + (dir.path() / "a").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // bass-pluck gives no d: that of steel of its mu = 6.69e-3 kg/m, sqrt(4 mu / (pi 7850)) = 1.0417 mm.
+    EXPECT_NE(r.output.find("d = 1.04168 mm assumed"), std::string::npos) << r.output;
+    EXPECT_NE(read_file(dir.path() / "a" / "case-snippet.toml").find("d = 0.001041677515"), std::string::npos);
+    r = run_cli("estimate " + wav.string() + " --case sitar --no-plots -q --out " + (dir.path() / "b").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(read_file(dir.path() / "b" / "case-snippet.toml").find("d = 0.0004\n"), std::string::npos);
+    EXPECT_EQ(load_case((dir.path() / "b" / "case.toml").string()).string.length_m, 0.88);
+    // A length that does not fit the case (its pluck and pickup lie beyond 0.5 m): refused.
+    r = run_cli("estimate " + wav.string() + " --case bass-pluck --L 0.5 --no-plots -q --out " +
+                (dir.path() / "c").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("the case written from --case bass-pluck is not valid"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir.path() / "c"));
+}
+
+// Regular files only, refused before they are opened: a FIFO without a writer must not
+// block, /dev/zero must not be read forever.
+TEST(EstimateCommand, RefusesSpecialFilesWithoutBlocking) {
+    ScratchDir dir("estimate-fifo");
+    const fs::path fifo = dir.path() / "take.wav";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    for (const fs::path& path : {fifo, fs::path("/dev/zero")}) {
+        const fs::path out = dir.path() / "out";
+        const auto r = run_cli_within(20, "estimate " + path.string() + kString + "--out " + out.string());
+        EXPECT_EQ(r.exit_code, 2) << path << ": " << r.output;
+        EXPECT_NE(r.output.find(path.string() + " is not a regular file"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(out));
+    }
+}
+
+// Headers that claim more frames than the file holds: buffers follow what is decoded. A
+// FLAC claiming 2^35 - 1 frames (256 GiB of doubles) and a WAV claiming 2^31 hold 1 s each.
+TEST(EstimateCommand, HeaderFrameCountsAreNotTrusted) {
+    ScratchDir dir("estimate-headers");
+    const std::vector<double> x = decay(1.0, 16000, 0.5);
+    const fs::path flac = dir.path() / "claims.flac", wav = dir.path() / "claims.wav";
+    write_flac(flac, x, 16000);
+    std::string bytes = read_file(flac);
+    // STREAMINFO, the first metadata block at byte 8: total samples are its bits 108-143.
+    ASSERT_EQ(bytes.substr(0, 4), "fLaC");
+    ASSERT_EQ(bytes[4] & 0x7f, 0);
+    bytes[21] = static_cast<char>((bytes[21] & 0xf0) | 0x07);
+    for (int i = 22; i < 26; ++i) bytes[static_cast<std::size_t>(i)] = static_cast<char>(0xff);
+    write_file(flac, bytes);
+    write_wav(wav, x, 16000);
+    bytes = read_file(wav);
+    const std::uint32_t claimed = 0xfffffff0u;  // data bytes: 2^31 frames of 16 bits
+    std::memcpy(bytes.data() + 40, &claimed, 4);
+    write_file(wav, bytes);
+    for (const fs::path& path : {flac, wav}) {
+        const fs::path out = dir.path() / ("out-" + path.extension().string().substr(1));
+        const auto r = run_cli_within(120, "estimate " + path.string() + kString + "--out " + out.string());
+        EXPECT_EQ(r.exit_code, 0) << path << ": " << r.output;
+        EXPECT_TRUE(fs::exists(out / "partials.csv")) << path;
+    }
+}
+
+// The analysed length is capped (30 s), and so is the file's size (256 MiB, a sparse file
+// here); both messages say how to cut the file.
+TEST(EstimateCommand, LongRecordingsAreRefusedWithTheCap) {
+    ScratchDir dir("estimate-long");
+    const fs::path wav = dir.path() / "long.wav", huge = dir.path() / "huge.wav";
+    write_wav(wav, decay(31.0, 8000, 0.5), 8000);
+    auto r = run_cli_within(120, "estimate " + wav.string() + kString + "--out " + (dir.path() / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(wav.string() + ": longer than 30 s"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("sox " ), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("ffmpeg "), std::string::npos) << r.output;
+    write_wav(huge, decay(1.0, 8000, 0.5), 8000);
+    fs::resize_file(huge, std::uintmax_t{300} << 20);
+    r = run_cli_within(120, "estimate " + huge.string() + kString + "--out " + (dir.path() / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(huge.string() + ": 300 MiB, more than the 256 MiB read"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("sox "), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+// Only WAV, FLAC and AIFF reach libsndfile: a Sun/NeXT .au file (which it would read) is
+// refused by name.
+TEST(EstimateCommand, OnlyWavFlacAndAiffAreRead) {
+    ScratchDir dir("estimate-au");
+    const std::vector<double> x = decay(1.0, 16000, 0.5);
+    std::string au = ".snd";
+    const auto be32 = [&au](std::uint32_t v) {
+        for (int shift = 24; shift >= 0; shift -= 8) au.push_back(static_cast<char>((v >> shift) & 0xff));
+    };
+    be32(24);
+    be32(static_cast<std::uint32_t>(2 * x.size()));
+    be32(3);  // 16-bit linear PCM
+    be32(16000);
+    be32(1);
+    for (const double v : x) {
+        const auto sample = static_cast<std::uint16_t>(static_cast<std::int16_t>(std::lround(32767.0 * v)));
+        au.push_back(static_cast<char>(sample >> 8));
+        au.push_back(static_cast<char>(sample & 0xff));
+    }
+    const fs::path path = dir.path() / "take.au";
+    write_file(path, au);
+    const auto r = run_cli("estimate " + path.string() + kString + "--out " + (dir.path() / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(path.string() + ": not a WAV, FLAC or AIFF file"), std::string::npos) << r.output;
+}
+
+// A chunk that claims to run past the end of the file is refused before libsndfile parses
+// it: this 213-byte RF64 file (found by recording_fuzzer) keeps libsndfile 1.2's LIST
+// parser busy for minutes.
+TEST(EstimateCommand, ChunksPastTheEndOfTheFileAreRefused) {
+    const std::string hex =
+        "52463634ffffffff57415645647336341c0000005a01000000f0fffffffffffffffe0000f00000000000010000000000"
+        "666d74201000000001000100401f5d00401f0004010008004c495354b3abffffffffffffffffffffffffffffffffffff"
+        "ffffffffffffffffffffffffffffffffffffffffffffffffffffffffdfffffffffffffffffffffffffffffffffffffff"
+        "ffffffffffffffffffffffffffffffffffffffffff74201000000001000100409f8f7d6b5c605855939fa72aa8a2978a"
+        "7c6e635b57585e8f83776c635e5c5f66707c88939c";
+    std::string bytes;
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+        bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+    ScratchDir dir("estimate-chunks");
+    const fs::path path = dir.path() / "damaged.wav";
+    write_file(path, bytes);
+    const auto r = run_cli_within(20, "estimate " + path.string() + kString + "--out " + (dir.path() / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(path.string() + ": its 'LIST' chunk at byte 72 claims 4294945715 bytes, past the end"),
+              std::string::npos)
+        << r.output;
+}
+
+// A steady tone is refused as not a free decay (exit 2, nothing written).
+TEST(EstimateCommand, SteadyToneIsNotAFreeDecay) {
+    ScratchDir dir("estimate-steady");
+    std::vector<double> x(32000);
+    for (std::size_t n = 0; n < x.size(); ++n)
+        x[n] = (n < 160 ? 0.6 : 0.5) * std::sin(2.0 * std::numbers::pi * 98.0 * static_cast<double>(n) / 16000.0);
+    const fs::path wav = dir.path() / "sine.wav", out = dir.path() / "out";
+    write_wav(wav, x, 16000);
+    const auto r = run_cli("estimate " + wav.string() + kString + "--out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("not a free decay"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+// --polarisations 2: both partials of each doublet in partials.csv, the weaker ones in
+// modes_y.csv, and a case whose y modes are them.
+TEST(EstimateCommand, WritesBothPolarisationsWhenAsked) {
+    ScratchDir dir("estimate-doublets");
+    testing::DecaySpec spec;
+    spec.modes = 15;
+    spec.separation = 2e-3;
+    spec.ratio = 0.6;
+    spec.seconds = 3.0;
+    const fs::path wav = dir.path() / "doublets.wav", out = dir.path() / "out";
+    write_wav(wav, scaled(spec, 0.5), static_cast<int>(spec.rate_hz));
+    const std::string options = " --case bass-pluck --modes 40 --max-partial 15 --no-plots -q --out " + out.string();
+    auto r = run_cli("estimate " + wav.string() + options + " --polarisations 3");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--polarisations = 3 is out of range: must be 1 or 2"), std::string::npos) << r.output;
+    r = run_cli("estimate " + wav.string() + options + " --polarisations 2");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(read_file(out / "partials.csv").find(",reliable,polarisation\n"), std::string::npos);
+    EXPECT_NE(read_file(out / "case-snippet.toml").find("[polarisation_y]\ntable = \"modes_y.csv\""),
+              std::string::npos);
+    const Case c = load_case((out / "case.toml").string());
+    ASSERT_TRUE(c.two_polarisations());
+    const ModeTable y = c.y_modes();
+    ASSERT_EQ(y.size(), 40u);
+    for (const testing::TruePartial& t : testing::decay_partials(spec)) {
+        if (t.mode < 3 || t.mode > 12) continue;
+        const ModeTable& table = t.polarisation == 1 ? c.modes : y;
+        const auto j = static_cast<std::size_t>(t.mode - 1);
+        EXPECT_NEAR(table.frequency_hz[j] / t.frequency_hz, 1.0, 1e-4) << "mode " << t.mode << "/" << t.polarisation;
+        EXPECT_NEAR(table.sigma_per_s[j] / t.sigma_per_s, 1.0, 0.15) << "mode " << t.mode << "/" << t.polarisation;
+        EXPECT_EQ(table.source[j], ModeSource::measured) << "mode " << t.mode << "/" << t.polarisation;
+    }
+    // Above the measured modes y follows z (the models).
+    EXPECT_EQ(y.frequency_hz[39], c.modes.frequency_hz[39]);
 }
 
 }  // namespace

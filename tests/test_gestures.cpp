@@ -111,7 +111,8 @@ TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
         {g + "force = 1\nwidth = -0.01\n", "gesture[0].width"},
         {"\n[[gesture]]\ntype = \"force\"\nposition = 0.855\nwidth = 0.03\nforce = 1\n", "overlaps an end"},
         {g + "force = -1\n", "gesture[0].force[0][1]"},
-        {g + "force = [[0, 1], [0.02, 2]]\n", "gesture[0].force[1][0]"},
+        {g + "force = [[0, 1], [0.02, 2]]\n", ""},  // a point past the run's end: only the part within acts
+        {g + "force = []\n", "gesture[0].force = []"},
         {g + "force = 1\ndirection = \"sideways\"\n", "gesture[0].direction"},
         {g + "force = 1\nspeed = 2\n", "gesture[0].speed"},
         {g + "force = 1\n\n[[finger]]\nposition = 0.6\n", "gesture[0].position"},

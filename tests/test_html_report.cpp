@@ -1,6 +1,7 @@
 // The pieces of report.html: base64 for data: URIs (RFC 4648 test vectors), HTML escaping,
 // and a page built from a hand-made output directory.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/output/Base64.hpp"
 #include "fretbuzz/output/HtmlReport.hpp"
+#include "fretbuzz/output/SummaryWriter.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -68,13 +70,44 @@ TEST_F(ReportDirectory, ShowsUnitsRoundedNumbersGainsAndProvenance) {
     const std::string page = render_html_report(dir_);
     EXPECT_NE(page.find("<tr><th>Simulated duration</th><td>0.01235 s</td></tr>"), std::string::npos) << page;
     EXPECT_NE(page.find("<tr><th>Initial energy H(1/2)</th><td>1.235e-05 J</td></tr>"), std::string::npos);
-    EXPECT_NE(page.find("<tr><th>Steps with contact</th><td>42</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>Steps with contact (obstacle)</th><td>42</td></tr>"), std::string::npos);
     EXPECT_NE(page.find("<tr><th>some_new_key</th><td>3.142</td></tr>"), std::string::npos);
     EXPECT_NE(page.find("<td>0.001235 m</td>"), std::string::npos);  // the WAV's full scale
     EXPECT_NE(page.find("<tr><th>fretbuzz version</th><td>9.9.9</td></tr>"), std::string::npos);
     EXPECT_NE(page.find("<tr><th>Case file SHA-256</th><td>abc123</td></tr>"), std::string::npos);
     EXPECT_NE(page.find("3 modes, 98 to 294.5 Hz"), std::string::npos);
     EXPECT_EQ(page.find("name = 1"), std::string::npos);  // the case text is shown from results.h5 only
+}
+
+// Every key summary.json holds for a played run with two polarisations is named in words with
+// its unit, and each energy row says what it counts.
+TEST_F(ReportDirectory, NamesEverySummaryKeyAndWhatEachEnergyRowCounts) {
+    RunSummary s;
+    s.case_name = "played";
+    s.fingers = 1;
+    s.gestures = 1;
+    s.polarisations = 2;
+    s.energy_initial_j = 0.0;
+    s.energy_final_j = 1.0e-3;
+    s.dissipated_j = 7.0e-4;  // damping 3e-4 (z 2e-4, y 1e-4), fingers 1e-4, friction 3e-4
+    s.damping_y_j = 1.0e-4;
+    s.finger_loss_j = 1.0e-4;
+    s.friction_j = 3.0e-4;
+    s.work_j = 1.7e-3;
+    s.finger_energy_final_j = 2.0e-5;
+    s.energy_y_final_j = 4.0e-4;
+    write("summary.json", summary_json(s, {0.854}));
+    const std::string page = render_html_report(dir_);
+    const auto json = nlohmann::ordered_json::parse(summary_json(s, {0.854}));
+    for (const auto& [key, value] : json.items())
+        EXPECT_EQ(page.find("<th>" + key + "</th>"), std::string::npos) << key << " is shown under its own name";
+    EXPECT_NE(page.find("<tr><th>Energy dissipated, all losses</th><td>0.0007 J</td></tr>"), std::string::npos) << page;
+    EXPECT_NE(page.find("<tr><th>Energy dissipated by damping</th><td>0.0003 J</td></tr>"), std::string::npos) << page;
+    EXPECT_NE(page.find("<tr><th>Energy dissipated by friction</th><td>0.0003 J</td></tr>"), std::string::npos);
+    EXPECT_NE(page.find("<tr><th>Work done on the string by fingers, forces and pluckers</th><td>0.0017 J</td></tr>"),
+              std::string::npos);
+    EXPECT_NE(page.find("Energy dissipated in the contacts of fingers and pluckers</th><td>0.0001 J"), std::string::npos);
+    EXPECT_NE(page.find("relative to max(H(1/2), work)"), std::string::npos);
 }
 
 TEST_F(ReportDirectory, WithoutSummaryNamesTheDirectory) {

@@ -25,21 +25,19 @@ TEST(WriteQueue, RunsEveryJobInOrderBeforeDrainReturns) {
 }
 
 // Per-step frames in batches, with deferred jobs (a flight's frames, made on the queue's thread)
-// and posted ones between them: the observer sees every call in the order the run made it.
-class FrameLog : public RunObserver {
-public:
-    bool wants_every_step() const override { return true; }
-    bool per_step_only() const override { return true; }
-    void every_step(std::span<const double> u, std::span<const double>) override { seen.push_back(u[0]); }
+// and posted ones between them: the sink sees every frame in the order the run made it.
+struct FrameLog {
+    void every_step(std::span<const double> u, std::span<const double>) { seen.push_back(u[0]); }
     std::vector<double> seen;
 };
 
 TEST(PerStepQueue, DeferredJobsRunInTheirPlaceAmongTheFrames) {
     FrameLog log;
-    RunObserver* observers[] = {&log};
     std::vector<double> expected;
     {
-        PerStepQueue queue(observers, 1, false);
+        PerStepQueue queue([&log](const double* u, const double*, std::size_t count) {
+            log.seen.insert(log.seen.end(), u, u + count);
+        }, 1, false);
         double next = 0.0;
         for (int round = 0; round < 50; ++round) {
             for (int k = 0; k < 300 * (round % 4); ++k) {  // runs of frames, some empty

@@ -1,9 +1,11 @@
 // `fretbuzz estimate RECORDING --out DIR`: the partials of a freely decaying string by
 // ESPRIT, the string's models fitted to them, and a mode table and case text for `run`.
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +33,7 @@ struct EstimateArguments {
     std::size_t channel = 1;
     std::optional<std::string> case_name;
     std::optional<double> length, tension, density, diameter;
+    int polarisations = 1;
     std::size_t partials_per_band = 5;
     std::size_t max_partial = 200;
     bool fit_air = false;
@@ -39,13 +42,19 @@ struct EstimateArguments {
     bool quiet = false;
 };
 
+// Where neither --d nor the case gives the diameter: that of a solid steel string of the
+// given linear density (the air damping grows with d; a wound or nylon string needs --d).
+constexpr double kSteelDensity = 7850.0;  // kg/m^3
+
 double required(const std::optional<double>& value, const std::string& option, const std::string& what) {
     if (!value) throw InputError(option + " is missing: " + what + " (or give --case with a [string] section)");
     return *value;
 }
 
 int estimate_command(const EstimateArguments& a) {
-    // Everything that can reject the input runs before the output directory exists.
+    // Everything that can reject the input runs before the output directory exists, the
+    // recording first: a missing file is the first thing to hear about.
+    const Recording recording = read_recording(a.recording, a.channel);
     std::optional<Case> base;
     if (a.case_name) base = load_case(*a.case_name);
     StringParameters string;
@@ -53,7 +62,18 @@ int estimate_command(const EstimateArguments& a) {
     string.linear_density =
         base && !a.density ? base->string.linear_density : required(a.density, "--mu", "linear density in kg/m");
     string.tension_n = a.tension ? a.tension : base ? std::optional(base->string.tension_n) : std::nullopt;
-    string.diameter_m = required(a.diameter, "--d", "outer diameter in m, for the air damping");
+    std::optional<double> diameter = a.diameter;
+    if (!diameter && a.case_name) diameter = case_diameter(*a.case_name);
+    if (!diameter) {
+        diameter = std::sqrt(4.0 * string.linear_density / (std::numbers::pi * kSteelDensity));
+        if (!a.quiet)
+            std::cerr << "fretbuzz: note: no --d and none in the case: d = " << *diameter * 1e3
+                      << " mm assumed (a steel string of mu = " << string.linear_density << " kg/m)\n";
+    }
+    string.diameter_m = *diameter;
+    if (a.polarisations != 1 && a.polarisations != 2)
+        throw InputError(out_of_range_message("--polarisations", a.polarisations, "must be 1 or 2"));
+    const bool two_polarisations = a.polarisations == 2;
     const std::size_t mode_count = a.modes.value_or(base ? base->mode_count() : 100);
     if (mode_count < 1 || mode_count > 100000)
         throw InputError(out_of_range_message("--modes", static_cast<double>(mode_count), "must be in [1, 100000]"));
@@ -72,7 +92,6 @@ int estimate_command(const EstimateArguments& a) {
     options.max_partials = a.max_partial;
     options.whiten = !a.no_whitening;
     options.full_scale = 1.0;
-    const Recording recording = read_recording(a.recording, a.channel);
     const ModalEstimate estimate = ModalEstimation(options).estimate(recording.samples, recording.rate_hz);
     const StringFit fit = ModelFit(string, a.fit_air).fit(estimate);
     const ModeTable table = ModelFit::mode_table(fit, estimate, mode_count);
@@ -80,24 +99,40 @@ int estimate_command(const EstimateArguments& a) {
     OutputDirectory out(a.out);
     write_partials_csv(out.staged("partials.csv"), estimate);
     write_mode_table_csv(out.staged(kModeTableFile), table);
-    write_model_curves_csv(out.staged("model_curves.csv"), fit, std::max<std::size_t>(mode_count, estimate.partials.back().mode));
+    if (two_polarisations) write_mode_table_csv(out.staged(kModeTableYFile), ModelFit::y_mode_table(table, estimate));
+    write_model_curves_csv(out.staged("model_curves.csv"), fit,
+                           std::max<std::size_t>(mode_count, estimate.partials.back().mode));
     write_fit_json(out.staged("fit.json"), estimate, fit, table);
     {
         const auto path = out.staged("case-snippet.toml");
         std::ofstream snippet(path);
-        snippet << case_snippet(fit, mode_count, string.diameter_m);
+        snippet << case_snippet(fit, mode_count, string.diameter_m, two_polarisations);
         if (!snippet) throw std::runtime_error("cannot write " + path.string());
     }
-    if (a.case_name)
-        write_estimated_case(out.staged("case.toml"), *a.case_name, fit, mode_count, string.diameter_m,
+    if (a.case_name) {
+        const auto path = out.staged("case.toml");
+        write_estimated_case(path, *a.case_name, fit, mode_count, string.diameter_m, two_polarisations,
                              [&out](const std::string& name) { return out.staged(name); });
+        // The rest of the base case must fit the estimated string (a --L shorter than the
+        // case's puts its positions off the string): nothing is written otherwise.
+        try {
+            load_case(path.string());
+        } catch (const InputError& e) {
+            throw InputError("the case written from --case " + *a.case_name + " is not valid: " + e.what() +
+                             " (give --L, --T and --mu that fit that case, or leave them to it)");
+        }
+    }
     out.commit();
 
-    std::size_t reliable = 0;
-    for (const EstimatedPartial& p : estimate.partials) reliable += p.reliable ? 1 : 0;
+    std::size_t reliable = 0, doublets = 0;
+    for (const EstimatedPartial& p : estimate.partials) {
+        reliable += p.reliable ? 1 : 0;
+        doublets += p.polarisation == 2 ? 1 : 0;
+    }
     if (!a.quiet)
-        std::cerr << "fretbuzz: " << estimate.partials.size() << " partials (" << reliable << " reliable) in "
-                  << estimate.bands << " bands; f0 = " << fit.frequency.f0_hz << " Hz, B = "
+        std::cerr << "fretbuzz: " << estimate.partials.size() << " partials (" << reliable << " reliable; "
+                  << doublets << " modes with both polarisations) in " << estimate.bands
+                  << " bands; f0 = " << fit.frequency.f0_hz << " Hz, B = "
                   << fit.frequency.inharmonicity << " (rms " << fit.frequency.rms_cents << " cents); delta_ve = "
                   << fit.damping.parameters.viscoelastic_loss << ", 1/Q_te = "
                   << fit.damping.parameters.thermoelastic_inverse_q << " (sigma rms error "
@@ -129,7 +164,11 @@ void add_estimate_command(CLI::App& app, Action& action) {
     cmd->add_option("--L", a->length, "String length, m");
     cmd->add_option("--T", a->tension, "Tension, N (default: from f0)");
     cmd->add_option("--mu", a->density, "Linear density, kg/m");
-    cmd->add_option("--d", a->diameter, "Outer diameter, m (air damping)");
+    cmd->add_option("--d", a->diameter,
+                    "Outer diameter, m (air damping; default: the --case's, else a steel string's of that mu)");
+    cmd->add_option("--polarisations", a->polarisations,
+                    "2: also write modes_y.csv (each mode's weaker partial) and a two-polarisation case")
+        ->capture_default_str();
     cmd->add_option("--partials-per-band", a->partials_per_band, "Partials kept per analysis band")
         ->capture_default_str();
     cmd->add_option("--max-partial", a->max_partial, "Highest mode number searched")->capture_default_str();

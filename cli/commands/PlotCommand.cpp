@@ -20,6 +20,12 @@ void require_results(const fs::path& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         throw InputError("DIR " + dir.string() + ": no such directory (give the --out directory of `fretbuzz run`)");
+    // A sweep's folder holds a results.h5 too, of another layout: its table.
+    if (fs::is_regular_file(dir / "sweep.toml", ec))
+        throw InputError("DIR " + dir.string() +
+                         ": holds a sweep (sweep.toml, the table in results.csv and results.h5), not a run's "
+                         "results: plot one run of it (`fretbuzz run` its case with the run's values, --out DIR), "
+                         "or read the table in Python with fretbuzz.read_table(\"" + dir.string() + "\")");
     if (!fs::is_regular_file(dir / "results.h5", ec))
         throw InputError("DIR " + dir.string() + ": holds no results.h5 (write one with `fretbuzz run CASE --out " +
                          dir.string() + "`)");

@@ -15,8 +15,9 @@
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/RunLength.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/output/RunOutputs.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
@@ -59,7 +60,7 @@ double parse_rate(const std::string& text) {
 
 void apply_overrides(const RunArguments& a, Case& c) {
     if (a.fs) c.run.sample_rate_hz = *a.fs;
-    if (a.duration) c.run.duration_s = *a.duration;
+    if (a.duration) set_duration(c, *a.duration);  // the finger and gesture profiles cut to the run
     if (a.stiffness) c.contact.stiffness = *a.stiffness;
     if (a.exponent) c.contact.exponent = *a.exponent;
     if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
@@ -103,7 +104,7 @@ void print_progress(const Progress& p) {
 // the modes below fs/2 instead, say so, and record it. A rate at which the modes above fs/2
 // only warn keeps them all, as before; so does --allow-aliasing.
 void keep_modes_in_band(const RunArguments& a, Case& c) {
-    if (!a.fs || c.run.allow_aliasing || !c.has_obstacle()) return;
+    if (!a.fs || c.run.allow_aliasing || !contact_possible(c)) return;
     if (check_sampling(c.modes, c.run.sample_rate_hz).hazardous.empty()) return;
     const std::size_t given = c.mode_count();
     const std::size_t kept = modes_below_nyquist(c.modes, c.run.sample_rate_hz);
@@ -136,7 +137,7 @@ int run_command(const RunArguments& a) {
     c.validate();  // before anything is created on disk
     // Refuses a sampling rate at which modes alias onto low frequencies (as planning does).
     const SamplingReport sampling =
-        c.has_obstacle() ? require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing) : SamplingReport{};
+        contact_possible(c) ? require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing) : SamplingReport{};
     std::vector<std::string> warnings = c.warnings;
     warnings.insert(warnings.end(), sampling.warnings.begin(), sampling.warnings.end());
     for (const std::string& w : warnings) std::cerr << "fretbuzz: warning: " << w << "\n";

@@ -1,59 +1,290 @@
-// `fretbuzz setup CASE --out DIR`: the neck set-up study. Plays every fret of the case's
-// string as one sweep and draws the buzz map; the study itself lives in the Python package
-// (fretbuzz.neck, fretbuzz.buzzmap) over the same library, this command only hands over.
+// `fretbuzz setup INSTRUMENT --out DIR`: the set-up bench. Plays every note of every string
+// of an instrument at each attack (setup/BuzzMap), with what-ifs applied first
+// (setup/WhatIf), and writes the buzz map (CSV, map.json, a WAV per note, buzz_map.html drawn
+// by the Python package's template), the comparison with an earlier map and the advice.
+// This file only reads the options and hands over to the library.
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "../Commands.hpp"
 #include "../PythonScript.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/InstrumentFile.hpp"
+#include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/output/OutputDirectory.hpp"
+#include "fretbuzz/setup/Advice.hpp"
+#include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/MapFiles.hpp"
+#include "fretbuzz/setup/WhatIf.hpp"
 
 namespace fretbuzz::cli {
 
-void add_setup_command(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string case_name, out;
-        std::vector<std::string> raised;
-        bool resume = false, quiet = false, finger = false;
+namespace {
+
+struct SetupArguments {
+    std::string instrument, out;
+    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
+    std::vector<std::string> action12, nut, saddle, fret_offsets;
+    bool finger = false, advice = false, quiet = false;
+};
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t at = text.find(separator, start);
+        parts.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        start = at == std::string::npos ? text.size() + 1 : at + 1;
+    }
+    return parts;
+}
+
+// A whole number in [low, high], read without ever allocating by its size.
+std::size_t whole_number(const std::string& text, const std::string& option, std::size_t low, std::size_t high,
+                         const std::string& what) {
+    std::size_t v = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || v < low || v > high)
+        throw InputError(option + " " + text + ": " + what + " must be a whole number in [" + std::to_string(low) + ", " +
+                         std::to_string(high) + "]");
+    return v;
+}
+
+// "0-20", "0,5,7", "12": frets in [0, last].
+std::vector<std::size_t> parse_frets(const std::string& text, std::size_t last) {
+    std::vector<std::size_t> frets;
+    const std::string what = "a fret (0: the open string, up to the last fret, " + std::to_string(last) + ")";
+    for (const std::string& part : split(text, ',')) {
+        const std::size_t dash = part.find('-', 1);
+        const std::size_t a = whole_number(part.substr(0, dash), "--frets", 0, last, what);
+        const std::size_t b = dash == std::string::npos ? a : whole_number(part.substr(dash + 1), "--frets", a, last, what);
+        for (std::size_t k = a; k <= b; ++k)
+            if (std::find(frets.begin(), frets.end(), k) == frets.end()) frets.push_back(k);
+    }
+    std::sort(frets.begin(), frets.end());
+    return frets;
+}
+
+std::pair<std::string, std::string> name_value(const std::string& text, const std::string& option) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+        throw InputError(option + " " + text + ": give NAME=MM, e.g. " + option + " E=2.2");
+    return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) {
+    SetupChange change;
+    if (!a.relief.empty()) change.relief_m = parse_quantity_or(a.relief, Quantity::length, "mm", "--relief");
+    const auto ends = [&](const std::vector<std::string>& given, const std::string& option,
+                          std::vector<std::pair<std::string, double>>& into) {
+        for (const std::string& item : given) {
+            const auto [name, value] = name_value(item, option);
+            instrument.string_index(name);  // names the strings if it is not one
+            into.emplace_back(name, parse_quantity_or(value, Quantity::length, "mm", option + " " + name));
+        }
     };
-    auto args = std::make_shared<Arguments>();
-    CLI::App* cmd = app.add_subcommand(
-        "setup", "Neck set-up study: play every fret of a string, write buzz_map.html and buzz_map.csv");
-    cmd->add_option("case", args->case_name, "A case with a fretboard obstacle and modelled modes (built-in: bass-neck, guitar-neck)")
-        ->required();
-    cmd->add_option("--out", args->out, "Output directory (the sweep in sweep/, the map in buzz_map.html)")->required();
-    const std::vector<std::pair<std::string, std::string>> passed = {
-        {"--frets", "Frets to play, e.g. 0-19 or 0,5,7 (default: the open string to the second-last fret)"},
-        {"--strength", "Pluck amplitudes in m, e.g. 1e-3,2e-3 (default: the case's)"},
-        {"--relief", "Neck relief: bow depth at mid-span in m (default: the case's)"},
-        {"--action-nut", "Action at the nut in m"},
-        {"--action-last-fret", "Action at the last fret in m"},
-        {"--fs", "Sampling rate in Hz (default: the case's)"},
-        {"--duration", "Seconds per note (default: the case's)"},
-        {"--compare", "An earlier study's --out: both maps side by side, the notes that changed marked"},
-        {"--jobs", "Notes at a time on this machine (default: every core)"},
-        {"--scheduler", "Run on a Dask cluster: tcp://HOST:PORT"}};
-    auto values = std::make_shared<std::vector<std::string>>(passed.size());
-    for (std::size_t k = 0; k < passed.size(); ++k) cmd->add_option(passed[k].first, (*values)[k], passed[k].second);
-    cmd->add_option("--raise", args->raised, "Raise one fret's top: FRET:METRES, e.g. 7:0.05e-3 (repeatable)");
-    cmd->add_flag("--finger", args->finger,
-                  "Fretted notes: a finger presses the string behind each fret (slower; default: the string clamped "
-                  "on the fret's top)");
-    cmd->add_flag("--resume", args->resume, "Finish an interrupted study in --out");
-    cmd->add_flag("--quiet", args->quiet, "No progress lines");
-    cmd->callback([args, values, passed, &action] {
-        action = [args, values, passed] {
-            std::vector<std::string> words{args->case_name, "--out", args->out};
-            for (std::size_t k = 0; k < passed.size(); ++k)
-                if (!(*values)[k].empty()) words.insert(words.end(), {passed[k].first, (*values)[k]});
-            for (const std::string& r : args->raised) words.insert(words.end(), {"--raise", r});
-            if (args->finger) words.push_back("--finger");
-            if (args->resume) words.push_back("--resume");
-            if (args->quiet) words.push_back("--quiet");
-            return run_package_main("neck", words);
+    ends(a.action12, "--action12", change.action12_m);
+    ends(a.nut, "--nut", change.nut_m);
+    ends(a.saddle, "--saddle", change.saddle_m);
+    for (const std::string& item : a.fret_offsets) {
+        const auto [fret, value] = name_value(item, "--fret-offset");
+        FretChange f;
+        f.fret = whole_number(fret, "--fret-offset", 1, instrument.neck.fret_count,
+                              "the fret (1 to the last fret, " + std::to_string(instrument.neck.fret_count) + ")");
+        if (value != "level") f.by_m = parse_quantity_or(value, Quantity::length, "mm", "--fret-offset " + fret);
+        change.frets.push_back(f);
+    }
+    return change;
+}
+
+std::vector<std::string> change_words(const SetupArguments& a) {
+    std::vector<std::string> words;
+    if (!a.relief.empty()) words.push_back("--relief " + a.relief);
+    for (const auto& v : a.action12) words.push_back("--action12 " + v);
+    for (const auto& v : a.nut) words.push_back("--nut " + v);
+    for (const auto& v : a.saddle) words.push_back("--saddle " + v);
+    for (const auto& v : a.fret_offsets) words.push_back("--fret-offset " + v);
+    return words;
+}
+
+void apply_settings(const SetupArguments& a, Instrument& instrument) {
+    if (!a.ensemble.empty())
+        instrument.attack.ensemble = whole_number(a.ensemble, "--ensemble", 1, 64, "the plucks per note");
+    if (!a.fs.empty()) {
+        const double fs = parse_quantity_or(a.fs, Quantity::frequency, "Hz", "--fs");
+        if (!(fs >= 5e4 && fs <= 2e7)) throw InputError(out_of_range_message("--fs (Hz)", fs, "must be in [50000, 2e7]"));
+        instrument.bench.sample_rate_hz = fs;
+    }
+    if (!a.duration.empty()) {
+        const double d = parse_quantity_or(a.duration, Quantity::time, "s", "--duration");
+        if (!(d >= 0.01 && d <= 5.0)) throw InputError(out_of_range_message("--duration (s)", d, "must be in [0.01, 5]"));
+        instrument.bench.duration_s = d;
+    }
+}
+
+std::string clock(double seconds) {
+    char text[32];
+    const long s = static_cast<long>(seconds + 0.5);
+    std::snprintf(text, sizeof text, "%ld:%02ld", s / 60, s % 60);
+    return text;
+}
+
+std::string verdict_text(const NoteVerdict& v) {
+    if (v.status != "ok") return v.status + (v.buzz_fret > 0 ? " against fret " + std::to_string(v.buzz_fret) : "");
+    if (v.touch_fraction == 0.0) return "clean";
+    char text[96];
+    std::snprintf(text, sizeof text, "%zu/%zu plucks buzz", static_cast<std::size_t>(v.buzz_fraction * static_cast<double>(v.plucks) + 0.5),
+                  v.plucks);
+    std::string out = text;
+    if (std::isfinite(v.buzz_db)) {
+        std::snprintf(text, sizeof text, ", median %.1f dB", v.buzz_db);
+        out += text;
+    }
+    if (v.buzz_fret > 0) out += " (fret " + std::to_string(v.buzz_fret) + ")";
+    return out;
+}
+
+int setup_command(const SetupArguments& a) {
+    stop_cleanly_on_signals();
+    Instrument instrument = load_instrument(a.instrument);
+    apply_settings(a, instrument);
+    instrument = apply_change(instrument, parse_change(a, instrument));
+    describe_geometry(instrument);  // every string clear of its frets, before anything runs
+    MapRequest request;
+    request.attacks = parse_attacks(a.strength, instrument.attack);
+    request.finger = a.finger;
+    if (!a.jobs.empty()) request.jobs = static_cast<unsigned>(whole_number(a.jobs, "--jobs", 1, 256, "the thread count"));
+    if (!a.strings.empty())
+        for (const std::string& name : split(a.strings, ',')) request.strings.push_back(instrument.string_index(name));
+    if (!a.frets.empty()) request.frets = parse_frets(a.frets, instrument.neck.fret_count);
+    map_notes(instrument, request);
+    std::vector<NoteVerdict> before;
+    if (!a.compare.empty()) before = read_buzz_map_csv(std::filesystem::path(a.compare) / "buzz_map.csv", "--compare");
+
+    OutputDirectory out(a.out);
+    const std::filesystem::path staging = out.staged("buzz_map.csv").parent_path();
+    request.audio_dir = staging;
+    const bool terminal = ::isatty(STDERR_FILENO) != 0;
+    const auto started = std::chrono::steady_clock::now();
+    if (!a.quiet)
+        request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            std::cerr << (terminal ? "\r\033[K" : "") << "fretbuzz: " << done << "/" << total << " " << v.string_name
+                      << " fret " << v.fret << " " << v.strength << ": " << verdict_text(v) << ", ETA "
+                      << clock(elapsed / static_cast<double>(done) * static_cast<double>(total - done))
+                      << (terminal ? "" : "\n") << std::flush;
         };
-    });
+    BuzzMapResult map;
+    try {
+        map = play_map(instrument, request);
+    } catch (const Interrupted& e) {
+        std::cerr << "\nfretbuzz: " << e.what() << ": the map is lost (the bench keeps no partial map) and nothing was "
+                  << "written to " << a.out << "; run the command again to compute it\n";
+        return 128 + e.signal();
+    }
+    if (!a.quiet && terminal) std::cerr << "\n";
+    for (const NoteVerdict& v : map.notes)
+        if (!v.audio.empty()) out.staged(v.audio);
+
+    MapDocument doc;
+    doc.command = command_line();
+    doc.changes = change_words(a);
+    doc.attacks = request.attacks;
+    doc.finger = a.finger;
+    doc.notes = map.notes;
+    doc.wall_seconds = map.wall_seconds;
+    write_buzz_map_csv(out.staged("buzz_map.csv"), map.notes);
+    if (!a.compare.empty()) {
+        doc.comparison = compare_maps(map.notes, before);
+        doc.compared_with = a.compare;
+        write_comparison_csv(out.staged("compare.csv"), doc.comparison);
+    }
+    if (a.advice) {
+        AdviceRequest advice_request;
+        advice_request.attack = request.attacks.back();
+        advice_request.finger = a.finger;
+        advice_request.jobs = request.jobs;
+        advice_request.strings = request.strings;
+        if (!a.quiet) std::cerr << "fretbuzz: advice: searching (each step is a map of a string at "
+                                << advice_request.attack.label << ")\n";
+        const Advice advice = advise(instrument, map.notes, advice_request);
+        doc.advice_json = advice_json(advice);
+        std::ofstream(out.staged("advice.json")) << doc.advice_json << "\n";
+        std::ofstream(out.staged("advice.txt")) << advice_text(advice);
+        if (!a.quiet) std::cerr << advice_text(advice);
+    }
+    write_map_json(out.staged("map.json"), instrument, doc);
+    // The page is drawn by the Python package; without it the map is still whole (CSV, JSON, WAVs).
+    int drawn = 1;
+    try {
+        drawn = run_package_main("setup_report", {staging.string(), "--out", out.staged("buzz_map.html").string()});
+    } catch (const std::runtime_error& e) {
+        std::cerr << "fretbuzz: warning: " << e.what() << "\n";
+    }
+    if (drawn != 0)
+        std::cerr << "fretbuzz: warning: buzz_map.html was not drawn (the Python package fretbuzz with Jinja2 is needed: "
+                     "apt-get install python3-jinja2); the map is in buzz_map.csv and map.json, draw it later with "
+                     "`python3 -m fretbuzz.setup_report "
+                  << a.out << "`\n";
+    out.commit();
+    std::size_t buzzing = 0;
+    for (const NoteVerdict& v : map.notes) buzzing += v.buzz_fraction > 0.0;
+    std::cerr << "fretbuzz: " << map.notes.size() << " notes (" << buzzing << " buzz audibly in some plucks; "
+              << map.plucks_simulated << " plucks simulated, " << map.plucks_clear << " clear of every fret) on "
+              << map.jobs << " threads in " << std::fixed << std::setprecision(1) << map.wall_seconds << " s; map in "
+              << a.out << "/buzz_map.html and buzz_map.csv\n";
+    return 0;
+}
+
+}  // namespace
+
+void add_setup_command(CLI::App& app, Action& action) {
+    auto args = std::make_shared<SetupArguments>();
+    CLI::App* cmd = app.add_subcommand(
+        "setup", "Set-up bench: the buzz map of every note of every string of an instrument, what-ifs and advice");
+    cmd->add_option("instrument", args->instrument,
+                    "A built-in instrument (jazz-bass, electric-guitar, bass-neck) or an instrument file (.toml, see "
+                    "docs/instrument-format.md)")
+        ->required();
+    cmd->add_option("--out", args->out, "Output directory: buzz_map.html, buzz_map.csv, map.json, note-*.wav")->required();
+    cmd->add_option("--strength", args->strength,
+                    "Attacks: soft,medium,hard (finger plucks, the default), pop, slap, or a pluck's amplitude in mm");
+    cmd->add_option("--relief", args->relief, "What-if: the truss rod set for this relief (mm, the luthier's gap)");
+    cmd->add_option("--action12", args->action12, "What-if: STRING=MM, that string's gap over fret 12 (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--nut", args->nut, "What-if: STRING=MM, that string's gap over fret 1 (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--saddle", args->saddle,
+                    "What-if: STRING=MM, that string's saddle height above the fret plane (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--fret-offset", args->fret_offsets,
+                    "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");
+    cmd->add_option("--compare", args->compare, "An earlier map's --out: mark the notes that changed");
+    cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");
+    cmd->add_option("--frets", args->frets, "Frets to play, e.g. 0-20 or 0,5,7 (default: every one)");
+    cmd->add_flag("--advice", args->advice,
+                  "Also search the lowest clean action per string, the proud frets and the clean relief range, at the "
+                  "last attack of --strength");
+    cmd->add_option("--jobs", args->jobs, "Threads (default: every core)");
+    cmd->add_option("--ensemble", args->ensemble, "Plucks per note (default: the instrument's, 5)");
+    cmd->add_option("--fs", args->fs, "Sampling rate (default: the instrument's)");
+    cmd->add_option("--duration", args->duration, "Seconds per note (default: the instrument's)");
+    cmd->add_flag("--quiet", args->quiet, "No progress lines");
+    cmd->callback([args, &action] { action = [args] { return setup_command(*args); }; });
 }
 
 }  // namespace fretbuzz::cli

@@ -1,6 +1,7 @@
 // `fretbuzz sweep SPEC.toml`: run a case over lists or grids of case-file values, on the
 // threads of this machine or (--scheduler) on a Dask cluster through the Python driver,
 // into one table of parameters and buzz metrics.
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -23,6 +24,7 @@ struct SweepArguments {
     bool resume = false;
     std::string scheduler;
     double scheduler_timeout = 10.0;
+    std::size_t max_runs = kDefaultMaxSweepRuns;
     bool quiet = false;
 };
 
@@ -40,7 +42,28 @@ int dask_sweep(const SweepArguments& a) {
                                   std::to_string(a.scheduler_timeout)};
     if (a.resume) args.push_back("--resume");
     if (a.quiet) args.push_back("--quiet");
+    args.insert(args.end(), {"--max-runs", std::to_string(a.max_runs)});
     return run_package_main("sweeps", args);
+}
+
+// A line about every half second while the runs' cases are checked (a large grid takes
+// a while): how many of how many.
+SweepCheckProgress checking_progress(bool terminal) {
+    auto last = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+    auto shown = std::make_shared<bool>(false);
+    return [terminal, last, shown](std::size_t checked, std::size_t total) {
+        const auto now = std::chrono::steady_clock::now();
+        if (checked < total && now - *last < std::chrono::milliseconds(500)) return;
+        if (checked == total && !*shown) return;  // quick: nothing to say
+        *last = now;
+        *shown = true;
+        std::cerr << (terminal ? "\r" : "") << "fretbuzz: checking the runs' cases: " << checked << "/" << total
+                  << (terminal && checked < total ? "   " : "\n") << std::flush;
+    };
+}
+
+std::string resume_hint(const SweepArguments& a) {
+    return "finish it with: fretbuzz sweep " + a.spec + " --out " + a.out + " --resume";
 }
 
 int sweep_command(const SweepArguments& a) {
@@ -50,11 +73,13 @@ int sweep_command(const SweepArguments& a) {
         if (a.jobs != 0) throw InputError("--jobs: with --scheduler the cluster's workers set the parallelism");
         return dask_sweep(a);
     }
-    const SweepSpec spec = load_sweep(a.spec);
+    stop_cleanly_on_signals();  // Ctrl-C: the finished rows are kept, and said so
+    const SweepSpec spec = load_sweep(a.spec, a.max_runs);
     SweepOptions options;
     options.jobs = a.jobs;
     options.resume = a.resume;
     const bool terminal = ::isatty(STDERR_FILENO) != 0;
+    if (!a.quiet) options.checking = checking_progress(terminal);
     if (!a.quiet)
         options.progress = [terminal](const SweepProgress& p) {
             std::cerr << (terminal ? "\r" : "") << "fretbuzz: sweep " << p.done << "/" << p.total << " runs";
@@ -64,6 +89,12 @@ int sweep_command(const SweepArguments& a) {
         };
     const SweepOutcome outcome = run_sweep(spec, a.out, options);
     if (!a.quiet && outcome.computed > 0 && terminal) std::cerr << "\n";
+    if (outcome.interrupted) {
+        std::cerr << "\nfretbuzz: interrupted after " << outcome.computed << " runs in " << outcome.wall_seconds
+                  << " s; the " << outcome.resumed + outcome.computed << " finished runs of " << outcome.total
+                  << " are kept in " << a.out << "/runs; " << resume_hint(a) << "\n";
+        return 128 + (outcome.signal != 0 ? outcome.signal : 2);
+    }
     std::cerr << "fretbuzz: " << outcome.total << " runs (" << outcome.computed << " computed";
     if (outcome.resumed) std::cerr << ", " << outcome.resumed << " from before";
     std::cerr << ", " << outcome.failed << " failed) on " << outcome.jobs << " threads in " << outcome.wall_seconds
@@ -86,6 +117,9 @@ void add_sweep_command(CLI::App& app, Action& action) {
     cmd->add_option("--scheduler", args->scheduler, "Run on a Dask cluster: the scheduler's address, tcp://HOST:PORT");
     cmd->add_option("--scheduler-timeout", args->scheduler_timeout,
                     "Seconds to wait for the scheduler to answer (default 10)");
+    cmd->add_option("--max-runs", args->max_runs,
+                    "Refuse a spec of more runs than this (default " + std::to_string(kDefaultMaxSweepRuns) +
+                        "; at most " + std::to_string(kMostSweepRuns) + ")");
     cmd->add_flag("--quiet", args->quiet, "No progress lines");
     cmd->callback([args, &action] { action = [args] { return sweep_command(*args); }; });
 }

@@ -11,9 +11,13 @@ import json
 import os
 import tempfile
 
+import warnings
+
 import numpy as np
 
 import fretbuzz
+
+warnings.simplefilter("error", fretbuzz.FretbuzzWarning)  # the example runs without one
 
 CASE = """name = "barrier-above"
 [string]

@@ -15,6 +15,7 @@
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/RunLength.hpp"
 
 namespace fretbuzz::python {
 
@@ -65,7 +66,9 @@ const std::vector<Field>& fields() {
         scalar("K", "penalty stiffness", &Case::contact, &ContactLaw::stiffness),
         scalar("alpha", "penalty exponent (>= 1)", &Case::contact, &ContactLaw::exponent),
         scalar("fs", "sampling rate (Hz)", &Case::run, &RunSettings::sample_rate_hz),
-        scalar("duration", "simulated duration (s)", &Case::run, &RunSettings::duration_s),
+        {"duration", "simulated duration (s); setting it cuts the finger and gesture profiles to the run",
+         [](const Case& c) { return py::object(py::float_(c.run.duration_s)); },
+         [](Case& c, py::handle v) { set_duration(c, to_number(v, "duration")); }},
         {"output_rate", "rows per second of the outputs (Hz), None (or 'native') for every step",
          [](const Case& c) { return c.run.output_rate_hz ? py::object(py::float_(*c.run.output_rate_hz)) : py::object(py::none()); },
          [](Case& c, py::handle v) {

@@ -4,6 +4,7 @@
 // silent 1.0 (True) or a dropped value.
 #include <pybind11/numpy.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,13 +26,22 @@ inline std::string type_name(pybind11::handle value) {
     return pybind11::str(pybind11::type::handle_of(value).attr("__name__")).cast<std::string>();
 }
 
-// A real number (int, float, NumPy scalar), not a bool.
+// A real number (int, float, NumPy scalar), not a bool. A whole number beyond the range of
+// a double (10**400) becomes +-inf, which the case's checks then refuse naming its key and
+// range.
 inline double to_number(pybind11::handle value, const std::string& name) {
     namespace py = pybind11;
     const bool real = py::isinstance(value, py::module_::import("numbers").attr("Real"));
     if (!real || py::isinstance<py::bool_>(value))
         throw py::type_error(name + ": expected a number (float), got " + type_name(value));
-    return value.cast<double>();
+    try {
+        return value.cast<double>();
+    } catch (const py::cast_error&) {
+        PyErr_Clear();
+        const int positive = PyObject_RichCompareBool(value.ptr(), py::int_(0).ptr(), Py_GT);
+        if (positive < 0) throw py::error_already_set();
+        return positive ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+    }
 }
 
 inline std::string to_text(pybind11::handle value, const std::string& name) {
@@ -51,6 +61,14 @@ inline std::vector<double> to_vector(pybind11::handle values, const std::string&
         array = py::module_::import("numpy").attr("asarray")(values);
     } catch (const py::error_already_set&) {
         throw py::type_error(expected + " (not a ragged or nested one)");
+    }
+    if (array.dtype().kind() == 'O') {
+        // Whole numbers beyond a double's range (10**400) come as Python objects: each one
+        // as to_number takes it.
+        std::vector<double> numbers;
+        if (array.ndim() != 1) throw py::type_error(expected + ", got " + std::to_string(array.ndim()) + " dimensions");
+        for (const py::handle item : values) numbers.push_back(to_number(item, name + " element"));
+        return numbers;
     }
     const char kind = array.dtype().kind();
     if (kind != 'f' && kind != 'i' && kind != 'u')

@@ -21,7 +21,7 @@ namespace py = pybind11;
 namespace {
 
 py::dict partials_dict(const ModalEstimate& e) {
-    std::vector<double> mode, nu, sigma, q, amplitude, phase, snr, reliable;
+    std::vector<double> mode, nu, sigma, q, amplitude, phase, snr, reliable, polarisation;
     for (const EstimatedPartial& p : e.partials) {
         mode.push_back(static_cast<double>(p.mode));
         nu.push_back(p.frequency_hz);
@@ -31,6 +31,7 @@ py::dict partials_dict(const ModalEstimate& e) {
         phase.push_back(p.phase_rad);
         snr.push_back(p.snr_db);
         reliable.push_back(p.reliable ? 1.0 : 0.0);
+        polarisation.push_back(static_cast<double>(p.polarisation));
     }
     py::dict d;
     d["mode"] = to_numpy(mode);
@@ -41,7 +42,18 @@ py::dict partials_dict(const ModalEstimate& e) {
     d["phase_rad"] = to_numpy(phase);
     d["snr_db"] = to_numpy(snr);
     d["reliable"] = to_numpy(reliable);
+    d["polarisation"] = to_numpy(polarisation);
     return d;
+}
+
+py::dict table_dict(const ModeTable& table) {
+    std::vector<double> measured;
+    for (ModeSource source : table.source) measured.push_back(source == ModeSource::measured ? 1.0 : 0.0);
+    py::dict t;
+    t["frequency_hz"] = to_numpy(table.frequency_hz);
+    t["sigma_per_s"] = to_numpy(table.sigma_per_s);
+    t["measured"] = to_numpy(measured);
+    return t;
 }
 
 py::dict estimate(const py::handle& signal, double rate_hz, std::optional<double> f0,
@@ -93,13 +105,8 @@ py::dict estimate(const py::handle& signal, double rate_hz, std::optional<double
     f["d_eq"] = p.equivalent_diameter_m;
     f["sigma_rms_relative_error"] = fit.damping.rms_relative_error;
     out["fit"] = f;
-    std::vector<double> measured;
-    for (ModeSource source : table.source) measured.push_back(source == ModeSource::measured ? 1.0 : 0.0);
-    py::dict t;
-    t["frequency_hz"] = to_numpy(table.frequency_hz);
-    t["sigma_per_s"] = to_numpy(table.sigma_per_s);
-    t["measured"] = to_numpy(measured);
-    out["mode_table"] = t;
+    out["mode_table"] = table_dict(table);
+    out["mode_table_y"] = table_dict(ModelFit::y_mode_table(table, e));
     return out;
 }
 
@@ -111,9 +118,11 @@ void bind_estimate(py::module_& m) {
           py::arg("whiten") = true, py::arg("string") = py::none(), py::arg("modes") = 100,
           py::arg("fit_air") = false,
           "Partials of a free decay (1-D array at `rate` Hz) by ESPRIT per band: a dict with 'partials'\n"
-          "(mode, frequency_hz, sigma_per_s, quality_factor, amplitude, phase_rad, snr_db, reliable),\n"
+          "(mode, frequency_hz, sigma_per_s, quality_factor, amplitude, phase_rad, snr_db, reliable,\n"
+          "polarisation: 1 for each mode's stronger partial, 2 for the weaker one of a resolved doublet),\n"
           "'f0_hz' and 'B'. With string={'L':..,'mu':..,'d':..[,'T':..]} also 'fit' (B, delta_ve, Q_te_inv,\n"
-          "...) and 'mode_table' for `modes` modes (measured where reliable, models elsewhere).\n"
+          "...), 'mode_table' for `modes` modes (measured where reliable, models elsewhere) and\n"
+          "'mode_table_y' (the weaker partials of resolved doublets, 'mode_table' elsewhere).\n"
           "Raises InputError (a ValueError) for a signal that cannot be analysed.");
 }
 

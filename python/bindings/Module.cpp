@@ -17,4 +17,5 @@ PYBIND11_MODULE(_core, m) {
     fretbuzz::python::bind_run(m);
     fretbuzz::python::bind_estimate(m);
     fretbuzz::python::bind_sweep(m);
+    fretbuzz::python::bind_setup(m);
 }

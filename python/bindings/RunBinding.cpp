@@ -7,8 +7,11 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +41,48 @@ std::string python_command_line() {
     return line;
 }
 
+// Memory the system can still give (Linux's MemAvailable), or 0 when unknown.
+double available_memory_bytes() {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    double kib = 0.0;
+    std::string unit;
+    while (meminfo >> key >> kib >> unit)
+        if (key == "MemAvailable:") return kib * 1024.0;
+    return 0.0;
+}
+
+// The run keeps every output row (and snapshot) in memory: refuse up front, naming the
+// parameters, a run whose arrays would not fit, instead of a MemoryError naming nothing.
+void require_memory_for(const Case& c, double snapshot_rate, double snapshot_until) {
+    const double rate = c.run.output_rate_hz.value_or(c.run.sample_rate_hz);
+    const double rows = c.run.duration_s * rate + 1.0;
+    const double points = static_cast<double>(c.observation_points_m.size());
+    // time and u per observation point; H, its contact part, the dissipated energy and
+    // their times; with two polarisations y per point and three y energy terms.
+    const double columns = 1.0 + points + 4.0 + (c.two_polarisations() ? points + 3.0 : 0.0);
+    const double snapshots = snapshot_rate * std::min(c.run.duration_s, snapshot_until);
+    const double bytes = 8.0 * (rows * columns + snapshots * (static_cast<double>(c.mode_count()) + 1.0));
+    const double available = available_memory_bytes();
+    if (available <= 0.0 || bytes <= 0.8 * available) return;
+    const auto g = [](double x, int digits) {
+        std::ostringstream text;
+        text.precision(digits);
+        text << x;
+        return text.str();
+    };
+    std::ostringstream why;
+    why << "duration = " << g(c.run.duration_s, 12) << " s at output_rate = "
+        << (c.run.output_rate_hz ? g(*c.run.output_rate_hz, 12) + " Hz"
+                                 : "native (every step of fs = " + g(c.run.sample_rate_hz, 12) + " Hz)");
+    if (snapshot_rate > 0.0) why << " with snapshots = " << g(snapshot_rate, 12) << " Hz";
+    why << ": the results kept in memory would take " << g(bytes / 1e9, 3) << " GB, more than the "
+        << g(available / 1e9, 3) << " GB this machine has available; shorten duration, lower output_rate (e.g. 48000)"
+        << (snapshot_rate > 0.0 ? ", lower snapshots or set snapshot_until" : "")
+        << ", or run it with `fretbuzz run`, which streams its outputs to files";
+    throw InputError(why.str());
+}
+
 // The WAV fades: None keeps the writers' defaults.
 AudioFades fades_of(const py::object& fade_in, const py::object& fade_out) {
     AudioFades fades;
@@ -61,6 +106,7 @@ RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool scree
     if (!snapshot_until.is_none()) require_positive("snapshot_until (s)", until);
     if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
         throw py::type_error("progress: expected a callable taking a fretbuzz.Progress, got " + type_name(progress));
+    require_memory_for(c, snapshot_rate, until);
 
     std::optional<RunOutputs> outputs;
     if (!out.is_none())
@@ -84,10 +130,15 @@ RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool scree
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         if (!progress.is_none()) progress(p);
     };
+    RunSummary summary;
     {
         py::gil_scoped_release unlocked;
-        simulate(c, observers, options);
+        summary = simulate(c, observers, options);
     }
+    // Every run reports its end, however short: the callback sees 100 %, and what it raises
+    // then reaches the caller as it would have mid-run (and `out` receives no files).
+    if (!progress.is_none())
+        progress(Progress{1.0, summary.duration_s, summary.wall_seconds, 0.0});
     if (outputs) outputs->commit();
     return recorder.take();
 }

@@ -5,16 +5,11 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <deque>
-#include <exception>
 #include <filesystem>
-#include <mutex>
+#include <memory>
 #include <string>
-#include <thread>
 
+#include "BackgroundRun.hpp"
 #include "Bindings.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/sweep/Sweep.hpp"
@@ -33,12 +28,13 @@ struct PySweepSpec {
     std::string base_dir;
 };
 
-PySweepSpec parse_spec(const std::string& text, const std::string& source_name, const std::string& base_dir) {
-    return {parse_sweep(text, source_name, base_dir), base_dir};
+PySweepSpec parse_spec(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                       std::size_t max_runs) {
+    return {parse_sweep(text, source_name, base_dir, max_runs), base_dir};
 }
 
-PySweepSpec load_spec(const std::string& path) {
-    return {load_sweep(path), std::filesystem::path(path).parent_path().string()};
+PySweepSpec load_spec(const std::string& path, std::size_t max_runs) {
+    return {load_sweep(path, max_runs), std::filesystem::path(path).parent_path().string()};
 }
 
 // A store and the spec it refers to, kept alive together.
@@ -59,67 +55,22 @@ py::dict outcome_dict(const SweepOutcome& o) {
     return d;
 }
 
-// run_sweep on a thread of its own while this (the interpreter's main) thread waits: it
-// hands each progress report to `progress` and looks for Ctrl-C every 0.2 s. Ctrl-C stops
-// the sweep after the runs under way (their rows are kept) and raises KeyboardInterrupt.
+// run_sweep in the background (BackgroundRun): `progress` gets each report on this thread.
+// Ctrl-C stops the sweep after the runs under way (their rows are kept) and raises
+// KeyboardInterrupt.
 py::dict run_local(const std::shared_ptr<PySweepSpec>& spec, const std::string& out, unsigned jobs, bool resume,
                    const py::object& progress) {
-    std::mutex mutex;
-    std::condition_variable wake;
-    std::deque<SweepProgress> reports;
-    bool finished = false;
-    std::atomic<bool> stop{false};
+    BackgroundRun<SweepProgress> background;
     SweepOutcome outcome;
-    std::exception_ptr failure;
     SweepOptions options;
     options.jobs = jobs;
     options.resume = resume;
-    options.stop = [&stop] { return stop.load(); };
-    options.progress = [&](const SweepProgress& p) {
-        std::lock_guard lock(mutex);
-        reports.push_back(p);
-        wake.notify_one();
-    };
-    std::thread runner([&] {
-        try {
-            outcome = run_sweep(spec->spec, out, options);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-        std::lock_guard lock(mutex);
-        finished = true;
-        wake.notify_one();
-    });
-    const auto deliver = [&](std::deque<SweepProgress>& batch) {
-        if (!progress.is_none())
-            for (const SweepProgress& p : batch) progress(p);
-        batch.clear();
-    };
-    try {
-        while (true) {
-            std::deque<SweepProgress> batch;
-            bool done = false;
-            {
-                py::gil_scoped_release unlocked;
-                std::unique_lock lock(mutex);
-                wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished || !reports.empty(); });
-                batch.swap(reports);
-                done = finished;
-            }
-            deliver(batch);
-            if (done) break;
-            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        }
-    } catch (...) {
-        stop = true;
-        {
-            py::gil_scoped_release unlocked;
-            runner.join();
-        }
-        throw;
-    }
-    runner.join();
-    if (failure) std::rethrow_exception(failure);
+    options.stop = [&background] { return background.stopping(); };
+    options.progress = [&](const SweepProgress& p) { background.post(p); };
+    background.run([&] { outcome = run_sweep(spec->spec, out, options); },
+                   [&](const SweepProgress& p) {
+                       if (!progress.is_none()) progress(p);
+                   });
     return outcome_dict(outcome);
 }
 
@@ -146,25 +97,42 @@ void bind_sweep(py::module_& m) {
 
     py::class_<PySweepSpec, std::shared_ptr<PySweepSpec>>(m, "SweepSpec",
                                                           "A sweep spec: a case and the values to run it over.")
-        .def_static("load", &load_spec, py::arg("path"), "Reads a spec file (.toml); InputError names a bad key.")
+        .def_static("load", &load_spec, py::arg("path"), py::arg("max_runs") = kDefaultMaxSweepRuns,
+                    "Reads a spec file (.toml); InputError names a bad key, or the lists' lengths when they make\n"
+                    "more than max_runs runs.")
         .def_static("parse", &parse_spec, py::arg("text"), py::arg("source_name") = "sweep spec",
-                    py::arg("base_dir") = ".",
+                    py::arg("base_dir") = ".", py::arg("max_runs") = kDefaultMaxSweepRuns,
                     "A spec from its TOML text; a relative case path is read from base_dir.")
+        .def_property_readonly("max_runs", [](const PySweepSpec& s) { return s.spec.max_runs; })
         .def_property_readonly("text", [](const PySweepSpec& s) { return s.spec.text; })
         .def_property_readonly("source_name", [](const PySweepSpec& s) { return s.spec.source_name; })
         .def_property_readonly("parameter_keys", [](const PySweepSpec& s) { return s.spec.parameter_keys; })
         .def_property_readonly("audio", [](const PySweepSpec& s) { return s.spec.audio; })
         .def("__len__", [](const PySweepSpec& s) { return s.spec.runs.size(); })
-        .def("check", [](const PySweepSpec& s) { check_sweep(s.spec); },
-             "Builds every run's case: InputError names the first bad value.")
+        .def(
+            "check",
+            [](const PySweepSpec& s, const py::object& progress) {
+                SweepCheckProgress report;
+                if (!progress.is_none()) {
+                    // At most twice a second (and at the end), with the interpreter's lock.
+                    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
+                    report = [&progress, last](std::size_t checked, std::size_t total) {
+                        const auto now = std::chrono::steady_clock::now();
+                        if (checked < total && now - *last < std::chrono::milliseconds(500)) return;
+                        *last = now;
+                        py::gil_scoped_acquire locked;
+                        progress(checked, total);
+                    };
+                }
+                py::gil_scoped_release unlocked;
+                check_sweep(s.spec, report);
+            },
+            py::arg("progress") = py::none(),
+            "Builds every run's case: InputError names the first bad value. progress(checked, total), if\n"
+            "given, is called about twice a second.")
         .def(
             "case",
-            [](const PySweepSpec& s, std::size_t index) {
-                if (index >= s.spec.runs.size())
-                    throw InputError("run " + std::to_string(index) + " is not in the sweep's " +
-                                     std::to_string(s.spec.runs.size()) + " runs");
-                return sweep_case(s.spec, s.spec.runs[index]);
-            },
+            [](const PySweepSpec& s, std::size_t index) { return sweep_case(s.spec, s.spec.runs[index]); },
             py::arg("index"), "The Case of one run: the base case with its values written in.")
         .def(
             "run_row",
@@ -174,11 +142,14 @@ void bind_sweep(py::module_& m) {
             },
             py::arg("index"), py::arg("audio_dir") = "",
             "Runs one run (and its obstacle-free reference); its row as one line of JSON.")
-        .def(py::pickle([](const PySweepSpec& s) { return py::make_tuple(s.spec.text, s.spec.source_name, s.base_dir); },
-                        [](const py::tuple& t) {
-                            return std::make_shared<PySweepSpec>(parse_spec(
-                                t[0].cast<std::string>(), t[1].cast<std::string>(), t[2].cast<std::string>()));
-                        }));
+        .def(py::pickle(
+            [](const PySweepSpec& s) {
+                return py::make_tuple(s.spec.text, s.spec.source_name, s.base_dir, s.spec.max_runs);
+            },
+            [](const py::tuple& t) {
+                return std::make_shared<PySweepSpec>(parse_spec(t[0].cast<std::string>(), t[1].cast<std::string>(),
+                                                                t[2].cast<std::string>(), t[3].cast<std::size_t>()));
+            }));
 
     py::class_<PySweepStore>(m, "SweepStore",
                              "The row files and tables of a sweep in a directory (see `fretbuzz sweep`).")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from typing import Any, Callable, Optional, Union
 
 from . import _core
@@ -21,7 +22,14 @@ from ._core import Case, InputError, Progress, RecordedRun, SolverError, cases, 
 from .results import Results
 
 __version__ = _core.__version__
-__all__ = ["Case", "InputError", "Progress", "Results", "SolverError", "cases", "load_case", "run", "__version__"]
+__all__ = ["Case", "FretbuzzWarning", "InputError", "Progress", "Results", "SolverError", "cases", "load_case", "run",
+           "__version__"]
+
+
+class FretbuzzWarning(UserWarning):
+    """What `fretbuzz run` prints as "fretbuzz: warning: ..." (e.g. modes above fs/2 under
+    contact): run() emits each through Python's warnings module as well as keeping it in
+    Results.summary["warnings"]."""
 
 # Every other public function of the compiled part (each binding file in python/bindings/
 # adds its own, e.g. estimate) is part of the package too, except the internals run() wraps.
@@ -32,8 +40,9 @@ for _name in dir(_core):
         __all__.append(_name)
 
 from .sweeps import read_table, sweep  # noqa: E402  (after the compiled names it uses)
+from .setup_bench import Bench, setup  # noqa: E402
 
-__all__ += ["sweep", "read_table"]
+__all__ += ["sweep", "read_table", "Bench", "setup"]
 
 CaseLike = Union[str, "os.PathLike[str]", Case]
 
@@ -92,7 +101,10 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
     progress: True for a progress bar (tqdm where installed), or a callable taking a
     fretbuzz.Progress, called about twice a second.
     Ctrl-C stops the run within about half a second with KeyboardInterrupt; `out` then
-    receives no files.
+    receives no files. An exception the progress callable raises stops the run the same way
+    and reaches the caller (it is called at least once, at the end).
+    The warnings of the run (those `fretbuzz run` prints) are emitted as FretbuzzWarning and
+    kept in Results.summary["warnings"].
     """
     for name, flag in (("lossless", lossless), ("screen", screen), ("free_flight", free_flight),
                        ("velocity_audio", velocity_audio)):
@@ -118,4 +130,6 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
             bar.close()
         elif callback is not None and progress is True:
             print(file=sys.stderr)
+    for text in recorded.summary.get("warnings", []):
+        warnings.warn(text, FretbuzzWarning, stacklevel=2)
     return Results(recorded, c, settings, directory=out)

@@ -29,11 +29,17 @@ SpecLike = Union[str, "os.PathLike[str]", SweepSpec]
 ProgressLike = Union[bool, Callable[[SweepProgress], Any], None]
 
 
-def _load(spec: SpecLike) -> SweepSpec:
+def _load(spec: SpecLike, max_runs: Optional[int]) -> SweepSpec:
     if isinstance(spec, SweepSpec):
+        if max_runs is not None and len(spec) > max_runs:
+            raise InputError(f"max_runs = {max_runs}: the spec has {len(spec)} runs")
         return spec
     if isinstance(spec, (str, os.PathLike)):
-        return SweepSpec.load(os.fspath(spec))
+        if max_runs is None:
+            return SweepSpec.load(os.fspath(spec))
+        if isinstance(max_runs, bool) or not isinstance(max_runs, int):
+            raise TypeError(f"max_runs: expected an int, got {type(max_runs).__name__}")
+        return SweepSpec.load(os.fspath(spec), max_runs)
     raise TypeError(f"spec: expected a path to a sweep spec (.toml) or a fretbuzz.SweepSpec, got {type(spec).__name__}")
 
 
@@ -54,6 +60,17 @@ def _line_printer(stream=sys.stderr) -> Callable[[SweepProgress], None]:
     def show(p: SweepProgress) -> None:
         print(("\r" if terminal else "") + progress_text(p) + ("   " if terminal else ""),
               end="" if terminal else "\n", file=stream, flush=True)
+    return show
+
+
+def _checking_printer(stream=sys.stderr) -> Callable[[int, int], None]:
+    """The command's line while every run's case is checked, as `fretbuzz sweep` prints it."""
+    terminal = stream.isatty()
+
+    def show(checked: int, total: int) -> None:
+        end = "   " if terminal and checked < total else "\n"
+        print(("\r" if terminal else "") + f"fretbuzz: checking the runs' cases: {checked}/{total}", end=end,
+              file=stream, flush=True)
     return show
 
 
@@ -140,7 +157,8 @@ def _connect(scheduler: str, timeout: float):
 def _run_on_dask(spec: SweepSpec, out: str, scheduler: str, resume: bool,
                  progress: Optional[Callable[[SweepProgress], Any]], timeout: float) -> dict:
     from distributed import as_completed
-    spec.check()  # every value, before connecting or writing anything
+    # Every value, before connecting or writing anything (a large grid takes a while: said).
+    spec.check(None if progress is None else _checking_printer())
     client = _connect(scheduler, timeout)
     futures = []
     try:
@@ -176,10 +194,10 @@ def _run_on_dask(spec: SweepSpec, out: str, scheduler: str, resume: bool,
 
 def run_sweep(spec: SpecLike, out: Union[str, "os.PathLike[str]"], *, jobs: Optional[int] = None,
               resume: bool = False, scheduler: Optional[str] = None, progress: ProgressLike = False,
-              timeout: float = 10.0) -> dict:
+              timeout: float = 10.0, max_runs: Optional[int] = None) -> dict:
     """Runs the missing rows of a sweep into `out` and writes its table; returns counts
     (total, computed, resumed, failed, wall_seconds, jobs). See sweep()."""
-    s = _load(spec)
+    s = _load(spec, max_runs)
     callback, close = _progress_handler(progress, len(s))
     try:
         if scheduler is not None:
@@ -195,7 +213,7 @@ def run_sweep(spec: SpecLike, out: Union[str, "os.PathLike[str]"], *, jobs: Opti
 
 def sweep(spec: SpecLike, out: Union[str, "os.PathLike[str]", None] = None, *, jobs: Optional[int] = None,
           resume: bool = False, scheduler: Optional[str] = None, progress: ProgressLike = False,
-          timeout: float = 10.0):
+          timeout: float = 10.0, max_runs: Optional[int] = None):
     """Runs a sweep and returns its table as a pandas DataFrame (one row per run: the run's
     index, the swept values, status, error, the obstacle features touched and the buzz
     metrics; docs/sweeps.md defines each).
@@ -207,13 +225,15 @@ def sweep(spec: SpecLike, out: Union[str, "os.PathLike[str]", None] = None, *, j
     scheduler: each run becomes a task on its workers (timeout: seconds to wait for it).
     progress: True for a bar (tqdm where installed), or a callable taking a
     fretbuzz.SweepProgress (done, total, failed, resumed, elapsed_s, remaining_s).
+    max_runs: refuse a spec of more runs than this (default 100000, as `fretbuzz sweep`).
     Ctrl-C stops after the runs under way; their rows are kept for resume=True.
     """
     if out is None:
         with tempfile.TemporaryDirectory(prefix="fretbuzz-sweep-") as tmp:
             return sweep(spec, os.path.join(tmp, "sweep"), jobs=jobs, resume=resume, scheduler=scheduler,
-                         progress=progress, timeout=timeout)
-    outcome = run_sweep(spec, out, jobs=jobs, resume=resume, scheduler=scheduler, progress=progress, timeout=timeout)
+                         progress=progress, timeout=timeout, max_runs=max_runs)
+    outcome = run_sweep(spec, out, jobs=jobs, resume=resume, scheduler=scheduler, progress=progress, timeout=timeout,
+                        max_runs=max_runs)
     if outcome.get("interrupted"):
         raise KeyboardInterrupt
     return read_table(out)
@@ -229,10 +249,12 @@ def main(argv=None) -> int:
     parser.add_argument("--resume", action="store_true")
     parser.add_argument("--quiet", action="store_true")
     parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the scheduler")
+    parser.add_argument("--max-runs", type=int, default=None, help="refuse a spec of more runs than this")
     a = parser.parse_args(argv)
     progress = None if a.quiet else _line_printer()
     try:
-        o = run_sweep(a.spec, a.out, resume=a.resume, scheduler=a.scheduler, progress=progress, timeout=a.timeout)
+        o = run_sweep(a.spec, a.out, resume=a.resume, scheduler=a.scheduler, progress=progress, timeout=a.timeout,
+                      max_runs=a.max_runs)
     except InputError as e:
         print(f"fretbuzz: {e}", file=sys.stderr)
         return 2
@@ -243,8 +265,8 @@ def main(argv=None) -> int:
         print(f"fretbuzz: {e}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"\nfretbuzz: interrupted; the finished runs are kept in {a.out}/runs: "
-              f"finish with --resume", file=sys.stderr)
+        print(f"\nfretbuzz: interrupted; the finished runs are kept in {a.out}/runs; finish it with: "
+              f"fretbuzz sweep {a.spec} --out {a.out} --scheduler {a.scheduler} --resume", file=sys.stderr)
         return 130
     except OSError as e:
         print(f"fretbuzz: {e}", file=sys.stderr)

@@ -201,6 +201,63 @@ class Files(unittest.TestCase):
             native.audio()
 
 
+class Limits(unittest.TestCase):
+    def test_a_number_too_large_for_a_float_names_the_field_and_its_range(self):
+        c = fretbuzz.load_case("bass-pop")
+        before = c.to_dict()
+        with self.assertRaisesRegex(fretbuzz.InputError, r"contact\.K .*is out of range"):
+            c["K"] = 10**400
+        with self.assertRaisesRegex(fretbuzz.InputError, r"run\.fs .*is out of range"):
+            c.fs = -10**400
+        with self.assertRaisesRegex(fretbuzz.InputError, "frequenc"):
+            c.frequencies = [10**400] * c.modes
+        self.assertEqual(c.K, before["K"])  # each failed edit changed nothing
+        self.assertEqual(c.fs, before["fs"])
+
+    def test_a_run_too_large_for_memory_is_refused_up_front_naming_its_parameters(self):
+        # 4e9 native rows of time, u and energy: some 190 GB. Refused before it starts (it
+        # used to end in a MemoryError naming nothing).
+        start = time.monotonic()
+        with self.assertRaisesRegex(fretbuzz.InputError, r"duration = 1000 s at output_rate = native.*GB"):
+            fretbuzz.run("bass-pop", duration=1000, output_rate="native")
+        self.assertLess(time.monotonic() - start, 10.0)
+
+
+    def test_a_fingered_case_can_be_shortened(self):
+        # Its finger's force profile is cut to the run; its pop, after the end, is left out
+        # with a warning (the case used to be refused: profile times past the run).
+        import warnings
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = fretbuzz.run("bass-fret5-lift", duration=0.002)
+        self.assertGreater(r.summary["finger_contact_steps"], 0)
+        self.assertTrue(any("left out" in str(w.message) for w in caught))
+        c = fretbuzz.load_case("bass-fret5-lift")
+        c.duration = 0.021
+        self.assertEqual(c.duration, 0.021)
+
+
+class Warnings(unittest.TestCase):
+    def test_the_command_lines_warnings_are_python_warnings(self):
+        import warnings
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = fretbuzz.run("bass-pop", fs=4e5, duration=0.004)
+        texts = [str(w.message) for w in caught if issubclass(w.category, fretbuzz.FretbuzzWarning)]
+        self.assertTrue(texts)
+        self.assertEqual(texts, r.summary["warnings"])
+        self.assertIn("above fs/2", texts[0])
+
+    def test_a_case_that_cannot_touch_is_not_warned_about(self):
+        # bass-pluck never reaches a fret: nothing aliases at its 1 MHz, whatever its modes.
+        import warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            r = fretbuzz.run("bass-pluck", duration=0.01)
+            self.assertEqual(r.summary["warnings"], [])
+            self.assertEqual(r.summary["contact_steps"], 0)
+
+
 class Progress(unittest.TestCase):
     def test_callback_sees_the_run_advance(self):
         seen = []
@@ -224,6 +281,21 @@ class Progress(unittest.TestCase):
                 # over the half second after which progress is first reported (see the Ctrl-C test)
                 fretbuzz.run("bass-fret5-pop", fs=4e6, duration=1.0, out=out, progress=stop)
             self.assertFalse(os.path.exists(out))
+
+    def test_an_exception_in_the_callback_reaches_the_caller_even_in_a_short_run(self):
+        # A run shorter than the half second between reports still reports its end; what the
+        # callback raises there is not lost (it used to be never called, the run 'succeeded').
+        seen = []
+
+        def stop(p):
+            seen.append(p.fraction)
+            raise RuntimeError("enough")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "run")
+            with self.assertRaisesRegex(RuntimeError, "enough"):
+                fretbuzz.run("bass-pluck", duration=0.002, out=out, progress=stop)
+            self.assertFalse(os.path.exists(out))
+        self.assertEqual(seen, [1.0])
 
     def test_ctrl_c_stops_the_run_cleanly(self):
         timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))

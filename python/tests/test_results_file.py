@@ -160,10 +160,11 @@ class ResultsFile(unittest.TestCase):
             self.assertEqual(entry["fade_in_s"], 0.005)
         # Full scale times the loudest sample is the loudest displacement in the file: at least
         # the loudest after the fade-in, at most the loudest overall (to the resampler's band
-        # limit, a few per cent).
+        # limit and the pickup's high-pass, which turns the phase of the lowest partials by a
+        # few degrees: a few per cent).
         observation = self.csv("observation.csv")
         loudest = audio["audio.wav"]["full_scale"] * 0.99
-        self.assertGreater(loudest, 0.97 * np.abs(observation[observation[:, 0] >= 0.005, 1]).max())
+        self.assertGreater(loudest, 0.93 * np.abs(observation[observation[:, 0] >= 0.005, 1]).max())
         self.assertLess(loudest, 1.03 * np.abs(observation[:, 1]).max())
 
     def test_plots_in_vector_formats_with_chosen_windows_and_range(self):

@@ -171,6 +171,22 @@ class SweepTest(unittest.TestCase):
         small = table[table["excitation.amplitude"] == 1e-3]["peak_contact_force_N"].to_numpy()
         self.assertTrue((big > small).all())
 
+    def test_a_grid_past_the_run_limit_is_refused_and_checking_reports_progress(self):
+        spec = write_study(self.folder, 0.01, "[1e-3]")
+        with open(spec, "a") as f:
+            f.write('[[parameter]]\nkey = "observe.x"\nfrom = 0.1\nto = 0.6\ncount = 100000\n')
+        with self.assertRaisesRegex(fretbuzz.InputError, r"4 \(contact\.K\) x 1 \(excitation\.amplitude\) x 100000 "
+                                                         r"\(observe\.x\) runs, more than the limit of 100000"):
+            fretbuzz.sweep(spec)
+        small = write_study(self.folder, 0.01, "[1e-3, 2e-3]")
+        s = fretbuzz.SweepSpec.load(small, max_runs=8)
+        self.assertEqual(s.max_runs, 8)
+        with self.assertRaisesRegex(fretbuzz.InputError, "more than the limit of 7"):
+            fretbuzz.SweepSpec.load(small, max_runs=7)
+        seen = []
+        s.check(lambda checked, total: seen.append((checked, total)))
+        self.assertEqual(seen[-1], (8, 8))
+
     def test_bad_python_arguments_name_themselves(self):
         spec = write_study(self.folder, 0.01, "[1e-3]")
         with self.assertRaisesRegex(fretbuzz.InputError, "jobs"):
@@ -223,10 +239,13 @@ class SweepTest(unittest.TestCase):
         try:
             wait_for(lambda: len(row_files(out)) >= 2 or driver.poll() is not None, 120, "two rows")
             os.killpg(driver.pid, signal.SIGINT)  # Ctrl-C
-            driver.communicate(timeout=60)
+            _, err = driver.communicate(timeout=60)
         finally:
             if driver.poll() is None:
                 driver.kill()
+        # Exit 130, and the message says how to finish (it used to die with no message).
+        self.assertEqual(driver.returncode, 130, err)
+        self.assertIn(f"--out {out} --scheduler {c.address} --resume", err)
         kept = row_files(out)
         self.assertGreaterEqual(len(kept), 2)
         self.assertLess(len(kept), 12, "the sweep finished before it could be interrupted")

@@ -10,6 +10,7 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/TextFile.hpp"
 #include "fretbuzz/model/DampingModel.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
 
@@ -31,12 +32,15 @@ void close_checked(std::ofstream& out, const std::filesystem::path& path) {
     if (!out) throw std::runtime_error("writing " + path.string() + " failed");
 }
 
-std::string read_text(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError("--case " + path.string() + ": cannot be read");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+// The base case as TOML: a built-in case's text or the file's.
+toml::table parse_base_case(const std::string& base) {
+    const std::string text =
+        is_builtin_case(base) ? builtin_case_text(base) : read_text_file(base, "--case", kMaxCaseFileBytes);
+    try {
+        return toml::parse(text, base);
+    } catch (const toml::parse_error& e) {
+        throw InputError("--case " + base + ": " + std::string(e.description()));
+    }
 }
 
 // Copies every data file the case names (string values ending in .csv) next to the new case.
@@ -61,11 +65,11 @@ void copy_data_files(toml::table& table, const DataSource& data, const std::stri
 
 void write_partials_csv(const std::filesystem::path& path, const ModalEstimate& estimate) {
     std::ofstream out = open_for_writing(path);
-    out << "# mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable\n";
+    out << "# mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation\n";
     for (const EstimatedPartial& p : estimate.partials)
         out << p.mode << ',' << p.frequency_hz << ',' << p.sigma_per_s << ',' << pi * p.frequency_hz / p.sigma_per_s
             << ',' << p.amplitude << ',' << p.phase_rad << ',' << p.snr_db << ',' << p.band << ','
-            << (p.reliable ? 1 : 0) << '\n';
+            << (p.reliable ? 1 : 0) << ',' << p.polarisation << '\n';
     close_checked(out, path);
 }
 
@@ -92,8 +96,11 @@ void write_model_curves_csv(const std::filesystem::path& path, const StringFit& 
 
 void write_fit_json(const std::filesystem::path& path, const ModalEstimate& estimate, const StringFit& fit,
                     const ModeTable& table) {
-    std::size_t reliable = 0, measured = 0, measured_up_to = 0;
-    for (const EstimatedPartial& p : estimate.partials) reliable += p.reliable ? 1 : 0;
+    std::size_t reliable = 0, measured = 0, measured_up_to = 0, doublets = 0;
+    for (const EstimatedPartial& p : estimate.partials) {
+        reliable += p.reliable ? 1 : 0;
+        doublets += p.polarisation == 2 ? 1 : 0;
+    }
     for (std::size_t j = 0; j < table.size(); ++j)
         if (table.source[j] == ModeSource::measured) ++measured, measured_up_to = j + 1;
     const DampingParameters& d = fit.damping.parameters;
@@ -105,7 +112,7 @@ void write_fit_json(const std::filesystem::path& path, const ModalEstimate& esti
           {"band_hz", {estimate.band_low_hz, estimate.band_high_hz}},
           {"bands", estimate.bands}}},
         {"poles", {{"in_kept_ranges", estimate.poles}, {"rejected", estimate.rejected_poles}}},
-        {"partials", {{"found", estimate.partials.size()}, {"reliable", reliable}}},
+        {"partials", {{"found", estimate.partials.size()}, {"reliable", reliable}, {"doublets", doublets}}},
         {"frequency_model",
          {{"f0_hz", fit.frequency.f0_hz},
           {"B", fit.frequency.inharmonicity},
@@ -132,36 +139,39 @@ void write_fit_json(const std::filesystem::path& path, const ModalEstimate& esti
     close_checked(out, path);
 }
 
-std::string case_snippet(const StringFit& fit, std::size_t mode_count, double diameter_m) {
+std::string case_snippet(const StringFit& fit, std::size_t mode_count, double diameter_m, bool two_polarisations) {
     std::ostringstream s;
     s << std::setprecision(10);
     s << "# From `fretbuzz estimate`: T puts the fitted f0 = " << fit.frequency.f0_hz << " Hz at c/(2L)";
     if (fit.given_tension_n > 0.0) s << " (given T = " << fit.given_tension_n << " N)";
     s << ".\n[string]\nL = " << fit.string.length_m << "\nT = " << fit.string.tension_n
       << "\nmu = " << fit.string.linear_density << "\nd = " << diameter_m << "\nB = " << fit.frequency.inharmonicity
-      << "\nmodes = " << mode_count << "\n\n"
+      << "\nmodes = " << mode_count << (two_polarisations ? "\npolarisations = 2" : "") << "\n\n"
       << "# Measured where reliable, the fitted models elsewhere (source column).\n"
       << "# Fitted damping model: delta_ve = " << fit.damping.parameters.viscoelastic_loss
       << ", Q_te_inv = " << fit.damping.parameters.thermoelastic_inverse_q
       << ", d_eq = " << fit.damping.parameters.equivalent_diameter_m << " m.\n"
       << "[modes]\ntable = \"" << kModeTableFile << "\"\n";
+    if (two_polarisations)
+        s << "\n# y: the weaker partial of each resolved doublet, the z mode elsewhere.\n"
+          << "[polarisation_y]\ntable = \"" << kModeTableYFile << "\"\n";
     return s.str();
 }
 
+std::optional<double> case_diameter(const std::string& base) {
+    const toml::table root = parse_base_case(base);
+    if (auto d = root["string"]["d"].value<double>()) return d;
+    return root["modes"]["damping"]["d_eq"].value<double>();
+}
+
 void write_estimated_case(const std::filesystem::path& path, const std::string& base, const StringFit& fit,
-                          std::size_t mode_count, double diameter_m,
+                          std::size_t mode_count, double diameter_m, bool two_polarisations,
                           const std::function<std::filesystem::path(const std::string&)>& stage) {
-    const bool builtin = is_builtin_case(base);
-    const std::string text = builtin ? builtin_case_text(base) : read_text(base);
-    const DataSource data = builtin ? DataSource::builtin()
-                                    : DataSource::directory(std::filesystem::path(base).parent_path());
-    toml::table root;
-    try {
-        root = toml::parse(text, base);
-    } catch (const toml::parse_error& e) {
-        throw InputError("--case " + base + ": " + std::string(e.description()));
-    }
+    const DataSource data = is_builtin_case(base) ? DataSource::builtin()
+                                                  : DataSource::directory(std::filesystem::path(base).parent_path());
+    toml::table root = parse_base_case(base);
     root.erase("modes");
+    root.erase("polarisation_y");
     copy_data_files(root, data, base, stage);
     toml::table string = root["string"].as_table() ? *root["string"].as_table() : toml::table{};
     for (const char* key : {"E_core", "E_core_I_core", "d_core"}) string.erase(key);
@@ -171,8 +181,10 @@ void write_estimated_case(const std::filesystem::path& path, const std::string& 
     string.insert_or_assign("d", diameter_m);
     string.insert_or_assign("B", fit.frequency.inharmonicity);
     string.insert_or_assign("modes", static_cast<int64_t>(mode_count));
+    if (two_polarisations) string.insert_or_assign("polarisations", int64_t{2});
     root.insert_or_assign("string", std::move(string));
     root.insert_or_assign("modes", toml::table{{"table", kModeTableFile}});
+    if (two_polarisations) root.insert_or_assign("polarisation_y", toml::table{{"table", kModeTableYFile}});
     if (auto name = root["name"].value<std::string>()) root.insert_or_assign("name", *name + "-estimated");
     std::ofstream out = open_for_writing(path);
     out << "# " << base << " with the string estimated by `fretbuzz estimate` (see fit.json)\n" << root << '\n';

@@ -18,6 +18,12 @@ namespace {
 
 using std::numbers::pi;
 
+// ESTER keeps the largest order whose J is at least this fraction of the best one: low
+// enough that a close doublet's weaker partial gets its pole (an order one too low merges
+// the pair into one partial with a wrong damping), while a pole too many is caught by the
+// tests below (it explains no energy of its own).
+constexpr double kOrderFraction = 0.01;
+
 std::string format(double value) {
     std::ostringstream s;
     s << value;
@@ -50,6 +56,25 @@ void check_signal(std::span<const double> x, double rate_hz, const EstimationOpt
     if (clipped_runs(x, peak) >= 2 && (!o.full_scale || peak >= 0.99 * *o.full_scale))
         throw InputError("recording: clipped (runs of equal samples at the peak " + format(peak) +
                          "); record with headroom: every sample must stay below full scale");
+}
+
+// A free decay loses level: a steady or growing sound (a sustained tone, a drone, a
+// recording of noise) has no dampings to measure, and ESPRIT would still return poles.
+void check_free_decay(std::span<const double> decay, const ModalEstimate& e) {
+    const std::size_t quarter = decay.size() / 4;
+    double first = 0.0, last = 0.0;
+    for (std::size_t i = 0; i < quarter; ++i) {
+        first += decay[i] * decay[i];
+        last += decay[decay.size() - quarter + i] * decay[decay.size() - quarter + i];
+    }
+    const double loss_db = 10.0 * std::log10(std::max(first, 1e-300) / std::max(last, 1e-300));
+    if (!(loss_db >= ModalEstimation::kMinDecayLossDb))
+        throw InputError("recording: not a free decay: from the first to the last quarter of the " +
+                         format(e.duration_s) + " s after the attack peak at " + format(e.start_s) +
+                         " s its level changes by " + format(-loss_db) +
+                         " dB (a plucked string's decay loses at least " + format(ModalEstimation::kMinDecayLossDb) +
+                         " dB); a steady or growing sound has no dampings to measure: record a note left to ring "
+                         "freely");
 }
 
 // f0 by harmonic summation on the spectrum: the candidate whose first ten multiples sit
@@ -87,7 +112,7 @@ double find_f0(const SubbandFilter& filter, double low_hz, double high_hz) {
 }
 
 struct Candidate {
-    double frequency_hz, sigma, amplitude, phase, snr_db, energy;
+    double frequency_hz, sigma, amplitude, phase, snr_db, own_snr_db, energy;
 };
 
 }  // namespace
@@ -122,12 +147,14 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
         throw InputError("recording: " + format(result.duration_s) + " s of decay after the attack peak at " +
                          format(result.start_s) + " s; at least " + format(kMinDecaySeconds) + " s are needed");
 
+    check_free_decay(signal.subspan(start), result);
+
     const SubbandFilter filter(signal.subspan(start), rate_hz);
     FrequencyLaw law;
     law.f0_hz = o.f0_hz ? *o.f0_hz
                         : find_f0(filter, std::max(o.band_low_hz, 20.0), std::min(2000.0, 0.5 * result.band_high_hz));
 
-    std::map<std::size_t, EstimatedPartial> found;
+    std::map<std::size_t, std::vector<EstimatedPartial>> found;
     std::size_t empty_bands = 0;
     for (std::size_t j1 = 1; j1 <= o.max_partials; j1 += o.partials_per_band) {
         const std::size_t j2 = std::min(o.max_partials, j1 + o.partials_per_band - 1);
@@ -144,19 +171,20 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
         if (baseband.samples.size() < 2 * guard + 48) break;
         const std::span<const std::complex<double>> y(baseband.samples.data() + guard,
                                                       baseband.samples.size() - 2 * guard);
-        const Esprit esprit(y, std::min<std::size_t>(y.size() / 3, 160));
-        const std::size_t order = esprit.choose_order(std::min(esprit.max_order(), 2 * (j2 - j1 + 3) + 10));
-        const auto components = esprit.components(order);
-        const double noise = esprit.residual_variance(components);
+        const std::size_t max_order = 2 * (j2 - j1 + 3) + 10;  // doublets of the band's partials and its neighbours
+        const Esprit esprit(y, y.size() / 3, max_order);
+        const std::size_t chosen = esprit.choose_order(max_order, kOrderFraction);
+        const ExponentialFit fit = esprit.fit(chosen);
+        const double noise = std::max(fit.residual_variance, 1e-300);
         const double guard_s = static_cast<double>(guard) / baseband.rate_hz;
 
         std::vector<Candidate> candidates;
-        for (const ExponentialComponent& c : components) {
+        for (const ExponentialComponent& c : fit.components) {
             const double fd = baseband.center_hz + std::arg(c.pole) * baseband.rate_hz / (2.0 * pi);
             if (fd < keep_low || fd >= keep_high || fd < result.band_low_hz || fd > result.band_high_hz) continue;
             ++result.poles;
             const double sigma = -std::log(std::abs(c.pole)) * baseband.rate_hz;
-            const double snr_db = 10.0 * std::log10(c.energy / std::max(noise, 1e-300));
+            const double snr_db = 10.0 * std::log10(c.energy / noise);
             if (!(sigma > 0.0 && pi * fd / sigma >= o.min_quality_factor && snr_db >= o.min_snr_db)) {
                 ++result.rejected_poles;
                 continue;
@@ -165,10 +193,13 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
             const double amplitude = std::abs(c.amplitude) * baseband.gain_at(fd) * std::exp(sigma * guard_s);
             const double phase = std::remainder(
                 std::arg(c.amplitude) + 2.0 * pi * (baseband.center_hz - fd) * guard_s, 2.0 * pi);
-            candidates.push_back({std::hypot(fd, sigma / (2.0 * pi)), sigma, amplitude, phase, snr_db, c.energy});
+            candidates.push_back({std::hypot(fd, sigma / (2.0 * pi)), sigma, amplitude, phase, snr_db,
+                                  10.0 * std::log10(std::max(c.own_energy, 1e-300) / noise), c.energy});
         }
-        // Mode numbers from the law; a mode claimed twice keeps its stronger pole.
-        std::map<std::size_t, Candidate> assigned;
+        // Mode numbers from the law. A mode keeps at most two poles, its two polarisations,
+        // the stronger first; the weaker one only if the energy it alone explains stands
+        // above the noise (a pole that merely shares a partial's energy is no second partial).
+        std::map<std::size_t, std::vector<Candidate>> assigned;
         for (const Candidate& c : candidates) {
             std::size_t best = 0;
             double distance = 0.0;
@@ -177,17 +208,26 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
                 if (best == 0 || d < distance) best = j, distance = d;
             }
             const double spacing = law.frequency_hz(best + 1) - law.frequency_hz(best);
-            auto it = assigned.find(best);
-            if (distance > 0.25 * spacing || found.count(best) || (it != assigned.end() && it->second.energy >= c.energy)) {
+            if (distance > 0.25 * spacing || found.count(best)) {
                 ++result.rejected_poles;
                 continue;
             }
-            if (it != assigned.end()) ++result.rejected_poles;
-            assigned[best] = c;
+            assigned[best].push_back(c);
         }
-        for (const auto& [j, c] : assigned)
-            found[j] = {j, c.frequency_hz, c.sigma, c.amplitude, c.phase, c.snr_db, result.bands,
-                        c.snr_db >= o.reliable_snr_db};
+        for (auto& [j, poles] : assigned) {
+            // Stronger: the larger amplitude at the start of the analysed decay.
+            std::sort(poles.begin(), poles.end(),
+                      [](const Candidate& a, const Candidate& b) { return a.amplitude > b.amplitude; });
+            const std::size_t kept = poles.size() > 1 && poles[1].own_snr_db >= o.min_snr_db ? 2 : 1;
+            result.rejected_poles += poles.size() - kept;
+            auto& partials = found[j];
+            for (std::size_t k = 0; k < kept; ++k) {
+                const Candidate& c = poles[k];
+                const double snr = kept == 2 ? c.own_snr_db : c.snr_db;
+                partials.push_back({j, c.frequency_hz, c.sigma, c.amplitude, c.phase, snr, result.bands,
+                                    snr >= o.reliable_snr_db, k + 1});
+            }
+        }
         ++result.bands;
         empty_bands = assigned.empty() ? empty_bands + 1 : 0;
         if (empty_bands >= 3) break;  // into the noise: nothing more to find above
@@ -196,7 +236,7 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
         std::vector<double> band_frequencies;
         for (const auto& [j, p] : found) {
             band_modes.push_back(j);
-            band_frequencies.push_back(p.frequency_hz);
+            band_frequencies.push_back(p.front().frequency_hz);
         }
         if (!band_modes.empty()) law = fit_frequency_law(band_modes, band_frequencies);
     }
@@ -207,9 +247,9 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
     std::vector<std::size_t> modes;
     std::vector<double> frequencies;
     for (auto& [j, p] : found) {
-        result.partials.push_back(p);
+        result.partials.insert(result.partials.end(), p.begin(), p.end());
         modes.push_back(j);
-        frequencies.push_back(p.frequency_hz);
+        frequencies.push_back(p.front().frequency_hz);
     }
     law = fit_frequency_law(modes, frequencies);
     result.f0_hz = law.f0_hz;

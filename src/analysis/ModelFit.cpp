@@ -97,7 +97,7 @@ StringFit ModelFit::fit(const ModalEstimate& estimate) const {
     std::vector<std::size_t> modes;
     std::vector<double> nu, sigma;
     for (const EstimatedPartial& p : estimate.partials)
-        if (p.reliable) {
+        if (p.reliable && p.polarisation == 1) {
             modes.push_back(p.mode);
             nu.push_back(p.frequency_hz);
             sigma.push_back(p.sigma_per_s);
@@ -178,10 +178,21 @@ StringFit ModelFit::fit(const ModalEstimate& estimate) const {
 ModeTable ModelFit::mode_table(const StringFit& fit, const ModalEstimate& estimate, std::size_t mode_count) {
     std::vector<MeasuredMode> measured;
     for (const EstimatedPartial& p : estimate.partials)
-        if (p.reliable) measured.push_back({p.mode, p.frequency_hz, p.sigma_per_s});
+        if (p.reliable && p.polarisation == 1) measured.push_back({p.mode, p.frequency_hz, p.sigma_per_s});
     const FrequencyModel frequency(fit.string, fit.frequency.inharmonicity);
     const DampingModel damping(fit.string, fit.damping.parameters);
     return assemble_mode_table(mode_count, measured, &frequency, &damping);
+}
+
+ModeTable ModelFit::y_mode_table(const ModeTable& z, const ModalEstimate& estimate) {
+    ModeTable y = z;
+    for (const EstimatedPartial& p : estimate.partials)
+        if (p.reliable && p.polarisation == 2 && p.mode <= y.size()) {
+            y.frequency_hz[p.mode - 1] = p.frequency_hz;
+            y.sigma_per_s[p.mode - 1] = p.sigma_per_s;
+            y.source[p.mode - 1] = ModeSource::measured;
+        }
+    return y;
 }
 
 }  // namespace fretbuzz

@@ -5,23 +5,17 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <mutex>
 #include <stdexcept>
+
+#include "FastLength.hpp"
+#include "fretbuzz/scheme/SineTransform.hpp"
 
 namespace fretbuzz {
 
 namespace {
 
 using std::numbers::pi;
-
-// The smallest 2^a 3^b 5^c at least n: fast transform lengths.
-std::size_t smooth_length(std::size_t n) {
-    for (std::size_t m = std::max<std::size_t>(n, 1);; ++m) {
-        std::size_t r = m;
-        for (std::size_t f : {2u, 3u, 5u})
-            while (r % f == 0) r /= f;
-        if (r == 1) return m;
-    }
-}
 
 double median(std::vector<double> v) {
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -49,9 +43,13 @@ SubbandFilter::SubbandFilter(std::span<const double> signal, double rate_hz) : r
     std::vector<double> input(signal.begin(), signal.end());
     spectrum_.resize(size_ / 2 + 1);
     const int n = static_cast<int>(size_);
-    fftw_plan plan = fftw_plan_dft_r2c_1d(n, input.data(), reinterpret_cast<fftw_complex*>(spectrum_.data()),
-                                          FFTW_ESTIMATE);
+    fftw_plan plan = nullptr;
+    {
+        std::lock_guard lock(fftw_planner_mutex());
+        plan = fftw_plan_dft_r2c_1d(n, input.data(), reinterpret_cast<fftw_complex*>(spectrum_.data()), FFTW_ESTIMATE);
+    }
     fftw_execute(plan);
+    std::lock_guard lock(fftw_planner_mutex());
     fftw_destroy_plan(plan);
 }
 
@@ -97,9 +95,16 @@ BasebandSignal SubbandFilter::extract(const FrequencyBand& band, double whitenin
         buffer[index] = 2.0 * spectrum_[static_cast<std::size_t>(k)] * mask / gain / static_cast<double>(size_);
     }
     auto* data = reinterpret_cast<fftw_complex*>(buffer.data());
-    fftw_plan plan = fftw_plan_dft_1d(static_cast<int>(length), data, data, FFTW_BACKWARD, FFTW_ESTIMATE);
+    fftw_plan plan = nullptr;
+    {
+        std::lock_guard lock(fftw_planner_mutex());
+        plan = fftw_plan_dft_1d(static_cast<int>(length), data, data, FFTW_BACKWARD, FFTW_ESTIMATE);
+    }
     fftw_execute(plan);
-    fftw_destroy_plan(plan);
+    {
+        std::lock_guard lock(fftw_planner_mutex());
+        fftw_destroy_plan(plan);
+    }
     out.samples = std::move(buffer);
     return out;
 }

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "CaseDocument.hpp"
 #include "CaseSections.hpp"
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
@@ -120,10 +121,19 @@ void read_audio_section(TomlSection s, Case& c) {
 }  // namespace
 
 Case parse_case(std::string_view toml_text, const std::string& source_name, const DataSource& data) {
-    const toml::table root = parse_toml_document(toml_text, source_name);
+    return parse_case_document(parse_toml_document(toml_text, source_name), std::string(toml_text), data);
+}
+
+std::string toml_text(const toml::table& root) {
+    std::ostringstream text;
+    text << root;
+    return text.str();
+}
+
+Case parse_case_document(const toml::table& root, std::string source_text, const DataSource& data) {
     TomlSection top(root, "");
     Case c;
-    c.source_text = std::string(toml_text);
+    c.source_text = std::move(source_text);
     c.name = top.text("name");
     c.description = top.optional_text("description").value_or("");
     StringDescription string;
@@ -213,9 +223,7 @@ Case with_mode_count(const CaseText& source, std::size_t modes) {
     toml::table root = parse_toml_document(source.text, source.source_name);
     if (toml::table* string = root["string"].as_table())
         string->insert_or_assign("modes", static_cast<std::int64_t>(modes));
-    std::ostringstream text;
-    text << root;
-    return parse_case(text.str(), source.source_name, source.data);
+    return parse_case_document(root, toml_text(root), source.data);
 }
 
 }  // namespace fretbuzz

@@ -33,8 +33,15 @@ void read_finger(TomlSection& s, Case& c) {
     f.initial_gap_m = s.number_or("gap", f.initial_gap_m);
     f.initial_velocity = s.number_or("velocity", f.initial_velocity);
     if (const toml::node* force = s.node("force")) {
-        if (force->is_array())
+        if (force->is_array()) {
             f.force_profile = s.number_pairs("force");
+            // Without points the finger would never press: leave the key out for a finger
+            // that only strikes (a slap), or give the force.
+            if (f.force_profile.empty())
+                throw InputError(s.key_path("force") +
+                                 " = []: an empty profile never presses; give a force in N or points [[t_s, F_N], ...] "
+                                 "(or leave force out for a finger that only strikes, with a velocity)");
+        }
         else
             f.force_profile = {{0.0, s.number("force")}};
         f.default_force = false;

@@ -47,6 +47,11 @@ void read_polarisation_count(TomlSection& string_section, Case& c) {
 }
 
 void read_polarisation_y_section(TomlSection& s, const DataSource& data, Case& c) {
+    // One polarisation has no y modes: the table would be ignored.
+    if (!c.two_polarisations())
+        throw InputError("[" + s.path() + "] describes the second polarisation, but string.polarisations = " +
+                         std::to_string(c.polarisation.count) +
+                         ": set string.polarisations = 2, or leave the table out");
     if (const auto modes = s.optional_count("modes", 1, 1000000); modes && *modes != c.mode_count())
         throw InputError(out_of_range_message(s.key_path("modes"), static_cast<double>(*modes),
                                               "must equal string.modes = " + std::to_string(c.mode_count()) +

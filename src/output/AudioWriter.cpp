@@ -1,15 +1,21 @@
 #include "fretbuzz/output/AudioWriter.hpp"
 
+#include <fcntl.h>
 #include <sndfile.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
+#include "../FileDescriptor.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
+#include "fretbuzz/output/PickupHighPass.hpp"
 
 namespace fretbuzz {
 
@@ -37,76 +43,31 @@ std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const do
 }
 
 AudioWriter::AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz, AudioSignal signal,
-                         AudioFades fades)
-    : paths_(std::move(paths)), rate_(audio_rate_hz), signal_(signal), fades_(fades) {
+                         AudioFades fades, double angle_deg)
+    : paths_(std::move(paths)), rate_(audio_rate_hz), signal_(signal), fades_(fades), angle_(angle_deg) {
     if (!(fades_.in_s >= 0.0 && fades_.out_s >= 0.0))
         throw std::invalid_argument("AudioWriter: fades must be >= 0 s");
 }
-
-AudioWriter::~AudioWriter() = default;
 
 void AudioWriter::begin(const RunLayout& layout) {
     const std::size_t points = layout.observation_points_m.size();
     if (paths_.size() != points)
         throw std::logic_error("AudioWriter: " + std::to_string(paths_.size()) + " file paths for " +
                                std::to_string(points) + " observation points");
-    resampler_ = std::make_unique<Resampler>(1.0 / layout.dt, rate_, points);
-    input_.reserve(kBlockFrames * points);
-    block_.reserve(kBlockFrames * points);
-    segment_sample_ = keep_from_ = 0;
     channels_.assign(points, {});
     const auto expected = static_cast<std::size_t>(static_cast<double>(layout.steps) * layout.dt * rate_) + 16;
     for (auto& channel : channels_) channel.reserve(expected);
 }
 
-void AudioWriter::every_step(std::span<const double> u, std::span<const double> velocity) {
-    const std::span<const double> frame = signal_ == AudioSignal::velocity ? velocity : u;
-    for (const double v : frame) input_.push_back(v);  // one or two numbers: no memmove call per step
-    if (input_.size() >= kBlockFrames * channels_.size()) drain(false);
-}
-
-void AudioWriter::drain(bool flush) {
+void AudioWriter::audio(long first_sample, std::span<const double> samples) {
     const std::size_t width = channels_.size();
-    block_.clear();
-    resampler_->process(input_, block_, flush);
-    input_.clear();
-    for (std::size_t f = 0; f < block_.size() / width; ++f, ++segment_sample_)
-        if (segment_sample_ >= keep_from_) place(segment_sample_, block_.data() + f * width);
+    if (width == 0 || static_cast<std::size_t>(first_sample) != channels_[0].size())
+        throw std::logic_error("AudioWriter: audio samples out of order");
+    for (std::size_t f = 0; f < samples.size() / width; ++f)
+        for (std::size_t p = 0; p < width; ++p) channels_[p].push_back(samples[f * width + p]);
 }
 
-void AudioWriter::place(long sample, const double* frame) {
-    const auto k = static_cast<std::size_t>(sample);
-    for (std::size_t p = 0; p < channels_.size(); ++p) {
-        std::vector<double>& channel = channels_[p];
-        if (k >= channel.size()) channel.resize(k + 1, 0.0);  // later sources overwrite earlier ones
-        channel[k] = frame[p];
-    }
-}
-
-void AudioWriter::begin_segment(long step, long first_sample) {
-    resampler_->clear();
-    segment_sample_ = step / resampler_->input_period() * resampler_->output_period();
-    keep_from_ = first_sample;
-}
-
-void AudioWriter::end_segment(long last_sample) {
-    drain(true);
-    for (auto& channel : channels_)
-        if (channel.size() > static_cast<std::size_t>(last_sample) + 1) channel.resize(static_cast<std::size_t>(last_sample) + 1);
-}
-
-void AudioWriter::band_samples(long first_sample, std::span<const double> u, std::span<const double> velocity) {
-    const std::span<const double> frames = signal_ == AudioSignal::velocity ? velocity : u;
-    const std::size_t width = channels_.size();
-    for (std::size_t f = 0; f < frames.size() / width; ++f)
-        place(first_sample + static_cast<long>(f), frames.data() + f * width);
-}
-
-void AudioWriter::finish(const RunSummary& summary) {
-    drain(true);
-    const std::size_t expected = static_cast<std::size_t>(std::llround(summary.duration_s * rate_)) + 1;
-    for (auto& channel : channels_)
-        if (channel.size() > expected) channel.resize(expected);
+void AudioWriter::finish(const RunSummary&) {
     full_scale_.assign(channels_.size(), 1.0);
     for (std::size_t p = 0; p < channels_.size(); ++p) write_channel(p);
 }
@@ -126,35 +87,52 @@ namespace {
 double fade_weight(std::size_t k, std::size_t n) {
     return 0.5 - 0.5 * std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(n));
 }
+
+// The format the extension names (any case): Ogg Vorbis, FLAC or (any other) WAV.
+int format_of(const std::filesystem::path& path, int bits) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const int pcm = bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24;
+    if (extension == ".ogg") return SF_FORMAT_OGG | SF_FORMAT_VORBIS;
+    if (extension == ".flac") return SF_FORMAT_FLAC | pcm;
+    return SF_FORMAT_WAV | pcm;
+}
 }  // namespace
 
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                          std::size_t fade_in, std::size_t fade_out) {
     const std::size_t size = signal.size();
-    const auto faded = [&](std::size_t i) {
-        double v = signal[i];
+    // What a pickup passes (no DC), then the fades, then the peak: the gain is that of the
+    // file as heard. Taken twice in the same order (once for the peak, once to write) rather
+    // than kept: a long run's channel is megabytes of fresh pages.
+    const auto faded = [&](PickupHighPass& pickup, std::size_t i) {
+        double v = pickup(signal[i]);
         if (i < fade_in) v *= fade_weight(i, fade_in);
         if (size - i <= fade_out) v *= fade_weight(size - 1 - i, fade_out);
         return v;
     };
     double peak = 0.0;
-    for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(i)));
+    PickupHighPass pickup(rate_hz);
+    for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(pickup, i)));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
 
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(rate_hz));
     info.channels = 1;
-    if (path.extension() == ".ogg")
-        info.format = SF_FORMAT_OGG | SF_FORMAT_VORBIS;
-    else
-        info.format = SF_FORMAT_WAV | (bits == 16 ? SF_FORMAT_PCM_16 : SF_FORMAT_PCM_24);
-    SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+    info.format = format_of(path, bits);
+    // Opened by the system and handed to libsndfile: libsndfile keeps a path it opens in a
+    // buffer of its own (about 1 kB), and only the kernel's limits (checked up front) apply.
+    FileDescriptor fd(::open(path.c_str(), O_CREAT | O_WRONLY | O_TRUNC | O_CLOEXEC, 0666));
+    if (fd.get() < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+    SNDFILE* file = sf_open_fd(fd.get(), SFM_WRITE, &info, SF_FALSE);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
     std::vector<double> block(std::min(size, kBlockFrames));
     std::string write_error;
+    pickup = PickupHighPass(rate_hz);
     for (std::size_t first = 0; first < size && write_error.empty(); first += block.size()) {
         const std::size_t n = std::min(block.size(), size - first);
-        for (std::size_t k = 0; k < n; ++k) block[k] = faded(first + k) * gain;
+        for (std::size_t k = 0; k < n; ++k) block[k] = faded(pickup, first + k) * gain;
         if (sf_write_double(file, block.data(), static_cast<sf_count_t>(n)) != static_cast<sf_count_t>(n))
             write_error = sf_strerror(file);
     }
@@ -162,6 +140,7 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     const int close_error = sf_close(file);
     if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
     if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
+    if (fd.close() != 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
     return 1.0 / gain;
 }
 

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -27,6 +28,8 @@ constexpr std::string_view kStagingPrefix = ".fretbuzz-staging-";
 constexpr std::string_view kLockPrefix = ".fretbuzz-lock-";
 constexpr std::string_view kOldStagingPrefix = ".fretbuzz-partial-";  // inside --out, before staging moved beside it
 constexpr std::size_t kLeafInName = 100;  // keeps the staging name under NAME_MAX
+constexpr unsigned kTagRange = 1000000;   // the random number in a staging folder's name
+constexpr std::string_view kAsideSuffix = "-old";  // the old set, where folders cannot be swapped
 
 std::string system_message(int error) { return std::strerror(error); }
 
@@ -34,16 +37,40 @@ std::string system_message(int error) { return std::strerror(error); }
     throw std::runtime_error("cannot " + what + " " + path.string() + ": " + system_message(error));
 }
 
-// Names are limited by the file system; a clear message beats ENAMETOOLONG from deep inside.
-void check_name_lengths(const fs::path& dir) {
-    if (dir.string().size() >= PATH_MAX)
-        throw InputError("--out " + dir.string().substr(0, 64) + "...: the path is longer than " +
-                         std::to_string(PATH_MAX - 1) + " bytes");
+// The longest name of a file a run or its report writes (besides the WAV files, checked as
+// they are named): what the output directory must have room for.
+constexpr std::string_view kLongestOutputName = "signal_all_points.png";
+
+// The limits of the file system that holds `path` (or would: its nearest existing folder).
+using NameLimits = OutputDirectory::NameLimits;
+NameLimits limits_at(const fs::path& path) {
+    std::error_code ec;
+    fs::path existing = path;
+    while (!existing.empty() && existing != existing.root_path() && !fs::exists(existing, ec))
+        existing = existing.parent_path();
+    const long name = existing.empty() ? -1 : ::pathconf(existing.c_str(), _PC_NAME_MAX);
+    const long path_max = existing.empty() ? -1 : ::pathconf(existing.c_str(), _PC_PATH_MAX);
+    return {name > 0 ? static_cast<std::size_t>(name) : NAME_MAX,
+            static_cast<std::size_t>(path_max > 0 ? path_max : PATH_MAX) - 1};
+}
+
+std::string shortened(const std::string& text) { return text.size() <= 64 ? text : text.substr(0, 64) + "..."; }
+
+// Names are limited by the file system: a run that could not write its last file is refused
+// before it computes anything, not after (ENAMETOOLONG from deep inside a writer).
+void check_name_lengths(const std::string& given, const fs::path& dir, const NameLimits& limits) {
     for (const fs::path& part : dir)
-        if (part.string().size() > NAME_MAX)
-            throw InputError("--out: the name '" + part.string().substr(0, 32) + "...' is " +
-                             std::to_string(part.string().size()) + " bytes long; names may have at most " +
-                             std::to_string(NAME_MAX) + " bytes");
+        if (part.string().size() > limits.name)
+            throw InputError("--out " + shortened(given) + ": the name '" + part.string().substr(0, 32) + "...' is " +
+                             std::to_string(part.string().size()) + " bytes long; names there may have at most " +
+                             std::to_string(limits.name) + " bytes");
+}
+
+void check_path_length(const std::string& given, const fs::path& path, const NameLimits& limits) {
+    if (path.string().size() > limits.path)
+        throw InputError("--out " + shortened(given) + ": too long: a file of the run could be " + path.string().substr(0, 32) +
+                         "..." + path.filename().string() + ", " + std::to_string(path.string().size()) +
+                         " bytes; paths there may have at most " + std::to_string(limits.path) + " bytes");
 }
 
 void fsync_path(const fs::path& path, bool directory) {
@@ -72,10 +99,16 @@ bool process_is_gone(const std::string& pid_text) {
     }
 }
 
+std::string tag_of(pid_t pid, unsigned random) { return std::to_string(pid) + "-" + std::to_string(random); }
+
 std::string random_tag() {
     std::random_device device;
-    return std::to_string(::getpid()) + "-" + std::to_string(device() % 1000000);
+    return tag_of(::getpid(), device() % kTagRange);
 }
+
+// The longest tag of any run: its process id and random number at their widest. Names are
+// checked with it, so that whether a --out is accepted does not depend on the process id.
+std::string widest_tag() { return tag_of(std::numeric_limits<pid_t>::max(), kTagRange - 1); }
 
 // Removes stale staging folders in `parent` (any directory's); counts them.
 std::size_t remove_stale_in(const fs::path& parent) {
@@ -140,35 +173,83 @@ std::size_t remove_stale_staging(const fs::path& dir) {
     return removed;
 }
 
+namespace {
+// Why an entry of an existing output directory stops the run ("" if it does not): fretbuzz
+// replaces the directory as a whole and never deletes what it did not write. Its own files are
+// replaced, other regular files are kept (hard-linked into the new set), links too (copied),
+// unless a link has the name of a file the run writes (the file would take its place).
+std::string foreign_entry(const fs::directory_entry& e) {
+    const std::string name = e.path().filename().string();
+    if (is_fretbuzz_folder(name)) return {};
+    std::error_code ec;
+    const fs::file_status status = e.symlink_status(ec);
+    if (ec) return "cannot be examined (" + ec.message() + ")";
+    if (fs::is_regular_file(status)) return {};
+    if (fs::is_symlink(status))
+        return is_run_output_name(name) ? "is a symbolic link with the name of a file fretbuzz writes" : "";
+    if (fs::is_directory(status)) return "is a folder that fretbuzz did not write";
+    if (fs::is_fifo(status)) return "is a FIFO";
+    if (fs::is_socket(status)) return "is a socket";
+    if (fs::is_block_file(status) || fs::is_character_file(status)) return "is a device node";
+    return "is a special file";
+}
+
+[[noreturn]] void refuse_entry(const std::string& given, const fs::path& entry, const std::string& why) {
+    throw InputError("--out " + given + ": " + entry.string() + " " + why +
+                     "; the output directory is replaced as a whole and fretbuzz never deletes what it did not write: "
+                     "move it away, or give a new folder, an empty one or an earlier output directory");
+}
+}  // namespace
+
 OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     if (dir.empty()) throw InputError("--out: the output directory name is empty");
-    check_name_lengths(dir);
+    const std::string given = shortened(dir.string());
     std::error_code ec;
+    // A symbolic link stands for the folder it points to (canonical() below): that folder gets
+    // the results, the link stays as it is. A link to nothing is refused, not replaced.
     const fs::file_status status = fs::status(dir_, ec);
+    if (fs::is_symlink(fs::symlink_status(dir_, ec)) && !fs::exists(status))
+        throw InputError("--out " + given + ": is a symbolic link to " + fs::read_symlink(dir_, ec).string() +
+                         ", which does not exist; create that folder or give another --out");
     if (fs::exists(status) && !fs::is_directory(status))
-        throw InputError("--out " + dir_.string() + ": exists and is not a directory");
+        throw InputError("--out " + given + ": exists and is not a directory");
     const bool exists = fs::exists(status);
     target_ = exists ? fs::canonical(dir_, ec) : fs::absolute(dir_, ec).lexically_normal();
     if (!target_.has_filename()) target_ = target_.parent_path();
     if (ec || target_ == target_.root_path())
-        throw InputError("--out " + dir_.string() + ": cannot be used as an output directory");
+        throw InputError("--out " + given + ": cannot be used as an output directory");
     const fs::path cwd = fs::current_path(ec);
     if (exists && !ec && (cwd == target_ || cwd.string().starts_with(target_.string() + "/")))
-        throw InputError("--out " + dir_.string() +
+        throw InputError("--out " + given +
                          ": is the current directory or one of its parents; the output directory is replaced as a "
                          "whole, give a folder of its own");
+
+    // Every name the run will use fits the file system's limits.
+    const fs::path parent = target_.parent_path();
+    limits_ = limits_at(target_);
+    check_name_lengths(given, target_, limits_);
+    const std::string leaf = target_.filename().string().substr(0, kLeafInName);
+    const std::string tag = random_tag() + "-" + leaf;
+    lock_ = parent / (std::string(kLockPrefix) + tag);
+    staging_ = parent / (std::string(kStagingPrefix) + tag);
+    widest_staging_ = parent / (std::string(kStagingPrefix) + widest_tag() + "-" + leaf);
+    check_name_lengths(given, widest_staging_, limits_);
+    check_path_length(given, widest_staging_ / kLongestOutputName, limits_);
+    check_path_length(given, widest_staging_.string() + std::string(kAsideSuffix), limits_);
+    check_path_length(given, target_ / kLongestOutputName, limits_);
+
     if (exists) {
-        for (const fs::directory_entry& e : fs::directory_iterator(target_, ec)) {
-            const std::string name = e.path().filename().string();
-            if (e.is_directory(ec) && !e.is_symlink(ec) && !is_fretbuzz_folder(name))
-                throw InputError("--out " + dir_.string() + ": holds a folder '" + name +
-                                 "' that fretbuzz did not write; the output directory is replaced as a whole, give "
-                                 "a new folder, an empty one or an earlier output directory");
-        }
+        // (Unlisted, its content could not be kept: refused.)
+        fs::directory_iterator entries(target_, ec);
+        if (ec) throw InputError("--out " + given + ": cannot be read (" + ec.message() + "); its content would be lost");
+        for (const fs::directory_entry& e : entries)
+            if (const std::string why = foreign_entry(e); !why.empty()) refuse_entry(given, e.path(), why);
+        struct stat st {};
+        if (::stat(target_.c_str(), &st) != 0) io_failure("examine", target_, errno);
+        kept_ = Kept{st.st_mode & 07777, st.st_uid, st.st_gid};
     }
 
     // Missing parents (a/b for --out a/b/c), outermost first, to remove if the run fails.
-    const fs::path parent = target_.parent_path();
     std::vector<fs::path> missing;
     for (fs::path p = parent; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
         missing.insert(missing.begin(), p);
@@ -177,28 +258,44 @@ OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     for (const fs::path& p : missing) {
         if (!fs::create_directory(p, ec) && ec) {
             discard();
-            throw InputError("--out " + dir_.string() + ": cannot create the output directory (" + ec.message() + ")");
+            throw InputError("--out " + given + ": cannot create the output directory (" + ec.message() + ")");
         }
         created_.push_back(p);
     }
     if (!fs::is_directory(parent, ec)) {
         discard();
-        throw InputError("--out " + dir_.string() + ": " + parent.string() + " is not a directory");
+        throw InputError("--out " + given + ": " + parent.string() + " is not a directory");
     }
 
     remove_stale_in(parent);
     if (exists) remove_old_style_in(target_);
 
-    const std::string leaf = target_.filename().string().substr(0, kLeafInName);
-    const std::string tag = random_tag() + "-" + leaf;
-    lock_ = parent / (std::string(kLockPrefix) + tag);
-    staging_ = parent / (std::string(kStagingPrefix) + tag);
     lock_fd_ = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
     const bool locked = lock_fd_ >= 0 && ::flock(lock_fd_, LOCK_EX | LOCK_NB) == 0;
     if (!locked || !fs::create_directory(staging_, ec) || ec) {
         const std::string reason = !locked ? system_message(errno) : ec.message();
         discard();
-        throw InputError("--out " + dir_.string() + ": the output directory is not writable (" + reason + ")");
+        throw InputError("--out " + given + ": the output directory is not writable (" + reason + ")");
+    }
+    if (kept_) keep_owner(given);
+}
+
+void OutputDirectory::keep_owner(const std::string& given) {
+    // The new set takes the old folder's place: it gets its owner and group now (a user who
+    // cannot give them is told before the run), its mode at commit (writable meanwhile).
+    struct stat st {};
+    const bool owned = ::stat(staging_.c_str(), &st) == 0 && st.st_uid == kept_->uid && st.st_gid == kept_->gid;
+    if (!owned && ::chown(staging_.c_str(), kept_->uid, kept_->gid) != 0) {
+        const int error = errno;
+        discard();
+        throw InputError("--out " + given + ": belongs to user " + std::to_string(kept_->uid) + " and group " +
+                         std::to_string(kept_->gid) + ", which this user cannot give the folder that replaces it (" +
+                         system_message(error) + "); run as its owner or give a folder of your own");
+    }
+    if (::chmod(staging_.c_str(), kept_->mode | S_IRWXU) != 0) {
+        const int error = errno;
+        discard();
+        io_failure("set the mode of", staging_, error);
     }
 }
 
@@ -218,6 +315,12 @@ void OutputDirectory::discard() noexcept {
 }
 
 fs::path OutputDirectory::staged(const std::string& name) {
+    if (name.size() > limits_.name)
+        throw InputError("--out " + shortened(dir_.string()) + ": the file name " + name.substr(0, 32) + "... is " +
+                         std::to_string(name.size()) + " bytes long; names there may have at most " +
+                         std::to_string(limits_.name) + " bytes");
+    check_path_length(shortened(dir_.string()), widest_staging_ / name, limits_);
+    check_path_length(shortened(dir_.string()), target_ / name, limits_);
     names_.push_back(name);
     return staging_ / name;
 }
@@ -233,7 +336,10 @@ void OutputDirectory::commit() {
         const std::set<std::string> staged_names(names_.begin(), names_.end());
         for (const fs::directory_entry& e : fs::directory_iterator(target_, ec)) {
             const std::string name = e.path().filename().string();
-            if (staged_names.contains(name) || is_run_output_name(name) || is_fretbuzz_folder(name)) continue;
+            if (staged_names.contains(name) || is_fretbuzz_folder(name)) continue;
+            // Checked again: something may have appeared since the run started.
+            if (const std::string why = foreign_entry(e); !why.empty()) refuse_entry(shortened(dir_.string()), e.path(), why);
+            if (is_run_output_name(name)) continue;
             if (e.is_symlink(ec)) {
                 fs::copy_symlink(e.path(), staging_ / name, ec);
             } else if (e.is_regular_file(ec)) {
@@ -242,6 +348,7 @@ void OutputDirectory::commit() {
             }
         }
     }
+    if (kept_ && ::chmod(staging_.c_str(), kept_->mode) != 0) io_failure("set the mode of", staging_, errno);
     fsync_path(staging_, true);
     throw_if_stopped();  // last moment at which an interruption leaves the old set as it was
 
@@ -260,7 +367,7 @@ void OutputDirectory::commit() {
         } else if (errno == EINVAL || errno == ENOSYS || errno == EOPNOTSUPP) {
             // No RENAME_EXCHANGE here (some network file systems): move the old set aside
             // first; a reader then briefly finds no directory, never a mix.
-            const fs::path aside = staging_.string() + "-old";
+            const fs::path aside = staging_.string() + std::string(kAsideSuffix);
             const bool had_old = ::rename(target_.c_str(), aside.c_str()) == 0;
             if (!had_old && errno != ENOENT) io_failure("replace", target_, errno);
             if (::rename(staging_.c_str(), target_.c_str()) != 0) {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 
+#include "JsonText.hpp"
 #include "fretbuzz/Version.hpp"
 
 namespace fretbuzz {
@@ -77,7 +78,7 @@ std::string provenance_json(const Provenance& p, const Case& c) {
         {"mode_table",
          {{"frequency_hz", c.modes.frequency_hz}, {"sigma_per_s", c.modes.sigma_per_s}, {"source", source}}},
     };
-    return json.dump();
+    return json_text(json);
 }
 
 }  // namespace fretbuzz

@@ -5,6 +5,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
+#include "JsonText.hpp"
 
 namespace fretbuzz {
 
@@ -61,7 +62,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         json["work_J"] = s.work_j;
         json["finger_energy_final_J"] = s.finger_energy_final_j;
         json["finger_loss_J"] = s.finger_loss_j;
-        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j - s.damping_y_j - s.friction_j;
+        json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j - s.friction_j;  // along z and y
     }
     if (s.polarisations == 2) {  // energy_final_J and dissipated_J hold these terms too
         json["polarisations"] = 2;
@@ -72,7 +73,7 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         json["friction_dissipated_J"] = s.friction_j;
         json["max_friction_iterations"] = s.max_friction_iterations;
     }
-    return json.dump(2);
+    return json_text(json, 2);
 }
 
 void SummaryWriter::finish(const RunSummary& s) {

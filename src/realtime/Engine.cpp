@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 #if defined(__x86_64__) || defined(__SSE2__)
@@ -93,6 +95,16 @@ void check_options(const EngineOptions& o) {
     in("gain per metre", o.gain_per_m, 0.0, 1e9, "[0, 1e9]");
 }
 
+}  // namespace
+
+bool sine_transform_allocates(std::size_t n) {
+    std::size_t m = n + 1;
+    for (std::size_t p = 2; p <= 31; ++p)
+        while (m % p == 0) m /= p;
+    return m != 1;
+}
+
+namespace {
 std::vector<double> oriented(const std::vector<double>& v, double orientation, bool keep) {
     std::vector<double> out(v.size(), 0.0);
     if (keep)
@@ -113,7 +125,10 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
     case_.run.sample_rate_hz = internal_rate_hz();
     add_finger_room();
     orientation_ = case_.contact_orientation();
-    plan_ = std::make_unique<Plan>(case_, 1.0 / internal_rate_hz());
+    PlanOptions plan_options;
+    if (sine_transform_allocates(case_.mode_count()))  // rows of S only: FFTW's transform would allocate
+        plan_options.transform_threshold = std::numeric_limits<std::size_t>::max();
+    plan_ = std::make_unique<Plan>(case_, 1.0 / internal_rate_hz(), plan_options);
     plan_->prepare_rows();
     // The rows of every pad the finger may take (a row is built the first time it is used).
     std::vector<std::size_t> pad;
@@ -287,6 +302,8 @@ void Engine::guard() {
     silence();
 }
 
+void Engine::stop() { silence(); }
+
 void Engine::silence() {
     if (finger_ != kNoFinger) stepper_->lift_finger(finger_);
     fret_ = 0;
@@ -302,12 +319,16 @@ void Engine::strike(const Strike& s) {
     const double position = clamp(s.position_m, 0.5 * width, length_m() - 0.5 * width);
     const double limit = s.displacement ? 0.02 : 20.0;  // m or m/s: far beyond any real pluck
     const double strength = clamp(s.strength, -limit, limit);
-    for (std::size_t i = 0; i < grid_.size(); ++i) {
-        const double r = std::abs(case_.grid_point(i) - position) / (0.5 * width);
-        grid_[i] = r < 1.0 ? orientation_ * strength * 0.5 * (1.0 + std::cos(std::numbers::pi * r)) : 0.0;
-    }
+    // The bump's modal coordinates, dx S^T u, summed over its few grid points by rows of S.
     std::vector<double>& target = s.displacement ? dq_ : dv_;
-    plan_->basis().to_modes(grid_, target);
+    const std::size_t n = grid_.size();
+    const auto first = static_cast<std::size_t>(std::max(0.0, std::floor((position - 0.5 * width) / dx)));
+    for (std::size_t i = first > 0 ? first - 1 : 0; i < n && case_.grid_point(i) < position + 0.5 * width; ++i) {
+        const double r = std::abs(case_.grid_point(i) - position) / (0.5 * width);
+        if (r >= 1.0) continue;
+        const double u = orientation_ * strength * 0.5 * (1.0 + std::cos(std::numbers::pi * r));
+        kernels::axpy(dx * u, plan_->basis().row(i, grid_).data(), target.data(), n);
+    }
     change([&] { stepper_->perturb(s.displacement ? dq_ : zero_, s.displacement ? zero_ : dv_); });
     peak_ = std::max(peak_, energy());
     std::fill(target.begin(), target.end(), 0.0);

@@ -32,39 +32,33 @@ FRETBUZZ_MULTIVERSION void rotate(double* __restrict ar, double* __restrict ai, 
 }
 }  // namespace
 
-bool AudioBand::applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+bool AudioBand::applies(const AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
                         long output_stride) {
-    if (per_step.empty() || output_stride <= 1) return false;
-    const Resampler* first = per_step.front()->resampler();
-    for (RunObserver* o : per_step) {
-        const Resampler* r = o->resampler();
-        if (r == nullptr || r->input_period() <= 0 || r->input_rate_hz() != first->input_rate_hz() ||
-            r->output_rate_hz() != first->output_rate_hz())
-            return false;
-    }
+    const Resampler* r = streams.common_resampler();
+    if (r == nullptr || r->input_period() <= 0 || output_stride <= 1) return false;
     std::complex<double> c, z;
     for (std::size_t j = 0; j < head; ++j)
         if (!propagator.free_phasor(j, 1.0, 0.0, c, z)) return false;
     return true;
 }
 
-AudioBand::AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
-                     std::span<const std::vector<double>> shapes, bool velocity, long output_stride,
-                     PerStepQueue* queue)
-    : observers_(per_step),
+AudioBand::AudioBand(AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
+                     std::span<const std::vector<double>> shapes, long output_stride, PerStepQueue* queue)
+    : streams_(streams),
       queue_(queue),
       propagator_(propagator),
       dt_(propagator.dt()),
       head_(head),
       points_(shapes.size()),
-      velocity_(velocity) {
-    const Resampler& r = *per_step.front()->resampler();
+      velocity_(streams.wants_velocity()) {
+    const Resampler& r = *streams.common_resampler();
     rate_ = r.output_rate_hz();
     input_period_ = r.input_period();
     output_period_ = r.output_period();
     reach_ = r.reach() + kReachMargin;
     reach_steps_ = static_cast<long>(std::ceil(static_cast<double>(reach_) / rate_ / dt_));
     entry_steps_ = 2 * reach_steps_ + input_period_ + output_stride;
+    streams_.hold_back(reach_);
     // Inline (no queue), each flight's samples at once, as before there was a queue.
     batch_steps_ = queue_ != nullptr ? kBatchSamples * input_period_ / std::max(1L, output_period_) : 0;
     z_.resize(head);
@@ -165,8 +159,9 @@ void AudioBand::enter(long n, const std::vector<double>& q, const std::vector<do
     // The last output at or before t_n, less the reach: the segment's outputs up to there never
     // felt its end; the closed form's from there on never feel the stretch's start.
     const long last = floor_div(n * output_period_, input_period_) - reach_;
-    for (RunObserver* o : observers_) o->end_segment(last);
+    streams_.end_segment(last);
     next_sample_ = last + 1;
+    closed_from_ = next_sample_;
     anchor(q, d, static_cast<double>(next_sample_) / rate_ - static_cast<double>(n) * dt_, band_, now_);
     emit(n);
 }
@@ -193,24 +188,43 @@ void AudioBand::emit(long up_to_step) {
         }
         rotate(ar, ai, wr, wi, b);
     }
-    for (RunObserver* o : observers_) o->band_samples(next_sample_, u_, v_);
+    streams_.band_samples(next_sample_, u_, v_);
     next_sample_ = last + 1;
+    // Contact may come back at this step at the earliest: a segment would start from there.
+    streams_.settled_before(restart_sample(up_to_step));
 }
 
 void AudioBand::resume(long n, std::span<const double> q, std::span<const double> d) {
     if (!in_band_) return;
+    // The motion was free up to n: the closed form's samples up to there are due, so that
+    // the segment started again for n (from 2 reach before it, however far n lies past the
+    // last complete flight) finds them up to its first sample.
+    due_step_ = n;
     post_due_samples();
     in_band_ = false;
     free_since_ = n;
     run([this, n, q = head_of(q), d = head_of(d)] { regenerate(n, q, d); });
 }
 
+long AudioBand::segment_start(long n) const {
+    return std::max(0L, floor_div(n - 2 * reach_steps_, input_period_) * input_period_);
+}
+
+long AudioBand::first_valid(long start) const { return start / input_period_ * output_period_ + reach_; }
+
+long AudioBand::restart_sample(long n) const {
+    // Valid from 1 reach after its start, 2 reach before n: about 1 reach before t_n. That is
+    // where the segment before the band ended (and handed out its samples, which never felt
+    // its end) when the band was entered at n or within the rounding of n to the output
+    // grid: then the new segment starts after them, never writing a sample handed out.
+    return std::max(first_valid(segment_start(n)), closed_from_);
+}
+
 void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vector<double>& d) {
     // A fresh stream from a step on the output grid, 2 reach before n: its outputs are valid
     // from 1 reach after its start, while the closed form's still are.
-    const long start = std::max(0L, floor_div(n - 2 * reach_steps_, input_period_) * input_period_);
-    const long first_valid = start / input_period_ * output_period_ + reach_;
-    for (RunObserver* o : observers_) o->begin_segment(start, first_valid);
+    const long start = segment_start(n);
+    streams_.begin_segment(start, restart_sample(n));
     // The free motion of the modes the flights feed, step by step from `start` to n.
     Phasors b;
     anchor(q, d, static_cast<double>(start - n) * dt_, head_, b);
@@ -223,7 +237,7 @@ void AudioBand::regenerate(long n, const std::vector<double>& q, const std::vect
                 frame_v[p] = kernels::dot(shape_velocity_.re.data() + p * h, b.re.data(), h) -
                              kernels::dot(shape_velocity_.im.data() + p * h, b.im.data(), h);
         }
-        for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
+        streams_.frame(frame_u, frame_v);
         rotate(b.re.data(), b.im.data(), step_.re.data(), step_.im.data(), h);
     }
 }
@@ -261,7 +275,7 @@ void AudioBand::free_frames(std::vector<double> q, std::vector<double> d, long s
             frame_u[p] = kernels::dot(shape_.data() + p * h, q.data(), h);
             if (velocity_) frame_v[p] = kernels::dot(shape_.data() + p * h, d.data(), h) / dt_;
         }
-        for (RunObserver* o : observers_) o->every_step(frame_u, frame_v);
+        streams_.frame(frame_u, frame_v);
     }
 }
 

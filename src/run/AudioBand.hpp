@@ -8,14 +8,17 @@
 // before the end of its input (later outputs would feel the cut); the closed form starts
 // there, `reach` samples after the free stretch began. A segment that starts again (contact
 // may come) begins 2 reach before that step with the free motion regenerated step by step,
-// so its outputs are valid before the closed-form ones stop being. At the run's end the last
-// segment is flushed as the resampler always was.
+// so its outputs are valid before the closed-form ones stop being: the closed form is written
+// up to that step, and the segment takes over 1 reach before it, or where the closed form
+// began if that is later (the band was entered at that step: the samples before were handed
+// out then). At every ratio of the rates (1 included) no sample is written after it was
+// handed out. At the run's end the last segment is flushed as the resampler always was.
 #include <complex>
 #include <cstddef>
 #include <span>
 #include <vector>
 
-#include "fretbuzz/run/RunObserver.hpp"
+#include "AudioStreams.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 
 namespace fretbuzz {
@@ -24,15 +27,14 @@ class PerStepQueue;
 
 class AudioBand {
 public:
-    // Whether the per-step observers all take band samples from one kind of resampler, and the
-    // modes fed to them during flights (the first `head`) all have a closed form.
-    static bool applies(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
+    // Whether the audio streams all resample to one rate along z (one filter describes them),
+    // and the modes fed to them during flights (the first `head`) all have a closed form.
+    static bool applies(const AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
                         long output_stride);
-    // With a queue, the synthesis (and every call to the observers) runs on the queue's thread,
+    // With a queue, the synthesis (and every call to the streams) runs on the queue's thread,
     // in order; without, here. Which steps are in the band is decided here either way.
-    AudioBand(std::span<RunObserver* const> per_step, const ModalPropagator& propagator, std::size_t head,
-              std::span<const std::vector<double>> shapes, bool velocity, long output_stride,
-              PerStepQueue* queue = nullptr);
+    AudioBand(AudioStreams& streams, const ModalPropagator& propagator, std::size_t head,
+              std::span<const std::vector<double>> shapes, long output_stride, PerStepQueue* queue = nullptr);
 
     // True while the observers want no per-step frames.
     bool in_band() const { return in_band_; }
@@ -62,12 +64,15 @@ private:
     template <class Job>
     void run(Job&& job);
     void post_due_samples();  // the samples flights have made due, as one job
+    long segment_start(long n) const;  // where a segment that starts again at step n begins
+    long first_valid(long start) const;  // its first output sample that never felt its start
+    long restart_sample(long n) const;   // the first sample such a segment writes
     std::vector<double> head_of(std::span<const double> x) const;  // the first head_ values: what a job keeps of q or d
     // c_j e^{z_j (t - t_n)} for the first `count` modes, from the state at step n.
     void anchor(std::span<const double> q, std::span<const double> d, double t_minus_tn, std::size_t count,
                 Phasors& out) const;
 
-    std::span<RunObserver* const> observers_;
+    AudioStreams& streams_;
     PerStepQueue* queue_;
     const ModalPropagator& propagator_;
     double dt_, rate_;
@@ -88,6 +93,7 @@ private:
     bool in_band_ = false;  // (the decisions: read and written by the run's thread only)
     long free_since_ = 0;
     long next_sample_ = 0;  // (the synthesis' state: touched by its jobs only)
+    long closed_from_ = 0;  // the closed form's first sample since the band was entered
     // With a queue, a flight's samples (one output interval) are gathered into one job per
     // batch_steps_ (0 inline: each flight's at once): a job per interval would cost more in
     // waking the thread than it saves.

@@ -1,6 +1,5 @@
 #include "PerStepQueue.hpp"
 
-#include <algorithm>
 #include <utility>
 
 namespace fretbuzz {
@@ -10,13 +9,8 @@ namespace {
 constexpr std::size_t kBatchFrames = 8192;
 }  // namespace
 
-bool PerStepQueue::applies(std::span<RunObserver* const> per_step) {
-    return !per_step.empty() &&
-           std::all_of(per_step.begin(), per_step.end(), [](const RunObserver* o) { return o->per_step_only(); });
-}
-
-PerStepQueue::PerStepQueue(std::span<RunObserver* const> per_step, std::size_t points, bool velocity)
-    : observers_(per_step), points_(points), velocity_(velocity) {
+PerStepQueue::PerStepQueue(Sink sink, std::size_t points, bool velocity)
+    : sink_(std::move(sink)), points_(points), velocity_(velocity) {
     u_.reserve(kBatchFrames * points_);
     if (velocity_) v_.reserve(kBatchFrames * points_);
 }
@@ -41,15 +35,10 @@ void PerStepQueue::flush_if_full() {
 
 void PerStepQueue::flush() {
     if (u_.empty() && deferred_.empty()) return;
-    queue_.post([observers = observers_, points = points_, u = std::move(u_), v = std::move(v_),
+    queue_.post([&sink = sink_, points = points_, u = std::move(u_), v = std::move(v_),
                  deferred = std::move(deferred_)] {
         const auto deliver = [&](std::size_t from, std::size_t to) {
-            for (std::size_t k = from; k < to; ++k) {
-                const std::span<const double> frame_u(u.data() + k * points, points);
-                const std::span<const double> frame_v =
-                    v.empty() ? std::span<const double>() : std::span<const double>(v.data() + k * points, points);
-                for (RunObserver* o : observers) o->every_step(frame_u, frame_v);
-            }
+            if (to > from) sink(u.data() + from * points, v.empty() ? nullptr : v.data() + from * points, to - from);
         };
         std::size_t k = 0;
         for (const Deferred& d : deferred) {

@@ -99,7 +99,7 @@ RunSummary RunLoop::run() {
     connect_observers();
     plan_free_flight();
     report_observation();
-    if (!per_step_.empty()) report_step();
+    if (audio_wanted_) report_step();
     report_snapshots();
     while (n_ < layout_.steps) {
         // A signal (Ctrl-C) stops the run between steps; the outputs then discard their files.
@@ -118,6 +118,7 @@ RunSummary RunLoop::run() {
     // The last segment ends at the run's end, as a single stream would.
     if (band_) band_->resume(n_, stepper_.modal_displacement(), stepper_.modal_difference());
     if (per_step_queue_) per_step_queue_->drain();
+    if (audio_wanted_) audio_->finish(summary_.duration_s);
     // The summary's final energy is the state's at the last step, whatever the output rate.
     if (n_ > 0 && audited_step_ != n_) audit_energy();
     finish_summary();
@@ -129,42 +130,44 @@ RunSummary RunLoop::run() {
 void RunLoop::connect_observers() {
     for (RunObserver* o : observers_) {
         o->begin(layout_);
-        if (o->wants_every_step()) per_step_.push_back(o);
-        velocity_wanted_ = velocity_wanted_ || o->wants_velocity();
         if (const double rate = o->snapshot_rate_hz(); rate > 0.0) {
             const double until = std::min(o->snapshot_until_s(), case_.run.duration_s);
             snapshot_taps_.push_back({o, std::max(1L, std::lround(case_.run.sample_rate_hz / rate)),
                                       static_cast<long>(std::floor(until * case_.run.sample_rate_hz))});
         }
     }
+    audio_.emplace(observers_, case_.run.sample_rate_hz, shapes_.size(), case_.polarisation.count);
+    audio_wanted_ = !audio_->empty();
+    velocity_wanted_ = audio_->wants_velocity();
     step_v_.resize(velocity_wanted_ ? shapes_.size() : 0);
-    if (options_.per_step_thread && !case_.two_polarisations() && PerStepQueue::applies(per_step_))
-        per_step_queue_.emplace(per_step_, shapes_.size(), velocity_wanted_);
+    if (options_.per_step_thread && !case_.two_polarisations() && audio_wanted_)
+        per_step_queue_.emplace(
+            [&audio = *audio_](const double* u, const double* v, std::size_t count) { audio.frames(u, v, count); },
+            shapes_.size(), velocity_wanted_);
     // The output rows' products, formed by each flight's closing jump (only when someone reads them).
     if (!observers_.empty()) stepper_.observe_rows(row_rows_);
     // One probe read every step (the usual pickup): the step's own pass forms it.
-    if (!per_step_.empty() && shapes_.size() == 1) stepper_.observe(shapes_[0]);
+    if (audio_wanted_ && shapes_.size() == 1) stepper_.observe(shapes_[0]);
     // The energy balance is audited at every output row, outputs or not (report_output).
     stepper_.audit_every(layout_.output_stride);
 }
 
 void RunLoop::plan_free_flight() {
-    // Free flight jumps whole output intervals, so it needs intervals longer than a step,
-    // and per-step observers that accept their signal band-limited meanwhile.
-    double band_hz = per_step_.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-    bool allowed = options_.free_flight && plan_.options().screen_contacts && layout_.output_stride > 1;
-    for (RunObserver* o : per_step_) {
-        band_hz = std::min(band_hz, o->every_step_band_hz());
-        allowed = allowed && o->every_step_band_hz() > 0.0;
-    }
-    if (!allowed) return;
+    // Free flight jumps whole output intervals, so it needs intervals longer than a step. Meanwhile
+    // the audio is fed only the modes below 0.6 x its rate (the resampler removes the others
+    // anyway). Switching the out-of-band modes off and on at the edges of those stretches
+    // leaves a trace of about -110 dB relative to the signal (tests/test_long_run.cpp);
+    // `fretbuzz run --no-free-flight` avoids it.
+    if (!(options_.free_flight && plan_.options().screen_contacts && layout_.output_stride > 1)) return;
+    const double band_hz = audio_wanted_ ? 0.6 * audio_->lowest_rate_hz() : 0.0;
     while (head_ < case_.mode_count() && case_.modes.frequency_hz[head_] < band_hz) ++head_;
     check_head_ = std::min(kMinimumFlightModes, case_.mode_count());
     head_ = std::max(head_, check_head_);
     flight_.emplace(plan_.propagator(), layout_.output_stride);
     // The band synthesises z only: with a second polarisation, y's audio comes from per-step rows.
-    if (options_.closed_form_audio && case_.polarisation.count == 1 && AudioBand::applies(per_step_, plan_.propagator(), head_, layout_.output_stride))
-        band_.emplace(per_step_, plan_.propagator(), head_, shapes_, velocity_wanted_, layout_.output_stride,
+    if (options_.closed_form_audio && case_.polarisation.count == 1 &&
+        AudioBand::applies(*audio_, plan_.propagator(), head_, layout_.output_stride))
+        band_.emplace(*audio_, plan_.propagator(), head_, shapes_, layout_.output_stride,
                       per_step_queue_ ? &*per_step_queue_ : nullptr);
 }
 
@@ -179,7 +182,7 @@ long RunLoop::fly() {
     const bool in_band = band_ && band_->in_band();
     const bool frames_by_band = band_ && !in_band;
     if (frames_by_band) band_->flight_start(stepper_.modal_displacement(), stepper_.modal_difference());
-    const std::span<const std::vector<double>> probes = per_step_.empty() || band_
+    const std::span<const std::vector<double>> probes = !audio_wanted_ || band_
                                                             ? std::span<const std::vector<double>>()
                                                             : std::span<const std::vector<double>>(shapes_);
     return stepper_.free_flight(*flight_, in_band ? check_head_ : head_, probes, flight_u_,
@@ -210,7 +213,7 @@ void RunLoop::after_step() {
             for (RunObserver* o : observers_) o->contacts(stepper_.time(), mirrored_forces_);
         }
     }
-    if (!per_step_.empty()) report_step();
+    if (audio_wanted_) report_step();
     if (!snapshot_taps_.empty()) report_snapshots();
     if (on_output_row() || n_ == 1) report_output();
     if ((n_ & 0xfff) == 0) {
@@ -242,24 +245,22 @@ void RunLoop::report_observation() {
 }
 
 void RunLoop::report_step() {
-    if (const SecondPolarisation* y = stepper_.second_polarisation()) {
+    if (const SecondPolarisation* y = stepper_.second_polarisation())
         for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
-        for (RunObserver* o : per_step_) o->every_step_y(y_);
-    }
     if (shapes_.size() == 1)
         step_u_[0] = stepper_.observation();  // displacement(shapes_[0]), bit for bit
     else
         for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
     step_u_at_ = n_;
     for (std::size_t p = 0; p < step_v_.size(); ++p) step_v_[p] = n_ > 0 ? stepper_.velocity(shapes_[p]) : 0.0;
-    deliver_frame(step_u_, step_v_);
+    deliver_frame(step_u_, step_v_, y_);
 }
 
-void RunLoop::deliver_frame(std::span<const double> u, std::span<const double> v) {
+void RunLoop::deliver_frame(std::span<const double> u, std::span<const double> v, std::span<const double> y) {
     if (per_step_queue_)
-        per_step_queue_->frame(u, v);
+        per_step_queue_->frame(u, v);  // (one polarisation)
     else
-        for (RunObserver* o : per_step_) o->every_step(u, v);
+        audio_->frame(u, v, y);
 }
 
 void RunLoop::report_flight(long flown) {
@@ -286,15 +287,15 @@ void RunLoop::report_flight(long flown) {
 
 void RunLoop::report_flight_rows(long flown) {
     const std::size_t width = shapes_.size();
-    // Without per-step observers the flight records no probe rows (the buffers stay empty).
-    for (long m = 0; m < flown && !per_step_.empty(); ++m) {
+    // Without audio the flight records no probe rows (the buffers stay empty).
+    const SecondPolarisation* y = stepper_.second_polarisation();
+    for (long m = 0; m < flown && audio_wanted_; ++m) {
         const auto row = static_cast<std::size_t>(m) * width;
         const std::span<const double> row_u(flight_u_.data() + row, width);
         const std::span<const double> row_v =
             velocity_wanted_ ? std::span<const double>(flight_v_.data() + row, width) : std::span<const double>();
-        if (const SecondPolarisation* y = stepper_.second_polarisation())
-            for (RunObserver* o : per_step_) o->every_step_y(std::span<const double>(y->flight_rows().data() + row, width));
-        deliver_frame(row_u, row_v);
+        deliver_frame(row_u, row_v, y != nullptr ? std::span<const double>(y->flight_rows().data() + row, width)
+                                                 : std::span<const double>());
     }
 }
 

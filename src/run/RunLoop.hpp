@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "AudioBand.hpp"
+#include "AudioStreams.hpp"
 #include "EnergyAudit.hpp"
 #include "PerStepQueue.hpp"
 #include "fretbuzz/run/Simulation.hpp"
@@ -39,7 +40,8 @@ private:
     bool on_output_row() const { return layout_.output_stride == 1 || n_ % layout_.output_stride == 0; }
     void report_observation();
     void report_step();
-    void deliver_frame(std::span<const double> u, std::span<const double> v);  // to the per-step observers
+    // To the audio streams (y: with two polarisations).
+    void deliver_frame(std::span<const double> u, std::span<const double> v, std::span<const double> y = {});
     void report_flight(long flown);
     void report_flight_rows(long flown);
     void report_snapshots();
@@ -74,8 +76,8 @@ private:
     std::vector<double> y_;                    // y at the observation points
     std::vector<std::pair<std::size_t, double>> mirrored_forces_;
     std::vector<double> played_heights_;
-    std::vector<RunObserver*> per_step_;
-    bool velocity_wanted_ = false;
+    bool audio_wanted_ = false;     // some observer asked for audio: the run takes a frame every step
+    bool velocity_wanted_ = false;  // the velocity too
     std::vector<SnapshotTap> snapshot_taps_;
     std::vector<double> grid_x_, grid_u_;
     std::vector<double> u_, step_u_, step_v_, flight_u_, flight_v_;
@@ -84,8 +86,9 @@ private:
     std::optional<FreeFlight> flight_;
     std::size_t head_ = 0;  // modes stepped one by one during free flight
     std::size_t check_head_ = 0;  // the same while the audio band is written in closed form
+    std::optional<AudioStreams> audio_;  // the resamplers, and the samples on their way to the observers
     std::optional<AudioBand> band_;
-    // After band_ (destroyed before it: its thread runs the band's jobs).
+    // After audio_ and band_ (destroyed before them: its thread runs their jobs).
     std::optional<PerStepQueue> per_step_queue_;
 
     EnergyAudit audit_;

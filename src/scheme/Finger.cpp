@@ -184,15 +184,24 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     (G > 0.0 ? lo : hi) = s - G / m_;
     int it = 0;
     for (; it < kMaxIterations; ++it) {
-        const double scale = m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press) + std::abs(contact_force_);
+        // Round-off in G: its terms', and its slope times the rounding of z^{n+1} = z^n + s,
+        // which every pad point's contact sees (a stiff pad: the pad's terms dominate).
+        const double scale = m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press) + std::abs(contact_force_) +
+                             slope * (std::abs(z_) + std::abs(s));
         if (std::abs(G) <= 8.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
         double next = s - G / slope;
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        const double previous = s;
+        const bool newton = next > lo && next < hi;
+        if (!newton) next = 0.5 * (lo + hi);
+        const double previous = s, g_before = G;
         s = next;
         G = evaluate(s, slope);
         (G > 0.0 ? hi : lo) = s;
         if (std::abs(s - previous) <= kEps * std::abs(s)) break;
+        // A Newton step of a few ulps of z that does not halve G: G is at the round-off of
+        // the pad points' solves (as in detail::monotone_root).
+        if (newton && std::abs(G) > 0.5 * std::abs(g_before) &&
+            std::abs(s - previous) <= 64.0 * kEps * (std::abs(z_) + std::abs(s)))
+            break;
     }
     if (it == kMaxIterations) fail(spec_, "finger height", s);
     max_iterations_ = std::max(max_iterations_, it + 1);

@@ -26,8 +26,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       options_(options) {
     require_positive("time step dt (s)", dt);
     if (c.two_polarisations()) propagator_y_.emplace(c.y_modes(), dt);
-    // Without an obstacle the modal update is exact at any dt: nothing can alias.
-    if (c.has_obstacle()) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
+    // Without contact the modal update is exact at any dt: nothing can alias.
+    if (contact_possible(c)) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).
     if (c.obstacle_above)
         for (double& g : obstacle_)
@@ -45,7 +45,8 @@ void Plan::set_damping(std::span<const double> sigma_per_s) {
 }
 
 void Plan::set_obstacle_offset(double offset) {
-    for (std::size_t i : obstacle_points_) obstacle_[i] = planned_obstacle_[i] + offset;
+    for (std::size_t i : obstacle_points_)
+        obstacle_[i] = std::min(planned_obstacle_[i] + offset, std::max(planned_obstacle_[i], 0.0));
 }
 
 void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> forces, std::span<double> grid,

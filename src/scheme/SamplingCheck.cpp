@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <span>
 #include <sstream>
+#include <vector>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/ModalBasis.hpp"
 
 namespace fretbuzz {
 
@@ -88,6 +92,33 @@ SamplingReport require_sampling(const ModeTable& modes, double fs, bool allow_al
         << 2.0 * highest << " Hz (2 x the highest mode), use at most " << first.mode - 1
         << " modes (string.modes), or set run.allow_aliasing = true (--allow-aliasing) to run anyway";
     throw InputError(out.str());
+}
+
+bool contact_possible(const Case& c) {
+    if (!c.fingers.empty() || !c.forces.empty() || !c.plucks.empty()) return true;
+    if (!c.has_obstacle()) return false;
+    // Free motion: each mode's energy (v^2 + omega^2 q^2) / 2 never grows (sigma >= 0), so
+    // |q_j(t)| <= sqrt(q_j(0)^2 + (v_j(0) / omega_j)^2) = a_j, and |u(x_i, t)| <= sum_j
+    // |S_ij| a_j. The modal update is exact for free motion: the steps obey the same bound.
+    const std::size_t n = c.mode_count();
+    std::vector<double> reach(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
+        const double q = c.initial_displacement[j], v = c.initial_velocity[j] / omega;
+        reach[j] = std::sqrt(q * q + v * v);
+    }
+    const ModalBasis basis(c.string.length_m, n);
+    std::vector<double> row(n);
+    const double s = c.contact_orientation();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = c.obstacle_height_m[i];
+        if (!std::isfinite(g)) continue;
+        const std::span<const double> phi = basis.row(i, row);
+        double bound = 0.0;
+        for (std::size_t j = 0; j < n; ++j) bound += std::abs(phi[j]) * reach[j];
+        if (bound * (1.0 + 1e-9) >= -s * g) return true;  // u can reach g (a margin for round-off)
+    }
+    return false;
 }
 
 std::size_t modes_below_nyquist(const ModeTable& modes, double fs) {

@@ -93,10 +93,24 @@ void Stepper::restart() {
     forecast_.count = 0;
     keep_observation();
     if (n_ == 0) return;  // the first step looks at everything anyway
-    // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse).
-    for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
-    plan_.basis().to_grid(predicted_, impulse_);
-    plan_.basis().to_grid(q_, grid_);
+    // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse), where
+    // they are read: at the obstacle's points and the pads of the fingers on the string. By
+    // rows where these are at most the transform threshold (a real-time engine sets it beyond
+    // every count where FFTW's transform would allocate), else by two transforms.
+    const std::vector<std::size_t>& points = plan_.obstacle_points();
+    if (points.size() + pad_points_ > plan_.transform_threshold()) {
+        for (std::size_t j = 0; j < q_.size(); ++j) predicted_[j] = q_[j] - d_[j];
+        plan_.basis().to_grid(predicted_, impulse_);
+        plan_.basis().to_grid(q_, grid_);
+    } else {
+        const auto by_row = [&](std::size_t i) {
+            kernels::dot_current_previous(plan_.basis().row(i).data(), q_.data(), d_.data(), q_.size(), grid_[i], impulse_[i]);
+        };
+        for (std::size_t i : points) by_row(i);
+        for (std::size_t f = 0; f < fingers_.size(); ++f)
+            if (finger_on_[f] != 0)
+                for (std::size_t i : fingers_[f].pad()) by_row(i);
+    }
     scheduler_.clear();
     active_.clear();
     psi_prev_ = psi_curr_ = 0.0;

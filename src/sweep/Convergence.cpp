@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/sweep/ConvergenceSignal.hpp"
+#include "fretbuzz/run/ConvergenceSignal.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

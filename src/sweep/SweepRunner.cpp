@@ -66,7 +66,7 @@ SweepRow run_sweep_point(const SweepSpec& spec, std::size_t index, const std::fi
     if (index >= spec.runs.size())
         throw InputError("sweep run " + std::to_string(index) + " does not exist (the sweep has " +
                          std::to_string(spec.runs.size()) + " runs)");
-    const SweepRun& run = spec.runs[index];
+    const SweepRun run = spec.runs[index];
     SweepRow row;
     row.index = index;
     for (const SweepValue& v : run.values) row.values.push_back(v.text);
@@ -108,6 +108,8 @@ SweepRow run_sweep_point(const SweepSpec& spec, std::size_t index, const std::fi
                        summary.max_relative_balance_error};
         row.features = features_text(b.touched_features);
         row.ok = true;
+    } catch (const Interrupted&) {
+        throw;  // not a failed run: the sweep stops and the run is left for --resume
     } catch (const std::exception& e) {
         row.ok = false;
         row.error = e.what();
@@ -151,7 +153,7 @@ SweepRow row_from_json(const std::string& text) {
 }
 
 SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, const SweepOptions& options) {
-    check_sweep(spec);  // every value, before anything is written
+    check_sweep(spec, options.checking, options.jobs);  // every value, before anything is written
     const SweepStore store(spec, out, options.resume);
     const std::vector<std::size_t> todo = store.missing();
     SweepOutcome outcome;
@@ -192,6 +194,13 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
                                     static_cast<double>(todo.size() - outcome.computed);
                     options.progress(p);
                 }
+            } catch (const Interrupted& e) {
+                // Ctrl-C or SIGTERM: the runs under way stop at their next step; the finished
+                // rows stay for --resume.
+                std::lock_guard lock(mutex);
+                outcome.interrupted = true;
+                outcome.signal = e.signal();
+                next = todo.size();
             } catch (...) {
                 std::lock_guard lock(mutex);
                 if (!failure) failure = std::current_exception();
@@ -203,6 +212,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const std::filesystem::path& out, 
         std::vector<std::jthread> workers;
         for (unsigned t = 0; t < outcome.jobs; ++t) workers.emplace_back(worker);
     }
+    outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (failure) std::rethrow_exception(failure);
     if (outcome.interrupted) return outcome;
     store.write_table();

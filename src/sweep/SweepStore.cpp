@@ -1,12 +1,15 @@
 #include "fretbuzz/sweep/SweepStore.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -27,25 +30,58 @@ std::string read_file(const fs::path& path) {
     return text.str();
 }
 
+// What a temporary file of this store is called: NAME.tmp-PID-THREAD beside NAME.
+constexpr std::string_view kTemporaryMark = ".tmp-";
+
+std::string system_error_text(const std::string& what, const fs::path& path, int error) {
+    return what + " " + path.string() + ": " + std::strerror(error);
+}
+
 // Writes text to a temporary file beside path, flushes it to disk and renames it into
-// place: readers (and a resumed sweep) see the whole file or none.
+// place: readers (and a resumed sweep) see the whole file or none. On failure (a full
+// disk) the temporary file is removed and the error says why.
 void write_atomically(const fs::path& path, const std::string& text) {
     std::ostringstream tmp_name;
-    tmp_name << path.filename().string() << ".tmp-" << ::getpid() << "-" << std::this_thread::get_id();
+    tmp_name << path.filename().string() << kTemporaryMark << ::getpid() << "-" << std::this_thread::get_id();
     const fs::path tmp = path.parent_path() / tmp_name.str();
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0) throw std::runtime_error("cannot write " + tmp.string());
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error(system_error_text("cannot write", tmp, errno));
+    const auto fail = [&](const char* what) {
+        const int error = errno;
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(system_error_text(what, path, error));
+    };
     std::size_t written = 0;
     while (written < text.size()) {
         const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-        if (n <= 0) {
-            ::close(fd);
-            throw std::runtime_error("cannot write " + tmp.string());
-        }
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) fail("cannot write");
         written += static_cast<std::size_t>(n);
     }
-    if (::fsync(fd) != 0 || ::close(fd) != 0) throw std::runtime_error("cannot flush " + tmp.string());
-    fs::rename(tmp, path);
+    if (::fsync(fd) != 0) fail("cannot flush");
+    if (::close(fd) != 0) {
+        const int error = errno;
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(system_error_text("cannot flush", path, error));
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int error = errno;
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(system_error_text("cannot rename a finished file to", path, error));
+    }
+}
+
+// The temporary files a sweep stopped mid-write (a full disk, a kill) left in dir.
+std::size_t remove_temporaries_in(const fs::path& dir) {
+    std::size_t removed = 0;
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+        if (entry.is_regular_file(ec) && entry.path().filename().string().find(kTemporaryMark) != std::string::npos &&
+            fs::remove(entry.path(), ec))
+            ++removed;
+    }
+    return removed;
 }
 
 std::string shortest(double v) { return std::isfinite(v) ? sweep_number_text(v) : std::string(); }
@@ -65,9 +101,45 @@ bool parse_number(const std::string& text, double& value) {
 
 }  // namespace
 
+// An exclusive flock(2) on DIR/sweep.lock, held while the store lives: one process at a
+// time writes a sweep's folder. The kernel drops it when the process ends, however it ends.
+struct SweepStore::Lock {
+    int fd = -1;
+    ~Lock() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+std::shared_ptr<SweepStore::Lock> SweepStore::lock(const fs::path& dir) {
+    const fs::path path = dir / "sweep.lock";
+    auto held = std::make_shared<Lock>();
+    held->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (held->fd < 0)
+        throw InputError("--out " + dir.string() + ": the output directory is not writable (" +
+                         system_error_text("cannot create", path, errno) + ")");
+    if (::flock(held->fd, LOCK_EX | LOCK_NB) != 0) {
+        if (errno == EWOULDBLOCK)
+            throw InputError("--out " + dir.string() +
+                             ": another fretbuzz sweep is writing this directory (it holds " + path.string() +
+                             "); wait for it to finish, or stop it and finish the sweep with --resume");
+        throw std::runtime_error(system_error_text("cannot lock", path, errno));
+    }
+    return held;
+}
+
+std::size_t SweepStore::remove_stale_files(const fs::path& dir) {
+    const std::shared_ptr<Lock> held = lock(dir);
+    return remove_temporaries_in(dir) + remove_temporaries_in(dir / "runs");
+}
+
 SweepStore::SweepStore(const SweepSpec& spec, fs::path dir, bool resume) : spec_(spec), dir_(std::move(dir)) {
     const fs::path spec_copy = dir_ / "sweep.toml";
     std::error_code ec;
+    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
+        throw InputError("--out " + dir_.string() + ": exists and is not a directory");
+    fs::create_directories(dir_ / "runs", ec);
+    if (ec) throw InputError("--out " + dir_.string() + ": cannot create the output directory (" + ec.message() + ")");
+    lock_ = lock(dir_);  // before anything in it is read or written
     if (fs::exists(spec_copy, ec)) {
         if (!resume)
             throw InputError("--out " + dir_.string() +
@@ -75,12 +147,12 @@ SweepStore::SweepStore(const SweepSpec& spec, fs::path dir, bool resume) : spec_
         if (read_file(spec_copy) != spec.text)
             throw InputError("--resume: " + dir_.string() + " holds a different sweep (its sweep.toml is not " +
                              spec.source_name + ")");
+        // What an earlier attempt left half-written (stopped by a full disk or a kill): this
+        // process holds the lock, so no other is writing them.
+        remove_temporaries_in(dir_);
+        remove_temporaries_in(dir_ / "runs");
         return;
     }
-    if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
-        throw InputError("--out " + dir_.string() + ": exists and is not a directory");
-    fs::create_directories(dir_ / "runs", ec);
-    if (ec) throw InputError("--out " + dir_.string() + ": cannot create the output directory (" + ec.message() + ")");
     try {
         write_atomically(spec_copy, spec.text);
     } catch (const std::exception& e) {
@@ -153,8 +225,8 @@ void SweepStore::write_table() const {
     // results.h5: group "table", one dataset per column (numbers as float64, text as
     // UTF-8 strings), and the column order in its "columns" attribute.
     const fs::path h5 = dir_ / "results.h5";
-    const fs::path tmp = dir_ / ("results.h5.tmp-" + std::to_string(::getpid()));
-    {
+    const fs::path tmp = dir_ / ("results.h5" + std::string(kTemporaryMark) + std::to_string(::getpid()));
+    try {
         hdf5::silence_error_printing();
         const hdf5::Handle file = hdf5::create_file(tmp.string());
         const hdf5::Handle table = hdf5::create_group(file.get(), "table");
@@ -196,8 +268,16 @@ void SweepStore::write_table() const {
         }
         hdf5::write_attribute(table.get(), "columns", columns);
         hdf5::write_string(file.get(), "sweep.toml", spec_.text);
+    } catch (...) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw;
     }
-    fs::rename(tmp, h5);
+    if (::rename(tmp.c_str(), h5.c_str()) != 0) {
+        const int error = errno;
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(system_error_text("cannot rename a finished file to", h5, error));
+    }
 }
 
 }  // namespace fretbuzz

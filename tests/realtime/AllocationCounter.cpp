@@ -1,5 +1,7 @@
 #include "AllocationCounter.hpp"
 
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdlib>
 
@@ -43,6 +45,20 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
     note();
     *out = __libc_memalign(alignment, size);
     return *out == nullptr ? 12 : 0;  // ENOMEM
+}
+// The older aligned allocators (FFTW's fftw_malloc may use memalign).
+void* memalign(std::size_t alignment, std::size_t size) {
+    note();
+    return __libc_memalign(alignment, size);
+}
+void* valloc(std::size_t size) {
+    note();
+    return __libc_memalign(static_cast<std::size_t>(sysconf(_SC_PAGESIZE)), size);
+}
+void* pvalloc(std::size_t size) {
+    note();
+    const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    return __libc_memalign(page, (size + page - 1) / page * page);
 }
 }
 

@@ -4,8 +4,9 @@
 // with the model order chosen by ESTER (Badeau, David & Richard 2006): the rotational
 // invariance of the signal subspace holds exactly at the true order, so the inverse of
 // the invariance error, J(p) = 1 / ||W_up - W_down Phi||_2^2, peaks there.
-// The subspace comes from the SVD of the Hankel data matrix (Eigen), computed once; every
-// order's check reuses its leading singular vectors.
+// The subspace is the leading left singular vectors of the Hankel data matrix, computed
+// once by randomized subspace iteration with FFT products (long records stay cheap: the
+// matrix is never formed); every order's check reuses them.
 #include <complex>
 #include <cstddef>
 #include <span>
@@ -17,12 +18,21 @@ struct ExponentialComponent {
     std::complex<double> pole;       // z_k
     std::complex<double> amplitude;  // a_k, at n = 0
     double energy = 0.0;             // sum_n |a_k z_k^n|^2 over the data
+    // How much the least-squares residual grows without this component: its energy that
+    // no other component can take over (below `energy` for close poles, which share).
+    double own_energy = 0.0;
+};
+
+struct ExponentialFit {
+    std::vector<ExponentialComponent> components;
+    double residual_variance = 0.0;  // mean squared residual per sample
 };
 
 class Esprit {
 public:
-    // rows: the Hankel matrix's row count (the subspace dimension bound), 2 <= rows < y.size().
-    Esprit(std::span<const std::complex<double>> y, std::size_t rows);
+    // rows: the Hankel matrix's row count, 2 <= rows < y.size() (about y.size() / 3 resolves
+    // close poles best); max_order: the highest order any later call asks for.
+    Esprit(std::span<const std::complex<double>> y, std::size_t rows, std::size_t max_order);
 
     // J(p) for p = 1..max_order (index p-1).
     std::vector<double> ester(std::size_t max_order) const;
@@ -30,15 +40,13 @@ public:
     // too high only adds poles the later checks reject, one too low loses partials.
     std::size_t choose_order(std::size_t max_order, double fraction = 0.1) const;
     // The poles of that order with their least-squares amplitudes.
-    std::vector<ExponentialComponent> components(std::size_t order) const;
-    // Mean squared residual of the least-squares fit of the last components() call's order.
-    double residual_variance(const std::vector<ExponentialComponent>& components) const;
+    ExponentialFit fit(std::size_t order) const;
     std::size_t max_order() const;
 
 private:
     std::vector<std::complex<double>> y_;
     std::size_t rows_;
-    std::vector<std::complex<double>> basis_;  // leading left singular vectors, column-major rows_ x max
+    std::vector<std::complex<double>> basis_;  // leading left singular vectors, column-major rows_ x basis_columns_
     std::size_t basis_columns_ = 0;
 };
 

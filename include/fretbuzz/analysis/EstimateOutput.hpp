@@ -15,8 +15,9 @@
 namespace fretbuzz {
 
 inline constexpr const char* kModeTableFile = "modes.csv";
+inline constexpr const char* kModeTableYFile = "modes_y.csv";  // the y polarisation's, when asked for
 
-// mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable
+// mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation
 void write_partials_csv(const std::filesystem::path& path, const ModalEstimate& estimate);
 // mode,frequency_hz,sigma_per_s,source: what [modes] table = "modes.csv" reads.
 void write_mode_table_csv(const std::filesystem::path& path, const ModeTable& table);
@@ -24,13 +25,16 @@ void write_mode_table_csv(const std::filesystem::path& path, const ModeTable& ta
 void write_model_curves_csv(const std::filesystem::path& path, const StringFit& fit, std::size_t mode_count);
 void write_fit_json(const std::filesystem::path& path, const ModalEstimate& estimate, const StringFit& fit,
                     const ModeTable& table);
-// [string] and [modes] sections for the estimated string.
-std::string case_snippet(const StringFit& fit, std::size_t mode_count, double diameter_m);
+// [string] and [modes] sections for the estimated string (and [polarisation_y], reading
+// kModeTableYFile, with two polarisations).
+std::string case_snippet(const StringFit& fit, std::size_t mode_count, double diameter_m, bool two_polarisations);
+// The outer diameter a case gives its string: string.d, else modes.damping.d_eq.
+std::optional<double> case_diameter(const std::string& base);
 // A whole case: `base` (a built-in case name or .toml path) with its [string] and [modes]
-// replaced by the estimated ones; other data files it names are copied next to it
-// through `stage` (which returns where to write a file of that name).
+// (and [polarisation_y]) replaced by the estimated ones; other data files it names are
+// copied next to it through `stage` (which returns where to write a file of that name).
 void write_estimated_case(const std::filesystem::path& path, const std::string& base, const StringFit& fit,
-                          std::size_t mode_count, double diameter_m,
+                          std::size_t mode_count, double diameter_m, bool two_polarisations,
                           const std::function<std::filesystem::path(const std::string&)>& stage);
 
 }  // namespace fretbuzz

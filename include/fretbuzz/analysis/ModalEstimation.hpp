@@ -36,6 +36,9 @@ struct EstimatedPartial {
     double snr_db = 0.0;          // the partial's energy over the band's noise per sample
     std::size_t band = 0;
     bool reliable = false;
+    // 1: the mode's stronger partial; 2: the weaker one of a resolved doublet, the string's
+    // other polarisation (the two ring at slightly different frequencies and beat).
+    std::size_t polarisation = 1;
 };
 
 struct ModalEstimate {
@@ -48,7 +51,7 @@ struct ModalEstimate {
     std::size_t bands = 0;
     std::size_t poles = 0;          // found by ESPRIT in the kept ranges
     std::size_t rejected_poles = 0; // of those, rejected
-    std::vector<EstimatedPartial> partials;  // by mode number
+    std::vector<EstimatedPartial> partials;  // by mode number, then polarisation
 };
 
 class ModalEstimation {
@@ -56,10 +59,13 @@ public:
     explicit ModalEstimation(EstimationOptions options);
 
     // Throws InputError for a recording that cannot be analysed (silent, clipped, too
-    // short, non-finite, f0 outside the band), naming the problem and the allowed range.
+    // short, not decaying, non-finite, f0 outside the band), naming the problem and the
+    // allowed range.
     ModalEstimate estimate(std::span<const double> signal, double rate_hz) const;
 
     static constexpr double kMinDecaySeconds = 0.2;
+    // The level of the decay's last quarter must lie this far below its first quarter's.
+    static constexpr double kMinDecayLossDb = 0.5;
 
 private:
     EstimationOptions options_;

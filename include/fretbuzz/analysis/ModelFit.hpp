@@ -56,10 +56,15 @@ class ModelFit {
 public:
     ModelFit(StringParameters properties, bool fit_air = false);
 
-    // Fits both models to the reliable partials; throws InputError if fewer than 2.
+    // Fits both models to the reliable partials of polarisation 1 (each mode's stronger
+    // partial); throws InputError if fewer than 2.
     StringFit fit(const ModalEstimate& estimate) const;
-    // Modes 1..mode_count: the reliable measurements, the fitted models elsewhere.
+    // Modes 1..mode_count (the z polarisation): the reliable measurements of each mode's
+    // stronger partial, the fitted models elsewhere.
     static ModeTable mode_table(const StringFit& fit, const ModalEstimate& estimate, std::size_t mode_count);
+    // The y polarisation's modes, as many as z has: the weaker partial of each reliably
+    // resolved doublet, and z's mode where none was (the two coincide within the resolution).
+    static ModeTable y_mode_table(const ModeTable& z, const ModalEstimate& estimate);
 
 private:
     StringParameters properties_;

@@ -1,22 +1,17 @@
 #pragma once
-// Audio files, one mono WAV per observation point: the signal taken at every time step,
-// band-limited and resampled to the audio rate by libsoxr (streaming, so a long run never
-// holds its full-rate signal; over long contact-free stretches the run writes the resampled
-// signal itself in closed form, see RunObserver::resampler), peak-normalised per file and
-// written as 24-bit PCM WAV by libsndfile. The displacement is what an optical sensor sees; the velocity is closer to
-// what a magnetic pickup senses.
+// Audio files, one mono WAV per observation point: the audio the run makes at the rate asked
+// for (band-limited and resampled from every time step, see RunObserver::audio_request),
+// collected, high-passed as a pickup would (no DC), peak-normalised per file and written as
+// 24-bit PCM WAV by libsndfile. The displacement is what an optical sensor sees; the velocity
+// is closer to what a magnetic pickup senses.
 #include <filesystem>
-#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
-#include "fretbuzz/run/Resampler.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 
 namespace fretbuzz {
-
-enum class AudioSignal { displacement, velocity };
 
 // Raised-cosine fades applied to each file as it is written (the signal itself, samples(),
 // is left as it is). A plucked string starts displaced, so its first sample is far from
@@ -30,40 +25,29 @@ struct AudioFades {
 // for the first point, then "audio_<x>m.wav" with x in metres for the others.
 std::vector<std::string> audio_file_names(AudioSignal signal, std::span<const double> points_m);
 
-// Writes one mono signal peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, or
-// Ogg Vorbis when the path ends in .ogg; returns what full scale stands for (the gain's
-// inverse). std::runtime_error if the file cannot be written.
+// Writes one mono signal as a pickup passes it (no DC: PickupHighPass, from rest at the first
+// sample), peak-normalised (to 0.99): WAV PCM of `bits` (16 or 24) bits, FLAC of `bits` bits
+// when the path ends in .flac, or Ogg Vorbis when it ends in .ogg (in any case); returns what
+// full scale stands for (the gain's inverse).
+// std::runtime_error if the file cannot be written. Every audio file fretbuzz writes goes
+// through here (run outputs, `fretbuzz play`, the notes of sweeps and set-up studies).
 double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
                               int bits = 24);
 // The same with raised-cosine fades over the first `fade_in` and the last `fade_out` samples
-// (the peak is that of the faded signal), read without copying it.
+// (the peak is that of the high-passed, faded signal), read without copying it.
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                          std::size_t fade_in, std::size_t fade_out);
 
 class AudioWriter : public RunObserver {
 public:
-    // One path per observation point, in the order of the case's points.
+    // One path per observation point, in the order of the case's points. angle_deg: the
+    // direction of the displacement taken (see AudioRequest; two polarisations).
     AudioWriter(std::vector<std::filesystem::path> paths, double audio_rate_hz,
-                AudioSignal signal = AudioSignal::displacement, AudioFades fades = {});
-    ~AudioWriter() override;
-    AudioWriter(const AudioWriter&) = delete;
-    AudioWriter& operator=(const AudioWriter&) = delete;
+                AudioSignal signal = AudioSignal::displacement, AudioFades fades = {}, double angle_deg = 0.0);
 
     void begin(const RunLayout& layout) override;
-    bool wants_every_step() const override { return true; }
-    bool per_step_only() const override { return true; }
-    // While no contact is possible the run may feed only the modes below 0.6 x the audio
-    // rate (the resampler removes the others anyway). Switching the out-of-band modes off
-    // and on at the edges of those stretches leaves a trace of about -110 dB relative to
-    // the signal (tests/test_long_run.cpp); `fretbuzz run --no-free-flight` avoids it.
-    double every_step_band_hz() const override { return 0.6 * rate_; }
-    bool wants_velocity() const override { return signal_ == AudioSignal::velocity; }
-    void every_step(std::span<const double> u, std::span<const double> velocity) override;
-    // Where no contact can act the run writes the band-limited signal itself (see RunObserver).
-    const Resampler* resampler() const override { return resampler_.get(); }
-    void begin_segment(long step, long first_sample) override;
-    void end_segment(long last_sample) override;
-    void band_samples(long first_sample, std::span<const double> u, std::span<const double> velocity) override;
+    AudioRequest audio_request() const override { return {.rate_hz = rate_, .signal = signal_, .angle_deg = angle_}; }
+    void audio(long first_sample, std::span<const double> samples) override;
     void finish(const RunSummary&) override;
 
     // The resampled signal of one point before normalisation (available after finish()).
@@ -77,20 +61,14 @@ public:
     const AudioFades& fades() const { return fades_; }
 
 private:
-    void drain(bool flush);
-    void place(long sample, const double* frame);  // one output frame at its sample index
     void write_channel(std::size_t point);
 
     std::vector<std::filesystem::path> paths_;
     double rate_;
     AudioSignal signal_;
     AudioFades fades_;
+    double angle_;
     std::vector<double> full_scale_;
-    std::unique_ptr<Resampler> resampler_;
-    std::vector<double> input_;   // interleaved, one frame per time step
-    std::vector<double> block_;   // interleaved resampler output
-    long segment_sample_ = 0;     // sample index of the current segment's next output frame
-    long keep_from_ = 0;          // the segment's outputs before this sample are dropped
     std::vector<std::vector<double>> channels_;
 };
 

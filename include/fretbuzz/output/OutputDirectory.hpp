@@ -9,7 +9,11 @@
 // and no directory (or parents) it created. Staging folders of a run that was killed
 // (SIGKILL, power loss) are found by their lock and removed by the next run into the same
 // directory, or by remove_stale_staging() (`fretbuzz clean DIR`).
+#include <sys/types.h>
+
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,16 +36,32 @@ public:
     void commit();
     const std::filesystem::path& path() const { return dir_; }
 
+    // The file system's limits where the directory is: bytes in one name, and in a path (its
+    // terminating zero excluded).
+    struct NameLimits {
+        std::size_t name = 0, path = 0;
+    };
+
 private:
     void discard() noexcept;
+    void keep_owner(const std::string& given);
+
+    struct Kept {  // of an existing directory: what the one that replaces it keeps
+        mode_t mode;
+        uid_t uid;
+        gid_t gid;
+    };
 
     std::filesystem::path dir_;      // as given
     std::filesystem::path target_;   // absolute, symbolic links followed: what gets swapped
     std::filesystem::path staging_;  // sibling of target_
+    std::filesystem::path widest_staging_;  // as long as any run's staging folder: what names are checked in
     std::filesystem::path lock_;     // held while this run lives: a staging folder without a held lock is stale
     int lock_fd_ = -1;
     std::vector<std::string> names_;
     std::vector<std::filesystem::path> created_;  // parents this run created, outermost first
+    std::optional<Kept> kept_;
+    NameLimits limits_{};
     bool committed_ = false;
 };
 

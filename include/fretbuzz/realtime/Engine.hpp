@@ -65,6 +65,12 @@ struct EngineHealth {
     long solver_failures = 0;
 };
 
+// FFTW runs the sine transform of n modes as a real DFT of 2(n + 1) points. Where n + 1 has
+// a prime factor above 31 its plans (Rader's and Bluestein's algorithms, buffered solvers)
+// allocate memory every time they run: the engine then evaluates the string by rows of S only.
+// For every other n up to 4096 a transform allocates nothing (tests/realtime checks each).
+bool sine_transform_allocates(std::size_t n);
+
 class Engine {
 public:
     // The costly set-up: plans the case at the internal rate and warms every buffer.
@@ -94,6 +100,8 @@ public:
     // off the string, which rings open again. False if the case has no frets.
     bool finger_down(int fret);
     void finger_up();
+    // Brings the string to rest at once (a voice taken for another note); not a guard reset.
+    void stop();
 
     int oversampling() const { return factor_; }
     // Why the internal rate is what it is (for a front end to print).

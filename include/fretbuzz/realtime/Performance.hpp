@@ -1,58 +1,23 @@
 #pragma once
-// A performance played offline through the real-time engine: notes (time, fret, velocity,
-// duration) from a small TOML note list or a standard MIDI file, rendered block by block
-// exactly as a host would (`fretbuzz play`). One string, one Engine: a note on fret k puts the
-// engine's finger down behind fret k (moving it from the previous note's fret) and plucks the
-// part from the fret to the bridge; a note-off mutes the string and lifts the finger; fret 0
-// plays the open string. A case without frets plays fret 0 only.
-//
-// Note list:
-//   [play]                 # all optional
-//   tail = 1.0             # s rendered after the last note ends
-//   strength = 1.5         # pluck velocity (m/s) at velocity 1
-//   width = 0.01           # pluck width (m)
-//   pickup = 0.9           # fraction of the string's length from the case's x = 0 end (default: the case's point)
-//   [[note]]
-//   time = 0.0             # s
-//   fret = 0               # 0 (open) to 24, and at most the case's number of frets
-//   duration = 1.0         # s, then the string is muted
-//   velocity = 0.8         # (0, 1]
-//   position = 0.8         # pluck point, fraction of the sounding length (fret to bridge) from the fret
-#include <filesystem>
-#include <string>
-#include <string_view>
+// A performance played offline through the real-time engine: a Score (notes read by
+// input/Score.hpp or input/MidiFile.hpp) rendered block by block exactly as a host would
+// (`fretbuzz play`). One string, one Engine: a note on fret k puts the engine's finger down
+// behind fret k (moving it from the previous note's fret) and plucks the part from the fret to
+// the bridge; a note-off mutes the string and lifts the finger; fret 0 plays the open string.
+// A case without frets plays fret 0 only.
+#include <cstddef>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/input/Score.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 
 namespace fretbuzz {
 
-struct PlayedNote {
-    double time_s = 0.0;
-    double duration_s = 1.0;
-    int fret = 0;
-    double velocity = 0.8;
-    double position = 0.8;
-};
+// The rendered audio is held whole (the file is peak-normalised): at most this many samples,
+// an hour at 48 kHz (1.4 GB as doubles); at a higher rate the hour shrinks in proportion.
+inline constexpr long kMaxRenderedSamples = 3600L * 48000L;
 
-struct Performance {
-    std::vector<PlayedNote> notes;
-    double tail_s = 1.0;
-    double strength_m_per_s = 1.5;
-    double width_m = 0.01;
-    double pickup = -1.0;  // < 0: the case's observation point
-    std::vector<std::string> warnings;  // e.g. MIDI notes out of the string's range, skipped
-};
-
-inline constexpr int kMaxFret = 24;
-
-// InputError naming the key (and note) at fault.
-Performance parse_note_list(std::string_view toml_text, const std::string& source_name);
-Performance load_note_list(const std::filesystem::path& path);
-// Note-on/off pairs of every track and channel; fret = MIDI note - open_note; notes outside
-// frets 0 to max_fret are skipped (with a warning). InputError if the file cannot be read as MIDI.
-Performance load_midi(const std::filesystem::path& path, int open_note, int max_fret = kMaxFret);
 // The MIDI note nearest the open string's first mode.
 int open_string_note(const Case& c);
 
@@ -71,9 +36,13 @@ struct RenderedPerformance {
     double wall_seconds = 0.0;
 };
 
+// The number of host samples the score renders to (its last note's end and the tail);
+// InputError if it exceeds kMaxRenderedSamples, checked before anything is allocated.
+long rendered_samples(const Score& score, double host_rate_hz);
+
 // Renders through one Engine (the string), in blocks of at most `block` samples. InputError
-// for a note beyond the case's frets.
-RenderedPerformance render_performance(const Case& open, const Performance& p, const EngineOptions& options,
+// for a note beyond the case's frets, or a score longer than rendered_samples allows.
+RenderedPerformance render_performance(const Case& open, const Score& score, const EngineOptions& options,
                                        std::size_t block = 256);
 
 }  // namespace fretbuzz

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fretbuzz/reference/StringProblem.hpp"
-#include "fretbuzz/sweep/ConvergenceSignal.hpp"
+#include "fretbuzz/run/ConvergenceSignal.hpp"
 
 namespace fretbuzz::reference {
 

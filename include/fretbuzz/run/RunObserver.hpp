@@ -1,7 +1,8 @@
 #pragma once
 // What a run reports while it goes: observers receive the observation signals at the
-// output rate, the energy terms, and (if they ask) the first observation signal at every
-// time step. Writers are observers; they know nothing of the physics.
+// output rate, the energy terms, and (if they ask) audio at a rate of their choice, made by
+// the run. Writers are observers; they know nothing of the physics, and the run knows
+// nothing of them.
 #include <cstddef>
 #include <limits>
 #include <span>
@@ -13,8 +14,6 @@
 
 namespace fretbuzz {
 
-class Resampler;
-
 struct RunLayout {
     const Case* source = nullptr;
     double dt = 0.0;
@@ -23,7 +22,7 @@ struct RunLayout {
     double output_rate_hz = 0.0;  // fs / output_stride
     std::vector<double> observation_points_m;
     std::size_t fingers = 0;      // fingers and gestures on the string (their energy terms are reported)
-    int polarisations = 1;        // 2: y is reported too (observation_y, every_step_y, polarisation_energy)
+    int polarisations = 1;        // 2: y is reported too (observation_y, polarisation_energy)
 };
 
 struct RunSummary {
@@ -38,8 +37,9 @@ struct RunSummary {
     double energy_initial_j = 0.0;  // H^{1/2}
     double energy_final_j = 0.0;
     double dissipated_j = 0.0;
-    double max_relative_energy_increase = 0.0;  // max over output samples of (H_k - H_{k-1}) / H^{1/2}
-    double max_relative_balance_error = 0.0;    // max |H + dissipated - H^{1/2}| / H^{1/2}
+    // Relative to E = max(H^{1/2}, the largest |work| so far), see EnergyAudit:
+    double max_relative_energy_increase = 0.0;  // largest rise of H - work between output samples, / E
+    double max_relative_balance_error = 0.0;    // max |H - work + dissipated - H^{1/2}| / E
     long contact_steps = 0;           // steps where the obstacle pushed on the string
     int max_newton_iterations = 0;
     double mean_points_solved = 0.0;  // contact solves per step
@@ -69,6 +69,21 @@ struct RunSummary {
     std::vector<std::string> warnings;
 };
 
+// Audio an observer asks the run for (RunObserver::audio_request): the run resamples the
+// signal to this rate itself (band-limited, see Resampler) and hands the observer finished
+// samples. Velocity is (u^n - u^{n-1}) / dt, what a magnetic pickup senses more nearly than
+// the displacement (what an optical sensor sees).
+enum class AudioSignal { displacement, velocity };
+
+struct AudioRequest {
+    double rate_hz = 0.0;  // samples per second; 0: no audio
+    AudioSignal signal = AudioSignal::displacement;
+    // The direction the signal is taken along, in degrees from z (the obstacle's normal)
+    // toward y: 0 is z alone, 90 is y alone, others cos(a) u_z + sin(a) u_y. Other than 0 only
+    // with two polarisations, and for the displacement.
+    double angle_deg = 0.0;
+};
+
 class RunObserver {
 public:
     virtual ~RunObserver() = default;
@@ -80,10 +95,9 @@ public:
     virtual void bridge_force(double, double) {}
     // H^{n-1/2}, its contact part and the cumulative dissipated energy, at t = (n - 1/2) dt.
     virtual void energy(double, double, double, double) {}
-    // With two polarisations, just before each observation(), every_step() and energy():
-    // y at each observation point (m; never mirrored), and the y energy terms (J).
+    // With two polarisations, just before each observation() and energy(): y at each
+    // observation point (m; never mirrored), and the y energy terms (J).
     virtual void observation_y(double, std::span<const double>) {}
-    virtual void every_step_y(std::span<const double>) {}
     virtual void polarisation_energy(double /*energy_y*/, double /*damping_y*/, double /*friction*/) {}
     // With fingers, just before each energy(): the fingers' part of H, the work of the
     // external forces so far, and the fingers' part of the dissipated energy.
@@ -92,34 +106,21 @@ public:
     // each plucker (m, the case's orientation), in the order fingers, force gestures,
     // plucks; NaN where there is none (a force gesture, a plucker not yet there or gone).
     virtual void played_heights(std::span<const double> /*heights*/) {}
-    // Observers that return true receive u at every observation point at every time step
-    // (and the velocity (u^n - u^{n-1}) / dt if wants_velocity(); otherwise an empty span).
-    virtual bool wants_every_step() const { return false; }
-    // True if it receives nothing but per-step calls (every_step ... band_samples) between
-    // begin() and finish(): the run may then make those calls from a thread of their own.
-    virtual bool per_step_only() const { return false; }
-    virtual bool wants_velocity() const { return false; }
-    // Per-step signals may be band-limited to the modes below this frequency during
-    // stretches where no contact is possible (lets the run jump over them); 0: never.
-    virtual double every_step_band_hz() const { return 0.0; }
-    virtual void every_step(std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
-    // Per-step observers that only resample their signal (audio files) may name their resampler:
-    // over long stretches where no contact can act, the run then writes the resampled signal
-    // itself at its rate in closed form (band_samples, the free modes through the resampler's
-    // gain), and hands out per-step frames only in segments around contacts. Output sample k
-    // stands for t = k / rate. A segment starts at `step` (a multiple of the resampler's input
-    // period; its outputs before `first_sample` are dropped) and ends after its last frame
-    // (its outputs after `last_sample` dropped); where sources overlap, the later one counts.
-    virtual const Resampler* resampler() const { return nullptr; }
-    virtual void begin_segment(long /*step*/, long /*first_sample*/) {}
-    virtual void end_segment(long /*last_sample*/) {}
-    virtual void band_samples(long /*first_sample*/, std::span<const double> /*u*/, std::span<const double> /*velocity*/) {}
     // Every step with a non-zero contact force: (grid index, force per length in N/m).
     virtual void contacts(double /*t*/, std::span<const std::pair<std::size_t, double>> /*forces*/) {}
     // String shapes on the grid at this rate (Hz), from t = 0 up to snapshot_until_s(); 0 for none.
     virtual double snapshot_rate_hz() const { return 0.0; }
     virtual double snapshot_until_s() const { return std::numeric_limits<double>::infinity(); }
     virtual void snapshot(double /*t*/, std::span<const double> /*x*/, std::span<const double> /*u*/) {}
+    // Audio: asked once, after begin(); a rate of 0 asks for none. The run then calls audio()
+    // with the finished samples in order, from sample 0 (t = 0) to the run's end (at most
+    // round(duration x rate) + 1 samples), each call going on where the last one stopped:
+    // `samples` holds frames of one value per observation point (in the case's order),
+    // `first_sample` is the first frame's index. The run may make these calls from a thread of
+    // its own, while it makes the other calls from the caller's: never two audio() calls at
+    // once, all of them after begin() and before finish().
+    virtual AudioRequest audio_request() const { return {}; }
+    virtual void audio(long /*first_sample*/, std::span<const double> /*samples*/) {}
     virtual void finish(const RunSummary&) {}
 };
 

@@ -23,8 +23,8 @@ struct RunOptions {
     // During long flights, write the resampled audio in closed form rather than resampling the
     // per-step signal (see AudioBand); false: the per-step path throughout (the reference).
     bool closed_form_audio = true;
-    // Feed the per-step observers (the audio files) on a second thread while the string steps,
-    // when they all allow it (RunObserver::per_step_only); the same calls in the same order.
+    // Make the audio (resampling, closed form, the observers' audio() calls) on a second thread
+    // while the string steps (one polarisation); the same samples as made inline, bit for bit.
     bool per_step_thread = true;
     // Called about twice a second of wall time, if set.
     std::function<void(const Progress&)> progress;

@@ -117,7 +117,9 @@ public:
     void set_contact_law(double stiffness, double exponent) { contact_.set(stiffness, exponent); }
     void set_damping(std::span<const double> sigma_per_s);
     // Raises the whole obstacle by `offset` metres above its planned height (toward the string:
-    // more buzz), in the contact solve's coordinate.
+    // more buzz), in the contact solve's coordinate, but no point above the string's rest line
+    // (0): an obstacle raised into the string at rest would push it away with all the energy
+    // of the penetration. Points planned above the line stay where they are.
     void set_obstacle_offset(double offset);
     // Makes every row of S the contact solve may read, so that stepping never allocates.
     void prepare_rows() const;

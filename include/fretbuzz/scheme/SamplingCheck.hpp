@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "fretbuzz/Case.hpp"
 #include "fretbuzz/model/ModeTable.hpp"
 
 namespace fretbuzz {
@@ -43,6 +44,10 @@ SamplingReport check_sampling(const ModeTable& modes, double fs);
 // check_sampling, then InputError naming the hazardous modes unless allow_aliasing (their
 // warning is kept in the report instead).
 SamplingReport require_sampling(const ModeTable& modes, double fs, bool allow_aliasing);
+// Whether anything can touch the string in this case: an obstacle within reach of its free
+// motion, or a finger or gesture acting on it. Without contact the modal update is exact at
+// any fs and nothing aliases: the checks above apply only where this is true.
+bool contact_possible(const Case& c);
 // How many leading modes lie at or below fs/2: the mode count that keeps every mode in band.
 std::size_t modes_below_nyquist(const ModeTable& modes, double fs);
 

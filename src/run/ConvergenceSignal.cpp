@@ -1,4 +1,4 @@
-#include "fretbuzz/sweep/ConvergenceSignal.hpp"
+#include "fretbuzz/run/ConvergenceSignal.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,11 @@
-#include "fretbuzz/realtime/StoppedString.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/HeldString.hpp"
 
 namespace fretbuzz {
 
@@ -54,15 +55,22 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     const std::size_t n_open = open.mode_count();
     const std::size_t n = std::min(modes, n_open);
     const double sounding = length - stop_m;
-    const double ratio = length / sounding;
 
     Case c = open;
     c.name = open.name + (stop_m > 0.0 ? "-stopped" : "");
     c.string.length_m = sounding;
-    c.modes.frequency_hz.resize(n);
-    c.modes.sigma_per_s.resize(n);
-    c.modes.source.resize(n);
-    for (double& f : c.modes.frequency_hz) f *= ratio;
+    // The held string's partials (truncated when unstopped); a measured table of the second
+    // polarisation the same way, mode for mode.
+    const auto sounding_modes = [&](const ModeTable& t) {
+        if (stop_m > 0.0) return HeldString(t, length, stop_m).sounding_partials(n);
+        ModeTable first = t;
+        first.frequency_hz.resize(n);
+        first.sigma_per_s.resize(n);
+        first.source.resize(n);
+        return first;
+    };
+    c.modes = sounding_modes(open.modes);
+    if (open.polarisation.table.size() > 0) c.polarisation.table = sounding_modes(open.polarisation.table);
     c.initial_displacement.assign(n, 0.0);
     c.initial_velocity.assign(n, 0.0);
     if (stop_m == 0.0)

@@ -1,0 +1,206 @@
+// The set-up bench's speed and the convergence of its verdicts.
+//
+//   build/bench/fretbuzz_bench_setup [--repetitions N] [--jobs N] [--instrument NAME]
+//       times, medians of N (default 3) each, on `--jobs` threads (default: every core):
+//       - map: the whole map of `fretbuzz setup NAME` (every string, every fret, soft, medium
+//         and hard, each note's ensemble, a WAV per note written to a scratch folder);
+//       - what-if: one string (the first) after a what-if (the truss rod 0.1 mm looser), one
+//         attack (medium), and when its notes come in (the first, the median gap, the last);
+//       - the case-based study's load (bass-neck: a 2 mm pop, one pluck per note, 4 MHz, 0.5 s)
+//         on one thread, for the side-by-side with the earlier `fretbuzz setup bass-neck`.
+//   build/bench/fretbuzz_bench_setup --convergence [--instrument NAME] [--attacks medium,hard]
+//       the map at several sampling rates and durations against the finest (4 MHz, 0.5 s):
+//       how many notes change their verdict (buzzing or not), the mean change of the share
+//       of plucks that buzz and of the median level. Prints Markdown tables.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/input/InstrumentFile.hpp"
+#include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/StringNeck.hpp"
+#include "fretbuzz/setup/WhatIf.hpp"
+
+namespace {
+
+using namespace fretbuzz;
+using Clock = std::chrono::steady_clock;
+
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Timing {
+    double wall = 0.0, cpu = 0.0;
+    BuzzMapResult map;
+    std::vector<double> arrivals;  // s after the start, per verdict
+};
+
+Timing timed(const Instrument& instrument, MapRequest request) {
+    Timing t;
+    std::mutex mutex;
+    const auto start = Clock::now();
+    request.on_note = [&](const NoteVerdict&, std::size_t, std::size_t) {
+        std::lock_guard lock(mutex);
+        t.arrivals.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+    };
+    const double cpu = cpu_seconds();
+    t.map = play_map(instrument, request);
+    t.wall = std::chrono::duration<double>(Clock::now() - start).count();
+    t.cpu = cpu_seconds() - cpu;
+    return t;
+}
+
+void report(const char* what, const std::vector<Timing>& runs) {
+    std::vector<double> wall, cpu;
+    for (const Timing& t : runs) {
+        wall.push_back(t.wall);
+        cpu.push_back(t.cpu);
+    }
+    const BuzzMapResult& m = runs.front().map;
+    std::printf("%-58s wall %7.2f s (median of %zu), CPU %7.2f s, %zu notes, %zu plucks simulated, %zu clear, %u threads\n",
+                what, median(wall), runs.size(), median(cpu), m.notes.size(), m.plucks_simulated, m.plucks_clear, m.jobs);
+}
+
+int speed(const std::string& name, int repetitions, unsigned jobs) {
+    const Instrument instrument = load_instrument(name);
+    const std::filesystem::path scratch = std::filesystem::temp_directory_path() / "fretbuzz-bench-setup-wavs";
+    std::filesystem::create_directories(scratch);
+    std::vector<Timing> maps, whatifs, studies;
+    SetupChange looser;
+    looser.relief_m = 0.1e-3 + StringNeck(instrument, 0).relief_gap(relief_fret(instrument));
+    const Instrument changed = apply_change(instrument, looser);
+    Instrument study = load_instrument("bass-neck");
+    study.attack.ensemble = 1;
+    for (int r = 0; r < repetitions; ++r) {
+        MapRequest map;
+        map.attacks = parse_attacks("soft,medium,hard", instrument.attack);
+        map.jobs = jobs;
+        map.audio_dir = scratch;
+        maps.push_back(timed(instrument, map));
+        MapRequest one;
+        one.attacks = parse_attacks("medium", instrument.attack);
+        one.strings = {0};
+        one.jobs = jobs;
+        whatifs.push_back(timed(changed, one));
+        MapRequest pop;
+        pop.attacks = parse_attacks("pop", study.attack);
+        pop.jobs = 1;
+        pop.frets = {};
+        for (std::size_t k = 0; k < 20; ++k) pop.frets.push_back(k);  // the 20 notes the study played
+        studies.push_back(timed(study, pop));
+    }
+    std::filesystem::remove_all(scratch);
+    std::printf("fretbuzz_bench_setup: %s, %d repetitions\n", name.c_str(), repetitions);
+    report(("map of " + name + " (soft, medium, hard; WAVs)").c_str(), maps);
+    report(("what-if: relief +0.1 mm, string " + instrument.strings[0].name + ", medium").c_str(), whatifs);
+    const std::vector<double>& a = whatifs.front().arrivals;
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < a.size(); ++k) gaps.push_back(a[k] - a[k - 1]);
+    if (!a.empty())
+        std::printf("  its notes come in: the first after %.2f s, then every %.2f s (median), the last after %.2f s\n",
+                    a.front(), gaps.empty() ? 0.0 : median(gaps), a.back());
+    report("bass-neck as the case-based study (pop, 1 pluck, 4 MHz, 0.5 s)", studies);
+    return 0;
+}
+
+struct Setting {
+    double fs, duration, grid_step = 1e-3;
+};
+
+int convergence(const std::string& name, const std::string& attacks, unsigned jobs) {
+    const Instrument base = load_instrument(name);
+    const std::vector<Setting> settings = {{4e6, 0.5}, {2e6, 0.5}, {1e6, 0.5}, {5e5, 0.5}, {4e6, 0.3},
+                                           {4e6, 0.2}, {4e6, 0.1}, {1e6, 0.3}, {5e5, 0.3}, {1e6, 0.3, 2e-3}};
+    std::vector<BuzzMapResult> maps;
+    std::vector<double> walls;
+    for (const Setting& s : settings) {
+        Instrument inst = base;
+        inst.bench.sample_rate_hz = s.fs;
+        inst.bench.duration_s = s.duration;
+        inst.bench.grid_step_m = s.grid_step;
+        MapRequest request;
+        request.attacks = parse_attacks(attacks, inst.attack);
+        request.jobs = jobs;
+        const auto start = Clock::now();
+        maps.push_back(play_map(inst, request));
+        walls.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+        std::fprintf(stderr, "fs %g, %g s: %.1f s\n", s.fs, s.duration, walls.back());
+    }
+    const BuzzMapResult& ref = maps.front();
+    std::printf("\n%s, %s: each map against the first (4 MHz, 0.5 s); %zu notes, %zu plucks each\n\n", name.c_str(),
+                attacks.c_str(), ref.notes.size(), ref.notes.size() * base.attack.ensemble);
+    std::printf("| fs | duration | grid step | notes whose verdict (buzzing or not) changes | mean change of buzz_fraction | "
+                "mean change of buzz_dB (notes with a level in both) | notes buzzing | wall (s) |\n|---|---|---|---|---|---|---|---|\n");
+    for (std::size_t k = 0; k < maps.size(); ++k) {
+        std::size_t flips = 0, both = 0, buzzing = 0;
+        double dfraction = 0.0, ddb = 0.0;
+        for (std::size_t i = 0; i < ref.notes.size(); ++i) {
+            const NoteVerdict &a = maps[k].notes[i], &b = ref.notes[i];
+            flips += (a.buzz_fraction > 0) != (b.buzz_fraction > 0);
+            buzzing += a.buzz_fraction > 0;
+            dfraction += std::abs(a.buzz_fraction - b.buzz_fraction);
+            if (std::isfinite(a.buzz_db) && std::isfinite(b.buzz_db)) {
+                ++both;
+                ddb += std::abs(a.buzz_db - b.buzz_db);
+            }
+        }
+        const double n = static_cast<double>(ref.notes.size());
+        std::printf("| %g MHz | %g s | %g mm | %zu | %.3f | %.2f dB (%zu) | %zu | %.1f |\n", settings[k].fs / 1e6,
+                    settings[k].duration, settings[k].grid_step * 1e3, flips, dfraction / n, both ? ddb / static_cast<double>(both) : 0.0, both,
+                    buzzing, walls[k]);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string instrument = "jazz-bass", attacks = "medium,hard";
+    int repetitions = 3;
+    unsigned jobs = 0;
+    bool study = false;
+    for (int k = 1; k < argc; ++k) {
+        const std::string a = argv[k];
+        const bool value = k + 1 < argc;
+        if (a == "--convergence") {
+            study = true;
+        } else if (a == "--instrument" && value) {
+            instrument = argv[++k];
+        } else if (a == "--attacks" && value) {
+            attacks = argv[++k];
+        } else if (a == "--repetitions" && value) {
+            repetitions = std::max(1, std::atoi(argv[++k]));
+        } else if (a == "--jobs" && value) {
+            jobs = static_cast<unsigned>(std::max(1, std::atoi(argv[++k])));
+        } else {
+            std::fprintf(stderr, "usage: %s [--convergence] [--instrument NAME] [--attacks LIST] [--repetitions N] "
+                                 "[--jobs N]\n", argv[0]);
+            return 2;
+        }
+    }
+    try {
+        return study ? convergence(instrument, attacks, jobs) : speed(instrument, repetitions, jobs);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fretbuzz_bench_setup: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,130 @@
+#pragma once
+// An instrument on the set-up bench as a luthier describes it: the neck (scale, frets,
+// relief, radius), each string (pitch, tension, stiffness, where it lies over the frets),
+// how it is played (the attacks) and how finely it is simulated. Values in SI units, as
+// read from an instrument file (docs/instrument-format.md) by input/InstrumentFile; the
+// geometry they imply (fret tops, the string line, the obstacle of every note) is
+// computed by setup/StringNeck.
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fretbuzz {
+
+// The neck's relief (its bow under the strings' pull, set by the truss rod), as measured.
+struct ReliefMeasure {
+    enum class Form {
+        straight,  // no relief
+        gap,       // a feeler gauge's gap at `at_fret` under a string pressed at fret 1 and the last fret
+        curve,     // depth below the straight line from the nut to the last fret, at points along the neck
+    };
+    Form form = Form::straight;
+    double gap_m = 0.0;
+    std::size_t at_fret = 8;
+    std::vector<double> x_m;      // curve: from the nut along the string, increasing, strictly inside
+    std::vector<double> depth_m;  // curve: below that line (+ down)
+};
+
+// Where one end of the open string lies. At the nut: the gap over fret 1 (what a luthier
+// measures), or the height above the fret plane at x = 0. At the bridge: the gap over a
+// given fret (the action, usually at fret 12), or the height above the fret plane extended
+// to the bridge (the saddle). The fret plane is the straight line through the nut end of
+// the fretboard's fret line and the last fret (relief is measured down from it).
+struct StringEnd {
+    // as_measured: where a measured neck profile puts it (the profile is taken under the open string).
+    enum class Form { gap_over_fret, height, as_measured };
+    Form form = Form::gap_over_fret;
+    double value_m = 0.0;
+    std::size_t fret = 1;  // gap_over_fret: which fret
+};
+
+struct InstrumentString {
+    std::string name;             // unique within the instrument: "E", "A", ..., "e"
+    double scale_length_m = 0.0;  // its vibrating length, nut to saddle
+    double frequency_hz = 0.0;    // open pitch
+    double tension_n = 0.0;
+    double linear_density = 0.0;  // mu, kg/m
+    double bending_stiffness = 0.0;  // EI, N m^2 (B = pi^2 EI / (T L^2))
+    double gauge_m = 0.0;         // outer diameter (0: not given)
+    std::string tension_source;   // where the tension comes from (the set, "given", "from mu")
+    StringEnd nut;
+    StringEnd bridge;
+    // A scan of this string's fret tops: fret -> height above the straight line through the
+    // tops of fret 1 and the last fret (m; negative below). Replaces relief, radius and the
+    // individual fret heights under this string.
+    std::map<std::size_t, double> scan_m;
+    // A measured neck profile under this string: heights (m, negative below) of the neck
+    // below the open string at rest on a grid x_i from the nut, frets one grid point each
+    // (as the paper's bass data). Replaces the neck's geometry under this string.
+    std::vector<double> profile_x_m, profile_height_m;
+    std::string profile_source;
+    // The body's height above the fret plane under this string, once what-ifs have pinned the
+    // string's ends (the body stays with the neck when the string moves); none: from body_depth_m.
+    std::optional<double> body_height_m;
+};
+
+struct NeckDescription {
+    std::size_t fret_count = 0;
+    double fret_height_m = 0.0;                    // nominal crown height above the board
+    std::map<std::size_t, double> fret_offset_m;   // individual frets: + proud of the fret line, - low
+    ReliefMeasure relief;
+    double truss_rod_bow_m = 0.0;                  // a bow added to the relief (what-ifs of the truss rod)
+    std::optional<double> radius_m;                // fretboard radius (cylindrical)
+    double nut_width_m = 0.0;                      // centre to centre of the outer strings at the nut
+    double bridge_spacing_m = 0.0;                 // the same at the bridge
+    std::optional<std::size_t> perpendicular_fret;  // multiscale: the fret square to the neck
+    double board_end_m = 0.0;                      // end of the fingerboard, from the nut along the string
+    std::optional<double> body_depth_m;            // past the board: the body, this far below the open string at the board's end
+};
+
+// How the strings are played. Finger plucks (soft, medium, hard) and the pop release the
+// string displaced away from the board (amplitude at the pluck point, a rounded triangle the
+// width of the fingertip); the slap throws it toward the board (a raised-cosine velocity the
+// width of the thumb). Every note of one attack is played at the same distance from the bridge.
+struct AttackSettings {
+    double pluck_from_bridge_m = 0.0;
+    double finger_width_m = 0.01;
+    double soft_m = 0.0, medium_m = 0.0, hard_m = 0.0;
+    double pop_m = 0.0, pop_from_bridge_m = 0.0, pop_width_m = 0.008;
+    double slap_m_per_s = 0.0, slap_from_bridge_m = 0.0, slap_width_m = 0.015;
+    // The ensemble of one note: plucks jittered around the attack (member 0 is the attack itself).
+    std::size_t ensemble = 5;
+    double position_spread_m = 0.01;   // pluck point uniform within +- this
+    double strength_spread = 0.15;     // amplitude factor uniform within 1 +- this
+    unsigned long long seed = 1;
+};
+
+// How finely the notes are simulated and how buzz is judged.
+struct BenchSettings {
+    double sample_rate_hz = 0.0;
+    double duration_s = 0.0;
+    double grid_step_m = 0.0;          // dx of every note's grid (fret tops are one grid point)
+    double output_rate_hz = 48000.0;   // rows of the observed signal
+    double observe_from_bridge_m = 0.0;  // where the signal is taken (a bridge pickup)
+    double buzz_band_hz = 2000.0;      // the buzz band's lower edge
+    double audible_db = -30.0;         // a pluck buzzes audibly when its buzz level is at least this (docs/setup.md)
+    double contact_stiffness = 1e13;   // K
+    double contact_exponent = 1.5;     // alpha
+    double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2
+    double damping_eta2 = 0.0;
+    // Stopped notes' modes: false, the string held on the fret (the library's stopped_string);
+    // true, the string pinned at the fret (its own models at the stopped length).
+    bool pinned_stops = false;
+};
+
+struct Instrument {
+    std::string name;
+    std::string description;
+    std::string source_text;  // the instrument file it was read from
+    NeckDescription neck;
+    std::vector<InstrumentString> strings;  // in the file's order (low to high)
+    AttackSettings attack;
+    BenchSettings bench;
+
+    // The index of the string called `name`; InputError listing the names if none is.
+    std::size_t string_index(const std::string& name) const;
+};
+
+}  // namespace fretbuzz

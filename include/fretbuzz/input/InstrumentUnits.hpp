@@ -1,0 +1,37 @@
+#pragma once
+// Values with their units, as an instrument file and the bench's options give them:
+// "2.4 mm", "5/64 in", "1 3/16 in", "0.094 in", "34 in", "191.6 N", "43.1 lb", "98 Hz",
+// "E1" (a note: equal temperament, A4 = 440 Hz), "1 MHz", "0.3 s". Every value is
+// converted to SI units; docs/instrument-format.md lists the units of each kind.
+#include <string>
+#include <string_view>
+
+namespace fretbuzz {
+
+enum class Quantity {
+    length,             // m, cm, mm, in
+    force,              // N, lb (pound-force)
+    frequency,          // Hz, kHz, MHz, or a note name (E1, F#2, Bb3)
+    linear_density,     // kg/m, g/m, lb/in (the unit weight of string makers' charts)
+    bending_stiffness,  // N m^2
+    velocity,           // m/s
+    rate,               // 1/s
+    diffusivity,        // m^2/s
+    time,               // s, ms
+};
+
+// The unit names accepted for a kind of quantity, for messages ("m, cm, mm or in").
+std::string unit_names(Quantity kind);
+
+// The value in SI units. InputError naming `key` if the text is no number followed by one of
+// the kind's units (a bare number is refused: the unit must be said), or not finite.
+double parse_quantity(std::string_view text, Quantity kind, const std::string& key);
+
+// The same, but a bare number is taken in `default_unit` (command-line options: "--relief 0.3"
+// is 0.3 mm).
+double parse_quantity_or(std::string_view text, Quantity kind, std::string_view default_unit, const std::string& key);
+
+// The frequency (Hz) of a note name such as "E1", "F#2", "Bb3"; InputError naming key if it is none.
+double note_frequency(std::string_view name, const std::string& key);
+
+}  // namespace fretbuzz

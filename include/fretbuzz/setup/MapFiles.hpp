@@ -1,0 +1,54 @@
+#pragma once
+// The files of a buzz map, and a map compared with an earlier one.
+//  - buzz_map.csv: one row per note and attack: string, fret, strength, buzz_fraction,
+//    buzz_dB, buzz_fret ("board" for the board or body, empty for none), touch_fraction,
+//    plucks, status, clearance_mm, audio, pluck_dB (each pluck's level, ';'-separated,
+//    empty where it touched nothing). Numbers in their shortest form that reads back exactly.
+//  - map.json: everything a page or the studio draws: the instrument's geometry, the
+//    settings, the verdicts, the comparison and the advice when there are.
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fretbuzz/input/Instrument.hpp"
+#include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/InstrumentGeometry.hpp"
+
+namespace fretbuzz {
+
+// The shortest decimal text that reads back as the same double ("" for NaN).
+std::string shortest_text(double value);
+
+void write_buzz_map_csv(const std::filesystem::path& path, std::span<const NoteVerdict> notes);
+// An earlier map's buzz_map.csv (for --compare): InputError naming `option` and the file if
+// it is missing, too large (64 MiB) or not a buzz map.
+std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, const std::string& option);
+
+// How a note changed between two maps: "worse" (more of its plucks buzz, or as many and
+// 3 dB louder), "better" (the reverse), "moved" (as many buzz, against another fret),
+// "same", or "new" (not in the other map).
+struct NoteChange {
+    NoteVerdict now, before;
+    std::string change;
+};
+inline constexpr double kChangeDb = 3.0;
+std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span<const NoteVerdict> before);
+void write_comparison_csv(const std::filesystem::path& path, std::span<const NoteChange> changes);
+
+// What map.json holds besides the instrument.
+struct MapDocument {
+    std::string command;                 // the command line that made it
+    std::vector<std::string> changes;    // the what-ifs applied, as given
+    std::vector<Attack> attacks;
+    bool finger = false;
+    std::vector<NoteVerdict> notes;
+    std::vector<NoteChange> comparison;  // empty: no comparison
+    std::string compared_with;
+    std::string advice_json;             // the advice as JSON text ("": none)
+    double wall_seconds = 0.0;
+};
+void write_map_json(const std::filesystem::path& path, const Instrument& instrument, const MapDocument& document);
+
+}  // namespace fretbuzz

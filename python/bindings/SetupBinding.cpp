@@ -1,0 +1,360 @@
+// The set-up bench from Python: instruments (built-in or from a file or text), their
+// geometry, what-ifs, the buzz map with a callback per finished note, one note with its
+// audio and contacts, the comparison of two maps and the advice. python/fretbuzz/setup_bench.py
+// (fretbuzz.Bench, fretbuzz.setup) turns these into pandas DataFrames; its docstrings are
+// the contract for the studio.
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <string>
+#include <tuple>
+
+#include "BackgroundRun.hpp"
+#include "Bindings.hpp"
+#include "Conversions.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/InstrumentFile.hpp"
+#include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/setup/Advice.hpp"
+#include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/InstrumentGeometry.hpp"
+#include "fretbuzz/setup/MapFiles.hpp"
+#include "fretbuzz/setup/WhatIf.hpp"
+
+namespace fretbuzz::python {
+
+namespace py = pybind11;
+
+namespace {
+
+py::object number(double v) { return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none()); }
+
+py::object fret_value(int f) {
+    if (f == kNoFret) return py::none();
+    return f == kBoard ? py::object(py::str("board")) : py::object(py::int_(f));
+}
+
+int fret_from(py::handle h) {
+    if (h.is_none()) return kNoFret;
+    if (py::isinstance<py::str>(h)) return h.cast<std::string>() == "board" ? kBoard : kNoFret;
+    return h.cast<int>();
+}
+
+py::dict verdict_dict(const NoteVerdict& v) {
+    py::dict d;
+    d["string"] = v.string_name;
+    d["fret"] = v.fret;
+    d["strength"] = v.strength;
+    d["buzz_fraction"] = v.buzz_fraction;
+    d["buzz_dB"] = number(v.buzz_db);
+    d["buzz_fret"] = fret_value(v.buzz_fret);
+    d["touch_fraction"] = v.touch_fraction;
+    d["plucks"] = v.plucks;
+    d["status"] = v.status;
+    d["clearance_mm"] = number(v.clearance_m * 1e3);
+    py::list plucks;
+    for (double db : v.pluck_db) plucks.append(number(db));
+    d["pluck_dB"] = plucks;
+    d["audio"] = v.audio;
+    return d;
+}
+
+NoteVerdict verdict_from(py::handle row) {
+    const py::dict d = py::reinterpret_borrow<py::dict>(row);
+    NoteVerdict v;
+    v.string_name = d["string"].cast<std::string>();
+    v.fret = d["fret"].cast<std::size_t>();
+    v.strength = d["strength"].cast<std::string>();
+    v.buzz_fraction = d["buzz_fraction"].cast<double>();
+    v.buzz_db = d["buzz_dB"].is_none() ? NoteVerdict::nan : d["buzz_dB"].cast<double>();
+    v.buzz_fret = fret_from(d["buzz_fret"]);
+    v.touch_fraction = d.contains("touch_fraction") ? d["touch_fraction"].cast<double>() : 0.0;
+    v.plucks = d.contains("plucks") ? d["plucks"].cast<std::size_t>() : 0;
+    v.status = d.contains("status") ? d["status"].cast<std::string>() : "ok";
+    return v;
+}
+
+std::vector<NoteVerdict> verdicts_from(const py::iterable& rows) {
+    std::vector<NoteVerdict> out;
+    for (py::handle row : rows) out.push_back(verdict_from(row));
+    return out;
+}
+
+double millimetres(py::handle value, const std::string& name) {
+    if (py::isinstance<py::str>(value)) return parse_quantity_or(value.cast<std::string>(), Quantity::length, "mm", name);
+    return to_number(value, name) * 1e-3;
+}
+
+// The library's checks are those of `fretbuzz setup`; their messages name the options as the
+// command line spells them. Here they name the arguments as Python spells them.
+template <class F>
+auto with_python_names(F&& f) {
+    try {
+        return f();
+    } catch (const InputError& e) {
+        std::string message = e.what();
+        for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+                 {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
+                 {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
+                 {"--strength", "strengths"}})
+            for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+                message.replace(at, from.size(), to);
+        throw InputError(message);
+    }
+}
+
+// The what-ifs as Python gives them; InputError messages name the Python argument.
+Instrument changed(const Instrument& instrument, const py::object& relief, const py::dict& action12,
+                   const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets) {
+    SetupChange change;
+    if (!relief.is_none()) change.relief_m = millimetres(relief, "relief");
+    const auto ends = [&](const py::dict& given, const std::string& name,
+                          std::vector<std::pair<std::string, double>>& into) {
+        for (const auto& [key, value] : given) {
+            const std::string string = to_text(key, name + " (a string's name)");
+            instrument.string_index(string);
+            into.emplace_back(string, millimetres(value, name + "['" + string + "']"));
+        }
+    };
+    ends(action12, "action12", change.action12_m);
+    ends(nut, "nut", change.nut_m);
+    ends(saddle, "saddle", change.saddle_m);
+    for (const auto& [key, value] : fret_offsets) {
+        FretChange f;
+        f.fret = key.cast<std::size_t>();
+        const std::string name = "fret_offsets[" + std::to_string(f.fret) + "]";
+        if (!(py::isinstance<py::str>(value) && value.cast<std::string>() == "level")) f.by_m = millimetres(value, name);
+        change.frets.push_back(f);
+    }
+    return with_python_names([&] { return apply_change(instrument, change); });
+}
+
+py::list geometry(const Instrument& instrument) {
+    py::list strings;
+    for (const StringGeometry& g : describe_geometry(instrument)) {
+        py::dict d;
+        d["name"] = g.name;
+        d["scale_length_m"] = g.scale_length_m;
+        d["frequency_hz"] = g.frequency_hz;
+        d["tension_n"] = g.tension_n;
+        d["linear_density"] = g.linear_density;
+        d["bending_stiffness"] = g.bending_stiffness;
+        d["inharmonicity"] = g.inharmonicity;
+        d["gauge_m"] = g.gauge_m;
+        d["tension_source"] = g.tension_source;
+        d["nut_height_m"] = g.nut_height_m;
+        d["saddle_height_m"] = g.saddle_height_m;
+        d["nut_gap_m"] = g.nut_gap_m;
+        d["action12_m"] = number(g.action12_m);
+        d["relief_gap_m"] = g.relief_gap_m;
+        d["relief_fret"] = g.relief_fret;
+        d["nut_axial_m"] = g.nut_axial_m;
+        d["lateral_nut_m"] = g.lateral_nut_m;
+        d["lateral_bridge_m"] = g.lateral_bridge_m;
+        d["fret_x_m"] = to_numpy(g.fret_x_m);
+        d["fret_top_m"] = to_numpy(g.fret_top_m);
+        d["fret_line_m"] = to_numpy(g.fret_line_m);
+        d["gap_m"] = to_numpy(g.gap_m);
+        d["surface_x_m"] = to_numpy(g.surface_x_m);
+        d["surface_z_m"] = to_numpy(g.surface_z_m);
+        strings.append(d);
+    }
+    return strings;
+}
+
+py::dict settings(const Instrument& i) {
+    py::dict d;
+    d["fs_hz"] = i.bench.sample_rate_hz;
+    d["duration_s"] = i.bench.duration_s;
+    d["grid_step_m"] = i.bench.grid_step_m;
+    d["output_rate_hz"] = i.bench.output_rate_hz;
+    d["observe_from_bridge_m"] = i.bench.observe_from_bridge_m;
+    d["buzz_band_hz"] = i.bench.buzz_band_hz;
+    d["audible_dB"] = i.bench.audible_db;
+    d["ensemble"] = i.attack.ensemble;
+    d["position_spread_m"] = i.attack.position_spread_m;
+    d["strength_spread"] = i.attack.strength_spread;
+    d["seed"] = i.attack.seed;
+    d["stopped_modes"] = i.bench.pinned_stops ? "pinned" : "held";
+    return d;
+}
+
+Instrument with_settings(const Instrument& instrument, const py::object& ensemble, const py::object& fs,
+                         const py::object& duration) {
+    Instrument i = instrument;
+    if (!ensemble.is_none()) {
+        const long n = ensemble.cast<long>();
+        if (n < 1 || n > 64) throw InputError(out_of_range_message("ensemble", static_cast<double>(n), "must be in [1, 64]"));
+        i.attack.ensemble = static_cast<std::size_t>(n);
+    }
+    if (!fs.is_none()) {
+        const double v = to_number(fs, "fs");
+        if (!(v >= 5e4 && v <= 2e7)) throw InputError(out_of_range_message("fs (Hz)", v, "must be in [50000, 2e7]"));
+        i.bench.sample_rate_hz = v;
+    }
+    if (!duration.is_none()) {
+        const double v = to_number(duration, "duration");
+        if (!(v >= 0.01 && v <= 5.0)) throw InputError(out_of_range_message("duration (s)", v, "must be in [0.01, 5]"));
+        i.bench.duration_s = v;
+    }
+    return i;
+}
+
+MapRequest map_request(const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
+                       const std::vector<std::size_t>& frets, bool finger, unsigned jobs) {
+    MapRequest r;
+    r.attacks = parse_attacks(strengths, instrument.attack, "strengths");
+    for (const std::string& s : strings) r.strings.push_back(instrument.string_index(s));
+    r.frets = frets;
+    r.finger = finger;
+    r.jobs = jobs;
+    map_notes(instrument, r);  // checked before anything runs
+    return r;
+}
+
+// play_map in the background (BackgroundRun): `progress` gets each finished note on this
+// thread; a callback that raises stops the map and its exception propagates; Ctrl-C stops it
+// with KeyboardInterrupt; `stop()` returning True stops it and returns the notes so far.
+py::list run_map(const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
+                 const std::vector<std::size_t>& frets, bool finger, unsigned jobs, const std::string& audio_dir,
+                 const py::object& progress, const py::object& stop) {
+    MapRequest request = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, jobs); });
+    request.audio_dir = audio_dir;
+    BackgroundRun<std::tuple<NoteVerdict, std::size_t, std::size_t>> background;
+    request.stop = [&background] { return background.stopping(); };
+    request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) { background.post({v, done, total}); };
+    BuzzMapResult result;
+    background.run([&] { result = play_map(instrument, request); },
+                   [&](const auto& report) {
+                       const auto& [v, done, total] = report;
+                       if (!progress.is_none()) progress(verdict_dict(v), done, total);
+                   },
+                   [&] { return !stop.is_none() && stop().cast<bool>(); });
+    py::list notes;
+    for (const NoteVerdict& v : result.notes) notes.append(verdict_dict(v));
+    return notes;
+}
+
+py::dict record(const Instrument& instrument, const std::string& string, std::size_t fret, const std::string& strength,
+                std::size_t member, bool finger) {
+    const std::size_t s = instrument.string_index(string);
+    const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
+    if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
+    PluckOutcome o;
+    {
+        py::gil_scoped_release unlocked;
+        o = record_pluck(instrument, s, fret, attacks.front(), member, finger);
+    }
+    if (!o.error.empty()) throw InputError(string + " fret " + std::to_string(fret) + " " + strength + ": " + o.error);
+    py::dict d;
+    d["touched"] = o.touched;
+    d["buzz_dB"] = number(o.buzz_db);
+    d["buzz_fret"] = fret_value(o.buzz_fret);
+    d["first_contact_s"] = number(o.first_contact_s);
+    d["peak_force_n"] = o.peak_force_n;
+    d["signal"] = to_numpy(o.signal);
+    d["signal_rate_hz"] = o.signal_rate_hz;
+    d["audio"] = to_numpy(o.audio);
+    d["audio_rate_hz"] = o.audio_rate_hz;
+    py::list contacts;
+    for (const ContactStretch& c : o.contacts) {
+        py::dict row;
+        row["time_s"] = c.time_s;
+        row["impulse_n_s"] = c.impulse_n_s;
+        row["peak_force_n"] = c.peak_force_n;
+        row["fret"] = fret_value(c.fret);
+        contacts.append(row);
+    }
+    d["contacts"] = contacts;
+    return d;
+}
+
+std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
+                   const std::vector<std::string>& strings, bool finger, unsigned jobs) {
+    AdviceRequest request;
+    const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
+    if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
+    request.attack = attacks.front();
+    request.finger = finger;
+    request.jobs = jobs;
+    for (const std::string& s : strings) request.strings.push_back(instrument.string_index(s));
+    std::vector<NoteVerdict> verdicts = verdicts_from(map);
+    for (NoteVerdict& v : verdicts) v.string = instrument.string_index(v.string_name);
+    py::gil_scoped_release unlocked;
+    return advice_json(advise(instrument, verdicts, request));
+}
+
+}  // namespace
+
+void bind_setup(py::module_& m) {
+    py::class_<Instrument>(m, "Instrument",
+                           "An instrument on the set-up bench (see fretbuzz.Bench and docs/instrument-format.md).")
+        .def_readonly("name", &Instrument::name)
+        .def_readonly("description", &Instrument::description)
+        .def_readonly("source_text", &Instrument::source_text, "the instrument file it was read from")
+        .def_property_readonly("strings",
+                               [](const Instrument& i) {
+                                   std::vector<std::string> names;
+                                   for (const InstrumentString& s : i.strings) names.push_back(s.name);
+                                   return names;
+                               },
+                               "the strings' names, in the file's order")
+        .def_property_readonly("frets", [](const Instrument& i) { return i.neck.fret_count; })
+        .def_property_readonly("settings", &settings, "how finely notes are simulated and how buzz is judged")
+        .def("geometry", &geometry,
+             "The neck under each string: a list of dicts (see fretbuzz.Bench.geometry). InputError if a string "
+             "would lie on a fret.")
+        .def("with_settings", &with_settings, py::arg("ensemble") = py::none(), py::arg("fs") = py::none(),
+             py::arg("duration") = py::none(), "A copy with these simulation settings (InputError if out of range).")
+        .def("with_changes", &changed, py::arg("relief") = py::none(), py::arg("action12") = py::dict(),
+             py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
+             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}).")
+        .def(py::pickle([](const Instrument& i) { return py::make_tuple(i.source_text, i.name); },
+                        [](const py::tuple& t) {
+                            return parse_instrument(t[0].cast<std::string>(), t[1].cast<std::string>(), DataSource::builtin());
+                        }))
+        .def("__repr__", [](const Instrument& i) {
+            return "<fretbuzz.Instrument " + i.name + ": " + std::to_string(i.strings.size()) + " strings, " +
+                   std::to_string(i.neck.fret_count) + " frets>";
+        });
+    m.def("load_instrument", &load_instrument, py::arg("name_or_path"),
+          "A built-in instrument (see instruments()) or an instrument file (.toml).");
+    m.def("instrument_from_text", [](const std::string& text, const std::string& name, const std::string& base_dir) {
+              return parse_instrument(text, name, DataSource::directory(base_dir));
+          },
+          py::arg("text"), py::arg("name") = "instrument.toml", py::arg("base_dir") = ".",
+          "An instrument from the text of an instrument file (data files relative to base_dir).");
+    m.def("instruments", [] {
+        py::dict d;
+        for (const BuiltinInstrumentInfo& info : builtin_instruments()) d[py::str(info.name)] = info.description;
+        return d;
+    }, "The built-in instruments: {name: description}.");
+    m.def("_setup_map", &run_map, py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"),
+          py::arg("finger"), py::arg("jobs"), py::arg("audio_dir"), py::arg("progress"), py::arg("stop"));
+    m.def("_setup_check", [](const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
+                             const std::vector<std::size_t>& frets, bool finger) {
+              const MapRequest r = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, 0); });
+              return map_notes(instrument, r).size() * r.attacks.size();
+          },
+          py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"), py::arg("finger"),
+          "The number of notes a map would play; InputError, before anything runs, for what _setup_map would refuse.");
+    m.def("_setup_note", &record, py::arg("instrument"), py::arg("string"), py::arg("fret"), py::arg("strength"),
+          py::arg("member"), py::arg("finger"));
+    m.def("_setup_compare", [](const py::iterable& now, const py::iterable& before) {
+        py::list rows;
+        for (const NoteChange& c : compare_maps(verdicts_from(now), verdicts_from(before))) {
+            py::dict d = verdict_dict(c.now);
+            d["change"] = c.change;
+            d["buzz_fraction_before"] = c.change == "new" ? py::object(py::none()) : py::object(py::float_(c.before.buzz_fraction));
+            d["buzz_dB_before"] = number(c.before.buzz_db);
+            d["buzz_fret_before"] = fret_value(c.before.buzz_fret);
+            rows.append(d);
+        }
+        return rows;
+    });
+    m.def("_setup_advice", &advice, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
+          py::arg("finger"), py::arg("jobs"));
+}
+
+}  // namespace fretbuzz::python

@@ -1,0 +1,287 @@
+"""The studio's web application (FastAPI): the page, its JSON and HTML fragments, the study
+folder's files, and the guard that keeps it to this computer.
+
+Routes:
+  GET  /                 the page
+  GET  /api/state        the queue, the map under way (progress), the set-up now (JSON)
+  POST /api/what-if      queue the map of the page's controls (JSON); 422 names each bad control
+  POST /api/advice       queue the advice for the newest finished map
+  POST /api/export       write the customer's report into the study folder
+  GET  /fragment/maps    the map and the one before it, with the changes marked (HTML)
+  GET  /fragment/neck    the side views of the neck for a map (HTML)
+  GET  /fragment/advice  the advice (HTML)
+  GET  /fragment/note    one note: its sound and its contacts over time (HTML)
+  GET  /study/PATH       a file of the study folder (a note's WAV, a report)
+  GET  /static/...       the page's script and style sheet
+"""
+from __future__ import annotations
+
+import base64
+import ipaddress
+import json
+import os
+from typing import Dict, Optional
+
+from fastapi import FastAPI, Request
+from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
+from fastapi.staticfiles import StaticFiles
+from jinja2 import Environment, FileSystemLoader, select_autoescape
+
+from ..setup_bench import InputError
+from . import present
+from .study import QUEUE_LIMIT, SERVED_SUFFIXES, FieldErrors, Study, StudyPathError
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+LOOPBACK_NAMES = {"127.0.0.1", "localhost", "::1"}
+MAX_BODY_BYTES = 16 * 1024
+
+
+def templates() -> Environment:
+    """The studio's Jinja2 templates (the report includes the style sheet from static/)."""
+    env = Environment(loader=FileSystemLoader([os.path.join(HERE, "templates"), os.path.join(HERE, "static")]),
+                      autoescape=select_autoescape(["html", "j2"]), trim_blocks=True, lstrip_blocks=True)
+    env.filters["mm"] = lambda v, digits=2: "" if v is None else f"{v:.{digits}f}"
+    return env
+
+
+def is_loopback(address: Optional[str]) -> bool:
+    try:
+        return address is not None and ipaddress.ip_address(address.split("%")[0]).is_loopback
+    except ValueError:
+        return False
+
+
+def host_name(header: str) -> tuple:
+    """A Host header's name and port ("[::1]:8035" -> ("::1", 8035)); port None when absent, -1
+    when not a number."""
+    header = header.strip().lower()
+    if header.startswith("["):
+        name, _, rest = header[1:].partition("]")
+        port = rest[1:] if rest.startswith(":") else ""
+    else:
+        name, _, port = header.partition(":")
+    return name, (int(port) if port.isdigit() else None if not port else -1)
+
+
+class Guard:
+    """Who may talk to the studio. Without an explicit host: only loopback clients, naming the
+    server by a loopback name and its own port in Host (so that a web page whose name was
+    made to resolve to 127.0.0.1, DNS rebinding, is refused), and changes only from the page
+    itself (Origin, a JSON body: a cross-site form cannot send one without asking)."""
+
+    def __init__(self, port: int, host: Optional[str] = None):
+        self.port = port
+        self.open = host is not None
+        wildcard = host in ("0.0.0.0", "::", "")
+        # Served on every interface: the name others use for this computer is not known here.
+        self.names = None if wildcard else LOOPBACK_NAMES | ({host.strip("[]").lower()} if host else set())
+
+    def ours(self, name: str, port: Optional[int]) -> bool:
+        """Whether host:port names this server (no port: 80)."""
+        return (80 if port is None else port) == self.port and (self.names is None or name in self.names)
+
+    def refuse(self, request: Request) -> Optional[Response]:
+        client = request.client.host if request.client else None
+        if not self.open and not is_loopback(client):
+            return JSONResponse({"error": f"refused: the studio answers this computer only (loopback), not {client}; "
+                                          "start it with --host to serve other computers"}, status_code=403)
+        host = request.headers.get("host", "")
+        if not self.ours(*host_name(host)):
+            return JSONResponse({"error": f"refused: Host {host!r} is not this studio (http://127.0.0.1:{self.port}/)"},
+                                status_code=400)
+        if request.method not in ("GET", "HEAD"):
+            origin = request.headers.get("origin")
+            if origin is not None and not (origin.startswith("http://") and self.ours(*host_name(origin[7:]))):
+                return JSONResponse({"error": f"refused: a change from {origin} (only the studio's own page may "
+                                              "change it)"}, status_code=403)
+            if request.headers.get("content-type", "").split(";")[0].strip() != "application/json":
+                return JSONResponse({"error": "refused: changes are sent as JSON"}, status_code=415)
+            length = request.headers.get("content-length")
+            if length is not None and (not length.isdigit() or int(length) > MAX_BODY_BYTES):
+                return JSONResponse({"error": f"refused: a request body over {MAX_BODY_BYTES} bytes"}, status_code=413)
+        return None
+
+
+async def _json(request: Request):
+    body = await request.body()
+    if len(body) > MAX_BODY_BYTES:
+        raise FieldErrors({"form": f"the request is over {MAX_BODY_BYTES} bytes"})
+    try:
+        return json.loads(body or b"{}")
+    except ValueError:
+        raise FieldErrors({"form": "the request is not JSON"}) from None
+
+
+def _jobs_state(study: Study) -> dict:
+    def job(j) -> dict:
+        return {"id": j.id, "kind": j.kind, "label": j.label, "superseded_by": j.superseded_by}
+    with study.lock:
+        running = study.running
+        state = {"running": None, "pending": [job(j) for j in study.pending],
+                 "superseded": [job(j) for j in study.superseded], "limit": QUEUE_LIMIT}
+        if running is not None:
+            state["running"] = {**job(running), "done": len(running.record.notes) if running.kind == "map" else None,
+                                "total": running.record.total if running.kind == "map" else None}
+    return state
+
+
+def _map_state(record) -> Optional[dict]:
+    if record is None:
+        return None
+    return {"id": record.id, "label": record.label, "status": record.status, "error": record.error,
+            "done": len(record.notes), "total": record.total, "seconds": record.seconds,
+            "before": record.before.id if record.before else None, "summary": present.summary(record),
+            "advice": record.advice_status, "advice_error": record.advice_error}
+
+
+def create_app(study: Study, *, port: int, host: Optional[str] = None) -> FastAPI:
+    """The studio's application around a Study; port (and host, when given) are where it is
+    served, for the Host checks."""
+    app = FastAPI(title="fretbuzz studio", docs_url=None, redoc_url=None, openapi_url=None)
+    env = templates()
+    guard = Guard(port, host)
+    app.state.study = study
+
+    @app.middleware("http")
+    async def only_this_computer(request: Request, call_next):
+        refused = guard.refuse(request)
+        if refused is not None:
+            return refused
+        response = await call_next(request)
+        response.headers["X-Content-Type-Options"] = "nosniff"
+        response.headers["X-Frame-Options"] = "DENY"
+        return response
+
+    @app.on_event("shutdown")
+    def stop_the_worker() -> None:
+        study.close()
+
+    app.mount("/static", StaticFiles(directory=os.path.join(HERE, "static")), name="static")
+
+    def page(name: str, **values) -> HTMLResponse:
+        return HTMLResponse(env.get_template(name).render(**values))
+
+    def record_of(map_id: Optional[int]):
+        record = study.latest if map_id is None else study.maps.get(map_id)
+        if record is None:
+            raise InputError(f"map: {map_id} is not a map of this study")
+        return record
+
+    @app.exception_handler(FieldErrors)
+    async def field_errors(request: Request, e: FieldErrors):
+        return JSONResponse({"error": str(e), "errors": e.errors}, status_code=422)
+
+    @app.exception_handler(InputError)
+    async def input_error(request: Request, e: InputError):
+        return JSONResponse({"error": str(e), "errors": {"form": str(e)}}, status_code=422)
+
+    @app.get("/", response_class=HTMLResponse)
+    def index() -> HTMLResponse:
+        # The controls as the newest map left them (a reloaded page goes on from there).
+        with study.lock:
+            newest = study.maps[max(study.maps)]
+        fret, offset = next(iter(newest.changes.get("fret_offsets", {}).items()), ("", ""))
+        return page("index.html.j2", bench=study.base, setup=present.setup_rows(newest.bench),
+                    settings=study.base.settings, strengths=newest.attacks, changes=newest.changes, fret=fret,
+                    offset=offset, queue_limit=QUEUE_LIMIT, folder=study.folder)
+
+    @app.get("/api/state")
+    def state() -> JSONResponse:
+        with study.lock:
+            latest, done, version = study.latest, study.done, study.version
+        shown = latest or done
+        return JSONResponse({"version": version, "jobs": _jobs_state(study), "map": _map_state(latest),
+                             "done": done.id if done else None, "advice": done.advice_status if done else "",
+                             "setup": present.setup_rows(shown.bench) if shown else present.setup_rows(study.base),
+                             "exports": list(study.exports)})
+
+    @app.post("/api/what-if")
+    async def what_if(request: Request) -> JSONResponse:
+        job, superseded = study.submit_map(await _json(request))
+        return JSONResponse({"id": job.id, "label": job.label, "total": job.record.total,
+                             "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
+
+    @app.post("/api/advice")
+    async def advice(request: Request) -> JSONResponse:
+        await _json(request)
+        job, superseded = study.submit_advice()
+        return JSONResponse({"id": job.id if job else None, "map": study.done.id if study.done else None,
+                             "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
+
+    @app.get("/fragment/maps", response_class=HTMLResponse)
+    def maps(map: Optional[int] = None) -> HTMLResponse:
+        record = study.latest if map is None else record_of(map)
+        if record is None:
+            return page("_maps.html.j2", record=None, before=None)
+        return page("_maps.html.j2", record=record, rows=present.map_rows(record), summary=present.summary(record),
+                    before=record.before, before_rows=present.map_rows(record.before) if record.before else [])
+
+    @app.get("/fragment/neck", response_class=HTMLResponse)
+    def neck(map: Optional[int] = None) -> HTMLResponse:
+        record = study.latest if map is None else record_of(map)
+        return page("_neck.html.j2", views=present.neck_views(record.bench if record else study.base),
+                    label=record.label if record else "as set up")
+
+    @app.get("/fragment/advice", response_class=HTMLResponse)
+    def advice_fragment(map: Optional[int] = None) -> HTMLResponse:
+        record = study.done if map is None else record_of(map)
+        return page("_advice.html.j2", record=record, advice=record.advice if record else None)
+
+    @app.get("/fragment/note", response_class=HTMLResponse)
+    def note(map: int, string: str, fret: int, strength: str) -> HTMLResponse:
+        found = study.note(map, string, fret, strength)
+        record = found["record"]
+        plot = present.contacts_plot(found["played"], record.bench.settings["duration_s"], record.bench.frets)
+        return page("_note.html.j2", record=record, note=found["verdict"], played=found["played"], plot=plot,
+                    sentence=present.sentence(found["verdict"]), audio=found["audio"])
+
+    @app.post("/api/export")
+    async def export(request: Request) -> JSONResponse:
+        body = await _json(request)
+        map_id = body.get("map") if isinstance(body, dict) else None
+        if map_id is not None and (isinstance(map_id, bool) or not isinstance(map_id, int)):
+            raise FieldErrors({"export": "map: expected a map's number"})
+        record = study.done if map_id is None else record_of(map_id)
+        if record is None or record.status != "done":
+            raise FieldErrors({"export": "export: no finished map yet; the report is made from a finished map"})
+        relative = study.export_path(record)
+        write_report(study, record, os.path.join(study.folder, relative), env)
+        if relative not in study.exports:
+            study.exports.append(relative)
+        return JSONResponse({"url": f"/study/{relative}", "file": os.path.join(study.folder, relative)})
+
+    @app.get("/study/{relative:path}")
+    def study_file(relative: str) -> Response:
+        try:
+            path = study.path(relative)
+        except StudyPathError as e:
+            return JSONResponse({"error": f"refused: {e}"}, status_code=403)
+        except FileNotFoundError:
+            return JSONResponse({"error": f"not found: {relative}"}, status_code=404)
+        return FileResponse(path, media_type=SERVED_SUFFIXES[os.path.splitext(path)[1].lower()])
+
+    return app
+
+
+def write_report(study: Study, record, path: str, env: Optional[Environment] = None) -> str:
+    """The customer's report: one HTML file with the map (each note's sound embedded), the
+    comparison with the map before, the neck's side views, the set-up and the advice."""
+    env = env or templates()
+    sounds: Dict[str, str] = {}
+    for n in record.notes:
+        if n.get("audio"):
+            try:
+                with open(study.path(f"{record.folder}/{n['audio']}"), "rb") as f:
+                    sounds[n["audio"]] = "data:audio/wav;base64," + base64.b64encode(f.read()).decode("ascii")
+            except (OSError, StudyPathError):
+                pass  # that note is drawn without its sound
+    html = env.get_template("report.html.j2").render(
+        record=record, bench=record.bench, rows=present.map_rows(record), summary=present.summary(record),
+        before=record.before, before_rows=present.map_rows(record.before) if record.before else [],
+        views=present.neck_views(record.bench), setup=present.setup_rows(record.bench), advice=record.advice,
+        settings=record.bench.settings, sounds=sounds)
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(html)
+    os.replace(tmp, path)
+    return path

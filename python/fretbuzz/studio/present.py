@@ -1,0 +1,158 @@
+"""What the studio's templates draw, from the library's numbers: a map's cells (colour, a
+short text and a sentence for each note, so that no verdict rests on colour alone), the side
+views of the neck, a note's contacts as plot coordinates, the set-up in mm.
+
+Drawing only: every number comes from fretbuzz.Bench (the side views' coordinates from the
+same function that draws buzz_map.html).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Dict, List, Optional
+
+from ..setup_report import note_colour, side_view
+
+# How each change from the previous map is marked, in text as well as by the cell's outline.
+CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "better than before"),
+                "moved": ("\u2194", "buzzes against another fret than before")}
+
+
+def _plucks(n: dict) -> str:
+    return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
+
+
+def verdict(n: dict) -> str:
+    """A note's class: clean (touches nothing), touches (no audible buzz), some (some plucks
+    buzz audibly), buzz (most do), out (frets out), unplayed."""
+    if n["status"] == "frets out":
+        return "out"
+    if n["status"] != "ok":
+        return "unplayed"
+    if n["touch_fraction"] == 0:
+        return "clean"
+    if n["buzz_fraction"] == 0:
+        return "touches"
+    return "buzz" if n["buzz_fraction"] >= 0.5 else "some"
+
+
+def sentence(n: dict) -> str:
+    """The verdict in words (the cell's title and accessible name)."""
+    where = f"{n['string']} string, {'open' if n['fret'] == 0 else 'fret ' + str(n['fret'])}, {n['strength']} attack"
+    kind = verdict(n)
+    if kind == "out":
+        return f"{where}: frets out" + (f" against fret {n['buzz_fret']}" if n.get("buzz_fret") not in (None, "") else "")
+    if kind == "unplayed":
+        return f"{where}: {n['status']}"
+    if kind == "clean":
+        return f"{where}: clean, touches no fret"
+    text = f"{where}: {_plucks(n)} plucks buzz audibly"
+    if n.get("buzz_dB") is not None and not (isinstance(n["buzz_dB"], float) and math.isnan(n["buzz_dB"])):
+        text += f", median buzz level {n['buzz_dB']:.1f} dB"
+    if n.get("buzz_fret") not in (None, ""):
+        text += f", against {'the board' if n['buzz_fret'] == 'board' else 'fret ' + str(n['buzz_fret'])}"
+    if n.get("clearance_mm") is not None:
+        text += f", clearance {n['clearance_mm']:.2f} mm"
+    return text
+
+
+def _ink(colour: str) -> str:
+    """Black or white text, whichever reads better on the cell's colour."""
+    r, g, b = (int(c) for c in colour[4:-1].split(","))
+    return "#000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#fff"
+
+
+def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
+    """One cell of the map: n is the note's verdict (with 'change' from the previous map) or
+    None while it is still to be played."""
+    if n is None:
+        return {"string": string, "fret": fret, "strength": strength, "kind": "pending", "text": "\u2026",
+                "label": f"{string} string, fret {fret}, {strength} attack: not played yet", "colour": "", "ink": "",
+                "change": "", "mark": "", "audio": ""}
+    kind = verdict(n)
+    text = {"clean": "\u2713", "touches": _plucks(n), "some": _plucks(n), "buzz": _plucks(n), "out": "out",
+            "unplayed": "\u2013"}[kind]
+    label = sentence(n)
+    change = n.get("change", "") if n.get("change") in CHANGE_MARKS else ""
+    mark = CHANGE_MARKS[change][0] if change else ""
+    if change:
+        was = n.get("before")
+        label += f" ({CHANGE_MARKS[change][1]}" + (f": {_plucks(was)} plucks buzzed" if was else "") + ")"
+    colour = note_colour(n)
+    return {"string": string, "fret": fret, "strength": strength, "kind": kind, "text": text, "label": label,
+            "colour": colour, "ink": _ink(colour), "change": change, "mark": mark, "audio": n.get("audio") or ""}
+
+
+def map_rows(record) -> List[dict]:
+    """The map as rows (string, attack) of cells, frets 0 .. N, in the instrument's string order."""
+    by_note = {(n["string"], n["fret"], n["strength"]): n for n in list(record.notes)}
+    frets = record.bench.frets
+    return [{"string": s, "strength": a,
+             "cells": [cell(by_note.get((s, k, a)), s, k, a) for k in range(frets + 1)]}
+            for a in record.attacks for s in record.bench.strings]
+
+
+def summary(record) -> Dict[str, int]:
+    """How many notes buzz audibly, and how many changed against the previous map (new: not
+    in it, played at another attack)."""
+    notes = list(record.notes)
+    out = {"played": len(notes), "buzzing": sum(1 for n in notes if n["buzz_fraction"] > 0)}
+    for change in (*CHANGE_MARKS, "new"):
+        out[change] = sum(1 for n in notes if n.get("change") == change)
+    return out
+
+
+def neck_views(bench, width: float = 900.0, height: float = 200.0) -> List[dict]:
+    """The side view of the neck under each string, from the library's geometry."""
+    strings = [{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in s.items()} for s in bench.instrument.geometry()]
+    for s in strings:
+        # The board under the frets only: the body, some 10 mm below, would flatten the relief.
+        x = s["fret_x_m"]
+        end = x[-1] + 0.25 * (x[-1] - x[-2])
+        kept = [(xs, zs) for xs, zs in zip(s["surface_x_m"], s["surface_z_m"]) if xs <= end]
+        s["surface_x_m"], s["surface_z_m"] = [p[0] for p in kept], [p[1] for p in kept]
+    views = side_view(strings, width, height)
+    for view, s in zip(views, strings):
+        view["relief_mm"] = 1e3 * s["relief_gap_m"]
+        view["relief_fret"] = s["relief_fret"]
+        view["action12_mm"] = None if s["action12_m"] is None else 1e3 * s["action12_m"]
+    return views
+
+
+def setup_rows(bench) -> List[dict]:
+    """The set-up string by string, in mm: what the controls change, as it now is."""
+    rows = []
+    for s in bench.instrument.geometry():
+        rows.append({"name": s["name"], "nut_gap_mm": 1e3 * s["nut_gap_m"],
+                     "action12_mm": None if s["action12_m"] is None else 1e3 * s["action12_m"],
+                     "saddle_mm": 1e3 * s["saddle_height_m"], "relief_mm": 1e3 * s["relief_gap_m"],
+                     "relief_fret": s["relief_fret"]})
+    return rows
+
+
+def contacts_plot(played: dict, duration_s: float, frets: int, width: float = 560.0, height: float = 220.0) -> dict:
+    """A note's contacts over time as plot coordinates: x the time, y the fret that took the
+    push (the board below the last fret), each dot's area the peak force."""
+    rows = played["contacts"].to_dict("records")
+    left, right, top, bottom = 44.0, width - 10.0, 10.0, height - 30.0
+    lanes = frets + 1  # frets 1 .. N, and the board
+    peak = max((r["peak_force_n"] for r in rows), default=0.0) or 1.0
+
+    def lane(fret: Any) -> int:
+        return frets + 1 if fret in ("board", None) or (isinstance(fret, float) and math.isnan(fret)) else int(fret)
+
+    def Y(k: float) -> float:
+        return top + (bottom - top) * (k - 0.5) / lanes
+
+    dots = [{"x": round(left + (right - left) * min(r["time_s"] / duration_s, 1.0), 1), "y": round(Y(lane(r["fret"])), 1),
+             "r": round(2.0 + 7.0 * math.sqrt(r["peak_force_n"] / peak), 1),
+             "title": f"{1e3 * r['time_s']:.1f} ms: {'the board' if lane(r['fret']) > frets else 'fret ' + str(int(r['fret']))}, "
+                      f"peak {r['peak_force_n']:.2f} N, impulse {1e6 * r['impulse_n_s']:.1f} \u00b5N s"} for r in rows]
+    ticks_x = [{"x": round(left + (right - left) * t / 4, 1), "label": f"{1e3 * duration_s * t / 4:.0f}"} for t in range(5)]
+    # The frets that took a push are labelled first, then every few others where there is room.
+    touched = sorted({lane(r["fret"]) for r in rows})
+    ticks_y: List[dict] = []
+    for k in touched + [frets + 1] + list(range(1, frets + 1, 4)):
+        if all(abs(Y(k) - t["y"]) >= 10 for t in ticks_y):
+            ticks_y.append({"y": round(Y(k), 1), "label": "board" if k > frets else str(k), "touched": k in touched})
+    return {"width": width, "height": height, "left": left, "right": right, "top": top, "bottom": bottom,
+            "dots": dots, "ticks_x": ticks_x, "ticks_y": ticks_y, "rows": rows, "peak_n": peak if rows else 0.0}

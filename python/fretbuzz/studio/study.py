@@ -1,0 +1,389 @@
+"""The studio's state: one instrument on the bench, the maps played for it and its what-ifs,
+a worker thread that plays them one at a time from a short queue, the advice, and the study
+folder that holds every file the studio serves.
+
+Nothing here computes geometry or physics: the maps, the what-ifs, the comparison of two
+maps, one note's contacts and the advice are fretbuzz.Bench's (setup_bench.py). This module
+only keeps them, checks the page's values through the library's own checks, and decides
+which files may be served.
+"""
+from __future__ import annotations
+
+import collections
+import os
+import re
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Deque, Dict, List, Optional, Union
+
+from ..setup_bench import Bench, InputError
+
+# At most this many recomputations wait behind the running one; a newer what-if supersedes
+# the oldest waiting one (the page says so), so a burst of clicks never piles up work.
+QUEUE_LIMIT = 2
+# A value typed in a control: long enough for "0.0625 in" or "soft,medium,hard,pop,slap".
+MAX_VALUE_CHARS = 40
+# The files the study folder serves: the notes' WAVs and the exported reports.
+SERVED_SUFFIXES = {".wav": "audio/wav", ".html": "text/html; charset=utf-8"}
+
+
+class FieldErrors(InputError):
+    """Bad values from the page, each message keyed by the control it belongs to."""
+
+    def __init__(self, errors: Dict[str, str]):
+        super().__init__("; ".join(errors.values()))
+        self.errors = errors
+
+
+class StudyPathError(Exception):
+    """A request for a file the studio does not serve (outside the study folder, or not one of its files)."""
+
+
+@dataclass
+class MapRecord:
+    """One map: the Bench it was played with, the what-ifs that made it and its notes so far."""
+    id: int
+    bench: Bench
+    label: str
+    strengths: str
+    folder: str  # relative to the study folder, e.g. "maps/003"
+    total: int
+    changes: Dict[str, Any] = field(default_factory=dict)  # the what-ifs, as Bench.with_changes takes them
+    notes: List[dict] = field(default_factory=list)
+    status: str = "waiting"  # waiting, running, done, stopped, failed, superseded
+    error: str = ""
+    before: Optional["MapRecord"] = None
+    seconds: Optional[float] = None
+    advice: Optional[dict] = None
+    advice_status: str = ""  # "", waiting, running, done, failed
+    advice_error: str = ""
+
+    @property
+    def attacks(self) -> List[str]:
+        """The attacks' labels in the order asked for (the advice takes the last, the strongest)."""
+        return [a.strip() for a in self.strengths.split(",") if a.strip()]
+
+
+@dataclass
+class Job:
+    id: Union[int, str]  # a map's number, or "advice N" for the advice on map N
+    kind: str  # "map" or "advice"
+    record: MapRecord
+    label: str
+    superseded_by: Optional[Union[int, str]] = None
+
+
+def _text(field_name: str, value: Any) -> Optional[str]:
+    """A control's value as the library takes it: None when left empty, else a bounded string."""
+    if value is None or (isinstance(value, str) and not value.strip()):
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise FieldErrors({field_name: f"{field_name}: expected a number or a length such as \"0.3 mm\", "
+                                       f"got {type(value).__name__}"})
+    text = str(value).strip()
+    if len(text) > MAX_VALUE_CHARS:
+        raise FieldErrors({field_name: f"{field_name}: at most {MAX_VALUE_CHARS} characters"})
+    return text
+
+
+def _per_string(form: dict, key: str) -> dict:
+    values = form.get(key) or {}
+    if not isinstance(values, dict):
+        raise FieldErrors({key: f"{key}: expected one value per string"})
+    return values
+
+
+class Study:
+    """The studio's state and its worker. Study(bench, folder) plays the instrument as it is
+    (the first map) unless start=False (the tests drive the queue by hand)."""
+
+    def __init__(self, bench: Bench, folder: str, *, strengths: str = "medium", start: bool = True):
+        self.base = bench
+        self.what_if({"strengths": strengths})  # a bad attack is refused before the folder is made
+        os.makedirs(folder, exist_ok=True)
+        self.folder = os.path.realpath(folder)
+        self.lock = threading.Condition()
+        self.version = 0
+        self.pending: Deque[Job] = collections.deque()
+        self.running: Optional[Job] = None
+        self.superseded: Deque[Job] = collections.deque(maxlen=8)
+        self.latest: Optional[MapRecord] = None  # the newest map under way or finished
+        self.done: Optional[MapRecord] = None  # the newest finished map
+        self.maps: Dict[int, MapRecord] = {}
+        self.exports: List[str] = []
+        self.closing = False
+        self._next_id = self._first_free_id()
+        self.strengths = strengths  # the attacks the page starts with
+        self.submit_map({"strengths": strengths})
+        self._worker: Optional[threading.Thread] = None
+        if start:
+            self.start()
+
+    def _first_free_id(self) -> int:
+        """Maps are numbered on from those an earlier session left in the folder."""
+        maps = os.path.join(self.folder, "maps")
+        taken = [int(n) for n in os.listdir(maps) if re.fullmatch(r"\d{3,}", n)] if os.path.isdir(maps) else []
+        return max(taken, default=0) + 1
+
+    def start(self) -> None:
+        self._worker = threading.Thread(target=self._work, name="fretbuzz-studio", daemon=True)
+        self._worker.start()
+
+    def close(self) -> None:
+        """Stops the map under way (within about 0.2 s) and the worker."""
+        with self.lock:
+            self.closing = True
+            self.lock.notify_all()
+        if self._worker is not None:
+            self._worker.join(timeout=10)
+
+    def _changed(self) -> None:
+        self.version += 1
+        self.lock.notify_all()
+
+    # What-ifs -------------------------------------------------------------------------
+
+    def what_if(self, form: dict) -> tuple:
+        """The page's controls (relief, action12/nut/saddle {string: mm}, fret and fret_offset,
+        strengths) as a Bench after those changes from the instrument as loaded, and the
+        attacks. Every value goes through the library's checks; FieldErrors names the
+        control of each bad one."""
+        if not isinstance(form, dict):
+            raise FieldErrors({"form": "expected the controls as a JSON object"})
+        errors: Dict[str, str] = {}
+        changes: Dict[str, Any] = {}
+
+        def check(name: str, **change: Any) -> bool:
+            try:
+                self.base.with_changes(**change).instrument.geometry()
+                return True
+            except (InputError, FieldErrors) as e:
+                errors[name] = str(e)
+                return False
+
+        def take(name: str, value: Any) -> Optional[str]:
+            try:
+                return _text(name, value)
+            except FieldErrors as e:
+                errors.update(e.errors)
+                return None
+
+        relief = take("relief", form.get("relief"))
+        if relief is not None and check("relief", relief=relief):
+            changes["relief"] = relief
+        for key in ("action12", "nut", "saddle"):
+            try:
+                values = _per_string(form, key)
+            except FieldErrors as e:
+                errors.update(e.errors)
+                continue
+            for string, raw in values.items():
+                name = f"{key}.{string}"
+                value = take(name, raw)
+                if value is not None and check(name, **{key: {str(string): value}}):
+                    changes.setdefault(key, {})[str(string)] = value
+        fret_text = take("fret", form.get("fret"))
+        offset = take("fret_offset", form.get("fret_offset"))
+        if offset is not None:
+            if fret_text is None:
+                errors["fret"] = f"fret: choose the fret to change (1 to {self.base.frets})"
+            elif not re.fullmatch(r"\d{1,4}", fret_text):
+                errors["fret"] = f"fret: {fret_text!r} is not a fret (a whole number, 1 to {self.base.frets})"
+            else:
+                fret = int(fret_text)
+                if check("fret", fret_offsets={fret: 0.0}) and check("fret_offset", fret_offsets={fret: offset}):
+                    changes["fret_offsets"] = {fret: offset}
+        strengths = take("strengths", form.get("strengths"))
+        if strengths is None and "strengths" not in errors:
+            errors["strengths"] = "strengths: choose at least one attack (soft, medium, hard, pop, slap or an amplitude in mm)"
+        elif strengths is not None:
+            try:
+                self.base.check(strengths=strengths, frets=[0])
+            except InputError as e:
+                errors["strengths"] = str(e)
+        if errors:
+            raise FieldErrors(errors)
+        bench = self.base.with_changes(**changes) if changes else self.base
+        try:
+            bench.instrument.geometry()  # the changes together (each alone passed)
+        except InputError as e:
+            raise FieldErrors({"form": str(e)}) from None
+        return bench, changes, strengths
+
+    @staticmethod
+    def describe(changes: Dict[str, Any], strengths: str) -> str:
+        """The what-ifs in words, for the page and the report."""
+        def length(value: Any) -> str:  # as typed, in mm unless it says its unit
+            return f"{value} mm" if re.fullmatch(r"[-+]?[0-9.]+", str(value)) else str(value)
+        words = []
+        if "relief" in changes:
+            words.append(f"relief {length(changes['relief'])}")
+        for key, what in (("action12", "action at fret 12"), ("nut", "gap over fret 1"), ("saddle", "saddle height")):
+            for string, value in changes.get(key, {}).items():
+                words.append(f"{string} {what} {length(value)}")
+        for fret, value in changes.get("fret_offsets", {}).items():
+            words.append(f"fret {fret} levelled" if value == "level" else f"fret {fret} moved by {length(value)}")
+        return (", ".join(words) or "as set up") + f"; attack {strengths}"
+
+    # The queue ------------------------------------------------------------------------
+
+    def _queue(self, job: Job) -> List[Job]:
+        """Adds a job behind the running one; when QUEUE_LIMIT already wait, the oldest
+        waiting ones are superseded. Returns those."""
+        dropped = []
+        with self.lock:
+            while len(self.pending) >= QUEUE_LIMIT:
+                old = self.pending.popleft()
+                old.superseded_by = job.id
+                if old.kind == "map":
+                    old.record.status = "superseded"
+                    self.maps.pop(old.record.id, None)  # never played: nothing of it to show
+                else:
+                    old.record.advice_status = ""
+                self.superseded.append(old)
+                dropped.append(old)
+            self.pending.append(job)
+            self._changed()
+        return dropped
+
+    def _new_id(self) -> int:
+        """The next map's number."""
+        with self.lock:
+            n = self._next_id
+            self._next_id += 1
+            return n
+
+    def submit_map(self, form: dict) -> tuple:
+        """Queues the map of a what-if (the page's controls, see what_if); returns the job and
+        the jobs it superseded. FieldErrors, and nothing queued, for a bad value."""
+        bench, changes, strengths = self.what_if(form)
+        n = self._new_id()
+        record = MapRecord(n, bench, self.describe(changes, strengths), strengths, f"maps/{n:03d}",
+                           bench.check(strengths=strengths), changes)
+        job = Job(n, "map", record, record.label)
+        with self.lock:
+            self.maps[n] = record
+        return job, self._queue(job)
+
+    def submit_advice(self) -> tuple:
+        """Queues the advice for the newest finished map (InputError when there is none yet)."""
+        with self.lock:
+            record = self.done
+            if record is None:
+                raise InputError("advice: no map has finished yet; the advice searches from a finished map")
+            if record.advice_status in ("waiting", "running", "done"):
+                return None, []
+            record.advice_status = "waiting"
+        job = Job(f"advice {record.id}", "advice", record, f"advice for map {record.id} ({record.label})")
+        return job, self._queue(job)
+
+    # The worker -----------------------------------------------------------------------
+
+    def _work(self) -> None:
+        while True:
+            with self.lock:
+                while not self.pending and not self.closing:
+                    self.lock.wait()
+                if self.closing:
+                    return
+                job = self.pending.popleft()
+                self.running = job
+                self._changed()
+            try:
+                if job.kind == "map":
+                    self._play(job.record)
+                else:
+                    self._advise(job.record)
+            finally:
+                with self.lock:
+                    self.running = None
+                    self._changed()
+
+    def _play(self, record: MapRecord) -> None:
+        with self.lock:
+            record.before = self.done
+            record.status = "running"
+            self.latest = record
+            self._changed()
+        before = list(record.before.notes) if record.before else []
+        started = time.monotonic()
+
+        def progress(note: dict, done: int, total: int) -> None:
+            change, was = "", None
+            if before:
+                change = Bench.compare([dict(note)], before).iloc[0]["change"]
+                was = next(({k: v for k, v in b.items() if k not in ("change", "before")} for b in before
+                            if (b["string"], b["fret"], b["strength"]) == (note["string"], note["fret"], note["strength"])),
+                           None)
+            with self.lock:
+                record.notes.append({**note, "change": change, "before": was})
+                self._changed()
+
+        try:
+            record.bench.map(strengths=record.strengths, audio_dir=os.path.join(self.folder, record.folder),
+                             progress=progress, stop=lambda: self.closing)
+            status, error = ("stopped", "") if self.closing else ("done", "")
+        except Exception as e:  # shown on the page; the studio keeps serving
+            status, error = "failed", f"{type(e).__name__}: {e}" if not isinstance(e, InputError) else str(e)
+        with self.lock:
+            record.status, record.error = status, error
+            record.seconds = time.monotonic() - started
+            if status == "done":
+                self.done = record
+            self._changed()
+
+    def _advise(self, record: MapRecord) -> None:
+        with self.lock:
+            record.advice_status = "running"
+            self._changed()
+        attack = record.attacks[-1]
+        at_attack = [{k: v for k, v in n.items() if k not in ("change", "before")} for n in record.notes
+                     if n["strength"] == attack]
+        try:
+            # The map's notes at that attack (None: the library plays them, should the labels differ).
+            advice = record.bench.advise(at_attack or None, strength=attack)
+            with self.lock:
+                record.advice, record.advice_status = advice, "done"
+        except Exception as e:  # shown on the page
+            with self.lock:
+                record.advice_status, record.advice_error = "failed", str(e)
+        with self.lock:
+            self._changed()
+
+    # Notes ----------------------------------------------------------------------------
+
+    def note(self, map_id: int, string: str, fret: int, strength: str) -> dict:
+        """One note of a map: its verdict, its WAV's place in the study folder and its pluck
+        played again with everything kept (the contacts over time)."""
+        record = self.maps.get(map_id)
+        if record is None:
+            raise InputError(f"map: {map_id} is not a map of this study (maps: {', '.join(map(str, self.maps))})")
+        verdict = next((n for n in list(record.notes)
+                        if (n["string"], n["fret"], n["strength"]) == (string, fret, strength)), None)
+        if verdict is None:
+            raise InputError(f"{string} fret {fret} {strength}: not played in map {map_id} (yet)")
+        played = record.bench.note(string, fret, strength)
+        audio = f"{record.folder}/{verdict['audio']}" if verdict.get("audio") else None
+        return {"record": record, "verdict": verdict, "played": played, "audio": audio}
+
+    # Files ----------------------------------------------------------------------------
+
+    def path(self, relative: str) -> str:
+        """The real path of one of the study's files (a note's WAV, a report), or
+        StudyPathError: absolute paths, '..', names that resolve outside the folder (through a
+        symbolic link or otherwise), and anything but a regular .wav or .html file are refused."""
+        if not relative or "\x00" in relative or "\\" in relative or relative.startswith("/") or os.path.isabs(relative):
+            raise StudyPathError(f"{relative!r}: not a file of the study")
+        if any(part in ("", ".", "..") for part in relative.split("/")):
+            raise StudyPathError(f"{relative!r}: not a file of the study")
+        real = os.path.realpath(os.path.join(self.folder, relative))
+        if os.path.commonpath([real, self.folder]) != self.folder or real == self.folder:
+            raise StudyPathError(f"{relative!r}: outside the study folder")
+        if os.path.splitext(real)[1].lower() not in SERVED_SUFFIXES or not os.path.isfile(real):
+            raise FileNotFoundError(relative)
+        return real
+
+    def export_path(self, record: MapRecord) -> str:
+        os.makedirs(os.path.join(self.folder, "exports"), exist_ok=True)
+        return f"exports/report-{record.id:03d}.html"

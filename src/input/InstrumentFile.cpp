@@ -1,0 +1,614 @@
+// Instrument files (docs/instrument-format.md): [neck] (with [neck.relief]), [strings],
+// [[string]], [attack], [damping], [contact], [simulation]. Dimensional values are strings
+// with their unit ("2.4 mm", "5/64 in"); each is checked against its range here, and the
+// message names the key, the value as written and the range in the unit a luthier uses.
+#include "fretbuzz/input/InstrumentFile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "TomlSection.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
+#include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/input/TextFile.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+constexpr std::string_view kInstrumentDir = "instruments/";
+constexpr std::string_view kSuffix = ".toml";
+constexpr std::string_view kSetsFile = "strings/sets.toml";
+constexpr double kSteelYoungModulus = 200e9;  // Pa: the cores of wound strings and plain strings
+constexpr std::size_t kMaxStrings = 12;
+constexpr std::size_t kMaxFrets = 24;  // a stopped string reaches 3 L / 4 at most (stopped_string)
+
+std::string number_text(double v) {
+    std::ostringstream out;
+    out.precision(6);
+    out << v;
+    return out.str();
+}
+
+// An interval in a display unit, for checks and their messages: "(0, 5] mm".
+struct Range {
+    double low, high;  // in the display unit
+    bool low_open, high_open;
+    std::string_view unit;  // "mm", "m", "N", "Hz", ... ("" for pure numbers)
+    double factor;          // display unit -> SI
+
+    std::string text() const {
+        std::string t = std::string(low_open ? "(" : "[") + number_text(low) + ", " + number_text(high) +
+                        (high_open ? ")" : "]");
+        return unit.empty() ? t : t + " " + std::string(unit);
+    }
+    bool contains(double si) const {
+        const double v = si / factor;
+        return (low_open ? v > low : v >= low) && (high_open ? v < high : v <= high);
+    }
+};
+
+constexpr Range mm(double low, double high, bool low_open = true, bool high_open = false) {
+    return {low, high, low_open, high_open, "mm", 1e-3};
+}
+
+class Reader {
+public:
+    explicit Reader(const DataSource& data) : data_(data) {}
+
+    // A dimensional value: a string with its unit, checked against `range`.
+    double quantity(TomlSection& s, std::string_view key, Quantity kind, const Range& range) {
+        const std::string path = s.key_path(key);
+        const toml::node* n = s.node(key);
+        if (n == nullptr) throw InputError(path + " is missing (required; " + range.text() + ")");
+        return checked(*n, path, kind, range);
+    }
+    std::optional<double> optional_quantity(TomlSection& s, std::string_view key, Quantity kind, const Range& range) {
+        if (!s.has(key)) return std::nullopt;
+        return quantity(s, key, kind, range);
+    }
+    // A node holding a quantity (an array item, a table entry).
+    static double checked(const toml::node& n, const std::string& path, Quantity kind, const Range& range) {
+        std::string text;
+        if (const auto* str = n.as_string()) {
+            text = str->get();
+        } else if (n.is_number()) {
+            const std::string shown = number_text(n.value<double>().value_or(0.0));
+            throw InputError(path + " = " + shown + ": say its unit, e.g. \"" + shown + " " +
+                             std::string(range.unit.empty() ? "" : range.unit) + "\" (units: " + unit_names(kind) + ")");
+        } else {
+            throw InputError(path + " must be a string with a unit (units: " + unit_names(kind) + ")");
+        }
+        const double v = parse_quantity(text, kind, path);
+        if (!range.contains(v))
+            throw InputError(path + " = \"" + text + "\" is out of range: must be in " + range.text());
+        return v;
+    }
+    static double number_in(TomlSection& s, std::string_view key, const Range& range) {
+        const double v = s.number(key);
+        if (!range.contains(v))
+            throw InputError(out_of_range_message(s.key_path(key), v, "must be in " + range.text()));
+        return v;
+    }
+
+    CsvTable table(TomlSection& s, std::string_view key, std::size_t min_columns) const {
+        const std::string file = s.text(key);
+        const std::string path = s.key_path(key);
+        const std::string text = data_.read(file, path);
+        try {
+            return parse_csv(text, file, min_columns);
+        } catch (const InputError& e) {
+            throw InputError(path + " = \"" + file + "\": " + e.what());
+        }
+    }
+
+private:
+    const DataSource& data_;
+};
+
+// Multiscale: the first string's and the last string's scale lengths.
+std::vector<double> read_scales(Reader& r, TomlSection& neck) {
+    const Range scale{0.2, 1.5, false, false, "m", 1.0};
+    const toml::node* n = neck.node("scale");
+    if (n == nullptr) throw InputError(neck.key_path("scale") + " is missing (required; in " + scale.text() + ")");
+    if (const auto* array = n->as_array()) {
+        if (array->size() != 2)
+            throw InputError(neck.key_path("scale") +
+                             " must be one length or two (multiscale: the first string's, the last string's)");
+        return {r.checked(*array->get(0), neck.key_path("scale[0]"), Quantity::length, scale),
+                r.checked(*array->get(1), neck.key_path("scale[1]"), Quantity::length, scale)};
+    }
+    return {r.checked(*n, neck.key_path("scale"), Quantity::length, scale)};
+}
+
+double fret_position(double scale, std::size_t n) { return scale * (1.0 - std::exp2(-static_cast<double>(n) / 12.0)); }
+
+ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double shortest_last_fret) {
+    ReliefMeasure relief;
+    const bool gap = s.has("gap"), curve = s.has("curve");
+    if (gap && curve)
+        throw InputError(s.key_path("gap") + " and " + s.key_path("curve") + " are both given: give one");
+    if (gap) {
+        relief.form = ReliefMeasure::Form::gap;
+        relief.gap_m = r.quantity(s, "gap", Quantity::length, mm(-2.0, 2.0, false, false));
+        relief.at_fret = s.optional_count("fret", 2, frets - 1).value_or(std::min<std::size_t>(8, frets - 1));
+    } else if (curve) {
+        relief.form = ReliefMeasure::Form::curve;
+        const toml::node* n = s.node("curve");
+        const auto* array = n->as_array();
+        const std::string expected =
+            " must be an array of [x, depth] pairs with units, e.g. [[\"178 mm\", \"0.41 mm\"], [\"319 mm\", \"0.6 mm\"]]";
+        if (array == nullptr || array->empty()) throw InputError(s.key_path("curve") + expected);
+        for (std::size_t k = 0; k < array->size(); ++k) {
+            const std::string item = s.key_path("curve") + "[" + std::to_string(k) + "]";
+            const auto* pair = array->get(k)->as_array();
+            if (pair == nullptr || pair->size() != 2) throw InputError(item + expected);
+            const Range inside{0.0, shortest_last_fret * 1e3, true, true, "mm", 1e-3};
+            const double x = Reader::checked(*pair->get(0), item + "[0] (x from the nut)", Quantity::length, inside);
+            if (!relief.x_m.empty() && !(x > relief.x_m.back()))
+                throw InputError(item + "[0] (x from the nut): the points must go from the nut toward the body");
+            relief.x_m.push_back(x);
+            relief.depth_m.push_back(
+                Reader::checked(*pair->get(1), item + "[1] (depth)", Quantity::length, mm(-5.0, 5.0, false, false)));
+        }
+    }
+    s.finish();
+    return relief;
+}
+
+void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& inst, std::vector<double>& scales) {
+    NeckDescription& neck = inst.neck;
+    scales = read_scales(r, s);
+    neck.fret_count = s.count("frets", 1, kMaxFrets);
+    if (scales.size() == 2) {
+        neck.perpendicular_fret = s.optional_count("perpendicular_fret", 0, neck.fret_count).value_or(0);
+        if (string_count < 2)
+            throw InputError(s.key_path("scale") + ": two scale lengths (multiscale) need at least two strings");
+    }
+    const double shortest = *std::min_element(scales.begin(), scales.end());
+    const double last_fret = fret_position(shortest, neck.fret_count);
+    neck.fret_height_m = r.quantity(s, "fret_height", Quantity::length, mm(0.0, 5.0));
+    if (const toml::node* offsets = s.node("fret_offsets")) {
+        const auto* table = offsets->as_table();
+        if (table == nullptr)
+            throw InputError(s.key_path("fret_offsets") + " must be a table of fret = \"offset\", e.g. { 9 = \"0.05 mm\" }");
+        for (const auto& [name, value] : *table) {
+            const std::string path = s.key_path("fret_offsets." + std::string(name.str()));
+            std::size_t fret = 0;
+            const auto [end, error] = std::from_chars(name.str().data(), name.str().data() + name.str().size(), fret);
+            if (error != std::errc() || end != name.str().data() + name.str().size() || fret < 1 ||
+                fret > neck.fret_count)
+                throw InputError(path + ": fret \"" + std::string(name.str()) + "\" does not exist (frets 1 to " +
+                                 std::to_string(neck.fret_count) + ")");
+            neck.fret_offset_m[fret] =
+                Reader::checked(value, path, Quantity::length, mm(-neck.fret_height_m * 1e3, 1.0, false, false));
+        }
+    }
+    if (auto relief = s.optional_section("relief"))
+        neck.relief = read_relief(r, *relief, neck.fret_count, last_fret);
+    if (neck.relief.form == ReliefMeasure::Form::gap && neck.fret_count < 3)
+        throw InputError(s.key_path("relief.gap") + ": measuring relief needs at least 3 frets");
+    neck.truss_rod_bow_m = 0.0;
+    neck.radius_m = r.optional_quantity(s, "radius", Quantity::length, mm(50.0, 5000.0, false, false));
+    const auto nut_width = r.optional_quantity(s, "nut_width", Quantity::length, mm(0.0, 120.0, false, false));
+    const auto bridge = r.optional_quantity(s, "bridge_spacing", Quantity::length, mm(0.0, 200.0, false, false));
+    if (neck.radius_m && string_count > 1 && (!nut_width || !bridge))
+        throw InputError(s.key_path(nut_width ? "bridge_spacing" : "nut_width") +
+                         " is missing (required with neck.radius: the strings' distance from the neck's centre line)");
+    // Without a radius the spread is only drawn: 7 mm and 10.5 mm between strings.
+    const double gaps = static_cast<double>(string_count > 1 ? string_count - 1 : 0);
+    neck.nut_width_m = nut_width.value_or(7e-3 * gaps);
+    neck.bridge_spacing_m = bridge.value_or(10.5e-3 * gaps);
+    neck.board_end_m = r.optional_quantity(s, "board_end", Quantity::length,
+                                           {last_fret * 1e3, shortest * 1e3, false, true, "mm", 1e-3})
+                           .value_or(std::min(last_fret + 5e-3, 0.5 * (last_fret + shortest)));
+    neck.body_depth_m = r.optional_quantity(s, "body_depth", Quantity::length, mm(0.0, 50.0));
+}
+
+std::vector<double> string_scales(const std::vector<double>& scales, std::size_t count) {
+    std::vector<double> each(count, scales.front());
+    if (scales.size() == 2 && count > 1)
+        for (std::size_t k = 0; k < count; ++k)
+            each[k] = scales[0] + (scales[1] - scales[0]) * static_cast<double>(k) / static_cast<double>(count - 1);
+    return each;
+}
+
+std::vector<StringSet> read_string_sets();
+
+// The built-in sets, read once.
+const std::vector<StringSet>& string_sets() {
+    static const std::vector<StringSet> sets = read_string_sets();
+    return sets;
+}
+
+const StringSet& find_set(const std::string& name, const std::string& key) {
+    const std::vector<StringSet>& sets = string_sets();
+    for (const StringSet& s : sets)
+        if (s.name == name) return s;
+    std::string names;
+    for (const StringSet& s : sets) names += (names.empty() ? "" : ", ") + s.name;
+    throw InputError(key + " = \"" + name + "\": no such string set (known: " + names + ")");
+}
+
+StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
+    const bool gap = s.has("nut"), height = s.has("nut_height");
+    if (profile && !gap && !height) return {StringEnd::Form::as_measured, 0.0, 0};
+    if (gap == height)
+        throw InputError(gap ? s.key_path("nut") + " and " + s.key_path("nut_height") + " are both given: give one"
+                             : s.key_path("nut") + " is missing (required: the gap between the open string and the top "
+                                                   "of fret 1, in (0, 5] mm; or nut_height)");
+    if (gap) return {StringEnd::Form::gap_over_fret, r.quantity(s, "nut", Quantity::length, mm(0.0, 5.0)), 1};
+    return {StringEnd::Form::height, r.quantity(s, "nut_height", Quantity::length, mm(0.0, 10.0)), 0};
+}
+
+StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool profile) {
+    const int given = int(s.has("action12")) + int(s.has("action")) + int(s.has("saddle_height"));
+    if (profile && given == 0) return {StringEnd::Form::as_measured, 0.0, 0};
+    if (given != 1)
+        throw InputError(given == 0 ? s.key_path("action12") +
+                                          " is missing (required: the gap between the open string and the top of "
+                                          "fret 12, in (0, 10] mm; or action with action_fret, or saddle_height)"
+                                    : s.key_path("action12") + ", action and saddle_height: give one of them");
+    if (s.has("saddle_height"))
+        return {StringEnd::Form::height, r.quantity(s, "saddle_height", Quantity::length, mm(0.0, 30.0)), 0};
+    if (s.has("action12")) {
+        if (frets < 12)
+            throw InputError(s.key_path("action12") + ": the neck has " + std::to_string(frets) +
+                             " frets; give action with action_fret in [2, " + std::to_string(frets) + "]");
+        return {StringEnd::Form::gap_over_fret, r.quantity(s, "action12", Quantity::length, mm(0.0, 10.0)), 12};
+    }
+    const std::size_t fret = s.count("action_fret", 2, frets);
+    return {StringEnd::Form::gap_over_fret, r.quantity(s, "action", Quantity::length, mm(0.0, 10.0)), fret};
+}
+
+// The string's mass and tension from two of pitch, tension and mu (or the set's unit weight).
+void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::size_t index, InstrumentString& str) {
+    const Range pitch{20.0, 2000.0, false, false, "Hz", 1.0};
+    const Range tension{1.0, 1500.0, false, false, "N", 1.0};
+    const Range density{0.01, 100.0, false, false, "g/m", 1e-3};
+    const auto f = r.optional_quantity(s, "pitch", Quantity::frequency, pitch);
+    const auto t = r.optional_quantity(s, "tension", Quantity::force, tension);
+    const auto mu = r.optional_quantity(s, "mu", Quantity::linear_density, density);
+    const double length = str.scale_length_m;
+    std::optional<double> set_mu;
+    if (set != nullptr) {
+        const StringSetEntry& e = set->strings[index];
+        set_mu = e.tension_n / std::pow(2.0 * set->scale_length_m * e.frequency_hz, 2);
+    }
+    const int given = int(f.has_value()) + int(t.has_value()) + int(mu.has_value());
+    if (given == 3)
+        throw InputError(s.key_path("pitch") + ", tension and mu over-determine the string (f = sqrt(T / mu) / 2L): "
+                                               "give two of them, or the pitch with a string set");
+    if (given == 2) {
+        str.tension_n = t ? *t : *mu * std::pow(2.0 * length * *f, 2);
+        str.linear_density = mu ? *mu : *t / std::pow(2.0 * length * *f, 2);
+        str.frequency_hz = f ? *f : std::sqrt(*t / *mu) / (2.0 * length);
+        str.tension_source = t ? "given" : "from the pitch and mu";
+    } else if (f && set_mu) {
+        str.frequency_hz = *f;
+        str.linear_density = *set_mu;
+        str.tension_n = *set_mu * std::pow(2.0 * length * *f, 2);
+        str.tension_source = "string set " + set->name + " (" + set->source + ")";
+    } else {
+        throw InputError(s.key_path(f ? "tension" : "pitch") +
+                         " is missing (required: give two of pitch, tension and mu, or the pitch with strings.set)");
+    }
+    if (!tension.contains(str.tension_n))
+        throw InputError(s.key_path("tension") + ": the pitch and mass give T = " + number_text(str.tension_n) +
+                         " N, out of range: must be in " + tension.text());
+    if (!pitch.contains(str.frequency_hz))
+        throw InputError(s.key_path("pitch") + ": tension and mu give f = " + number_text(str.frequency_hz) +
+                         " Hz, out of range: must be in " + pitch.text());
+    if (!density.contains(str.linear_density))
+        throw InputError(s.key_path("mu") + ": pitch and tension give mu = " + number_text(1e3 * str.linear_density) +
+                         " g/m, out of range: must be in " + density.text());
+}
+
+void read_stiffness(Reader& r, TomlSection& s, InstrumentString& str) {
+    const int given = int(s.has("B")) + int(s.has("bending_stiffness")) + int(s.has("core"));
+    if (given != 1)
+        throw InputError(s.key_path("core") + (given == 0 ? " is missing (required: the steel core's diameter, or B, or "
+                                                            "bending_stiffness)"
+                                                          : ", B and bending_stiffness: give one of them"));
+    const double l = str.scale_length_m;
+    if (s.has("B")) {
+        const double b = Reader::number_in(s, "B", {0.0, 0.01, false, false, "", 1.0});
+        str.bending_stiffness = b * str.tension_n * l * l / (std::numbers::pi * std::numbers::pi);
+    } else if (s.has("bending_stiffness")) {
+        str.bending_stiffness =
+            r.quantity(s, "bending_stiffness", Quantity::bending_stiffness, {0.0, 1.0, false, false, "N m^2", 1.0});
+    } else {
+        const double d = r.quantity(s, "core", Quantity::length, mm(0.0, 3.0));
+        if (str.gauge_m > 0.0 && d > str.gauge_m)
+            throw InputError(s.key_path("core") + " is thicker than " + s.key_path("gauge"));
+        str.bending_stiffness = kSteelYoungModulus * std::numbers::pi * d * d * d * d / 64.0;
+    }
+}
+
+InstrumentString read_string(Reader& r, TomlSection s, std::size_t index, double scale, const StringSet* set,
+                             std::size_t frets) {
+    InstrumentString str;
+    str.name = s.text("name");
+    if (str.name.empty() || str.name.size() > 16 ||
+        !std::all_of(str.name.begin(), str.name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '#'; }))
+        throw InputError(s.key_path("name") + " = \"" + str.name +
+                         "\": give 1 to 16 letters or digits (e.g. \"E\", \"A\", \"e\")");
+    str.scale_length_m = scale;
+    str.gauge_m = r.optional_quantity(s, "gauge", Quantity::length, mm(0.0, 3.0)).value_or(0.0);
+    if (str.gauge_m == 0.0 && set != nullptr) str.gauge_m = set->strings[index].gauge_m;
+    read_string_physics(r, s, set, index, str);
+    read_stiffness(r, s, str);
+    str.nut = read_nut(r, s, s.has("profile"));
+    str.bridge = read_bridge_end(r, s, frets, s.has("profile"));
+    if (s.has("profile")) {
+        const CsvTable table = r.table(s, "profile", 2);
+        str.profile_source = s.text("profile");
+        str.profile_x_m = table.column(0);
+        str.profile_height_m = table.column(1);
+        const std::string path = s.key_path("profile") + " = \"" + str.profile_source + "\"";
+        for (std::size_t k = 0; k < str.profile_x_m.size(); ++k) {
+            const double x = str.profile_x_m[k], g = str.profile_height_m[k];
+            if (!(x > 0.0 && x < scale) || (k > 0 && !(x > str.profile_x_m[k - 1])))
+                throw InputError(path + ": row " + std::to_string(k + 1) + ": x = " + number_text(x) +
+                                 " m must increase and lie inside the string, in (0, " + number_text(scale) + ") m");
+            if (!(g <= 0.0 && g >= -0.05))
+                throw InputError(path + ": row " + std::to_string(k + 1) + ": height = " + number_text(g) +
+                                 " m must be in [-0.05, 0] m (below the open string at rest)");
+        }
+    }
+    s.finish();
+    return str;
+}
+
+// [neck] scan = "file.csv": columns fret, string (its number, 1 = the first [[string]]),
+// height (the header says the unit: height_mm or height_in).
+void read_scan(Reader& r, TomlSection& neck, Instrument& inst) {
+    if (!neck.has("scan")) return;
+    const CsvTable table = r.table(neck, "scan", 3);
+    const std::string path = neck.key_path("scan") + " = \"" + neck.text("scan") + "\"";
+    double factor = 0.0;
+    if (table.column_names.size() >= 3) {
+        if (table.column_names[2] == "height_mm") factor = 1e-3;
+        if (table.column_names[2] == "height_in") factor = 0.0254;
+    }
+    if (factor == 0.0)
+        throw InputError(path + ": the header must name the columns fret,string,height_mm (or height_in)");
+    for (std::size_t k = 0; k < table.row_count(); ++k) {
+        const auto& row = table.rows[k];
+        const std::string at = path + " row " + std::to_string(k + 1);
+        const double fret = row[0], string = row[1], h = row[2] * factor;
+        if (!(fret == std::floor(fret) && fret >= 1 && fret <= static_cast<double>(inst.neck.fret_count)))
+            throw InputError(at + ": fret " + number_text(fret) + " does not exist (frets 1 to " +
+                             std::to_string(inst.neck.fret_count) + ")");
+        if (!(string == std::floor(string) && string >= 1 && string <= static_cast<double>(inst.strings.size())))
+            throw InputError(at + ": string " + number_text(string) + " does not exist (strings 1 to " +
+                             std::to_string(inst.strings.size()) + ", in the file's order)");
+        if (!(std::abs(h) <= 5e-3)) throw InputError(at + ": height " + number_text(h * 1e3) + " mm: must be in [-5, 5] mm");
+        inst.strings[static_cast<std::size_t>(string) - 1].scan_m[static_cast<std::size_t>(fret)] = h;
+    }
+    for (const InstrumentString& s : inst.strings)
+        if (!s.scan_m.empty() && s.scan_m.size() != inst.neck.fret_count)
+            throw InputError(path + ": string " + s.name + " has " + std::to_string(s.scan_m.size()) + " of its " +
+                             std::to_string(inst.neck.fret_count) + " frets: a scan gives every fret of a string");
+}
+
+void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
+    AttackSettings& a = inst.attack;
+    if (!s) throw InputError("attack is missing (required: [attack] with position, soft, medium and hard)");
+    const Range where = mm(0.0, 0.5 * shortest * 1e3, true, true);
+    a.pluck_from_bridge_m = r.quantity(*s, "position", Quantity::length, where);
+    a.finger_width_m = r.optional_quantity(*s, "finger_width", Quantity::length, mm(0.0, 50.0)).value_or(0.01);
+    a.soft_m = r.quantity(*s, "soft", Quantity::length, mm(0.0, 10.0));
+    a.medium_m = r.quantity(*s, "medium", Quantity::length, mm(0.0, 10.0));
+    a.hard_m = r.quantity(*s, "hard", Quantity::length, mm(0.0, 10.0));
+    if (!(a.soft_m < a.medium_m && a.medium_m < a.hard_m))
+        throw InputError(s->key_path("medium") + ": the finger plucks must grow: soft < medium < hard");
+    a.pop_m = r.optional_quantity(*s, "pop", Quantity::length, mm(0.0, 10.0)).value_or(3e-3);
+    a.pop_from_bridge_m = r.optional_quantity(*s, "pop_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
+    a.pop_width_m = r.optional_quantity(*s, "pop_width", Quantity::length, mm(0.0, 50.0)).value_or(8e-3);
+    a.slap_m_per_s =
+        r.optional_quantity(*s, "slap", Quantity::velocity, {0.0, 10.0, true, false, "m/s", 1.0}).value_or(1.5);
+    a.slap_from_bridge_m = r.optional_quantity(*s, "slap_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
+    a.slap_width_m = r.optional_quantity(*s, "slap_width", Quantity::length, mm(0.0, 50.0)).value_or(0.015);
+    a.ensemble = s->optional_count("ensemble", 1, 64).value_or(5);
+    a.position_spread_m = r.optional_quantity(*s, "position_spread", Quantity::length, mm(0.0, 50.0, false, false))
+                              .value_or(0.01);
+    a.strength_spread = s->has("strength_spread") ? Reader::number_in(*s, "strength_spread", {0.0, 0.9, false, false, "", 1.0})
+                                                  : 0.15;
+    a.seed = s->optional_count("seed", 0, std::size_t{1} << 52).value_or(1);
+    s->finish();
+}
+
+void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
+    BenchSettings& b = inst.bench;
+    const toml::table empty;
+    TomlSection none(empty, "simulation");
+    TomlSection& t = s ? *s : none;
+    b.sample_rate_hz = r.optional_quantity(t, "fs", Quantity::frequency, {50.0, 20000.0, false, false, "kHz", 1e3})
+                           .value_or(1e6);
+    b.duration_s =
+        r.optional_quantity(t, "duration", Quantity::time, {0.01, 5.0, false, false, "s", 1.0}).value_or(0.3);
+    b.grid_step_m = r.optional_quantity(t, "grid_step", Quantity::length, mm(0.1, 10.0, false, false)).value_or(1e-3);
+    b.output_rate_hz = r.optional_quantity(t, "output_rate", Quantity::frequency,
+                                           {8.0, 192.0, false, false, "kHz", 1e3})
+                           .value_or(48000.0);
+    if (b.output_rate_hz > b.sample_rate_hz)
+        throw InputError(t.key_path("output_rate") + " must not exceed " + t.key_path("fs"));
+    b.observe_from_bridge_m =
+        r.optional_quantity(t, "observe", Quantity::length, mm(0.0, 0.5 * shortest * 1e3, true, true)).value_or(9e-3);
+    b.buzz_band_hz = r.optional_quantity(t, "buzz_band", Quantity::frequency,
+                                         {100.0, 0.5 * b.output_rate_hz, false, true, "Hz", 1.0})
+                         .value_or(2000.0);
+    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -30.0;
+    if (const auto stops = t.optional_text("stopped_modes")) {
+        if (*stops != "held" && *stops != "pinned")
+            throw InputError(t.key_path("stopped_modes") + " = \"" + *stops +
+                             "\": must be \"held\" (the string held on the fret) or \"pinned\" (pinned at the fret)");
+        b.pinned_stops = *stops == "pinned";
+    }
+    if (s) s->finish();
+}
+
+void read_physics_tables(Reader& r, TomlSection& top, Instrument& inst) {
+    BenchSettings& b = inst.bench;
+    // The damping law fitted to the paper's bass string (cases/bass-neck.toml) unless given.
+    b.damping_eta0 = 0.711;
+    b.damping_eta2 = 2.99e-4;
+    if (auto d = top.optional_section("damping")) {
+        b.damping_eta0 = r.quantity(*d, "eta0", Quantity::rate, {0.0, 100.0, false, false, "1/s", 1.0});
+        b.damping_eta2 = r.quantity(*d, "eta2", Quantity::diffusivity, {0.0, 0.01, false, false, "m^2/s", 1.0});
+        d->finish();
+    }
+    if (auto c = top.optional_section("contact")) {
+        b.contact_stiffness = Reader::number_in(*c, "K", {0.0, 1e16, true, false, "N/m^(alpha+1)", 1.0});
+        b.contact_exponent = Reader::number_in(*c, "alpha", {1.0, 3.0, false, false, "", 1.0});
+        c->finish();
+    }
+}
+
+}  // namespace
+
+std::size_t Instrument::string_index(const std::string& wanted) const {
+    std::string names;
+    for (std::size_t k = 0; k < strings.size(); ++k) {
+        if (strings[k].name == wanted) return k;
+        names += (k ? ", " : "") + strings[k].name;
+    }
+    throw InputError("string \"" + wanted + "\" is not on " + name + " (its strings: " + names + ")");
+}
+
+Instrument parse_instrument(std::string_view text, const std::string& source_name, const DataSource& data) {
+    const toml::table root = parse_toml_document(text, source_name);
+    TomlSection top(root, "");
+    if (top.has("obstacle") || top.has("excitation"))
+        throw InputError(source_name + " is a case file (it has [obstacle] or [excitation]), not an instrument file: "
+                                       "`fretbuzz setup` takes an instrument (docs/instrument-format.md), e.g. the "
+                                       "built-in jazz-bass, electric-guitar or bass-neck");
+    Reader r(data);
+    Instrument inst;
+    inst.source_text = std::string(text);
+    inst.name = top.text("name");
+    inst.description = top.optional_text("description").value_or("");
+    std::vector<TomlSection> string_tables = top.sections("string");
+    if (string_tables.empty() || string_tables.size() > kMaxStrings)
+        throw InputError(out_of_range_message("string (the number of [[string]] tables)",
+                                              static_cast<double>(string_tables.size()),
+                                              "must be in [1, " + std::to_string(kMaxStrings) + "]"));
+    std::vector<double> scales;
+    TomlSection neck = top.section("neck");
+    read_neck(r, neck, string_tables.size(), inst, scales);
+    const std::vector<double> scale_of = string_scales(scales, string_tables.size());
+    const StringSet* set = nullptr;
+    if (auto strings = top.optional_section("strings")) {
+        set = &find_set(strings->text("set"), strings->key_path("set"));
+        if (set->strings.size() != string_tables.size())
+            throw InputError(strings->key_path("set") + " = \"" + set->name + "\" has " +
+                             std::to_string(set->strings.size()) + " strings; the instrument has " +
+                             std::to_string(string_tables.size()));
+        strings->finish();
+    }
+    std::set<std::string> names;
+    for (std::size_t k = 0; k < string_tables.size(); ++k) {
+        inst.strings.push_back(read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count));
+        if (!names.insert(inst.strings.back().name).second)
+            throw InputError(string_tables[k].key_path("name") + " = \"" + inst.strings.back().name +
+                             "\": another string has that name; names must differ");
+    }
+    read_scan(r, neck, inst);
+    neck.finish();
+    const double shortest = *std::min_element(scales.begin(), scales.end());
+    read_attack(r, top.optional_section("attack"), shortest, inst);
+    read_physics_tables(r, top, inst);
+    read_simulation(r, top.optional_section("simulation"), shortest, inst);
+    if (inst.bench.observe_from_bridge_m >= inst.attack.pluck_from_bridge_m - 0.5 * inst.attack.finger_width_m)
+        throw InputError("simulation.observe must lie between the bridge and the plucking finger (attack.position)");
+    top.finish();
+    return inst;
+}
+
+std::set<std::string> instrument_keys_looked_up(std::string_view text, const std::string& source_name,
+                                                const DataSource& data) {
+    string_sets();  // read apart: their keys are not an instrument's
+    std::set<std::string> keys;
+    KeyLogScope log(keys);
+    parse_instrument(text, source_name, data);
+    return keys;
+}
+
+std::vector<BuiltinInstrumentInfo> builtin_instruments() {
+    std::vector<BuiltinInstrumentInfo> list;
+    for (const EmbeddedFile& f : builtin_files()) {
+        std::string_view name = f.name;
+        if (!name.starts_with(kInstrumentDir) || !name.ends_with(kSuffix)) continue;
+        name.remove_prefix(kInstrumentDir.size());
+        name.remove_suffix(kSuffix.size());
+        if (name.find('/') != std::string_view::npos) continue;
+        const toml::table root = parse_toml_document(f.text(), std::string(f.name));
+        list.push_back({std::string(name), root["description"].value_or(std::string())});
+    }
+    return list;
+}
+
+bool is_builtin_instrument(std::string_view name) {
+    return find_builtin_file(std::string(kInstrumentDir) + std::string(name) + std::string(kSuffix)).has_value();
+}
+
+Instrument load_instrument(const std::string& name_or_path) {
+    if (auto text = find_builtin_file(std::string(kInstrumentDir) + name_or_path + std::string(kSuffix)))
+        return parse_instrument(*text, name_or_path, DataSource::builtin());
+    const std::filesystem::path path(name_or_path);
+    if (path.extension() == kSuffix)
+        return parse_instrument(read_text_file(path, "instrument file " + path.string(), kMaxCaseFileBytes),
+                                path.string(), DataSource::directory(path.parent_path()));
+    std::string names;
+    for (const auto& info : builtin_instruments()) names += (names.empty() ? "" : ", ") + info.name;
+    throw InputError("unknown instrument '" + name_or_path + "': give a built-in instrument (" + names +
+                     ") or the path of an instrument file (.toml)");
+}
+
+std::vector<StringSet> builtin_string_sets() { return string_sets(); }
+
+namespace {
+
+std::vector<StringSet> read_string_sets() {
+    const auto text = find_builtin_file(std::string(kSetsFile));
+    if (!text) return {};
+    const toml::table root = parse_toml_document(*text, std::string(kSetsFile));
+    std::vector<StringSet> sets;
+    for (const auto& [key, node] : root) {
+        const auto* table = node.as_table();
+        if (table == nullptr) continue;
+        TomlSection s(*table, std::string(key.str()));
+        StringSet set;
+        set.name = std::string(key.str());
+        set.description = s.text("description");
+        set.source = s.text("source");
+        set.scale_length_m = Reader::checked(*s.node("scale"), s.key_path("scale"), Quantity::length,
+                                             {0.2, 1.5, false, false, "m", 1.0});
+        for (TomlSection e : s.sections("strings")) {
+            StringSetEntry entry;
+            entry.gauge_m = Reader::checked(*e.node("gauge"), e.key_path("gauge"), Quantity::length, mm(0.0, 3.0));
+            entry.frequency_hz = Reader::checked(*e.node("pitch"), e.key_path("pitch"), Quantity::frequency,
+                                                 {20.0, 2000.0, false, false, "Hz", 1.0});
+            entry.tension_n = Reader::checked(*e.node("tension"), e.key_path("tension"), Quantity::force,
+                                              {1.0, 1500.0, false, false, "N", 1.0});
+            e.finish();
+            set.strings.push_back(entry);
+        }
+        s.finish();
+        sets.push_back(std::move(set));
+    }
+    return sets;
+}
+
+}  // namespace
+
+}  // namespace fretbuzz

@@ -1,0 +1,183 @@
+#include "fretbuzz/input/InstrumentUnits.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <span>
+#include <utility>
+
+#include "fretbuzz/Error.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+constexpr double kInch = 0.0254;               // m
+constexpr double kPoundForce = 4.4482216152605;  // N
+constexpr double kPound = 0.45359237;           // kg
+
+struct Unit {
+    std::string_view name;
+    double factor;  // to SI
+};
+
+std::span<const Unit> units_of(Quantity kind) {
+    static constexpr std::array length{Unit{"m", 1.0}, Unit{"cm", 1e-2}, Unit{"mm", 1e-3}, Unit{"in", kInch}};
+    static constexpr std::array force{Unit{"N", 1.0}, Unit{"lb", kPoundForce}};
+    static constexpr std::array frequency{Unit{"Hz", 1.0}, Unit{"kHz", 1e3}, Unit{"MHz", 1e6}};
+    static constexpr std::array density{Unit{"kg/m", 1.0}, Unit{"g/m", 1e-3}, Unit{"lb/in", kPound / kInch}};
+    static constexpr std::array stiffness{Unit{"N m^2", 1.0}, Unit{"N*m^2", 1.0}};
+    static constexpr std::array velocity{Unit{"m/s", 1.0}};
+    static constexpr std::array rate{Unit{"1/s", 1.0}};
+    static constexpr std::array diffusivity{Unit{"m^2/s", 1.0}};
+    static constexpr std::array time{Unit{"s", 1.0}, Unit{"ms", 1e-3}};
+    switch (kind) {
+        case Quantity::length: return length;
+        case Quantity::force: return force;
+        case Quantity::frequency: return frequency;
+        case Quantity::linear_density: return density;
+        case Quantity::bending_stiffness: return stiffness;
+        case Quantity::velocity: return velocity;
+        case Quantity::rate: return rate;
+        case Quantity::diffusivity: return diffusivity;
+        case Quantity::time: return time;
+    }
+    return {};
+}
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    return s;
+}
+
+// A decimal number at the start of s; advances s past it.
+std::optional<double> leading_number(std::string_view& s) {
+    double v = 0.0;
+    const char* first = s.data();
+    if (!s.empty() && s.front() == '+') ++first;
+    const auto [end, error] = std::from_chars(first, s.data() + s.size(), v);
+    if (error != std::errc() || end == first) return std::nullopt;
+    s.remove_prefix(static_cast<std::size_t>(end - s.data()));
+    return v;
+}
+
+// "2.4", "5/64", "1 3/16" at the start of s (mixed numbers as luthiers write inches).
+std::optional<double> leading_value(std::string_view& s) {
+    std::string_view rest = s;
+    auto a = leading_number(rest);
+    if (!a) return std::nullopt;
+    double value = *a;
+    std::string_view after = trim(rest);
+    if (!rest.empty() && rest.front() == '/') {  // a fraction a/b
+        rest.remove_prefix(1);
+        const auto b = leading_number(rest);
+        if (!b || !(*b > 0.0) || *a != std::floor(*a) || *b != std::floor(*b)) return std::nullopt;
+        value = *a / *b;
+    } else if (*a == std::floor(*a) && *a >= 0.0 && !after.empty() && after.front() >= '0' && after.front() <= '9') {
+        // A whole number then a fraction: "1 3/16".
+        std::string_view frac = after;
+        const auto n = leading_number(frac);
+        if (n && !frac.empty() && frac.front() == '/') {
+            frac.remove_prefix(1);
+            const auto d = leading_number(frac);
+            if (d && *d > 0.0 && *n == std::floor(*n) && *d == std::floor(*d) && *n < *d) {
+                value = *a + *n / *d;
+                rest = frac;
+            }
+        }
+    }
+    s = rest;
+    return value;
+}
+
+std::string example(Quantity kind) {
+    switch (kind) {
+        case Quantity::length: return "\"2.4 mm\", \"5/64 in\", \"34 in\"";
+        case Quantity::force: return "\"191.6 N\" or \"43.1 lb\"";
+        case Quantity::frequency: return "\"98 Hz\" or a note such as \"G2\"";
+        case Quantity::linear_density: return "\"6.69 g/m\" or \"0.000374 lb/in\"";
+        case Quantity::bending_stiffness: return "\"5.24e-4 N m^2\"";
+        case Quantity::velocity: return "\"1.5 m/s\"";
+        case Quantity::rate: return "\"0.711 1/s\"";
+        case Quantity::diffusivity: return "\"2.99e-4 m^2/s\"";
+        case Quantity::time: return "\"0.3 s\" or \"300 ms\"";
+    }
+    return {};
+}
+
+double parse(std::string_view text, Quantity kind, std::optional<std::string_view> default_unit,
+             const std::string& key) {
+    const std::string_view whole = trim(text);
+    const auto refuse = [&](const std::string& why) -> double {
+        throw InputError(key + " = \"" + std::string(text) + "\": " + why + " (e.g. " + example(kind) +
+                         "; units: " + unit_names(kind) + ")");
+    };
+    if (kind == Quantity::frequency && !whole.empty() && whole.front() >= 'A' && whole.front() <= 'G')
+        return note_frequency(whole, key);
+    std::string_view rest = whole;
+    const auto value = leading_value(rest);
+    if (!value) return refuse("not a number with its unit");
+    const std::string_view unit = trim(rest);
+    double factor = 0.0;
+    if (unit.empty()) {
+        if (!default_unit) return refuse("say its unit");
+        for (const Unit& u : units_of(kind))
+            if (u.name == *default_unit) factor = u.factor;
+    } else {
+        for (const Unit& u : units_of(kind))
+            if (u.name == unit) factor = u.factor;
+        if (factor == 0.0) return refuse("unknown unit \"" + std::string(unit) + "\"");
+    }
+    const double si = *value * factor;
+    if (!std::isfinite(si)) return refuse("not a finite number");
+    return si;
+}
+
+}  // namespace
+
+std::string unit_names(Quantity kind) {
+    std::string names;
+    const auto list = units_of(kind);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        if (kind == Quantity::bending_stiffness && k > 0) break;  // one spelling is enough to name
+        names += (k == 0 ? "" : (k + 1 == list.size() ? " or " : ", ")) + std::string(list[k].name);
+    }
+    return names;
+}
+
+double parse_quantity(std::string_view text, Quantity kind, const std::string& key) {
+    return parse(text, kind, std::nullopt, key);
+}
+
+double parse_quantity_or(std::string_view text, Quantity kind, std::string_view default_unit, const std::string& key) {
+    return parse(text, kind, default_unit, key);
+}
+
+double note_frequency(std::string_view name, const std::string& key) {
+    static constexpr std::array<std::pair<char, int>, 7> letters{
+        {{'C', 0}, {'D', 2}, {'E', 4}, {'F', 5}, {'G', 7}, {'A', 9}, {'B', 11}}};
+    const auto refuse = [&]() -> double {
+        throw InputError(key + " = \"" + std::string(name) +
+                         "\": not a note; give a letter A-G, an optional # or b, and an octave in [0, 8] "
+                         "(E1 = 41.2 Hz, A4 = 440 Hz) or a frequency such as \"98 Hz\"");
+    };
+    std::string_view s = name;
+    if (s.empty()) return refuse();
+    int semitone = -1;
+    for (const auto& [letter, offset] : letters)
+        if (s.front() == letter) semitone = offset;
+    if (semitone < 0) return refuse();
+    s.remove_prefix(1);
+    if (!s.empty() && (s.front() == '#' || s.front() == 'b')) {
+        semitone += s.front() == '#' ? 1 : -1;
+        s.remove_prefix(1);
+    }
+    if (s.size() != 1 || s.front() < '0' || s.front() > '8') return refuse();
+    const int octave = s.front() - '0';
+    const int midi = 12 * (octave + 1) + semitone;
+    return 440.0 * std::exp2((midi - 69) / 12.0);
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,330 @@
+#include "fretbuzz/setup/NoteCase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/InitialShape.hpp"
+#include "fretbuzz/model/FrequencyModel.hpp"
+#include "fretbuzz/geometry/SimpleObstacles.hpp"
+#include "fretbuzz/model/ModeTableAssembly.hpp"
+#include "fretbuzz/model/WavenumberDamping.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/scheme/SamplingCheck.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+// The finger model's pick: the finger lands first (the default `fret = k` finger presses
+// 0 to 5 N over 5 ms), then the pick pulls for whole periods of the note (a linear ramp of
+// whole periods leaves an oscillator at rest on its new equilibrium) and lets go.
+constexpr double kFingerSettles = 6e-3;
+constexpr double kPullPeriods = 2.0;
+constexpr double kRelease = 1e-4;
+
+std::size_t grid_points(double length, double step) {
+    return static_cast<std::size_t>(std::max(2L, std::lround(length / step) - 1));
+}
+
+// stopped_string of an obstacle-free open string, kept for the process: the held string's modes
+// cost tens of ms per note and do not change with the set-up (relief, action, frets), so a
+// what-if after a map, or a search playing the same string again and again, finds them here.
+// Keyed by everything they come from: the open string's modes and length, the stop, the count.
+Case held_string(const Case& bare, double stop, std::size_t modes) {
+    struct Key {
+        std::vector<double> values;
+        bool operator==(const Key&) const = default;
+    };
+    static std::mutex mutex;
+    static std::vector<std::pair<Key, std::shared_ptr<const Case>>> kept;
+    constexpr std::size_t kMaxKept = 512;
+    Key key{{bare.string.length_m, bare.string.tension_n, bare.string.linear_density, stop,
+             static_cast<double>(modes), static_cast<double>(bare.mode_count())}};
+    key.values.insert(key.values.end(), bare.modes.frequency_hz.begin(), bare.modes.frequency_hz.end());
+    key.values.insert(key.values.end(), bare.modes.sigma_per_s.begin(), bare.modes.sigma_per_s.end());
+    {
+        std::lock_guard lock(mutex);
+        for (const auto& [k, c] : kept)
+            if (k == key) return *c;
+    }
+    auto c = std::make_shared<const Case>(stopped_string(bare, stop, modes));
+    std::lock_guard lock(mutex);
+    if (kept.size() >= kMaxKept) kept.clear();
+    kept.emplace_back(std::move(key), c);
+    return *c;
+}
+
+}  // namespace
+
+NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
+    : string_(string),
+      neck_(instrument, string),
+      observe_from_bridge_m_(instrument.bench.observe_from_bridge_m),
+      grid_step_m_(instrument.bench.grid_step_m),
+      pinned_(instrument.bench.pinned_stops),
+      bending_stiffness_(instrument.strings.at(string).bending_stiffness),
+      eta0_(instrument.bench.damping_eta0),
+      eta2_(instrument.bench.damping_eta2) {
+    const InstrumentString& s = instrument.strings.at(string);
+    const BenchSettings& b = instrument.bench;
+    const double length = s.scale_length_m;
+    open_.name = instrument.name + "-" + s.name;
+    open_.description = "string " + s.name + " of " + instrument.name;
+    open_.string = {length, s.tension_n, s.linear_density};
+    const std::size_t n = grid_points(length, b.grid_step_m);
+    open_.modes = string_modes(length, n);
+    open_.obstacle_height_m = neck_.note_obstacle(0, Grid{length, n});
+    open_.fret_positions_m = find_frets(open_.obstacle_height_m, open_.grid_step());
+    open_.initial_displacement.assign(n, 0.0);
+    open_.initial_velocity.assign(n, 0.0);
+    open_.contact = {b.contact_stiffness, b.contact_exponent};
+    open_.run.sample_rate_hz = b.sample_rate_hz;
+    open_.run.duration_s = b.duration_s;
+    open_.run.output_rate_hz = b.output_rate_hz;
+    open_.observation_points_m = {length - b.observe_from_bridge_m};
+    bare_ = open_;
+    bare_.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
+    bare_.fret_positions_m.clear();
+    stopped_.resize(neck_.fret_count() + 1);
+    once_ = std::vector<std::once_flag>(neck_.fret_count() + 1);
+}
+
+ModeTable NoteMaker::string_modes(double length, std::size_t modes) const {
+    const TautString taut{length, open_.string.tension_n, open_.string.linear_density};
+    const FrequencyModel frequency(taut, taut.inharmonicity_for(bending_stiffness_));
+    const WavenumberDamping damping(length, eta0_, eta2_);
+    return assemble_mode_table(modes, {}, &frequency, &damping);
+}
+
+double NoteMaker::pluck_position(double sounding, const Attack& attack, const PluckVariation& pluck) const {
+    return sounding - (attack.from_bridge_m + pluck.shift_m);
+}
+
+std::optional<std::string> NoteMaker::unplayable(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
+                                                 bool finger) const {
+    const double sounding = neck_.length() - neck_.fret_x(fret);
+    const double x = pluck_position(sounding, attack, pluck);
+    if (finger && attack.kind == AttackKind::slap)
+        return std::string("the finger model plays plucks and pops; slap the stand-in (no --finger)");
+    if (!(x - 0.5 * attack.width_m > 0.0 && x + 0.5 * attack.width_m < sounding))
+        return "the pluck (" + std::to_string(1e3 * (attack.from_bridge_m + pluck.shift_m)) +
+               " mm from the bridge) falls behind fret " + std::to_string(fret);
+    if (sounding - observe_from_bridge_m_ <= 0.0) return std::string("the pickup lies behind the fret");
+    return std::nullopt;
+}
+
+void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluck) const {
+    const std::size_t n = c.mode_count();
+    const Grid grid{c.string.length_m, n};
+    const ModalBasis basis(c.string.length_m, n);
+    const double x = pluck_position(c.string.length_m, attack, pluck);  // from the bridge, on either model
+    c.initial_displacement.assign(n, 0.0);
+    c.initial_velocity.assign(n, 0.0);
+    if (attack.kind == AttackKind::slap)
+        basis.to_modes(raised_cosine_velocity(grid, x, attack.width_m, -attack.velocity * pluck.scale),
+                       c.initial_velocity);
+    else
+        basis.to_modes(rounded_triangle_shape(grid, x, attack.width_m, attack.amplitude_m * pluck.scale),
+                       c.initial_displacement);
+}
+
+const Case& NoteMaker::stopped(std::size_t fret) const {
+    std::call_once(once_.at(fret), [&] {
+        const double stop = neck_.fret_x(fret);
+        const double sounding = neck_.length() - stop;
+        std::size_t n = grid_points(sounding, grid_step_m_);
+        const double fs = open_.run.sample_rate_hz;
+        Case c;
+        if (pinned_) {
+            c = bare_;
+            c.string.length_m = sounding;
+            c.modes = string_modes(sounding, n);
+            if (const std::size_t in_band = modes_below_nyquist(c.modes, fs); in_band < n) {
+                n = std::max<std::size_t>(in_band, 2);
+                c.modes = string_modes(sounding, n);
+            }
+        } else {
+            // The string part only: the neck under the note is StringNeck's (stopped_string would
+            // resample the open string's obstacle, and judge a fret far below the string to be none).
+            // Every mode below fs / 2: the pinned piece's frequencies (the held string's are a few
+            // cents higher: 1 % of margin) tell how many, before the held string is built.
+            const ModeTable pinned = string_modes(sounding, n);
+            std::size_t count = n;
+            while (count > 2 && 1.01 * pinned.frequency_hz[count - 1] > 0.5 * fs) --count;
+            c = held_string(bare_, stop, count);
+            if (const std::size_t in_band = modes_below_nyquist(c.modes, fs); in_band < c.mode_count())
+                c = held_string(bare_, stop, std::max<std::size_t>(in_band, 2));
+            n = c.mode_count();
+        }
+        c.name = open_.name + "-fret" + std::to_string(fret);
+        c.obstacle_height_m = neck_.note_obstacle(fret, Grid{sounding, n});
+        c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
+        c.initial_displacement.assign(n, 0.0);
+        c.initial_velocity.assign(n, 0.0);
+        c.observation_points_m = {sounding - observe_from_bridge_m_};
+        c.run = open_.run;
+        c.fingers.clear();
+        c.forces.clear();
+        c.plucks.clear();
+        stopped_[fret] = std::make_unique<Case>(std::move(c));
+    });
+    return *stopped_[fret];
+}
+
+Case NoteMaker::stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const {
+    Case c = stopped(fret);
+    excite(c, attack, pluck);
+    return c;
+}
+
+Case NoteMaker::fingered(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const {
+    Case c = open_;
+    const std::size_t in_band = modes_below_nyquist(c.modes, c.run.sample_rate_hz);
+    if (in_band < c.mode_count()) {  // fewer modes, a coarser grid: every mode below fs / 2
+        c.modes.frequency_hz.resize(in_band);
+        c.modes.sigma_per_s.resize(in_band);
+        c.modes.source.resize(in_band);
+        c.obstacle_height_m = neck_.note_obstacle(0, Grid{c.string.length_m, in_band});
+        c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
+        c.initial_displacement.assign(in_band, 0.0);
+        c.initial_velocity.assign(in_band, 0.0);
+    }
+    c.name = open_.name + "-fret" + std::to_string(fret) + "-finger";
+    const std::size_t n = c.mode_count();
+    const double length = c.string.length_m;
+    const double stop = neck_.fret_x(fret);
+    const double sounding = length - stop;
+    const double x = stop + pluck_position(sounding, attack, pluck);
+    c.initial_displacement.assign(n, 0.0);
+    c.initial_velocity.assign(n, 0.0);
+    double settle = 0.0;
+    if (fret > 0) {
+        c.add_fret_finger(fret, "fret");
+        settle = kFingerSettles;
+        // The string at rest pressed on fret k: the lowest triangle on the fret's grid point
+        // that clears every fret top (1 pm up, so round-off never puts it into a fret).
+        const Grid grid{length, n};
+        const auto at = [&](std::size_t k) { return c.grid_point(nearest_grid_point(grid, neck_.fret_x(k))); };
+        const auto top = [&](std::size_t k) { return c.obstacle_height_m[nearest_grid_point(grid, neck_.fret_x(k))]; };
+        double apex = top(fret);
+        for (std::size_t k = 1; k < fret; ++k) apex = std::max(apex, top(k) * at(fret) / at(k));
+        for (std::size_t k = fret + 1; k <= neck_.fret_count(); ++k)
+            apex = std::max(apex, top(k) * (length - at(fret)) / (length - at(k)));
+        ModalBasis(length, n).to_modes(triangle_shape(grid, at(fret), apex + 1e-12), c.initial_displacement);
+    }
+    // The pick: the force whose static deflection at the pluck point is the amplitude on the
+    // sounding length, F = A T L' / (a (L' - a)), ramped over whole periods, then let go.
+    const double a = x - stop;
+    const double amplitude = attack.amplitude_m * pluck.scale;
+    const double force = amplitude * c.string.tension_n * sounding / (a * (sounding - a));
+    const double wave_speed = std::sqrt(c.string.tension_n / c.string.linear_density);
+    const double end = settle + kPullPeriods * 2.0 * sounding / wave_speed;
+    ForceSpec pick;
+    pick.key = "the pick";
+    pick.position_m = x;
+    pick.width_m = attack.width_m;
+    pick.direction = -1.0;  // away from the board
+    pick.force_profile = {{0.0, 0.0}, {settle, 0.0}, {end, force}, {end + kRelease, 0.0}};
+    c.forces = {pick};
+    c.run.duration_s = open_.run.duration_s + end + kRelease;
+    if (!c.fingers.empty()) c.fingers.front().force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * c.run.duration_s), 5.0}};
+    return c;
+}
+
+std::vector<double> NoteMaker::fret_positions(std::size_t fret, bool finger) const {
+    std::vector<double> x;
+    for (std::size_t n = fret + 1; n <= neck_.fret_count(); ++n)
+        x.push_back(neck_.fret_x(n) - (finger ? 0.0 : neck_.fret_x(fret)));
+    return x;
+}
+
+std::vector<std::size_t> NoteMaker::fret_numbers(std::size_t fret) const {
+    std::vector<std::size_t> numbers;
+    for (std::size_t n = fret + 1; n <= neck_.fret_count(); ++n) numbers.push_back(n);
+    return numbers;
+}
+
+bool never_touches(const Case& c) {
+    const std::size_t n = c.mode_count();
+    std::vector<double> amplitude(n);
+    double total = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
+        const double sigma = c.modes.sigma_per_s[j];
+        const double w = std::sqrt(std::max(omega * omega - sigma * sigma, 0.0));
+        if (!(w > 0.0)) return false;  // not an underdamped mode: no bound here
+        const double q0 = c.initial_displacement[j], v0 = c.initial_velocity[j];
+        amplitude[j] = std::hypot(q0, (sigma * q0 + v0) / w);
+        total += amplitude[j];
+    }
+    const double s = c.contact_orientation();
+    const double norm = std::sqrt(2.0 / c.string.length_m);
+    // A cheap first look: |phi_j| <= sqrt(2/L) everywhere.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (double g : c.obstacle_height_m)
+        if (std::isfinite(g)) nearest = std::min(nearest, -s * g);
+    if (!(nearest > 0.0)) return false;
+    if (norm * total < nearest) return true;
+    const double step = std::numbers::pi / static_cast<double>(n + 1);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = c.obstacle_height_m[i];
+        if (!std::isfinite(g)) continue;
+        const double clearance = -s * g;
+        if (norm * total < clearance) continue;
+        double bound = 0.0;
+        for (std::size_t j = 0; j < n; ++j)
+            bound += amplitude[j] * std::abs(std::sin(static_cast<double>((j + 1) * (i + 1)) * step));
+        if (norm * bound >= clearance) return false;
+    }
+    return true;
+}
+
+std::vector<double> free_motion_at(const Case& c, double x, double interval_s, std::size_t samples) {
+    const std::size_t n = c.mode_count();
+    const std::vector<double> phi = ModalBasis(c.string.length_m, n).mode_shapes_at(x);
+    // u(t_m) = Re sum_j a_j z_j^m, z_j = e^((-sigma_j + i w_j) interval).
+    std::vector<double> are, aim, zre, zim, rre, rim;
+    double total = 0.0;
+    std::vector<std::complex<double>> a(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
+        const double sigma = c.modes.sigma_per_s[j];
+        const double w = std::sqrt(omega * omega - sigma * sigma);
+        const double q0 = c.initial_displacement[j], v0 = c.initial_velocity[j];
+        a[j] = phi[j] * std::complex<double>(q0, -(sigma * q0 + v0) / w);
+        total += std::abs(a[j]);
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        if (!(std::abs(a[j]) > 1e-13 * total)) continue;
+        const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
+        const double sigma = c.modes.sigma_per_s[j];
+        const std::complex<double> r = std::exp(std::complex<double>(-sigma, std::sqrt(omega * omega - sigma * sigma)) *
+                                                interval_s);
+        are.push_back(a[j].real());
+        aim.push_back(a[j].imag());
+        zre.push_back(1.0);
+        zim.push_back(0.0);
+        rre.push_back(r.real());
+        rim.push_back(r.imag());
+    }
+    std::vector<double> u(samples);
+    const std::size_t kept = are.size();
+    for (std::size_t m = 0; m < samples; ++m) {
+        double sum = 0.0;
+        for (std::size_t j = 0; j < kept; ++j) {
+            sum += are[j] * zre[j] - aim[j] * zim[j];
+            const double re = zre[j] * rre[j] - zim[j] * rim[j];
+            zim[j] = zre[j] * rim[j] + zim[j] * rre[j];
+            zre[j] = re;
+        }
+        u[m] = sum;
+    }
+    return u;
+}
+
+}  // namespace fretbuzz

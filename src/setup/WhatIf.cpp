@@ -1,0 +1,123 @@
+#include "fretbuzz/setup/WhatIf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/setup/StringNeck.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+std::string mm(double metres) {
+    std::ostringstream out;
+    out.precision(4);
+    out << metres * 1e3;
+    return out.str();
+}
+
+void require_mm(const std::string& option, double value, double low, double high) {
+    if (!(value >= low && value <= high))
+        throw InputError(option + " = " + mm(value) + " mm is out of range: must be in [" + mm(low) + ", " + mm(high) +
+                         "] mm");
+}
+
+// Every string still clears every fret; a message naming the option that moved it.
+void check_strings(const Instrument& instrument, const std::string& option) {
+    for (std::size_t s = 0; s < instrument.strings.size(); ++s) {
+        try {
+            StringNeck neck(instrument, s);
+        } catch (const InputError& e) {
+            throw InputError(option + ": " + e.what());
+        }
+    }
+}
+
+}  // namespace
+
+std::size_t relief_fret(const Instrument& instrument) {
+    if (instrument.neck.relief.form == ReliefMeasure::Form::gap) return instrument.neck.relief.at_fret;
+    return std::min<std::size_t>(8, instrument.neck.fret_count - 1);
+}
+
+Instrument with_pinned_string_ends(const Instrument& instrument) {
+    Instrument pinned = instrument;
+    for (std::size_t s = 0; s < instrument.strings.size(); ++s) {
+        const StringNeck neck(instrument, s);
+        pinned.strings[s].nut = {StringEnd::Form::height, neck.nut_height(), 0};
+        pinned.strings[s].bridge = {StringEnd::Form::height, neck.saddle_height(), 0};
+        pinned.strings[s].body_height_m = neck.body_height();
+    }
+    return pinned;
+}
+
+Instrument apply_change(const Instrument& instrument, const SetupChange& change) {
+    if (change.empty()) return instrument;
+    Instrument out = with_pinned_string_ends(instrument);
+    NeckDescription& neck = out.neck;
+    if (change.relief_m) {
+        const std::size_t m = relief_fret(out);
+        require_mm("--relief (the gap at fret " + std::to_string(m) + ")", *change.relief_m, -2e-3, 2e-3);
+        if (neck.fret_count < 3) throw InputError("--relief: the neck needs at least 3 frets to measure relief");
+        // The gap is linear in the truss rod's bow: one look at the current gap does it.
+        const StringNeck now(out, 0);
+        neck.truss_rod_bow_m += (*change.relief_m - now.relief_gap(m)) / relief_gap_per_bow(now, m);
+        check_strings(out, "--relief");
+    }
+    for (const FretChange& f : change.frets) {
+        const std::string option = "--fret-offset " + std::to_string(f.fret);
+        if (f.fret < 1 || f.fret > neck.fret_count)
+            throw InputError(option + ": fret " + std::to_string(f.fret) + " does not exist (frets 1 to " +
+                             std::to_string(neck.fret_count) + ")");
+        double by = 0.0;
+        if (f.by_m) {
+            by = *f.by_m;
+            require_mm(option, by, -1e-3, 1e-3);
+        } else {
+            // Dressed down to the line through its neighbours' tops under every string.
+            by = std::numeric_limits<double>::infinity();
+            for (std::size_t s = 0; s < out.strings.size(); ++s) {
+                const StringNeck n(out, s);
+                const std::size_t a = f.fret == neck.fret_count ? f.fret - 2 : f.fret - 1;
+                const std::size_t b = f.fret == neck.fret_count ? f.fret - 1 : f.fret + 1;
+                const double line = n.fret_top(a) + (n.fret_top(b) - n.fret_top(a)) * (n.fret_x(f.fret) - n.fret_x(a)) /
+                                                        (n.fret_x(b) - n.fret_x(a));
+                by = std::min(by, line - n.fret_top(f.fret));
+            }
+            if (!(by < 0.0))
+                throw InputError(option + "=level: fret " + std::to_string(f.fret) +
+                                 " is not proud of its neighbours (it lies " + mm(by) +
+                                 " mm below their line): levelling would not touch it");
+        }
+        const double now = neck.fret_offset_m.contains(f.fret) ? neck.fret_offset_m[f.fret] : 0.0;
+        const double offset = now + by;
+        if (!(offset >= -neck.fret_height_m && offset <= 1e-3))
+            throw InputError(option + ": its top would end " + mm(offset) + " mm off the fret line; it must stay in [-" +
+                             mm(neck.fret_height_m) + " (down to the board), 1] mm");
+        neck.fret_offset_m[f.fret] = offset;
+        check_strings(out, option);
+    }
+    const auto set_end = [&](const std::string& option, const std::string& name, auto&& set) {
+        const std::size_t s = out.string_index(name);
+        set(out.strings[s]);
+        check_strings(out, option + " " + name);
+    };
+    for (const auto& [name, value] : change.action12_m) {
+        if (neck.fret_count < 12) throw InputError("--action12: the neck has only " + std::to_string(neck.fret_count) + " frets");
+        require_mm("--action12 " + name, value, 1e-5, 10e-3);
+        set_end("--action12", name, [&](InstrumentString& s) { s.bridge = {StringEnd::Form::gap_over_fret, value, 12}; });
+    }
+    for (const auto& [name, value] : change.nut_m) {
+        require_mm("--nut " + name, value, 1e-5, 5e-3);
+        set_end("--nut", name, [&](InstrumentString& s) { s.nut = {StringEnd::Form::gap_over_fret, value, 1}; });
+    }
+    for (const auto& [name, value] : change.saddle_m) {
+        require_mm("--saddle " + name, value, 1e-5, 30e-3);
+        set_end("--saddle", name, [&](InstrumentString& s) { s.bridge = {StringEnd::Form::height, value, 0}; });
+    }
+    return out;
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,173 @@
+// `fretbuzz setup` end to end: a small map writes its files (CSV numbers in their shortest
+// exact form, a WAV per note that fades out instead of clicking, map.json, the HTML page);
+// bad options and bad instrument files are refused with a message naming the option or key
+// and its range, exit status 2, and nothing written.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include "TestSupport.hpp"
+#include "fretbuzz/analysis/Recording.hpp"
+
+namespace fretbuzz {
+namespace {
+
+using testing::run_cli;
+using testing::ScratchDir;
+
+// A quick map: two notes of the G string, coarse and short.
+const std::string kQuick = " --strings G --frets 19,20 --ensemble 2 --fs 500kHz --duration 0.08 --quiet";
+
+// The program sent SIGINT after 2 s (as Ctrl-C does), its own exit status kept.
+testing::CommandResult run_cli_with_timeout(const std::string& arguments) {
+    return testing::run_shell("timeout --preserve-status --signal=INT 2 " + std::string(FRETBUZZ_CLI) + " " + arguments);
+}
+
+std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+TEST(SetupCommand, AMapWritesItsFiles) {
+    ScratchDir dir("setup-map");
+    const std::string out = (dir.path() / "map").string();
+    const auto r = run_cli("setup jazz-bass --out " + out + kQuick + " --strength soft,hard");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string csv = read_file(dir.path() / "map" / "buzz_map.csv");
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "string,fret,strength,buzz_fraction,buzz_dB,buzz_fret,touch_fraction,plucks,status,clearance_mm,audio,"
+              "pluck_dB");
+    // Every number in its shortest form that reads back exactly (never 0.00050000000000000001).
+    std::istringstream rows(csv);
+    std::string line;
+    std::getline(rows, line);
+    std::size_t count = 0;
+    while (std::getline(rows, line)) {
+        ++count;
+        std::stringstream cells(line);
+        std::string cell;
+        while (std::getline(cells, cell, ',')) {
+            double v = 0.0;
+            const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+            if (error != std::errc() || end != cell.data() + cell.size()) continue;  // not a number
+            char shortest[32];
+            const auto [last, e2] = std::to_chars(shortest, shortest + sizeof shortest, v);
+            EXPECT_EQ(cell, std::string(shortest, last)) << line;
+        }
+    }
+    EXPECT_EQ(count, 4u);  // 2 notes x 2 attacks
+    for (const char* name : {"map.json", "note-G-19-soft.wav", "note-G-20-hard.wav"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir.path() / "map" / name)) << name;
+    if (r.output.find("buzz_map.html was not drawn") == std::string::npos) {
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir.path() / "map" / "buzz_map.html"));
+    }
+    // The notes fade out over their last 50 ms: no click where the run stops.
+    const Recording wav = read_recording(dir.path() / "map" / "note-G-19-hard.wav");
+    double peak = 0.0, tail = 0.0;
+    for (double s : wav.samples) peak = std::max(peak, std::abs(s));
+    for (std::size_t i = wav.samples.size() - 20; i < wav.samples.size(); ++i) tail = std::max(tail, std::abs(wav.samples[i]));
+    EXPECT_GT(peak, 0.5);
+    EXPECT_LT(tail, 1e-3 * peak);
+}
+
+// --advice writes its searches as JSON and text; --compare marks the notes that changed.
+TEST(SetupCommand, AdviceAndComparisonAreWritten) {
+    ScratchDir dir("setup-advice");
+    const std::string first = (dir.path() / "a").string(), second = (dir.path() / "b").string();
+    const std::string quick = " --strings G --ensemble 1 --fs 300kHz --duration 0.05 --quiet --strength medium";
+    ASSERT_EQ(run_cli("setup jazz-bass --out " + first + quick).exit_code, 0);
+    const auto r = run_cli("setup jazz-bass --out " + second + quick + " --fret-offset 15=0.08 --compare " + first +
+                           " --advice");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string advice = read_file(dir.path() / "b" / "advice.txt");
+    EXPECT_NE(advice.find("string G: action over fret 12 now"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("stands proud"), std::string::npos) << advice;  // which ones: SetupAdvice's tests
+    EXPECT_NE(advice.find("relief (gap at fret 8) now"), std::string::npos) << advice;
+    EXPECT_NE(read_file(dir.path() / "b" / "advice.json").find("\"lowest_clean_action12_mm\""), std::string::npos);
+    const std::string compare = read_file(dir.path() / "b" / "compare.csv");
+    EXPECT_EQ(std::count(compare.begin(), compare.end(), '\n'), 22) << compare;  // a header and 21 notes
+    EXPECT_NE(compare.find("G,14,medium,"), std::string::npos) << compare;
+}
+
+// Ctrl-C: exit status 130, a message that says the map is lost, and nothing written.
+TEST(SetupCommand, CtrlCStopsTheMapAndWritesNothing) {
+    ScratchDir dir("setup-interrupt");
+    const std::string out = (dir.path() / "map").string();
+    const auto r = run_cli_with_timeout("setup jazz-bass --fs 4MHz --duration 1 --out " + out + " --quiet");
+    EXPECT_EQ(r.exit_code, 130) << r.output;
+    EXPECT_NE(r.output.find("the map is lost"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("nothing was written"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    for (const auto& e : std::filesystem::directory_iterator(dir.path())) ADD_FAILURE() << "left behind: " << e.path();
+}
+
+struct Refusal {
+    std::string arguments;
+    std::vector<std::string> says;
+};
+
+TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
+    ScratchDir dir("setup-bad");
+    const std::string out = (dir.path() / "never").string();
+    const std::vector<Refusal> cases = {
+        {"--frets 0-20000000", {"--frets", "[0, 20]"}},
+        {"--frets 0-99999999999", {"--frets", "[0, 20]"}},
+        {"--frets 21", {"--frets", "21"}},
+        {"--strength -1e-3", {"--strength", "(0, 10] mm"}},
+        {"--strength loud", {"--strength", "soft, medium, hard, pop, slap"}},
+        {"--strings E,Q", {"string \"Q\"", "E, A, D, G"}},
+        {"--relief 5", {"--relief", "[-2, 2] mm"}},
+        {"--action12 E=0.01", {"--action12 E", "fret"}},
+        {"--action12 E", {"--action12", "NAME=MM"}},
+        {"--fret-offset 25=0.1", {"--fret-offset", "[1, 20]"}},
+        {"--fret-offset 5=3", {"--fret-offset 5", "[-1, 1] mm"}},
+        {"--jobs 0", {"--jobs", "[1, 256]"}},
+        {"--ensemble 1000", {"--ensemble", "[1, 64]"}},
+        {"--fs 10", {"--fs", "[50000, 2e7]"}},
+        {"--compare " + (dir.path() / "nothing").string(), {"--compare", "buzz_map.csv"}},
+    };
+    for (const Refusal& c : cases) {
+        const auto r = run_cli("setup jazz-bass --out " + out + " " + c.arguments);
+        EXPECT_EQ(r.exit_code, 2) << c.arguments << "\n" << r.output;
+        for (const std::string& s : c.says) EXPECT_NE(r.output.find(s), std::string::npos) << c.arguments << "\n" << r.output;
+        EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.arguments;
+    }
+    const auto unknown = run_cli("setup banjo --out " + out);
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.output.find("jazz-bass"), std::string::npos) << unknown.output;
+}
+
+TEST(SetupCommand, BadInstrumentFilesAreRefusedNamingTheKey) {
+    ScratchDir dir("setup-file");
+    std::string text = read_file(std::filesystem::path(FRETBUZZ_SOURCE_DIR) / "cases/instruments/jazz-bass.toml");
+    int files = 0;
+    const auto edit = [&](const std::string& from, const std::string& to) {
+        std::string t = text;
+        t.replace(t.find(from), from.size(), to);
+        const auto path = dir.path() / ("bad" + std::to_string(++files) + ".toml");
+        std::ofstream(path) << t;
+        return path.string();
+    };
+    const std::string out = (dir.path() / "never").string();
+    const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+        {edit("fret_height = \"1.2 mm\"", "fret_height = \"9 mm\""), {"neck.fret_height", "(0, 5] mm"}},
+        {edit("action12 = \"2.7 mm\"", "action12 = \"2.7 furlongs\""), {"string[0].action12", "units"}},
+        {edit("scale = \"863 mm\"", "scale = 863"), {"neck.scale", "unit"}},
+        {edit("frets = 20", "frets = 20\nfret_offsets = { 30 = \"0.1 mm\" }"), {"neck.fret_offsets.30", "frets 1 to 20"}},
+    };
+    for (const auto& [path, says] : cases) {
+        const auto r = run_cli("setup " + path + " --out " + out);
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        for (const std::string& s : says) EXPECT_NE(r.output.find(s), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+}
+
+}  // namespace
+}  // namespace fretbuzz
