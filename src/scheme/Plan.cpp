@@ -11,6 +11,7 @@ namespace fretbuzz {
 
 Plan::Plan(const Case& c, double dt, PlanOptions options)
     : dt_(dt),
+      orientation_(c.contact_orientation()),
       mu_(c.string.linear_density),
       energy_scale_(mu_ / (2.0 * dt_ * dt_)),
       loss_scale_(mu_ / (4.0 * dt_ * dt_)),
@@ -29,9 +30,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     // Without contact the modal update is exact at any dt: nothing can alias.
     if (contact_possible(c)) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).
-    if (c.obstacle_above)
-        for (double& g : obstacle_)
-            if (std::isfinite(g)) g = -g;
+    for (double& g : obstacle_)
+        if (std::isfinite(g)) g = oriented(g);
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
     planned_obstacle_ = obstacle_;

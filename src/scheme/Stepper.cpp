@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 #include "fretbuzz/Error.hpp"
 
@@ -11,7 +12,36 @@ namespace fretbuzz {
 namespace {
 // Free modes decay: tighten the speed bound this often even when nothing touches.
 constexpr long kSpeedRefreshSteps = 1L << 14;
+
+// The plan's played parts of one kind (its specs, in order), built on its grid and obstacle.
+template <class Part, class Spec>
+std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
+    std::vector<Part> parts;
+    parts.reserve(specs.size());
+    for (const Spec& spec : specs)
+        parts.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                           plan.force_to_displacement());
+    return parts;
+}
 }  // namespace
+
+PlayedParts::PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks)
+    : fingers_(std::move(fingers)), gestures_(std::move(gestures)), plucks_(std::move(plucks)) {
+    link();
+    on_.assign(parts_.size(), 1);
+}
+
+PlayedParts::PlayedParts(const PlayedParts& other)
+    : fingers_(other.fingers_), gestures_(other.gestures_), plucks_(other.plucks_), on_(other.on_) {
+    link();
+}
+
+void PlayedParts::link() {
+    parts_.clear();
+    for (Finger& f : fingers_) parts_.push_back(&f);
+    for (ForceProfile& g : gestures_) parts_.push_back(&g);
+    for (Pluck& p : plucks_) parts_.push_back(&p);
+}
 
 Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
     : plan_(plan),
@@ -25,6 +55,8 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
+      parts_(parts_of<Finger>(plan, plan.fingers()), parts_of<ForceProfile>(plan, plan.forces()),
+             parts_of<Pluck>(plan, plan.plucks())),
       on_pad_(q0.size(), 0) {
     // Every list the step fills is bounded by the grid: reserve it once, so that a running
     // stepper never allocates (real-time use).
@@ -38,23 +70,10 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
     others_.reserve(q0.size());
-    for (const FingerSpec& spec : plan.fingers()) {
-        fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                              plan.force_to_displacement());
-        claim_pad(fingers_.back().pad(), spec.key);
-        finger_on_.push_back(1);
-    }
-    for (const ForceSpec& spec : plan.forces()) {
-        gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                               plan.force_to_displacement());
-        claim_pad(gestures_.back().pad(), spec.key);
-    }
-    for (const PluckSpec& spec : plan.plucks()) {
-        plucks_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                             plan.force_to_displacement());
-        claim_pad(plucks_.back().pad(), spec.key);
-        plucker_on_.push_back(1);
-    }
+    std::size_t k = 0;  // the parts are in the specs' order
+    for (const FingerSpec& spec : plan.fingers()) claim_pad(parts_[k++].pad(), spec.key);
+    for (const ForceSpec& spec : plan.forces()) claim_pad(parts_[k++].pad(), spec.key);
+    for (const PluckSpec& spec : plan.plucks()) claim_pad(parts_[k++].pad(), spec.key);
 }
 
 void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
@@ -94,7 +113,7 @@ void Stepper::restart() {
     keep_observation();
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse), where
-    // they are read: at the obstacle's points and the pads of the fingers on the string. By
+    // they are read: at the obstacle's points and the pads of the parts on the string. By
     // rows where these are at most the transform threshold (a real-time engine sets it beyond
     // every count where FFTW's transform would allocate), else by two transforms.
     const std::vector<std::size_t>& points = plan_.obstacle_points();
@@ -107,9 +126,9 @@ void Stepper::restart() {
             kernels::dot_current_previous(plan_.basis().row(i).data(), q_.data(), d_.data(), q_.size(), grid_[i], impulse_[i]);
         };
         for (std::size_t i : points) by_row(i);
-        for (std::size_t f = 0; f < fingers_.size(); ++f)
-            if (finger_on_[f] != 0)
-                for (std::size_t i : fingers_[f].pad()) by_row(i);
+        parts_.each_on([&](const PlayedPart& part) {
+            for (std::size_t i : part.pad()) by_row(i);
+        });
     }
     scheduler_.clear();
     active_.clear();
@@ -118,44 +137,50 @@ void Stepper::restart() {
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
-    for (std::size_t f = 0; f < fingers_.size(); ++f)
-        if (finger_on_[f] != 0) fingers_[f].read_obstacle(plan_.obstacle());
+    parts_.each_on([&](PlayedPart& part) { part.read_obstacle(plan_.obstacle()); });
     classify_points(grid_, impulse_);
 }
 
+bool Stepper::finger_on(std::size_t f) const {
+    if (f >= parts_.fingers().size()) throw std::out_of_range("Stepper: no finger " + std::to_string(f));
+    return parts_.on(f);  // finger f is part f
+}
+
 void Stepper::lift_finger(std::size_t f) {
-    if (finger_on_.at(f) == 0) return;
-    for (std::size_t i : fingers_[f].pad()) on_pad_[i] = 0;
-    pad_points_ -= fingers_[f].pad().size();
-    finger_on_[f] = 0;
-    fingers_[f].rest();
+    if (!finger_on(f)) return;
+    Finger& finger = parts_.finger(f);
+    for (std::size_t i : finger.pad()) on_pad_[i] = 0;
+    pad_points_ -= finger.pad().size();
+    parts_.set_on(f, false);
+    finger.rest();
     restart();  // its pad points go back to the obstacle's own solve
 }
 
 bool Stepper::place_finger(std::size_t f, double centre_m, double width_m) {
     if (n_ == 0) throw std::logic_error("Stepper::place_finger: only after the first step");
     lift_finger(f);
-    Finger& finger = fingers_[f];
+    Finger& finger = parts_.finger(f);
     finger.place(centre_m, width_m, plan_.obstacle());
     for (std::size_t i : finger.pad())
         if (on_pad_[i] != 0) return false;  // another part acts there: the finger stays off
     for (std::size_t i : finger.pad()) on_pad_[i] = 1;
     pad_points_ += finger.pad().size();
-    finger_on_[f] = 1;
+    parts_.set_on(f, true);
     restart();  // u^n in grid_, u^{n-1} in impulse_; the pad leaves the obstacle's solve
     start_part(finger, impulse_, grid_);  // lands at rest on the highest pad point, as at the first step
     return true;
 }
 
-template <class Part>
-void Stepper::start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now) {
+void Stepper::start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now) {
     pad_values(part.pad(), u_now);
     pad_f_ = pad_w_;  // within the reserved capacity: no allocation
     pad_values(part.pad(), u_before);
     part.start(pad_w_, pad_f_);
 }
 
-void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) { fingers_.at(f).press(force_n, n_, ramp_steps); }
+void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) {
+    parts_.finger(f).press(force_n, n_, ramp_steps);
+}
 
 void Stepper::classify_points(std::span<const double> u_now, std::span<const double> u_before) {
     const std::vector<double>& g = plan_.obstacle();
@@ -243,25 +268,22 @@ double Stepper::energy() const {
     return played() ? h + finger_energy() : h;
 }
 
+// (every part, on the string or not: a lifted finger's or a gone plucker's so far still count)
 double Stepper::finger_energy() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.energy();
-    for (const Pluck& p : plucks_) e += p.contact_energy();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].energy();
     return e;
 }
 
 double Stepper::finger_loss() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.loss();
-    for (const Pluck& p : plucks_) e += p.loss();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].loss();
     return e;
 }
 
 double Stepper::work() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.work();
-    for (const ForceProfile& g : gestures_) e += g.work();
-    for (const Pluck& p : plucks_) e += p.work();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].work();
     return y_ ? e + y_->work() : e;
 }
 
@@ -387,9 +409,7 @@ void Stepper::first_step() {
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
     // Each played part starts from the string under its pad at levels 0 and 1.
-    for (Finger& f : fingers_) start_part(f, u0, grid_);
-    for (ForceProfile& gesture : gestures_) start_part(gesture, u0, grid_);
-    for (Pluck& pluck : plucks_) start_part(pluck, u0, grid_);
+    for (std::size_t k = 0; k < parts_.size(); ++k) start_part(parts_[k], u0, grid_);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
@@ -458,8 +478,7 @@ void Stepper::solve_contacts() {
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform;
     // Raw pointers and local sums: the forces' emplace_back would otherwise make the compiler
-    // reload every member at every point (503 points at the flat obstacle's onset). The sums
-    // run in the same order: the same bits.
+    // reload every member at every point (503 points at the flat obstacle's onset).
     double* eta_prev = eta_prev_.data();
     double* eta_curr = eta_curr_.data();
     const double* grid = grid_.data();
@@ -539,7 +558,7 @@ void Stepper::predict_points(std::span<const std::size_t> points) {
 
 void Stepper::solve_fingers(bool use_transform) {
     bool acted = false;
-    const auto solve = [&](auto& part) {
+    const auto solve = [&](PlayedPart& part) {
         // The pad's predicted heights: from the transform, or the forecast and rows (into grid_
         // at the pad's points, which are not active points: their values stay).
         if (!use_transform) predict_points(part.pad());
@@ -553,28 +572,25 @@ void Stepper::solve_fingers(bool use_transform) {
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
-    for (std::size_t f = 0; f < fingers_.size(); ++f)
-        if (finger_on_[f] != 0) solve(fingers_[f]);
-    for (ForceProfile& g : gestures_) solve(g);
-    for (std::size_t p = 0; p < plucks_.size(); ++p) {
-        if (plucker_on_[p] == 0) continue;
-        if (plucks_[p].stage() == Pluck::Stage::gone) {
-            retire_plucker(plucks_[p]);
-            plucker_on_[p] = 0;
+    for (std::size_t k = 0; k < parts_.size(); ++k) {
+        if (!parts_.on(k)) continue;
+        if (parts_[k].left()) {
+            retire(parts_[k]);
+            parts_.set_on(k, false);
             continue;
         }
-        solve(plucks_[p]);
+        solve(parts_[k]);
     }
     if (acted) ++stats_.played_steps;
 }
 
-void Stepper::retire_plucker(const Pluck& pluck) {
-    // The plucker has left the string: its pad points go back to the obstacle's own solve
-    // (the loop over active points that follows solves them in this same step).
-    const std::vector<std::size_t>& pad = pluck.pad();
+void Stepper::retire(const PlayedPart& part) {
+    // The part has left the string (a plucker gone): its pad points go back to the obstacle's
+    // own solve (the loop over active points that follows solves them in this same step).
+    const std::vector<std::size_t>& pad = part.pad();
     for (std::size_t p = 0; p < pad.size(); ++p) {
         on_pad_[pad[p]] = 0;
-        if (std::isfinite(plan_.obstacle()[pad[p]])) activate(pad[p], pluck.current()[p], pluck.previous()[p]);
+        if (std::isfinite(plan_.obstacle()[pad[p]])) activate(pad[p], part.current()[p], part.previous()[p]);
     }
     pad_points_ -= pad.size();
 }
@@ -618,14 +634,9 @@ void Stepper::advance_modes() {
             predict_rows[count++] = plan_.basis().row(i).data();
         };
         for (std::size_t i : active_) add(i);
-        for (std::size_t f = 0; f < fingers_.size(); ++f)
-            if (finger_on_[f] != 0)
-                for (std::size_t i : fingers_[f].pad()) add(i);
-        for (const ForceProfile& g : gestures_)
-            for (std::size_t i : g.pad()) add(i);
-        for (std::size_t p = 0; p < plucks_.size(); ++p)
-            if (plucker_on_[p] != 0)
-                for (std::size_t i : plucks_[p].pad()) add(i);
+        parts_.each_on([&](const PlayedPart& part) {
+            for (std::size_t i : part.pad()) add(i);
+        });
         forecast_.count = count;
         pass.predict_rows = predict_rows.data();
         pass.predict_count = count;
@@ -664,12 +675,10 @@ std::span<const std::pair<std::size_t, double>> Stepper::rubbing_points() {
     rubbing_.clear();
     for (const auto& [i, f] : forces_)
         if (on_pad_[i] == 0) rubbing_.emplace_back(i, f);
-    for (std::size_t k = 0; k < fingers_.size(); ++k) {
-        if (finger_on_[k] == 0) continue;
-        const Finger& finger = fingers_[k];
-        for (std::size_t p = 0; p < finger.pad().size(); ++p)
-            if (const double f = finger.normal_force(p); f > 0.0) rubbing_.emplace_back(finger.pad()[p], f);
-    }
+    parts_.each_on([&](const PlayedPart& part) {
+        for (std::size_t p = 0; p < part.pad().size(); ++p)
+            if (const double f = part.rubbing_force(p); f > 0.0) rubbing_.emplace_back(part.pad()[p], f);
+    });
     return rubbing_;
 }
 

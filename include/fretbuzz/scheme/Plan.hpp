@@ -75,6 +75,20 @@ public:
     const ModalPropagator& propagator_y() const { return *propagator_y_; }
     const Friction& friction() const { return friction_; }
     const std::vector<double>& obstacle() const { return obstacle_; }
+    // The solve sees every obstacle below the string: where the case's obstacle is above, it
+    // runs the mirror image u -> -u (orientation -1, else +1). What enters the solve from the
+    // case (initial state, plucks, forces) or leaves it for the case (displacements, forces,
+    // heights) passes through oriented(), its own inverse; a row of mode shapes through it
+    // reads the case's displacement off the solve's state.
+    double orientation() const { return orientation_; }
+    double oriented(double u) const { return orientation_ * u; }
+    std::vector<double> oriented(std::vector<double> v) const {
+        for (double& x : v) x *= orientation_;
+        return v;
+    }
+    void orient(std::span<double> v) const {
+        for (double& x : v) x *= orientation_;
+    }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
     // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
@@ -126,6 +140,7 @@ public:
 
 private:
     double dt_;
+    double orientation_;
     double mu_;
     double energy_scale_, loss_scale_;
     ModalBasis basis_;

@@ -23,10 +23,55 @@
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/PlayedPart.hpp"
 #include "fretbuzz/scheme/Pluck.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
 
 namespace fretbuzz {
+
+// The parts playing the string (the case's fingers, force gestures and pluckers, in that order)
+// as one collection of PlayedPart, each with whether it is on the string (a finger lifted, a
+// plucker gone: off). Finger f is part f. A copy links to its own parts.
+class PlayedParts {
+public:
+    PlayedParts() = default;
+    PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks);
+    PlayedParts(const PlayedParts& other);
+    PlayedParts(PlayedParts&& other) noexcept = default;  // (the parts stay where they are)
+    PlayedParts& operator=(const PlayedParts&) = delete;
+    PlayedParts& operator=(PlayedParts&&) = delete;
+
+    std::size_t size() const { return parts_.size(); }
+    bool empty() const { return parts_.empty(); }
+    PlayedPart& operator[](std::size_t k) { return *parts_[k]; }
+    const PlayedPart& operator[](std::size_t k) const { return *parts_[k]; }
+    bool on(std::size_t k) const { return on_[k] != 0; }
+    void set_on(std::size_t k, bool on) { on_[k] = on ? 1 : 0; }
+    // f(part) for every part on the string.
+    template <class F>
+    void each_on(F&& f) {
+        for (std::size_t k = 0; k < parts_.size(); ++k)
+            if (on_[k] != 0) f(*parts_[k]);
+    }
+    template <class F>
+    void each_on(F&& f) const {
+        for (std::size_t k = 0; k < parts_.size(); ++k)
+            if (on_[k] != 0) f(static_cast<const PlayedPart&>(*parts_[k]));
+    }
+
+    const std::vector<Finger>& fingers() const { return fingers_; }
+    Finger& finger(std::size_t f) { return fingers_.at(f); }
+    const std::vector<Pluck>& plucks() const { return plucks_; }
+
+private:
+    void link();
+
+    std::vector<Finger> fingers_;
+    std::vector<ForceProfile> gestures_;
+    std::vector<Pluck> plucks_;
+    std::vector<PlayedPart*> parts_;
+    std::vector<char> on_;
+};
 
 struct StepStatistics {
     long contact_steps = 0;            // steps with a non-zero obstacle contact force somewhere
@@ -83,7 +128,7 @@ public:
     bool place_finger(std::size_t f, double centre_m, double width_m);
     // press_finger: from this step on, its pressing force ramps to force_n over ramp_steps steps.
     void press_finger(std::size_t f, double force_n, long ramp_steps);
-    bool finger_on(std::size_t f) const { return finger_on_.at(f) != 0; }
+    bool finger_on(std::size_t f) const;  // (std::out_of_range for no finger f)
 
     long step_index() const { return n_; }
     double time() const { return static_cast<double>(n_) * plan_.dt(); }
@@ -118,10 +163,12 @@ public:
     double finger_energy() const;  // kinetic and contact energy of the fingers
     double finger_loss() const;    // their contact losses so far (>= 0)
     double work() const;           // work of the external forces (pressing forces, gestures) so far
-    const std::vector<Finger>& fingers() const { return fingers_; }
-    // Whether fingers or gestures act (the balance then counts their work).
-    bool played() const { return !fingers_.empty() || !gestures_.empty() || !plucks_.empty(); }
-    const std::vector<Pluck>& plucks() const { return plucks_; }
+    const std::vector<Finger>& fingers() const { return parts_.fingers(); }
+    // Whether fingers, gestures or pluckers act (the balance then counts their work).
+    bool played() const { return !parts_.empty(); }
+    const std::vector<Pluck>& plucks() const { return parts_.plucks(); }
+    // Every part playing the string, fingers first, then gestures and pluckers (the case's order).
+    const PlayedParts& played_parts() const { return parts_; }
 
     // Whether the obstacle pushed on the string in the last step (forces() also holds the
     // fingers' and gestures' forces at their pads).
@@ -157,11 +204,10 @@ private:
     void solve_fingers(bool use_transform);
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
-    void retire_plucker(const Pluck& pluck);
+    void retire(const PlayedPart& part);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
     // Starts a played part from the string under its pad at two levels (n-1 and n).
-    template <class Part>
-    void start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now);
+    void start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now);
 
     const Plan& plan_;
     ContactScheduler scheduler_;
@@ -179,11 +225,7 @@ private:
     std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
-    std::vector<Finger> fingers_;
-    std::vector<ForceProfile> gestures_;
-    std::vector<Pluck> plucks_;
-    std::vector<char> plucker_on_;        // per plucker: its pad is still claimed
-    std::vector<char> finger_on_;         // per finger: on the string (place_finger / lift_finger)
+    PlayedParts parts_;
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
