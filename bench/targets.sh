@@ -1,7 +1,7 @@
 #!/bin/sh
-# Remeasures every figure of the README's "Where it stands" table, one command per target,
+# Remeasures every figure of docs/performance.md's table, one command per target,
 # each run once, its raw output under a heading that names the target. No baseline: to say
-# what a change gained, run the same command of two builds side by side (see the README).
+# what a change gained, run the same command of two builds side by side (docs/performance.md).
 # Usage: bench/targets.sh [build dir] [repetitions]
 #   e.g. nice -n 19 sh bench/targets.sh build 5
 # Repetitions: of each contact-step row (--contact N), of each Google Benchmark set

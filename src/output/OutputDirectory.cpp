@@ -159,9 +159,12 @@ bool is_run_output_name(const std::string& name) {
     static const std::set<std::string> fixed = {
         "observation.csv", "energy.csv",  "bridge_force.csv",      "results.h5",      "summary.json",
         "report.html",     "signal.png",  "signal_all_points.png", "spectrogram.png", "energy.png",
-        "contactogram.png", "snapshots.png", "animation.gif",       "animation.mp4"};
+        "contactogram.png", "snapshots.png", "animation.gif",       "animation.mp4",
+        // a set-up study's files
+        "buzz_map.csv",    "buzz_map.html", "map.json", "compare.csv", "advice.json", "advice.txt"};
     if (fixed.contains(name)) return true;
-    return name.ends_with(".wav") && (name.starts_with("audio") || name.starts_with("velocity"));
+    return name.ends_with(".wav") &&
+           (name.starts_with("audio") || name.starts_with("velocity") || name.starts_with("note-"));
 }
 
 std::size_t remove_stale_staging(const fs::path& dir) {

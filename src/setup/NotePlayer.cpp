@@ -129,21 +129,7 @@ std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, 
             observers.push_back(audio.get());
         }
         try {
-            try {
-                simulate(c, observers);
-            } catch (const std::logic_error&) {
-                if (!audio) throw;
-                // The run's closed-form audio over long flights (AudioStreams) refuses some
-                // trajectories ("a sample written after it was handed out"): the same pluck again,
-                // its audio resampled from every step (the reference path, equal to 1e-8).
-                contacts = NoteContacts(maker.fret_positions(fret, request.finger), maker.fret_numbers(fret));
-                audio = std::make_unique<AudioWriter>(std::vector<std::filesystem::path>{wav_paths[k]}, 48000.0,
-                                                      AudioSignal::displacement, AudioFades{kFadeIn, kFadeOut});
-                observers = {&contacts, audio.get()};
-                RunOptions per_step;
-                per_step.closed_form_audio = false;
-                simulate(c, observers, per_step);
-            }
+            simulate(c, observers);
         } catch (const SolverError& e) {
             o.error = std::string("failed: ") + e.what();
             continue;
