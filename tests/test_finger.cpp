@@ -105,7 +105,10 @@ TEST(Finger, ScreenedAndStraightforwardPathsAgree) {
     c.add_fret_finger(5, "fret");
     const testing::PathComparison p = testing::compare_paths(c, 20000);
     EXPECT_GT(p.contact_steps, 0);
-    EXPECT_LT(p.relative_l2, 1e-9);
+    // The paths round differently at every step, and the finger landing on the string amplifies
+    // round-off some 1e4-fold here (a pluck 1e-15 larger moves the state by 3e-10 after these
+    // steps): they agree to about 2e-9.
+    EXPECT_LT(p.relative_l2, 1e-8);
 }
 
 TEST(Finger, AFingerThatNeverTouchesChangesNothing) {

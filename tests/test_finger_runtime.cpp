@@ -70,3 +70,32 @@ TEST(RuntimeFinger, PlacedPressedAndLiftedKeepsTheBalance) {
 
 }  // namespace
 }  // namespace fretbuzz
+
+namespace fretbuzz {
+namespace {
+
+// A copy of a stepper with a finger on the string plays its own finger: stepped alike, the copy
+// and the original stay equal, and stepping one leaves the other's finger where it was.
+TEST(RuntimeFinger, ACopiedStepperPlaysItsOwnFinger) {
+    Case c = testing::small_bass(100000.0, 1.0, 0.3e-3);
+    c.fingers.push_back(c.fret_finger(3, "finger"));
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    Stepper a(plan, c.initial_displacement, c.initial_velocity);
+    for (int n = 0; n < 300; ++n) a.step();
+    ASSERT_TRUE(a.played());
+    Stepper b = a;
+    const double height = a.fingers()[0].height(), work = a.work();
+    for (int n = 0; n < 300; ++n) b.step();
+    EXPECT_EQ(a.fingers()[0].height(), height);  // the original's finger did not move
+    EXPECT_EQ(a.work(), work);
+    EXPECT_NE(b.fingers()[0].height(), height);
+    for (int n = 0; n < 300; ++n) a.step();
+    EXPECT_EQ(a.fingers()[0].height(), b.fingers()[0].height());
+    EXPECT_EQ(a.energy(), b.energy());
+    EXPECT_EQ(a.work(), b.work());
+    for (std::size_t j = 0; j < c.mode_count(); ++j)
+        ASSERT_EQ(a.modal_displacement()[j], b.modal_displacement()[j]) << j;
+}
+
+}  // namespace
+}  // namespace fretbuzz

@@ -1,31 +1,32 @@
-// The step's fused passes give the sums of the separate ones bit for bit: several row products
-// in one pass (with the prediction formed on the fly or read), and several pushes added
-// inside the step instead of through an impulse vector.
+// The step's one pass over the modes (kernels::step_lossy, step_lossless) and the other fused
+// passes agree with plain loops that form each quantity on its own, within the stated
+// tolerance: the step with its pushes (rows, or an impulse vector), its losses, the next step's
+// predictions at up to 16 rows, the observation row and the modal energy; row products in one
+// pass; a free flight's closing jump with its products.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "Equivalence.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 namespace {
 
-bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
-    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
-}
+using testing::agree;
 
 struct Data {
     std::vector<double> e, beta, loss, q, d;
     std::vector<std::vector<double>> rows;
 };
 
-Data random_data(std::mt19937_64& random, std::size_t n, int row_count = 7) {
+// Values over 7 orders of magnitude each way, as modal amplitudes and mode shapes can be.
+Data random_data(std::mt19937_64& random, std::size_t n, int row_count) {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const auto values = [&](bool positive) {
         std::vector<double> v(n);
@@ -37,177 +38,175 @@ Data random_data(std::mt19937_64& random, std::size_t n, int row_count = 7) {
     return data;
 }
 
-// The step by the kernel for its number of pushes (what the one-pass kernels must equal).
-double separate_step(const Data& data, const double* loss, const std::vector<double>& coefficients,
-                     const std::vector<const double*>& rows, std::vector<double>& q, std::vector<double>& d) {
-    const std::size_t n = q.size(), pushes = rows.size();
-    if (pushes == 0) return kernels::advance(data.e.data(), data.beta.data(), loss, nullptr, q.data(), d.data(), n);
-    if (pushes == 1)
-        return kernels::advance_one_push(data.e.data(), data.beta.data(), loss, coefficients[0], rows[0], q.data(),
-                                         d.data(), n);
-    return kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(), pushes,
-                                   q.data(), d.data(), n);
+// sum_j row_j x_j, and sum_j |row_j x_j|: the size of its terms, the scale its round-off is
+// measured against where they cancel.
+struct Sum {
+    double value = 0.0, size = 0.0;
+};
+Sum plain_dot(const double* row, const std::vector<double>& x) {
+    Sum s;
+    for (std::size_t j = 0; j < x.size(); ++j) {
+        s.value += row[j] * x[j];
+        s.size += std::abs(row[j] * x[j]);
+    }
+    return s;
 }
 
-TEST(Kernels, RowProductsInOnePassEqualOneDotEach) {
+// The modal energy sum_j (1 + e_j)/2 d_j^2 + beta_j q_j (q_j - d_j), and the size of its terms.
+Sum plain_energy(const Data& data, const std::vector<double>& q, const std::vector<double>& d) {
+    Sum s;
+    for (std::size_t j = 0; j < q.size(); ++j) {
+        const double kinetic = 0.5 * (1.0 + data.e[j]) * d[j] * d[j], potential = data.beta[j] * q[j] * (q[j] - d[j]);
+        s.value += kinetic + potential;
+        s.size += std::abs(kinetic) + std::abs(potential);
+    }
+    return s;
+}
+
+std::vector<double> plain_prediction(const Data& data, const std::vector<double>& q, const std::vector<double>& d) {
+    std::vector<double> p(q.size());
+    for (std::size_t j = 0; j < q.size(); ++j) p[j] = q[j] + (data.e[j] * d[j] - data.beta[j] * q[j]);
+    return p;
+}
+
+TEST(Kernels, RowProductsInOnePassAgreeWithOneDotEach) {
     std::mt19937_64 random(3);
     for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
-        const Data data = random_data(random, n);
-        std::vector<double> predicted(n);
-        kernels::predict(data.e.data(), data.beta.data(), data.q.data(), data.d.data(), predicted.data(), n);
+        const Data data = random_data(random, n, 7);
+        const std::vector<double> predicted = plain_prediction(data, data.q, data.d);
         for (std::size_t m = 1; m <= data.rows.size(); ++m) {
             std::vector<const double*> rows;
             for (std::size_t r = 0; r < m; ++r) rows.push_back(data.rows[r].data());
-            std::vector<double> read(m), formed(m), separate(m);
+            std::vector<double> read(m), formed(m);
             kernels::dot_rows(rows.data(), m, predicted.data(), n, read.data());
             kernels::predict_dot_rows(data.e.data(), data.beta.data(), data.q.data(), data.d.data(), rows.data(), m, n,
                                       formed.data());
-            for (std::size_t r = 0; r < m; ++r) separate[r] = kernels::dot(rows[r], predicted.data(), n);
-            EXPECT_TRUE(same_bits(read, separate)) << "n=" << n << " m=" << m;
-            EXPECT_TRUE(same_bits(formed, separate)) << "n=" << n << " m=" << m;
+            for (std::size_t r = 0; r < m; ++r) {
+                const Sum plain = plain_dot(rows[r], predicted);
+                EXPECT_TRUE(agree(read[r], plain.value, plain.size)) << "n=" << n << " m=" << m << " r=" << r;
+                EXPECT_TRUE(agree(formed[r], plain.value, plain.size)) << "n=" << n << " m=" << m << " r=" << r;
+                EXPECT_TRUE(agree(kernels::dot(rows[r], predicted.data(), n), plain.value, plain.size)) << n;
+            }
         }
     }
 }
 
 // The envelope of a point (ContactScheduler::park) is one weighted sum of the two that the
-// push weights take in one pass: the same sum to round-off (the compiler may fuse its
-// multiply-adds, which it does not in the pair's loop).
+// push weights take in one pass: the same sum to round-off.
 TEST(Kernels, OneWeightedAbsSumEqualsThePairsFirst) {
     std::mt19937_64 random(5);
     for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
-        const Data data = random_data(random, n);
+        const Data data = random_data(random, n, 0);
         double first = 0.0, second = 0.0;
         kernels::weighted_abs_sums(data.beta.data(), data.e.data(), data.q.data(), n, first, second);
-        EXPECT_NEAR(kernels::weighted_abs_sum(data.beta.data(), data.q.data(), n), first, 1e-14 * first) << "n=" << n;
+        EXPECT_TRUE(agree(kernels::weighted_abs_sum(data.beta.data(), data.q.data(), n), first)) << "n=" << n;
     }
 }
 
-// Pushes on data's first m rows with random coefficients.
-struct Pushes {
-    std::vector<const double*> rows;
-    std::vector<double> coefficients;
-};
-Pushes random_pushes(const Data& data, std::size_t m, std::mt19937_64& random) {
+// One step by plain loops: the pushes' impulse, the step, the losses (0 without them).
+double plain_step(const Data& data, bool lossy, const std::vector<double>& impulse, std::vector<double>& q,
+                  std::vector<double>& d) {
+    double losses = 0.0;
+    for (std::size_t j = 0; j < q.size(); ++j) {
+        const double next = data.e[j] * d[j] - data.beta[j] * q[j] + impulse[j];
+        if (lossy) losses += data.loss[j] * (next + d[j]) * (next + d[j]);
+        q[j] += next;
+        d[j] = next;
+    }
+    return losses;
+}
+
+// The step's pass from data's state, with 0 to 16 pushes by rows or one impulse vector, with and
+// without losses, predicting at 0 to 16 rows (the pushed ones first, then others), with and
+// without the observation row and the energy: every result agrees with the plain loops.
+TEST(Kernels, StepPassAgreesWithPlainLoops) {
+    std::mt19937_64 random(7);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    Pushes p;
-    for (std::size_t r = 0; r < m; ++r) {
-        p.rows.push_back(data.rows[r].data());
-        p.coefficients.push_back(1e-3 * unit(random));
-    }
-    return p;
-}
-
-TEST(Kernels, PushesAddedInsideTheStepEqualAnImpulseVector) {
-    std::mt19937_64 random(5);
-    for (std::size_t n = 0; n < 200; n += (n < 40 ? 1 : 23)) {
-        const Data data = random_data(random, n);
-        for (std::size_t m = 1; m <= data.rows.size(); ++m) {
-            const auto [rows, coefficients] = random_pushes(data, m, random);
-            for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
-                std::vector<double> impulse(n, 0.0), q1 = data.q, d1 = data.d, q2 = data.q, d2 = data.d;
-                for (std::size_t r = 0; r < m; ++r) kernels::axpy(coefficients[r], rows[r], impulse.data(), n);
-                const double by_vector =
-                    kernels::advance(data.e.data(), data.beta.data(), loss, impulse.data(), q1.data(), d1.data(), n);
-                const double inside = kernels::advance_pushes(data.e.data(), data.beta.data(), loss, coefficients.data(),
-                                                              rows.data(), m, q2.data(), d2.data(), n);
-                EXPECT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << "n=" << n << " m=" << m;
-                EXPECT_TRUE(same_bits({by_vector}, {inside})) << "n=" << n << " m=" << m;
-            }
-        }
-    }
-}
-
-// A pass that steps the modes and forms products (advance_with_products, advance_with_pad_products).
-using StepWithProducts = double (*)(const double*, const double*, const double*, const double*, const double* const*,
-                                    std::size_t, const kernels::StepProducts&, double*, double*, std::size_t);
-
-// `step` from data's state with 0 to most_pushes pushes, with and without losses, predicting at
-// `counts` rows (data.rows from first_row on: the pushed rows first, then points that touch
-// without a force), with and without a pickup: the same q, d and losses as the step alone, the
-// next step's predictions as predict_dot gives them at that step (and as dot_rows gives them
-// from the stored prediction), the pickup as dot gives it. Bit for bit.
-void expect_the_separate_passes(StepWithProducts step, std::mt19937_64& random, const Data& data,
-                                std::size_t most_pushes, std::size_t first_row, std::span<const std::size_t> counts) {
-    const std::size_t n = data.q.size();
-    std::vector<const double*> predict_rows;
-    for (std::size_t r = first_row; r < data.rows.size() - 1; ++r) predict_rows.push_back(data.rows[r].data());
-    const double* pickup = data.rows.back().data();
-    for (std::size_t pushes = 0; pushes <= most_pushes; ++pushes) {
-        const auto [rows, coefficients] = random_pushes(data, pushes, random);
-        for (const double* loss : {static_cast<const double*>(nullptr), data.loss.data()}) {
-            std::vector<double> q1 = data.q, d1 = data.d, stored(n);
-            const double losses = separate_step(data, loss, coefficients, rows, q1, d1);
-            kernels::predict(data.e.data(), data.beta.data(), q1.data(), d1.data(), stored.data(), n);
-            for (std::size_t count : counts) {
-                for (const double* observe : {static_cast<const double*>(nullptr), pickup}) {
-                    std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0), separate(count), read(count);
-                    double observed = -1.0;
-                    kernels::StepProducts products;
-                    products.predict_rows = predict_rows.data();
-                    products.predict_count = count;
-                    products.predicted = predicted.data();
-                    products.observe_row = observe;
-                    products.observed = &observed;
-                    // The modal energy of q^{n+1} in the pass too, in every other case (each
-                    // count with and without it, over the pickup's two cases).
-                    double energy = -1.0;
-                    const bool with_energy = (count + (observe != nullptr ? 1 : 0)) % 2 == 1;
-                    if (with_energy) products.energy = &energy;
-                    const double fused = step(data.e.data(), data.beta.data(), loss, coefficients.data(), rows.data(),
-                                              pushes, products, q2.data(), d2.data(), n);
-                    for (std::size_t r = 0; r < count; ++r)
-                        separate[r] = kernels::predict_dot(data.e.data(), data.beta.data(), q1.data(), d1.data(),
-                                                           predict_rows[r], n);
-                    kernels::dot_rows(predict_rows.data(), count, stored.data(), n, read.data());
-                    const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
-                                              " predicted=" + std::to_string(count) + (loss ? " lossy" : "") +
-                                              (observe ? " observed" : "");
-                    ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
-                    ASSERT_TRUE(same_bits({losses}, {fused})) << where;
-                    ASSERT_TRUE(same_bits(predicted, separate)) << where;
-                    ASSERT_TRUE(same_bits(predicted, read)) << where;
-                    if (observe != nullptr) {
-                        ASSERT_TRUE(same_bits({observed}, {kernels::dot(observe, q1.data(), n)})) << where;
+    long compared = 0;
+    for (std::size_t n = 0; n <= 1100; n += (n < 70 ? 1 : 61)) {
+        const Data data = random_data(random, n, 2 * static_cast<int>(kernels::kMaxPassRows) + 1);
+        const double* pickup = data.rows.back().data();
+        for (std::size_t pushes : {0, 1, 2, 3, 5, 16}) {
+            for (const bool by_vector : {false, true}) {
+                if (by_vector && pushes == 0) continue;
+                std::vector<const double*> push_rows;
+                std::vector<double> coefficients, impulse(n, 0.0);
+                for (std::size_t r = 0; r < pushes; ++r) {
+                    push_rows.push_back(data.rows[r].data());
+                    coefficients.push_back(1e-3 * unit(random));
+                    for (std::size_t j = 0; j < n; ++j) impulse[j] += coefficients[r] * push_rows[r][j];
+                }
+                for (const bool lossy : {false, true}) {
+                    std::vector<double> q1 = data.q, d1 = data.d;
+                    const double losses = plain_step(data, lossy, impulse, q1, d1);
+                    const std::vector<double> next_prediction = plain_prediction(data, q1, d1);
+                    const Sum energy_after = plain_energy(data, q1, d1);
+                    for (std::size_t count : {0, 1, 4, 7, 16}) {
+                        for (const bool extras : {false, true}) {  // the observation row and the energy
+                            std::vector<const double*> predict_rows;
+                            for (std::size_t r = 0; r < count; ++r) predict_rows.push_back(data.rows[r].data());
+                            std::vector<double> q2 = data.q, d2 = data.d, predicted(count, -1.0);
+                            double observed = -1.0, energy = -1.0;
+                            kernels::StepPass pass;
+                            if (by_vector) {
+                                pass.impulse = impulse.data();
+                            } else {
+                                pass.push_rows = push_rows.data();
+                                pass.push_coefficients = coefficients.data();
+                                pass.pushes = pushes;
+                            }
+                            pass.predict_rows = predict_rows.data();
+                            pass.predict_count = count;
+                            pass.predicted = predicted.data();
+                            if (extras) {
+                                pass.observe_row = pickup;  // (null for n = 0: no row)
+                                pass.observed = &observed;
+                                pass.energy = &energy;
+                            }
+                            const kernels::StepKernel step = lossy ? kernels::step_lossy : kernels::step_lossless;
+                            const double pass_losses = step(data.e.data(), data.beta.data(), data.loss.data(), pass,
+                                                            q2.data(), d2.data(), n);
+                            const std::string where = "n=" + std::to_string(n) + " pushes=" + std::to_string(pushes) +
+                                                      (by_vector ? " (vector)" : "") + " predicted=" +
+                                                      std::to_string(count) + (lossy ? " lossy" : "") +
+                                                      (extras ? " observed, energy" : "");
+                            ASSERT_TRUE(agree(q2, q1)) << where;
+                            ASSERT_TRUE(agree(d2, d1)) << where;
+                            ASSERT_TRUE(agree(pass_losses, losses)) << where;
+                            for (std::size_t r = 0; r < count; ++r) {
+                                const Sum plain = plain_dot(predict_rows[r], next_prediction);
+                                ASSERT_TRUE(agree(predicted[r], plain.value, plain.size)) << where << " row " << r;
+                            }
+                            if (extras) {
+                                const Sum plain = plain_dot(pickup, q1);
+                                if (pickup != nullptr) {
+                                    ASSERT_TRUE(agree(observed, plain.value, plain.size)) << where;
+                                }
+                                ASSERT_TRUE(agree(energy, energy_after.value, energy_after.size)) << where;
+                            }
+                            ++compared;
+                        }
                     }
-                    if (with_energy) {
-                        const double separate_energy =
-                            kernels::modal_energy(data.e.data(), data.beta.data(), q1.data(), d1.data(), n);
-                        ASSERT_TRUE(same_bits({energy}, {separate_energy})) << where << " energy";
-                    }
+                    // advance (the plain step of free flights and the second polarisation) too.
+                    std::vector<double> q3 = data.q, d3 = data.d;
+                    const double advance_losses =
+                        kernels::advance(data.e.data(), data.beta.data(), lossy ? data.loss.data() : nullptr,
+                                         pushes == 0 ? nullptr : impulse.data(), q3.data(), d3.data(), n);
+                    ASSERT_TRUE(agree(q3, q1) && agree(d3, d1) && agree(advance_losses, losses)) << "advance n=" << n;
                 }
             }
         }
     }
+    EXPECT_GT(compared, 10000);
 }
 
-// The few rows of a fret or a bridge (more than 4 pushes: the separate passes inside).
-TEST(Kernels, StepWithProductsEqualsTheSeparatePasses) {
-    std::mt19937_64 random(7);
-    const std::vector<std::size_t> counts = {0, 1, 2, 3, 4};
-    for (std::size_t n = 0; n <= 1100; ++n) {
-        const Data data = random_data(random, n);
-        ASSERT_NO_FATAL_FAILURE(
-            expect_the_separate_passes(kernels::advance_with_products, random, data, 6, 0, counts));
-    }
-}
-
-// A finger's pad: up to 16 pushes and 16 predicted rows in the one pass.
-TEST(Kernels, StepWithAPadsProductsEqualsTheSeparatePasses) {
-    std::mt19937_64 random(11);
-    const std::vector<std::size_t> counts = {0, 1, 5, 11, 16};
-    for (std::size_t n = 0; n <= 1100; n += (n < 40 ? 1 : 61)) {
-        const Data data = random_data(random, n, 18);
-        ASSERT_NO_FATAL_FAILURE(
-            expect_the_separate_passes(kernels::advance_with_pad_products, random, data, 16, 1, counts));
-    }
-}
 // A free flight's end (jump_with_products): from any first jumped mode, lossless (e = 1) or
-// lossy, with 0 to 6 rows, the same q, d, modal energy and row products as jump, modal_energy
-// and dot, bit for bit.
-TEST(Kernels, FlightEndInOnePassEqualsTheSeparatePasses) {
+// lossy, with 0 to 6 rows: the same q, d, modal energy and row products as jump, modal_energy
+// and dot, within the stated tolerance.
+TEST(Kernels, FlightEndInOnePassAgreesWithTheSeparatePasses) {
     std::mt19937_64 random(13);
     constexpr std::size_t kMaps = 4, kRows = 6;
-    for (std::size_t n = 0; n <= 1100; ++n) {
+    for (std::size_t n = 0; n <= 1100; n += (n < 70 ? 1 : 13)) {
         Data data = random_data(random, n, kMaps + kRows);
         const auto map = [&](std::size_t i) { return data.rows[i].data(); };
         std::vector<const double*> rows;
@@ -220,23 +219,28 @@ TEST(Kernels, FlightEndInOnePassEqualsTheSeparatePasses) {
                 std::vector<double> q1 = data.q, d1 = data.d;
                 kernels::jump(map(0) + first, map(1) + first, map(2) + first, map(3) + first, q1.data() + first,
                               d1.data() + first, n - first);
-                const double energy = kernels::modal_energy(data.e.data(), data.beta.data(), q1.data(), d1.data(), n);
+                const Sum energy = plain_energy(data, q1, d1);
+                ASSERT_TRUE(agree(kernels::modal_energy(data.e.data(), data.beta.data(), q1.data(), d1.data(), n),
+                                  energy.value, energy.size));
                 for (std::size_t m = 0; m <= kRows; ++m) {
-                    std::vector<double> q2 = data.q, d2 = data.d, fused(m, -1.0), separate(m);
+                    std::vector<double> q2 = data.q, d2 = data.d, fused(m, -1.0);
                     const double fused_energy =
                         kernels::jump_with_products(map(0), map(1), map(2), map(3), first, data.e.data(),
                                                     data.beta.data(), rows.data(), m, q2.data(), d2.data(), n,
                                                     fused.data());
-                    for (std::size_t r = 0; r < m; ++r) separate[r] = kernels::dot(rows[r], q1.data(), n);
                     const std::string where = "n=" + std::to_string(n) + " first=" + std::to_string(first) +
                                               " rows=" + std::to_string(m) + (lossless ? " lossless" : "");
-                    ASSERT_TRUE(same_bits(q1, q2) && same_bits(d1, d2)) << where;
-                    ASSERT_TRUE(same_bits({energy}, {fused_energy})) << where;
-                    ASSERT_TRUE(same_bits(fused, separate)) << where;
+                    ASSERT_TRUE(agree(q2, q1) && agree(d2, d1)) << where;
+                    ASSERT_TRUE(agree(fused_energy, energy.value, energy.size)) << where;
+                    for (std::size_t r = 0; r < m; ++r) {
+                        const Sum plain = plain_dot(rows[r], q1);
+                        ASSERT_TRUE(agree(fused[r], plain.value, plain.size)) << where << " row " << r;
+                    }
                 }
             }
         }
     }
 }
+
 }  // namespace
 }  // namespace fretbuzz

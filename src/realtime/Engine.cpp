@@ -24,7 +24,6 @@ constexpr double kBandEdge = 0.45;
 // Free flight steps the modes up to this fraction of the host rate (the decimator removes
 // the rest), and at least this many (sharp checks of sleeping points).
 constexpr double kFlightBand = 0.6;
-constexpr std::size_t kMinimumFlightModes = 48;
 // A flight over one host sample costs a few passes over every mode (the energy after it, the
 // speed bound and its tail, the jump of the modes it leaves out) and saves M - 1 steps of the
 // modes it leaves out. Measured (fretbuzz_bench_realtime): at M = 2 it makes 6 guitar voices
@@ -104,15 +103,6 @@ bool sine_transform_allocates(std::size_t n) {
     return m != 1;
 }
 
-namespace {
-std::vector<double> oriented(const std::vector<double>& v, double orientation, bool keep) {
-    std::vector<double> out(v.size(), 0.0);
-    if (keep)
-        for (std::size_t j = 0; j < v.size(); ++j) out[j] = orientation * v[j];
-    return out;
-}
-}  // namespace
-
 Engine::Engine(const Case& c, const EngineOptions& options) : options_(options), decimator_(1) {
     check_options(options);
     const RateChoice rate = choose_rate(c, options);
@@ -124,7 +114,6 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
     case_ = rate.modes == c.mode_count() ? c : stopped_string(c, 0.0, rate.modes);
     case_.run.sample_rate_hz = internal_rate_hz();
     add_finger_room();
-    orientation_ = case_.contact_orientation();
     PlanOptions plan_options;
     if (sine_transform_allocates(case_.mode_count()))  // rows of S only: FFTW's transform would allocate
         plan_options.transform_threshold = std::numeric_limits<std::size_t>::max();
@@ -136,8 +125,10 @@ Engine::Engine(const Case& c, const EngineOptions& options) : options_(options),
         pad_points(centre, width, case_.grid_step(), case_.mode_count(), pad);
         for (std::size_t i : pad) plan_->basis().row(i);
     }
-    stepper_ = std::make_unique<Stepper>(*plan_, oriented(case_.initial_displacement, orientation_, options.start_from_case),
-                                         oriented(case_.initial_velocity, orientation_, options.start_from_case));
+    const auto start = [&](const std::vector<double>& v) {
+        return options.start_from_case ? plan_->oriented(v) : std::vector<double>(v.size(), 0.0);
+    };
+    stepper_ = std::make_unique<Stepper>(*plan_, start(case_.initial_displacement), start(case_.initial_velocity));
     stepper_->step();  // the first step is special (exact free motion); from here on, the scheme
     if (finger_ != kNoFinger) stepper_->lift_finger(finger_);  // off the string until a note
     injected_ = ledger();
@@ -326,7 +317,7 @@ void Engine::strike(const Strike& s) {
     for (std::size_t i = first > 0 ? first - 1 : 0; i < n && case_.grid_point(i) < position + 0.5 * width; ++i) {
         const double r = std::abs(case_.grid_point(i) - position) / (0.5 * width);
         if (r >= 1.0) continue;
-        const double u = orientation_ * strength * 0.5 * (1.0 + std::cos(std::numbers::pi * r));
+        const double u = plan_->oriented(strength) * 0.5 * (1.0 + std::cos(std::numbers::pi * r));
         kernels::axpy(dx * u, plan_->basis().row(i, grid_).data(), target.data(), n);
     }
     change([&] { stepper_->perturb(s.displacement ? dq_ : zero_, s.displacement ? zero_ : dv_); });
@@ -376,7 +367,7 @@ void Engine::set_pickup(double x_m) {
     const double dx = case_.grid_step();
     const double x = clamp(x_m, dx, length_m() - dx);
     plan_->basis().mode_shapes_at(x, pickup_.front());
-    for (double& phi : pickup_.front()) phi *= orientation_;
+    plan_->orient(pickup_.front());
     stepper_->observe(pickup_.front());
 }
 

@@ -12,10 +12,6 @@
 namespace fretbuzz {
 
 namespace {
-// Free flight checks sleeping points with the low modes plus a bound on the rest: at
-// least this many modes keep those checks sharp.
-constexpr std::size_t kMinimumFlightModes = 48;
-
 RunLayout layout_of(const Case& c) {
     RunLayout layout;
     layout.source = &c;
@@ -34,13 +30,6 @@ PlanOptions with_screening(PlanOptions options, bool screen) {
     return options;
 }
 
-// The state in the coordinate the contact solve uses (mirrored when the obstacle is above).
-std::vector<double> oriented(const std::vector<double>& v, double orientation) {
-    std::vector<double> out(v);
-    for (double& x : out) x *= orientation;
-    return out;
-}
-
 // The initial state along z: all of it with one polarisation, its z share with two.
 std::vector<double> along_z(const std::vector<double>& v, const Case& c) {
     return c.two_polarisations() ? along_polarisation(v, c.polarisation.angle_deg, false) : v;
@@ -56,12 +45,11 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
       screening_(choose_screening(c, options.plan, options.free_flight && output_stride(c) > 1)),
       plan_(c, 1.0 / c.run.sample_rate_hz, with_screening(options.plan, screening_.screen)),
       layout_(layout_of(c)),
-      stepper_(plan_, oriented(along_z(c.initial_displacement, c), c.contact_orientation()),
-               oriented(along_z(c.initial_velocity, c), c.contact_orientation())),
-      orientation_(c.contact_orientation()) {
+      stepper_(plan_, plan_.oriented(along_z(c.initial_displacement, c)),
+               plan_.oriented(along_z(c.initial_velocity, c))) {
     // Signals are linear in q: mirroring their coefficients mirrors them back.
-    for (double x : c.observation_points_m) shapes_.push_back(oriented(plan_.basis().mode_shapes_at(x), orientation_));
-    bridge_ = oriented(bridge_force_coefficients(c), orientation_);
+    for (double x : c.observation_points_m) shapes_.push_back(plan_.oriented(plan_.basis().mode_shapes_at(x)));
+    bridge_ = plan_.oriented(bridge_force_coefficients(c));
     for (const std::vector<double>& shape : shapes_) row_rows_.push_back(shape.data());
     row_rows_.push_back(bridge_.data());
     row_values_.resize(row_rows_.size());
@@ -205,11 +193,11 @@ void RunLoop::after_step() {
         }
         if (observers_.empty()) {
             // no one to tell (a run for its summary: a sweep's, a benchmark's)
-        } else if (orientation_ > 0.0) {
+        } else if (plan_.orientation() > 0.0) {
             for (RunObserver* o : observers_) o->contacts(stepper_.time(), stepper_.forces());
         } else {
             mirrored_forces_.assign(stepper_.forces().begin(), stepper_.forces().end());
-            for (auto& force : mirrored_forces_) force.second = -force.second;
+            for (auto& force : mirrored_forces_) force.second = plan_.oriented(force.second);
             for (RunObserver* o : observers_) o->contacts(stepper_.time(), mirrored_forces_);
         }
     }
@@ -248,7 +236,7 @@ void RunLoop::report_step() {
     if (const SecondPolarisation* y = stepper_.second_polarisation())
         for (std::size_t p = 0; p < shapes_y_.size(); ++p) y_[p] = y->displacement(shapes_y_[p]);
     if (shapes_.size() == 1)
-        step_u_[0] = stepper_.observation();  // displacement(shapes_[0]), bit for bit
+        step_u_[0] = stepper_.observation();  // displacement(shapes_[0]), to round-off
     else
         for (std::size_t p = 0; p < shapes_.size(); ++p) step_u_[p] = stepper_.displacement(shapes_[p]);
     step_u_at_ = n_;
@@ -305,7 +293,7 @@ void RunLoop::report_snapshots() {
         if (n_ % tap.stride != 0 || n_ > tap.last_step) continue;
         if (!shaped) {
             plan_.basis().to_grid(stepper_.modal_displacement(), grid_u_);
-            for (double& u : grid_u_) u *= orientation_;
+            plan_.orient(grid_u_);
         }
         shaped = true;
         tap.observer->snapshot(stepper_.time(), grid_x_, grid_u_);
@@ -367,14 +355,9 @@ void RunLoop::report_output() {
 
 void RunLoop::report_played() {
     for (RunObserver* o : observers_) o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
-    constexpr double none = std::numeric_limits<double>::quiet_NaN();
     played_heights_.clear();
-    for (const Finger& f : stepper_.fingers()) played_heights_.push_back(orientation_ * f.height());
-    played_heights_.resize(played_heights_.size() + layout_.source->forces.size(), none);
-    for (const Pluck& p : stepper_.plucks()) {
-        const bool there = p.stage() == Pluck::Stage::pulling || p.stage() == Pluck::Stage::withdrawing;
-        played_heights_.push_back(there ? orientation_ * p.height() : none);
-    }
+    const PlayedParts& parts = stepper_.played_parts();
+    for (std::size_t k = 0; k < parts.size(); ++k) played_heights_.push_back(plan_.oriented(parts[k].body_height()));
     for (RunObserver* o : observers_) o->played_heights(played_heights_);
 }
 

@@ -66,7 +66,6 @@ private:
     RunLayout layout_;
     Stepper stepper_;
     long n_ = 0;
-    double orientation_;  // -1: the obstacle is above and the stepper runs the mirror image
 
     std::vector<std::vector<double>> shapes_;  // mode shapes at the observation points
     std::vector<double> bridge_;               // bridge force per unit q_j (see BridgeForce)

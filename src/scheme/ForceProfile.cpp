@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
 
@@ -20,6 +21,12 @@ ForceProfile::ForceProfile(const ForceSpec& spec, double dx, const std::vector<d
     u_curr_.assign(pad_.size(), 0.0);
     u_prev_.assign(pad_.size(), 0.0);
 }
+
+void ForceProfile::read_obstacle(const std::vector<double>& obstacle) {
+    for (std::size_t p = 0; p < pad_.size(); ++p) g_[p] = obstacle[pad_[p]];
+}
+
+double ForceProfile::body_height() const { return std::numeric_limits<double>::quiet_NaN(); }
 
 void ForceProfile::start(std::span<const double> u0, std::span<const double> u1) {
     u_prev_.assign(u0.begin(), u0.end());

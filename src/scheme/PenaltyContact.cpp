@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "Multiversion.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {
@@ -22,72 +23,41 @@ constexpr int kMaxIterations = 200;
 #else
 #define FRETBUZZ_INLINE inline
 #endif
-// AVX without FMA: no multiply-add can be fused, so each lane rounds exactly as the scalar
-// solve (compiled for baseline x86-64) does. The batch is compiled twice, for baseline x86-64
-// and for AVX, and the processor's kind chooses at run time.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FRETBUZZ_AVX_VERSION 1
-#define FRETBUZZ_TARGET_AVX __attribute__((target("avx")))
-#else
-#define FRETBUZZ_AVX_VERSION 0
-#endif
-
+// The batch is compiled for each processor variant (FRETBUZZ_MULTIVERSION): each lane does the
+// scalar solve's operations in its order (where a variant fuses multiply-adds, the results
+// agree with the scalar solve's to round-off).
 typedef double v4 __attribute__((vector_size(32)));
 using m4 = decltype(v4{} < v4{});  // lane masks: -1 true, 0 false
 
-// sqrt where x > 0 (0 elsewhere: such lanes are not used), correctly rounded as std::sqrt.
+// sqrt where x > 0 (0 elsewhere: such lanes are not used), correctly rounded as std::sqrt. The
+// file is built without errno (-fno-math-errno): the four roots become one vector instruction
+// where the variant has one (AVX), two where it has 2-lane ones.
 FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
     const v4 positive = x > 0.0 ? x : v4{};
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-    // The SSE2 square root (baseline x86-64) on each half: no errno path, unlike std::sqrt. The
-    // halves move by shuffles, in registers: through memory, the 32-byte reload of two 16-byte
-    // stores would stall on store forwarding.
-    typedef double v2 __attribute__((vector_size(16)));
-    const v2 low = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 0, 1));
-    const v2 high = __builtin_ia32_sqrtpd(__builtin_shufflevector(positive, positive, 2, 3));
-    return __builtin_shufflevector(low, high, 0, 1, 2, 3);
-#else
     v4 root;
     for (int l = 0; l < 4; ++l) root[l] = __builtin_sqrt(positive[l]);
     return root;
-#endif
 }
 FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
 
-FRETBUZZ_INLINE bool any4(const m4& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
-
-// The square roots of the batch: sqrt4, or in the AVX version one 4-lane instruction (as
-// fast as one 2-lane one, and a square root costs as much as a division).
-struct Roots {
-    FRETBUZZ_INLINE static v4 of(const v4& x) { return sqrt4(x); }
-    FRETBUZZ_INLINE static bool any(const m4& m) { return any4(m); }
-};
-#if FRETBUZZ_AVX_VERSION
-// Used only inside the functions compiled for AVX (where its 32-byte operands live in ymm
-// registers): the instruction is written out, as a builtin would need that target here too.
-struct RootsAvx {
-    FRETBUZZ_INLINE static v4 of(const v4& x) {
-        v4 root;
-        const v4 positive = x > 0.0 ? x : v4{};
-        __asm__("vsqrtpd %1, %0" : "=x"(root) : "x"(positive));
-        return root;
-    }
-    // Whether any lane is set, from the lanes' sign bits in one instruction: moving the four
-    // lanes out one by one was a sixth of the batch's time.
-    FRETBUZZ_INLINE static bool any(const m4& m) {
-        int bits;
-        __asm__("vmovmskpd %1, %0" : "=r"(bits) : "x"(m));
-        return bits != 0;
-    }
-};
+// Whether any lane is set. On x86-64, from the lanes' sign bits (two instructions, 2-lane ones
+// that every variant has): moving the four lanes out one by one was a sixth of the batch's time.
+FRETBUZZ_INLINE bool any4(const m4& m) {
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+    typedef double v2 __attribute__((vector_size(16)));
+    const v4 bits = (v4)m;
+    const v2 low = __builtin_shufflevector(bits, bits, 0, 1), high = __builtin_shufflevector(bits, bits, 2, 3);
+    return (__builtin_ia32_movmskpd(low) | __builtin_ia32_movmskpd(high)) != 0;
+#else
+    return (m[0] | m[1] | m[2] | m[3]) != 0;
 #endif
+}
 
 // quotient(a, r) for alpha = 3/2 (its three cases), and sqrt(a + r) where it is computed
 // (kNoRoot elsewhere), as PenaltyContact::quotient with anchor = sqrt(a) or 0, s = sqrt4(a + r).
 struct Quotient4 {
     v4 value, root;
 };
-template <class R>
 FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const v4& anchor, const v4& s, double stiffness,
                                                 double potential_scale) {
     const v4 zero{};
@@ -99,7 +69,7 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const 
     const v4 inside = 0.4 * stiffness * numerator / (s + t);
     const m4 at_r_zero = r == 0.0;
     v4 outside = zero;
-    if (R::any(~is_inside & ~at_r_zero)) {  // a lane landing or leaving (most often none)
+    if (any4(~is_inside & ~at_r_zero)) {  // a lane landing or leaving (most often none)
         const v4 potential_ar = ar_pos ? potential_scale * (((a + r) * s) * (a + r)) : zero;
         const v4 potential_a = a_pos ? potential_scale * ((a * sqrt_a) * a) : zero;
         outside = (potential_ar - potential_a) / r;
@@ -111,7 +81,6 @@ FRETBUZZ_INLINE Quotient4 quotient_three_halves(const v4& a, const v4& r, const 
 // as the scalar code does (the same operations in the same order, no fused multiply-add).
 // t = sqrt(a) where a > 0. A landing with a firm touch needs pow (its frozen power): such lanes
 // are flagged in `scalar` and left to the scalar code.
-template <class R>
 FRETBUZZ_INLINE v4 start_three_halves(const v4& a, const v4& b, const v4& t, double k, double stiffness,
                                       double potential_scale, m4& scalar) {
     const v4 zero{};
@@ -123,27 +92,27 @@ FRETBUZZ_INLINE v4 start_three_halves(const v4& a, const v4& b, const v4& t, dou
     // Leaving contact: the negative root of r^2 - b r - k Psi(a) in closed form.
     const m4 leaving = a_pos & ((p / a - a - b) >= 0.0);
     v4 leave = zero;
-    if (R::any(leaving)) {
-        const v4 root_disc = R::of(b * b + 4.0 * p);
+    if (any4(leaving)) {
+        const v4 root_disc = sqrt4(b * b + 4.0 * p);
         leave = b > 0.0 ? (-2.0 * p) / (b + root_disc) : 0.5 * (b - root_disc);
     }
     // Staying, unless soft: the root of the Taylor parabola at r = 0, or of its tangent.
     const m4 parabola = a_pos & ~leaving & ~((k * d2) < 0.01);
     v4 stay = b;
-    if (R::any(parabola)) {
+    if (any4(parabola)) {
         const v4 d3 = (0.75 * stiffness) / t;
         const v4 c0 = k * d1 - b, c1 = 1.0 + k * (0.5 * d2), c2 = k * (d3 / 6.0);
         const v4 disc = c1 * c1 - (4.0 * c2) * c0;
-        const v4 r0 = disc >= 0.0 ? (-2.0 * c0) / (c1 + R::of(disc)) : (-c0) / c1;
+        const v4 r0 = disc >= 0.0 ? (-2.0 * c0) / (c1 + sqrt4(disc)) : (-c0) / c1;
         const v4 clamped = r0 < -a ? -a : r0;
         stay = parabola ? (r0 > 4.0 * a ? b : clamped) : b;
     }
     // Landing: b where the touch is light (k Psi(a + b) <= 0.01 b^2), else the scalar model.
     const m4 landing = ~a_pos & ~apart;
     scalar = m4{};
-    if (R::any(landing)) {
+    if (any4(landing)) {
         const v4 d = a + b;
-        const v4 potential_d = potential_scale * ((d * R::of(d)) * d);
+        const v4 potential_d = potential_scale * ((d * sqrt4(d)) * d);
         scalar = landing & ~((k * potential_d) <= 0.01 * (b * b));
     }
     const v4 start = leaving ? leave : stay;  // b on landings (the flagged ones are replaced)
@@ -154,7 +123,6 @@ FRETBUZZ_INLINE v4 start_three_halves(const v4& a, const v4& b, const v4& t, dou
 // solve's first iterates for alpha = 3/2, for count (a multiple of 4) equations, and sqrt(a) (0
 // where a <= 0, as anchor(a)) for the steps that follow; says whether any lane is flagged in
 // need_scalar (its start left to the scalar code).
-template <class R>
 FRETBUZZ_INLINE bool starts_three_halves(const double* a_in, const double* b_in, std::size_t count, double k,
                                          double stiffness, double potential_scale, double* anchor_out,
                                          double* start_out, long* need_scalar) {
@@ -164,14 +132,14 @@ FRETBUZZ_INLINE bool starts_three_halves(const double* a_in, const double* b_in,
         __builtin_memcpy(&a, a_in + i, sizeof a);
         __builtin_memcpy(&b, b_in + i, sizeof b);
         m4 scalar;
-        const v4 anchor = R::of(a);
-        const v4 start = start_three_halves<R>(a, b, anchor, k, stiffness, potential_scale, scalar);
+        const v4 anchor = sqrt4(a);
+        const v4 start = start_three_halves(a, b, anchor, k, stiffness, potential_scale, scalar);
         __builtin_memcpy(anchor_out + i, &anchor, sizeof anchor);
         __builtin_memcpy(start_out + i, &start, sizeof start);
         __builtin_memcpy(need_scalar + i, &scalar, sizeof scalar);
         flagged |= scalar;
     }
-    return R::any(flagged);
+    return any4(flagged);
 }
 
 // The start of PenaltyContact::solve for alpha = 3/2, four equations at a time, each lane
@@ -181,7 +149,6 @@ FRETBUZZ_INLINE bool starts_three_halves(const double* a_in, const double* b_in,
 // independent, so the processor overlaps them.
 // state[l] = 0: out of contact (increment b, no force); 1: solved (increment, force, root);
 // 2: more iterations needed (left to the scalar solve).
-template <class R>
 FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* b_in, const double* anchor_in,
                                               const double* start_in, std::size_t count, double k, double stiffness,
                                               double potential_scale, double* increment, double* force, double* root,
@@ -197,8 +164,8 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
         const v4 zero{};
         const m4 a_pos = a > 0.0;
         const m4 apart = (a <= 0.0) & ((a + b) <= 0.0);
-        const v4 root_r = R::of(a + r);
-        const Quotient4 first = quotient_three_halves<R>(a, r, anchor, root_r, stiffness, potential_scale);
+        const v4 root_r = sqrt4(a + r);
+        const Quotient4 first = quotient_three_halves(a, r, anchor, root_r, stiffness, potential_scale);
         const v4 f = first.value;
         const v4 other = b - k * f;
         const v4 residual = r == b ? k * f : r + k * f - b;
@@ -211,7 +178,7 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
         const m4 converged = (abs4(residual) <= 4.0 * kEps * scale) | (hi - lo <= 2.0 * kEps * wide);
         v4 next = r;
         const m4 stepping = ~(converged | apart);
-        if (R::any(stepping)) {
+        if (any4(stepping)) {
             stepped_any = true;
             // One Newton step from r: the slope of the quotient (PenaltyContact::slope).
             const m4 ar_pos = (a + r) > 0.0;
@@ -220,7 +187,7 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
             const v4 slope_inside =
                 0.2 * stiffness * (s * (s * (3.0 * s + 6.0 * t) + 4.0 * t * t) + 2.0 * t * t * t) / (sum * sum);
             v4 slope_outside = zero;
-            if (R::any(~(a_pos & ar_pos))) {
+            if (any4(~(a_pos & ar_pos))) {
                 const v4 force_ar = ar_pos ? stiffness * ((a + r) * root_r) : zero;
                 slope_outside = r == 0.0 ? zero : (force_ar - f) / r;
             }
@@ -246,14 +213,14 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
         m4 code;
         __builtin_memcpy(&code, state + i, sizeof code);
         const m4 stepped = code == kStepped;
-        if (!R::any(stepped)) continue;
+        if (!any4(stepped)) continue;
         v4 a, b, r, next, anchor;
         __builtin_memcpy(&a, a_in + i, sizeof a);
         __builtin_memcpy(&b, b_in + i, sizeof b);
         __builtin_memcpy(&r, start_in + i, sizeof r);
         __builtin_memcpy(&next, increment + i, sizeof next);
         __builtin_memcpy(&anchor, anchor_in + i, sizeof anchor);
-        const Quotient4 second = quotient_three_halves<R>(a, next, anchor, R::of(a + next), stiffness, potential_scale);
+        const Quotient4 second = quotient_three_halves(a, next, anchor, sqrt4(a + next), stiffness, potential_scale);
         const v4 residual_next = next + k * second.value - b;
         const m4 stalled = (abs4(next - r) <= kEps * abs4(next)) | (residual_next == 0.0);
         const m4 none{};
@@ -268,46 +235,15 @@ FRETBUZZ_INLINE void first_steps_three_halves(const double* a_in, const double* 
         __builtin_memcpy(root + i, &rt, sizeof rt);
     }
 }
-// The two versions of the batch, chosen by the processor.
-bool starts_plain(const double* a, const double* b, std::size_t count, double k, double stiffness,
-                  double potential_scale, double* anchor, double* start, long* need_scalar) {
-    return starts_three_halves<Roots>(a, b, count, k, stiffness, potential_scale, anchor, start, need_scalar);
+// The batch's two passes, each compiled for every processor variant.
+FRETBUZZ_MULTIVERSION bool starts(const double* a, const double* b, std::size_t count, double k, double stiffness,
+                                  double potential_scale, double* anchor, double* start, long* need_scalar) {
+    return starts_three_halves(a, b, count, k, stiffness, potential_scale, anchor, start, need_scalar);
 }
-void first_steps_plain(const double* a, const double* b, const double* anchor, const double* start, std::size_t count,
-                       double k, double stiffness, double potential_scale, double* increment, double* force,
-                       double* root, long* state) {
-    first_steps_three_halves<Roots>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force, root,
-                                    state);
-}
-#if FRETBUZZ_AVX_VERSION
-FRETBUZZ_TARGET_AVX bool starts_avx(const double* a, const double* b, std::size_t count, double k, double stiffness,
-                                    double potential_scale, double* anchor, double* start, long* need_scalar) {
-    return starts_three_halves<RootsAvx>(a, b, count, k, stiffness, potential_scale, anchor, start, need_scalar);
-}
-FRETBUZZ_TARGET_AVX void first_steps_avx(const double* a, const double* b, const double* anchor, const double* start,
-                                         std::size_t count, double k, double stiffness, double potential_scale,
-                                         double* increment, double* force, double* root, long* state) {
-    first_steps_three_halves<RootsAvx>(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force,
-                                       root, state);
-}
-bool has_avx() {
-    static const bool avx = (__builtin_cpu_init(), __builtin_cpu_supports("avx") != 0);
-    return avx;
-}
-#endif
-using StartsFunction = decltype(&starts_plain);
-using StepsFunction = decltype(&first_steps_plain);
-StartsFunction starts_for_this_processor() {
-#if FRETBUZZ_AVX_VERSION
-    if (has_avx()) return starts_avx;
-#endif
-    return starts_plain;
-}
-StepsFunction first_steps_for_this_processor() {
-#if FRETBUZZ_AVX_VERSION
-    if (has_avx()) return first_steps_avx;
-#endif
-    return first_steps_plain;
+FRETBUZZ_MULTIVERSION void first_steps(const double* a, const double* b, const double* anchor, const double* start,
+                                       std::size_t count, double k, double stiffness, double potential_scale,
+                                       double* increment, double* force, double* root, long* state) {
+    first_steps_three_halves(a, b, anchor, start, count, k, stiffness, potential_scale, increment, force, root, state);
 }
 }  // namespace
 
@@ -455,8 +391,6 @@ std::size_t PenaltyContact::solve_all(std::span<const double> a, std::span<const
         // Blocks of equations on the stack: the first iterates of all, then Newton's first step
         // for all, four lanes at a time with no call per lane.
         constexpr std::size_t kBlock = 64;
-        static const StartsFunction starts = starts_for_this_processor();
-        static const StepsFunction first_steps = first_steps_for_this_processor();
         double anchor[kBlock], start[kBlock], increment[kBlock], force[kBlock], root[kBlock];
         long need_scalar[kBlock];
         long state[kBlock];

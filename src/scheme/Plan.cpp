@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {
@@ -22,11 +21,13 @@ bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& option
 
 Plan::Plan(const Case& c, double dt, PlanOptions options)
     : dt_(dt),
+      orientation_(c.contact_orientation()),
       mu_(c.string.linear_density),
       energy_scale_(mu_ / (2.0 * dt_ * dt_)),
       loss_scale_(mu_ / (4.0 * dt_ * dt_)),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
+      step_kernel_(propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
@@ -39,9 +40,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
     // Without contact the modal update is exact at any dt: nothing can alias.
     if (contact_possible(c)) warnings_ = require_sampling(c.modes, 1.0 / dt, c.run.allow_aliasing).warnings;
     // An obstacle above is solved as its mirror image below (u -> -u).
-    if (c.obstacle_above)
-        for (double& g : obstacle_)
-            if (std::isfinite(g)) g = -g;
+    for (double& g : obstacle_)
+        if (std::isfinite(g)) g = oriented(g);
     place_points(c);
     for (std::size_t i = 0; i < obstacle_.size(); ++i)
         if (std::isfinite(obstacle_[i])) obstacle_points_.push_back(i);
@@ -58,7 +58,7 @@ void Plan::place_points(const Case& c) {
                                          [&](const PointObstacle& p) { return joins_grid(c, p, options_); });
     std::vector<PointObstacle> points = c.point_obstacles;
     for (PointObstacle& p : points)
-        if (c.obstacle_above) p.height_m = -p.height_m;
+        p.height_m = oriented(p.height_m);
     if (!all_on_grid) {
         point_contact_ = PointContact(basis_, std::move(points));
         return;
@@ -68,6 +68,11 @@ void Plan::place_points(const Case& c) {
         double& g = obstacle_[static_cast<std::size_t>(index)];
         g = std::max(g, p.height_m);
     }
+}
+
+void Plan::set_damping(std::span<const double> sigma_per_s) {
+    propagator_.set_damping(sigma_per_s);
+    step_kernel_ = propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy;
 }
 
 void Plan::set_obstacle_offset(double offset) {
@@ -93,11 +98,6 @@ void Plan::forces_to_modes(std::span<const std::pair<std::size_t, double>> force
 void Plan::predicted_at(std::span<const std::size_t> points, std::span<const double> predicted,
                         std::span<const double> q, std::span<const double> d, std::span<double> grid) const {
     const std::size_t n = mode_count();
-    if (points.size() == 1 && predicted.empty()) {  // a string resting on a point obstacle: the common case
-        grid[points[0]] = kernels::predict_dot(propagator_.decay().data(), propagator_.beta().data(), q.data(), d.data(),
-                                               basis_.row(points[0]).data(), n);
-        return;
-    }
     std::array<const double*, kernels::kMaxRowsPerPass> rows;
     std::array<double, kernels::kMaxRowsPerPass> values;
     for (std::size_t first = 0; first < points.size(); first += rows.size()) {

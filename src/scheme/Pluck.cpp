@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "MonotoneRoot.hpp"
@@ -30,6 +31,15 @@ Pluck::Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstac
     u_curr_.assign(pad_.size(), 0.0);
     u_prev_.assign(pad_.size(), 0.0);
     rho_.assign(pad_.size(), 0.0);
+}
+
+void Pluck::read_obstacle(const std::vector<double>& obstacle) {
+    for (std::size_t p = 0; p < pad_.size(); ++p) g_[p] = obstacle[pad_[p]];
+}
+
+double Pluck::body_height() const {
+    const bool there = stage_ == Stage::pulling || stage_ == Stage::withdrawing;
+    return there ? p_curr_ : std::numeric_limits<double>::quiet_NaN();
 }
 
 void Pluck::start(std::span<const double> u0, std::span<const double> u1) {

@@ -3,16 +3,45 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
 namespace {
 // Free modes decay: tighten the speed bound this often even when nothing touches.
 constexpr long kSpeedRefreshSteps = 1L << 14;
+
+// The plan's played parts of one kind (its specs, in order), built on its grid and obstacle.
+template <class Part, class Spec>
+std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
+    std::vector<Part> parts;
+    parts.reserve(specs.size());
+    for (const Spec& spec : specs)
+        parts.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                           plan.force_to_displacement());
+    return parts;
+}
 }  // namespace
+
+PlayedParts::PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks)
+    : fingers_(std::move(fingers)), gestures_(std::move(gestures)), plucks_(std::move(plucks)) {
+    link();
+    on_.assign(parts_.size(), 1);
+}
+
+PlayedParts::PlayedParts(const PlayedParts& other)
+    : fingers_(other.fingers_), gestures_(other.gestures_), plucks_(other.plucks_), on_(other.on_) {
+    link();
+}
+
+void PlayedParts::link() {
+    parts_.clear();
+    for (Finger& f : fingers_) parts_.push_back(&f);
+    for (ForceProfile& g : gestures_) parts_.push_back(&g);
+    for (Pluck& p : plucks_) parts_.push_back(&p);
+}
 
 Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
     : plan_(plan),
@@ -26,6 +55,8 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
+      parts_(parts_of<Finger>(plan, plan.fingers()), parts_of<ForceProfile>(plan, plan.forces()),
+             parts_of<Pluck>(plan, plan.plucks())),
       on_pad_(q0.size(), 0),
       points_(plan.point_contact().make_state()),
       point_predicted_(plan.point_contact().size(), 0.0),
@@ -41,23 +72,11 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     rubbing_.reserve(q0.size());
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
-    for (const FingerSpec& spec : plan.fingers()) {
-        fingers_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                              plan.force_to_displacement());
-        claim_pad(fingers_.back().pad(), spec.key);
-        finger_on_.push_back(1);
-    }
-    for (const ForceSpec& spec : plan.forces()) {
-        gestures_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                               plan.force_to_displacement());
-        claim_pad(gestures_.back().pad(), spec.key);
-    }
-    for (const PluckSpec& spec : plan.plucks()) {
-        plucks_.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                             plan.force_to_displacement());
-        claim_pad(plucks_.back().pad(), spec.key);
-        plucker_on_.push_back(1);
-    }
+    others_.reserve(q0.size());
+    std::size_t k = 0;  // the parts are in the specs' order
+    for (const FingerSpec& spec : plan.fingers()) claim_pad(parts_[k++].pad(), spec.key);
+    for (const ForceSpec& spec : plan.forces()) claim_pad(parts_[k++].pad(), spec.key);
+    for (const PluckSpec& spec : plan.plucks()) claim_pad(parts_[k++].pad(), spec.key);
 }
 
 void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
@@ -91,11 +110,13 @@ void Stepper::silence() {
 }
 
 void Stepper::restart() {
-    energy_step_ = -1;
-    forecast_.step = observed_step_ = flight_rows_step_ = point_forecast_step_ = -1;  // formed from the state before the change
+    // What the passes formed belongs to the state before the change.
+    energy_step_ = flight_rows_step_ = point_forecast_step_ = -1;
+    forecast_.count = 0;
+    keep_observation();
     if (n_ == 0) return;  // the first step looks at everything anyway
     // u^n into grid_, u^{n-1} = S (q - d) into impulse_ (scratch until the next impulse), where
-    // they are read: at the obstacle's points and the pads of the fingers on the string. By
+    // they are read: at the obstacle's points and the pads of the parts on the string. By
     // rows where these are at most the transform threshold (a real-time engine sets it beyond
     // every count where FFTW's transform would allocate), else by two transforms.
     const std::vector<std::size_t>& points = plan_.obstacle_points();
@@ -108,9 +129,9 @@ void Stepper::restart() {
             kernels::dot_current_previous(plan_.basis().row(i).data(), q_.data(), d_.data(), q_.size(), grid_[i], impulse_[i]);
         };
         for (std::size_t i : points) by_row(i);
-        for (std::size_t f = 0; f < fingers_.size(); ++f)
-            if (finger_on_[f] != 0)
-                for (std::size_t i : fingers_[f].pad()) by_row(i);
+        parts_.each_on([&](const PlayedPart& part) {
+            for (std::size_t i : part.pad()) by_row(i);
+        });
     }
     scheduler_.clear();
     active_.clear();
@@ -120,44 +141,50 @@ void Stepper::restart() {
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
-    for (std::size_t f = 0; f < fingers_.size(); ++f)
-        if (finger_on_[f] != 0) fingers_[f].read_obstacle(plan_.obstacle());
+    parts_.each_on([&](PlayedPart& part) { part.read_obstacle(plan_.obstacle()); });
     classify_points(grid_, impulse_);
 }
 
+bool Stepper::finger_on(std::size_t f) const {
+    if (f >= parts_.fingers().size()) throw std::out_of_range("Stepper: no finger " + std::to_string(f));
+    return parts_.on(f);  // finger f is part f
+}
+
 void Stepper::lift_finger(std::size_t f) {
-    if (finger_on_.at(f) == 0) return;
-    for (std::size_t i : fingers_[f].pad()) on_pad_[i] = 0;
-    pad_points_ -= fingers_[f].pad().size();
-    finger_on_[f] = 0;
-    fingers_[f].rest();
+    if (!finger_on(f)) return;
+    Finger& finger = parts_.finger(f);
+    for (std::size_t i : finger.pad()) on_pad_[i] = 0;
+    pad_points_ -= finger.pad().size();
+    parts_.set_on(f, false);
+    finger.rest();
     restart();  // its pad points go back to the obstacle's own solve
 }
 
 bool Stepper::place_finger(std::size_t f, double centre_m, double width_m) {
     if (n_ == 0) throw std::logic_error("Stepper::place_finger: only after the first step");
     lift_finger(f);
-    Finger& finger = fingers_[f];
+    Finger& finger = parts_.finger(f);
     finger.place(centre_m, width_m, plan_.obstacle());
     for (std::size_t i : finger.pad())
         if (on_pad_[i] != 0) return false;  // another part acts there: the finger stays off
     for (std::size_t i : finger.pad()) on_pad_[i] = 1;
     pad_points_ += finger.pad().size();
-    finger_on_[f] = 1;
+    parts_.set_on(f, true);
     restart();  // u^n in grid_, u^{n-1} in impulse_; the pad leaves the obstacle's solve
     start_part(finger, impulse_, grid_);  // lands at rest on the highest pad point, as at the first step
     return true;
 }
 
-template <class Part>
-void Stepper::start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now) {
+void Stepper::start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now) {
     pad_values(part.pad(), u_now);
     pad_f_ = pad_w_;  // within the reserved capacity: no allocation
     pad_values(part.pad(), u_before);
     part.start(pad_w_, pad_f_);
 }
 
-void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) { fingers_.at(f).press(force_n, n_, ramp_steps); }
+void Stepper::press_finger(std::size_t f, double force_n, long ramp_steps) {
+    parts_.finger(f).press(force_n, n_, ramp_steps);
+}
 
 void Stepper::classify_points(std::span<const double> u_now, std::span<const double> u_before) {
     const std::vector<double>& g = plan_.obstacle();
@@ -192,24 +219,35 @@ double Stepper::displacement(std::span<const double> mode_shapes) const {
 
 void Stepper::observe(std::span<const double> mode_shapes) {
     observed_row_ = mode_shapes.data();
-    observed_step_ = -1;  // the row's values may have changed
+    keep_observation();  // (the row's values may have changed)
+    landing_rows();
+}
+
+void Stepper::keep_observation() {
+    if (observed_row_ != nullptr) observed_ = kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
 double Stepper::observation() const {
     if (observed_row_ == nullptr) throw std::logic_error("Stepper::observation: no row to observe (call observe first)");
-    return observed_step_ == n_ ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
+    return plan_.options().fused_step ? observed_ : kernels::dot(observed_row_, q_.data(), q_.size());
 }
 
 void Stepper::observe_rows(std::span<const double* const> rows) {
     flight_rows_.assign(rows.begin(), rows.end());
-    flight_row_values_.resize(rows.size());
     flight_rows_step_ = -1;  // the rows' values may have changed
+    landing_rows();
+}
+
+void Stepper::landing_rows() {
+    landing_rows_ = flight_rows_;
+    if (observed_row_ != nullptr) landing_rows_.push_back(observed_row_);
+    landing_values_.resize(landing_rows_.size());
 }
 
 void Stepper::row_displacements(std::span<double> out) const {
     if (out.size() != flight_rows_.size()) throw std::logic_error("Stepper::row_displacements: not the observed rows");
     if (flight_rows_step_ == n_)
-        std::copy(flight_row_values_.begin(), flight_row_values_.end(), out.begin());
+        std::copy(landing_values_.begin(), landing_values_.begin() + static_cast<long>(out.size()), out.begin());
     else
         kernels::dot_rows(flight_rows_.data(), flight_rows_.size(), q_.data(), q_.size(), out.data());
 }
@@ -234,25 +272,22 @@ double Stepper::energy() const {
     return played() ? h + finger_energy() : h;
 }
 
+// (every part, on the string or not: a lifted finger's or a gone plucker's so far still count)
 double Stepper::finger_energy() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.energy();
-    for (const Pluck& p : plucks_) e += p.contact_energy();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].energy();
     return e;
 }
 
 double Stepper::finger_loss() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.loss();
-    for (const Pluck& p : plucks_) e += p.loss();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].loss();
     return e;
 }
 
 double Stepper::work() const {
     double e = 0.0;
-    for (const Finger& f : fingers_) e += f.work();
-    for (const ForceProfile& g : gestures_) e += g.work();
-    for (const Pluck& p : plucks_) e += p.work();
+    for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].work();
     return y_ ? e + y_->work() : e;
 }
 
@@ -344,6 +379,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
         for (long m = 0; m < flown; ++m)
             kernels::advance(prop.decay().data() + head, prop.beta().data() + head, nullptr, nullptr,
                              q_.data() + head, d_.data() + head, rest);
+        keep_observation();
     }
     scheduler_.set_head_modes(0);
     if (flown == 0) return 0;
@@ -352,12 +388,14 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
 }
 
 void Stepper::land(const FreeFlight& flight, std::size_t first, long flown) {
-    keep_modal_energy(n_ + flown, flight.jump_with_products(q_, d_, first, plan_.propagator(), flight_rows_,
-                                                            flight_row_values_.data()));
+    keep_modal_energy(n_ + flown, flight.jump_with_products(q_, d_, first, plan_.propagator(), landing_rows_,
+                                                            landing_values_.data()));
     flight_rows_step_ = n_ + flown;
+    if (observed_row_ != nullptr) observed_ = landing_values_.back();
 }
 
 long Stepper::end_flight(long flown, double energy_before) {
+    forecast_.count = 0;  // (formed for points now asleep, before the flight)
     forces_.clear();
     touched_obstacle_ = false;
     n_ += flown;
@@ -377,13 +415,12 @@ void Stepper::first_step() {
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);
     plan_.basis().to_grid(q_, grid_);
+    keep_observation();
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
     plan_.point_contact().start(points_, q_, d_);
     // Each played part starts from the string under its pad at levels 0 and 1.
-    for (Finger& f : fingers_) start_part(f, u0, grid_);
-    for (ForceProfile& gesture : gestures_) start_part(gesture, u0, grid_);
-    for (Pluck& pluck : plucks_) start_part(pluck, u0, grid_);
+    for (std::size_t k = 0; k < parts_.size(); ++k) start_part(parts_[k], u0, grid_);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
@@ -439,32 +476,24 @@ void Stepper::solve_contacts() {
         return;
     }
 
-    const ModalPropagator& prop = plan_.propagator();
-    const std::size_t n = q_.size();
+    // The predicted height at every point to solve, into grid_: by one transform, or by rows.
     const bool use_transform = active_.size() + pad_points_ > plan_.transform_threshold();
-    // A few points and no pad: their row products form the prediction on the fly, one pass
-    // fewer; otherwise it is stored for the transform, the pads or the rows.
-    // With a pad, the last step's pass formed the predictions at its points and the active ones.
-    const bool on_the_fly = !use_transform && (pad_points_ == 0 ? active_.size() <= kernels::kMaxRowsPerPass
-                                                                : forecast_.step == n_);
-    if (!on_the_fly) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
-    // The predicted height at every active point, into grid_ (by one transform, or by rows).
-    if (use_transform)
+    if (use_transform) {
+        const ModalPropagator& prop = plan_.propagator();
+        kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
         plan_.basis().to_grid(predicted_, grid_);
-    else if (on_the_fly)
+    } else {
         predict_points(active_);
-    else
-        plan_.predicted_at(active_, predicted_, q_, d_, grid_);
+    }
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (played()) solve_fingers(use_transform, on_the_fly);
+    if (played()) solve_fingers(use_transform);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform;
     // Raw pointers and local sums: the forces' emplace_back would otherwise make the compiler
-    // reload every member at every point (503 points at the flat obstacle's onset). The sums
-    // run in the same order: the same bits.
+    // reload every member at every point (503 points at the flat obstacle's onset).
     double* eta_prev = eta_prev_.data();
     double* eta_curr = eta_curr_.data();
     const double* grid = grid_.data();
@@ -514,43 +543,40 @@ void Stepper::solve_contacts() {
 }
 
 void Stepper::predict_points(std::span<const std::size_t> points) {
-    // The last step's pass formed the prediction at the points it was given (the bits of
-    // predict_dot at this step): the others, woken since, take row products of their own.
-    const bool current = forecast_.step == n_;
-    // Most often the very points the pass was given, in its order (a point or a bridge resting).
-    if (current && points.size() == forecast_.count &&
-        std::equal(points.begin(), points.end(), forecast_.points.begin())) {
-        for (std::size_t r = 0; r < points.size(); ++r) grid_[points[r]] = forecast_.values[r];
+    // The last step's pass formed the prediction at the points it was given: most often these
+    // very points, in this order (a string resting on a point or a bridge).
+    const Forecast& f = forecast_;
+    if (points.size() == f.count && std::equal(points.begin(), points.end(), f.points.begin())) {
+        for (std::size_t r = 0; r < points.size(); ++r) grid_[points[r]] = f.values[r];
         return;
     }
-    std::array<std::size_t, kernels::kMaxForecastRows> others;  // (the first `count` are read)
-    std::size_t count = 0;
+    // The others (woken since, or no forecast): row products, the prediction formed on the fly
+    // for a few, stored first for many (then read by each pass of rows).
+    others_.clear();
     for (std::size_t i : points) {
         std::size_t r = 0;
-        if (current)
-            while (r < forecast_.count && forecast_.points[r] != i) ++r;
-        if (current && r < forecast_.count) {
-            grid_[i] = forecast_.values[r];
-            continue;
-        }
-        others[count++] = i;
-        if (count == others.size()) {
-            plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
-            count = 0;
-        }
+        while (r < f.count && f.points[r] != i) ++r;
+        if (r < f.count)
+            grid_[i] = f.values[r];
+        else
+            others_.push_back(i);
     }
-    if (count != 0) plan_.predicted_at(std::span<const std::size_t>(others.data(), count), {}, q_, d_, grid_);
+    if (others_.empty()) return;
+    if (others_.size() <= kernels::kMaxRowsPerPass) {
+        plan_.predicted_at(others_, {}, q_, d_, grid_);
+        return;
+    }
+    const ModalPropagator& prop = plan_.propagator();
+    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
+    plan_.predicted_at(others_, predicted_, q_, d_, grid_);
 }
 
-void Stepper::solve_fingers(bool use_transform, bool by_rows) {
+void Stepper::solve_fingers(bool use_transform) {
     bool acted = false;
-    const auto solve = [&](auto& part) {
-        // The pad's predicted heights: from the transform, the forecast, or by its rows 4 per
-        // pass (into grid_ at the pad's points, which are not active points: their values stay).
-        if (by_rows)
-            predict_points(part.pad());
-        else if (!use_transform)
-            plan_.predicted_at(part.pad(), predicted_, q_, d_, grid_);
+    const auto solve = [&](PlayedPart& part) {
+        // The pad's predicted heights: from the transform, or the forecast and rows (into grid_
+        // at the pad's points, which are not active points: their values stay).
+        if (!use_transform) predict_points(part.pad());
         pad_w_.clear();
         for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
@@ -561,28 +587,25 @@ void Stepper::solve_fingers(bool use_transform, bool by_rows) {
         for (std::size_t p = 0; p < pad_f_.size(); ++p)
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
-    for (std::size_t f = 0; f < fingers_.size(); ++f)
-        if (finger_on_[f] != 0) solve(fingers_[f]);
-    for (ForceProfile& g : gestures_) solve(g);
-    for (std::size_t p = 0; p < plucks_.size(); ++p) {
-        if (plucker_on_[p] == 0) continue;
-        if (plucks_[p].stage() == Pluck::Stage::gone) {
-            retire_plucker(plucks_[p]);
-            plucker_on_[p] = 0;
+    for (std::size_t k = 0; k < parts_.size(); ++k) {
+        if (!parts_.on(k)) continue;
+        if (parts_[k].left()) {
+            retire(parts_[k]);
+            parts_.set_on(k, false);
             continue;
         }
-        solve(plucks_[p]);
+        solve(parts_[k]);
     }
     if (acted) ++stats_.played_steps;
 }
 
-void Stepper::retire_plucker(const Pluck& pluck) {
-    // The plucker has left the string: its pad points go back to the obstacle's own solve
-    // (the loop over active points that follows solves them in this same step).
-    const std::vector<std::size_t>& pad = pluck.pad();
+void Stepper::retire(const PlayedPart& part) {
+    // The part has left the string (a plucker gone): its pad points go back to the obstacle's
+    // own solve (the loop over active points that follows solves them in this same step).
+    const std::vector<std::size_t>& pad = part.pad();
     for (std::size_t p = 0; p < pad.size(); ++p) {
         on_pad_[pad[p]] = 0;
-        if (std::isfinite(plan_.obstacle()[pad[p]])) activate(pad[p], pluck.current()[p], pluck.previous()[p]);
+        if (std::isfinite(plan_.obstacle()[pad[p]])) activate(pad[p], part.current()[p], part.previous()[p]);
     }
     pad_points_ -= pad.size();
 }
@@ -590,12 +613,20 @@ void Stepper::retire_plucker(const Pluck& pluck) {
 bool Stepper::solve_points() {
     const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
-    if (point_forecast_step_ == n_)  // the last step's pass formed it
+    if (point_forecast_step_ == n_) {  // the last step's pass formed it
         std::copy(point_forecast_.begin(), point_forecast_.end(), point_predicted_.begin());
-    else
-        for (std::size_t p = 0; p < points.size(); ++p)
-            point_predicted_[p] = kernels::predict_dot(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(),
-                                                       points.row(p).data(), q_.size());
+    } else {
+        std::array<const double*, kernels::kMaxPassRows> rows;
+        if (points.size() <= rows.size()) {
+            for (std::size_t p = 0; p < points.size(); ++p) rows[p] = points.row(p).data();
+            kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), rows.data(),
+                                      points.size(), q_.size(), point_predicted_.data());
+        } else {  // more points than a pass takes: the prediction stored once, then a product per point
+            kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
+            for (std::size_t p = 0; p < points.size(); ++p)
+                point_predicted_[p] = kernels::dot(points.row(p).data(), predicted_.data(), q_.size());
+        }
+    }
     const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
@@ -624,16 +655,17 @@ void Stepper::report_point_forces() {
 
 bool Stepper::points_by_rows() const {
     const std::size_t pushes = forces_.size() + plan_.point_contact().size();
-    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxForecastRows &&
+    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxPassRows &&
            pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
 }
 
 void Stepper::advance_with_points() {
     const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
+    kernels::StepPass pass;
     std::array<double, Plan::kMaxInlinePushes> coefficients;
     std::array<const double*, Plan::kMaxInlinePushes> push_rows;
-    std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+    std::array<const double*, kernels::kMaxPassRows> predict_rows;
     std::size_t pushes = 0;
     if (points_pushed_)
         for (std::size_t p = 0; p < points.size(); ++p)
@@ -645,39 +677,32 @@ void Stepper::advance_with_points() {
         coefficients[pushes] = plan_.impulse_scale() * f;
         push_rows[pushes++] = plan_.basis().row(i).data();
     }
-    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
-    const double* e = prop.decay().data();
-    const double* beta = prop.beta().data();
-    forecast_.step = observed_step_ = -1;
-    if (!plan_.options().fused_step) {  // the reference: the same pushes, the products in passes of their own
-        const double losses =
-            pushes == 0   ? kernels::advance(e, beta, loss, nullptr, q_.data(), d_.data(), q_.size())
-            : pushes == 1 ? kernels::advance_one_push(e, beta, loss, coefficients[0], push_rows[0], q_.data(), d_.data(), q_.size())
-                          : kernels::advance_pushes(e, beta, loss, coefficients.data(), push_rows.data(), pushes, q_.data(),
-                                                    d_.data(), q_.size());
-        dissipated_ += plan_.modal_loss_scale() * losses;
-        return;
-    }
-    for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
-    kernels::StepProducts products;
-    products.predict_rows = predict_rows.data();
-    products.predict_count = points.size();
-    products.predicted = point_forecast_.data();
-    if (observed_row_ != nullptr) {
-        products.observe_row = observed_row_;
-        products.observed = &observed_;
-    }
+    pass.push_rows = push_rows.data();
+    pass.push_coefficients = coefficients.data();
+    pass.pushes = pushes;
+    // The points' next prediction, the observation and the energy, formed in the same pass (the
+    // reference path forms them in passes of their own).
+    forecast_.count = 0;
+    const bool fused = plan_.options().fused_step;
     double energy = 0.0;
     const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
-    if (audited) products.energy = &energy;
-    const bool few = pushes <= kernels::kMaxRowsPerPass && points.size() <= kernels::kMaxRowsPerPass;
-    const auto advance = few ? kernels::advance_with_products : kernels::advance_with_pad_products;
-    const double losses =
-        advance(e, beta, loss, coefficients.data(), push_rows.data(), pushes, products, q_.data(), d_.data(), q_.size());
+    if (fused) {
+        for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
+        pass.predict_rows = predict_rows.data();
+        pass.predict_count = points.size();
+        pass.predicted = point_forecast_.data();
+        if (observed_row_ != nullptr) {
+            pass.observe_row = observed_row_;
+            pass.observed = &observed_;
+        }
+        if (audited) pass.energy = &energy;
+    }
+    const double losses = plan_.step_kernel()(prop.decay().data(), prop.beta().data(),
+                                              prop.lossless() ? nullptr : prop.loss().data(), pass, q_.data(),
+                                              d_.data(), q_.size());
     dissipated_ += plan_.modal_loss_scale() * losses;
-    point_forecast_step_ = n_ + 1;
-    observed_step_ = observed_row_ != nullptr ? n_ + 1 : -1;
-    if (audited) keep_modal_energy(n_ + 1, energy);
+    point_forecast_step_ = fused ? n_ + 1 : -1;
+    if (pass.energy != nullptr) keep_modal_energy(n_ + 1, energy);
 }
 
 void Stepper::apply_impulse() {
@@ -691,96 +716,65 @@ void Stepper::apply_impulse() {
 
 void Stepper::advance_modes() {
     const ModalPropagator& prop = plan_.propagator();
-    const double* loss = prop.lossless() ? nullptr : prop.loss().data();
-    const double* e = prop.decay().data();
-    const double* beta = prop.beta().data();
     const std::size_t n = q_.size();
     if (!plan_.point_contact().empty() && points_by_rows()) {
         advance_with_points();
         return;
     }
+    const std::size_t pushes = points_pushed_ ? 0 : forces_.size();
+    kernels::StepPass pass;
+    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only the
+    // first entries are read.
+    std::array<double, kernels::kMaxPassRows> coefficients;
+    std::array<const double*, kernels::kMaxPassRows> push_rows, predict_rows;
     if (points_pushed_) {  // apply_point_impulse holds every force
-        forecast_.step = observed_step_ = -1;
-        dissipated_ += plan_.modal_loss_scale() * kernels::advance(e, beta, loss, impulse_.data(), q_.data(), d_.data(), n);
-        return;
-    }
-    const std::size_t pushes = forces_.size();
-    const bool pushes_inline = plan_.pushes_inline(pushes);
-    // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only
-    // the first `pushes` are read.
-    std::array<double, Plan::kMaxInlinePushes> coefficients;
-    std::array<const double*, Plan::kMaxInlinePushes> rows;
-    if (pushes_inline)
+        pass.impulse = impulse_.data();
+    } else if (plan_.pushes_inline(pushes)) {  // the pass adds the rows; otherwise apply_impulse made the vector
         for (std::size_t r = 0; r < pushes; ++r) {
             coefficients[r] = plan_.impulse_scale() * forces_[r].second;
-            rows[r] = plan_.basis().row(forces_[r].first).data();
+            push_rows[r] = plan_.basis().row(forces_[r].first).data();
         }
-    // The few points solved now are likely solved again at the next step (a string resting on a
-    // point or a bridge), and the caller reads its observation row after the step: the pass
-    // that steps the modes forms both while it holds q^{n+1}, one or two passes fewer per step.
-    const bool fused = plan_.options().fused_step && pushes <= kernels::kMaxRowsPerPass && (pushes == 0 || pushes_inline);
-    const bool forecast = pad_points_ == 0 && !active_.empty() && active_.size() <= kernels::kMaxRowsPerPass;
-    // (at an audio rate every step: no integer division for it)
-    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
-    forecast_.step = observed_step_ = -1;
-    double losses = 0.0;
-    // A finger, a gesture or a plucker on the string: its pad (pushed at nearly every step) and the
-    // active points, predicted in the same pass as many pushes.
-    const std::size_t pad_forecast = active_.size() + pad_points_;
-    const bool pad_pass = pad_points_ != 0 && plan_.options().fused_step && (pushes == 0 || pushes_inline) &&
-                          pad_forecast <= kernels::kMaxForecastRows && pad_forecast <= plan_.transform_threshold();
-    double energy = 0.0;
-    bool energy_formed = false;
-    if (pad_pass || (fused && (forecast || observed_row_ != nullptr || audited))) {
-        std::array<const double*, kernels::kMaxForecastRows> predict_rows;
+        pass.push_rows = push_rows.data();
+        pass.push_coefficients = coefficients.data();
+        pass.pushes = pushes;
+    } else if (pushes != 0) {
+        pass.impulse = impulse_.data();
+    }
+    // What the next step and the caller read of the state the pass leaves, formed while it holds
+    // it (one pass over the modes instead of one per product): the next prediction at the points
+    // solved now (a string resting on a bridge, a finger's pad: most are solved again), the
+    // observation row, and the energy where the caller audits it.
+    forecast_.count = 0;
+    const bool fused = plan_.options().fused_step;
+    const std::size_t solved = active_.size() + pad_points_;
+    if (fused && solved != 0 && solved <= kernels::kMaxPassRows && solved <= plan_.transform_threshold()) {
         std::size_t count = 0;
         const auto add = [&](std::size_t i) {
-            if (count == kernels::kMaxForecastRows) return;  // (pads counted above: never reached)
             forecast_.points[count] = i;
             predict_rows[count++] = plan_.basis().row(i).data();
         };
-        if (pad_pass || forecast)
-            for (std::size_t i : active_) add(i);
-        if (pad_pass) {
-            for (std::size_t f = 0; f < fingers_.size(); ++f)
-                if (finger_on_[f] != 0)
-                    for (std::size_t i : fingers_[f].pad()) add(i);
-            for (const ForceProfile& g : gestures_)
-                for (std::size_t i : g.pad()) add(i);
-            for (std::size_t p = 0; p < plucks_.size(); ++p)
-                if (plucker_on_[p] != 0)
-                    for (std::size_t i : plucks_[p].pad()) add(i);
-        }
-        kernels::StepProducts products;
-        if (count != 0) {
-            forecast_.count = count;
-            products.predict_rows = predict_rows.data();
-            products.predict_count = count;
-            products.predicted = forecast_.values.data();
-            forecast_.step = n_ + 1;
-        }
-        if (observed_row_ != nullptr) {
-            products.observe_row = observed_row_;
-            products.observed = &observed_;
-            observed_step_ = n_ + 1;
-        }
-        if (audited) {
-            products.energy = &energy;
-            energy_formed = true;
-        }
-        losses = pad_pass ? kernels::advance_with_pad_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
-                                                               products, q_.data(), d_.data(), n)
-                          : kernels::advance_with_products(e, beta, loss, coefficients.data(), rows.data(), pushes,
-                                                           products, q_.data(), d_.data(), n);
-    } else if (pushes == 1 && pushes_inline) {
-        losses = kernels::advance_one_push(e, beta, loss, coefficients[0], rows[0], q_.data(), d_.data(), n);
-    } else if (pushes_inline) {
-        losses = kernels::advance_pushes(e, beta, loss, coefficients.data(), rows.data(), pushes, q_.data(), d_.data(), n);
-    } else {
-        losses = kernels::advance(e, beta, loss, pushes == 0 ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+        for (std::size_t i : active_) add(i);
+        parts_.each_on([&](const PlayedPart& part) {
+            for (std::size_t i : part.pad()) add(i);
+        });
+        forecast_.count = count;
+        pass.predict_rows = predict_rows.data();
+        pass.predict_count = count;
+        pass.predicted = forecast_.values.data();
     }
+    if (fused && observed_row_ != nullptr) {
+        pass.observe_row = observed_row_;
+        pass.observed = &observed_;
+    }
+    // (at an audio rate every step: no integer division for it)
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
+    double energy = 0.0;
+    if (fused && audited) pass.energy = &energy;
+    const double losses = plan_.step_kernel()(prop.decay().data(), prop.beta().data(),
+                                              prop.lossless() ? nullptr : prop.loss().data(), pass, q_.data(),
+                                              d_.data(), n);
     dissipated_ += plan_.modal_loss_scale() * losses;
-    if (energy_formed) keep_modal_energy(n_ + 1, energy);
+    if (pass.energy != nullptr) keep_modal_energy(n_ + 1, energy);
 }
 
 void Stepper::put_points_to_sleep() {
@@ -801,12 +795,10 @@ std::span<const std::pair<std::size_t, double>> Stepper::rubbing_points() {
     rubbing_.clear();
     for (const auto& [i, f] : forces_)
         if (on_pad_[i] == 0) rubbing_.emplace_back(i, f);
-    for (std::size_t k = 0; k < fingers_.size(); ++k) {
-        if (finger_on_[k] == 0) continue;
-        const Finger& finger = fingers_[k];
-        for (std::size_t p = 0; p < finger.pad().size(); ++p)
-            if (const double f = finger.normal_force(p); f > 0.0) rubbing_.emplace_back(finger.pad()[p], f);
-    }
+    parts_.each_on([&](const PlayedPart& part) {
+        for (std::size_t p = 0; p < part.pad().size(); ++p)
+            if (const double f = part.rubbing_force(p); f > 0.0) rubbing_.emplace_back(part.pad()[p], f);
+    });
     return rubbing_;
 }
 

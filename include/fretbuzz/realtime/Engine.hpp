@@ -153,7 +153,6 @@ private:
     Case case_;
     int factor_ = 1;
     const char* rate_choice_ = "";
-    double orientation_ = 1.0;
     std::unique_ptr<Plan> plan_;
     std::unique_ptr<Stepper> stepper_;
     std::optional<FreeFlight> flight_;

@@ -31,11 +31,12 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/PlayedPart.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
-class Finger {
+class Finger final : public PlayedPart {
 public:
     // obstacle: heights at every grid point, in the solve's orientation (-inf: none);
     // k = dt^2 / mu.
@@ -43,14 +44,16 @@ public:
            double dt, double k);
 
     // Grid points of the pad, in increasing order.
-    const std::vector<std::size_t>& pad() const { return pad_; }
+    const std::vector<std::size_t>& pad() const override { return pad_; }
     // Levels 0 and 1 of the string at the pad points (the string's first step is free): the
     // finger starts spec.initial_gap_m above the highest pad point with its initial velocity.
-    void start(std::span<const double> u0, std::span<const double> u1);
+    void start(std::span<const double> u0, std::span<const double> u1) override;
     // Step n -> n + 1 given the pad points' free predictions w (pad order). Writes the total
     // force per unit length on the string at each pad point (finger and obstacle) into
     // `force` and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
-    double step(long n, std::span<const double> predicted, std::span<double> force);
+    double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    std::span<const double> current() const override { return u_curr_; }
+    std::span<const double> previous() const override { return u_prev_; }
 
     double pressing_force(double t) const;
 
@@ -59,28 +62,28 @@ public:
     // pad's room is reserved for it) and reads the obstacle there again. start() must follow.
     void place(double centre_m, double width_m, const std::vector<double>& obstacle);
     // Reads the obstacle at the pad again (after its heights changed).
-    void read_obstacle(const std::vector<double>& obstacle);
+    void read_obstacle(const std::vector<double>& obstacle) override;
     // From step `from` on, the pressing force goes linearly from its value then to force_n over
     // `ramp_steps` steps and stays there (the spec's profile no longer counts).
     void press(double force_n, long from, long ramp_steps);
     // Forgets the finger's motion and contact (off the string); its work and loss so far stay.
     void rest();
     double height() const { return z_; }                     // z^n (solve orientation)
-    double energy() const;                                   // kinetic + contact, (n-1, n)
+    double body_height() const override { return z_; }
+    double energy() const override;                          // kinetic + contact, (n-1, n)
     double contact_energy() const { return 0.5 * dx_ * (psi_curr_ + psi_prev_); }
-    double work() const { return work_; }                    // pressing force's work so far
-    double loss() const { return loss_; }                    // contact loss so far (>= 0)
+    double work() const override { return work_; }           // pressing force's work so far
+    double loss() const override { return loss_; }           // contact loss so far (>= 0)
     double contact_force() const { return contact_force_; }  // total force on the finger, N (last step)
-    int max_iterations() const { return max_iterations_; }
+    int max_iterations() const override { return max_iterations_; }
     // In the last step: whether the obstacle pushed on a pad point, and whether the finger touched.
-    bool touched_obstacle() const { return touched_obstacle_; }
-    bool acted() const { return contact_force_ != 0.0; }
+    bool touched_obstacle() const override { return touched_obstacle_; }
+    bool acted() const override { return contact_force_ != 0.0; }
 
-private:
-public:
     // Normal force per unit length on pad point p in the last step: the finger's push plus the
     // obstacle's (friction along y, with two polarisations, acts on their sum).
     double normal_force(std::size_t p) const { return std::max(points_[p].push, 0.0) + points_[p].obstacle_force; }
+    double rubbing_force(std::size_t p) const override { return normal_force(p); }
 
 private:
     struct Point {

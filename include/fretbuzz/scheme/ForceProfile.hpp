@@ -13,26 +13,31 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/PlayedPart.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
-class ForceProfile {
+class ForceProfile final : public PlayedPart {
 public:
     // obstacle: heights at every grid point in the solve's orientation (-inf: none); k = dt^2/mu.
     ForceProfile(const ForceSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& law,
                  double dt, double k);
 
-    const std::vector<std::size_t>& pad() const { return pad_; }
-    void start(std::span<const double> u0, std::span<const double> u1);
+    const std::vector<std::size_t>& pad() const override { return pad_; }
+    void start(std::span<const double> u0, std::span<const double> u1) override;
     // Step n -> n + 1 from the pad points' free predictions w; writes the total force per
     // unit length at each pad point and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
-    double step(long n, std::span<const double> predicted, std::span<double> force);
-    double work() const { return work_; }
-    int max_iterations() const { return max_iterations_; }
+    double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    std::span<const double> current() const override { return u_curr_; }
+    std::span<const double> previous() const override { return u_prev_; }
+    void read_obstacle(const std::vector<double>& obstacle) override;
+    double work() const override { return work_; }
+    double body_height() const override;  // NaN: a force has no body
+    int max_iterations() const override { return max_iterations_; }
     // In the last step: whether the obstacle pushed on a pad point, and whether the force acted.
-    bool touched_obstacle() const { return touched_obstacle_; }
-    bool acted() const { return acted_; }
+    bool touched_obstacle() const override { return touched_obstacle_; }
+    bool acted() const override { return acted_; }
 
 private:
     TimeProfile force_;

@@ -11,6 +11,10 @@
 
 namespace fretbuzz {
 
+// A flight checks sleeping points with its low modes plus a bound on the rest: at least this
+// many modes (the driver's own band may ask for more) keep those checks sharp.
+inline constexpr std::size_t kMinimumFlightModes = 48;
+
 class FreeFlight {
 public:
     // Maps for modes [first, N) (the others are left to the caller).
@@ -23,8 +27,8 @@ public:
     // Applies the M-step map to modes [first, end) of (q, d).
     void jump(std::span<double> q, std::span<double> d, std::size_t first) const;
     // jump, and in the same pass over all modes what the state it leaves is read for:
-    // out[r] = dot(rows[r], q) and the returned propagator.scaled_modal_energy(q, d), bit for
-    // bit (kernels::jump_with_products).
+    // out[r] = dot(rows[r], q) and the returned propagator.scaled_modal_energy(q, d), to
+    // round-off (kernels::jump_with_products).
     double jump_with_products(std::span<double> q, std::span<double> d, std::size_t first,
                               const ModalPropagator& propagator, std::span<const double* const> rows,
                               double* out) const;

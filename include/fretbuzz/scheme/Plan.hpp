@@ -14,6 +14,7 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/Friction.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
@@ -35,9 +36,9 @@ struct PlanOptions {
     // Closed-form contact quotients for alpha = 1, 3/2, 2, 3; false: pow/expm1/log1p for
     // every exponent (the reference they are tested against).
     bool closed_form_contact = true;
-    // One pass over the modes per step: the step also forms the next step's prediction at a
-    // few active points and the observation row's displacement (Stepper::observe); false: a
-    // pass for each (the reference, the same bits).
+    // One pass over the modes per step: the step also forms the next step's prediction at the
+    // points it solves, the observation row's displacement (Stepper::observe) and the energy
+    // it is audited for; false: a pass for each (the reference it is tested against).
     bool fused_step = true;
     // Point obstacles that all lie on grid points, one grid step wide, are solved as grid points
     // (screening, free flight, the grid's kernels); false: by PointContact like any other
@@ -68,6 +69,10 @@ public:
     double modal_loss_scale() const { return loss_scale_; }
     const ModalBasis& basis() const { return basis_; }
     const ModalPropagator& propagator() const { return propagator_; }
+    // The kernel every step of a run calls (Stepper): chosen when planning, with losses or
+    // lossless as the propagator is (set_damping chooses again), never by a step: like the
+    // codelets of an FFTW plan.
+    kernels::StepKernel step_kernel() const { return step_kernel_; }
     const PenaltyContact& contact() const { return contact_; }
     // The second polarisation (y), planned only for a case with two: its exact per-mode
     // propagator and the friction law at the contacts (see SecondPolarisation).
@@ -75,6 +80,20 @@ public:
     const ModalPropagator& propagator_y() const { return *propagator_y_; }
     const Friction& friction() const { return friction_; }
     const std::vector<double>& obstacle() const { return obstacle_; }
+    // The solve sees every obstacle below the string: where the case's obstacle is above, it
+    // runs the mirror image u -> -u (orientation -1, else +1). What enters the solve from the
+    // case (initial state, plucks, forces) or leaves it for the case (displacements, forces,
+    // heights) passes through oriented(), its own inverse; a row of mode shapes through it
+    // reads the case's displacement off the solve's state.
+    double orientation() const { return orientation_; }
+    double oriented(double u) const { return orientation_ * u; }
+    std::vector<double> oriented(std::vector<double> v) const {
+        for (double& x : v) x *= orientation_;
+        return v;
+    }
+    void orient(std::span<double> v) const {
+        for (double& x : v) x *= orientation_;
+    }
     const PlanOptions& options() const { return options_; }
     std::size_t transform_threshold() const { return transform_threshold_; }
     // Points beyond which one sine transform is cheaper than rows of S, for N modes and a
@@ -90,7 +109,7 @@ public:
     // impulse_scale() f S_i (S_i: row i of S).
     double impulse_scale() const { return force_to_displacement() * basis_.grid_step(); }
     // Up to this many forces, the step adds their rows itself (no impulse vector to fill).
-    static constexpr std::size_t kMaxInlinePushes = 16;
+    static constexpr std::size_t kMaxInlinePushes = kernels::kMaxPassRows;
     // True if `forces` forces are applied by rows inside the step rather than through
     // forces_to_modes (which uses a transform above transform_threshold()).
     bool pushes_inline(std::size_t forces) const {
@@ -118,7 +137,7 @@ public:
     // Changes while a string sounds (a real-time instrument's controls). Neither allocates;
     // a Stepper on this plan must be told with Stepper::restart() before its next step.
     void set_contact_law(double stiffness, double exponent) { contact_.set(stiffness, exponent); }
-    void set_damping(std::span<const double> sigma_per_s) { propagator_.set_damping(sigma_per_s); }
+    void set_damping(std::span<const double> sigma_per_s);
     // Raises the whole obstacle by `offset` metres above its planned height (toward the string:
     // more buzz), in the contact solve's coordinate, but no point above the string's rest line
     // (0): an obstacle raised into the string at rest would push it away with all the energy
@@ -131,10 +150,12 @@ private:
     void place_points(const Case& c);  // the case's exact points: onto the grid, or into point_contact_
 
     double dt_;
+    double orientation_;
     double mu_;
     double energy_scale_, loss_scale_;
     ModalBasis basis_;
     ModalPropagator propagator_;
+    kernels::StepKernel step_kernel_;
     PenaltyContact contact_;
     std::optional<ModalPropagator> propagator_y_;
     Friction friction_;

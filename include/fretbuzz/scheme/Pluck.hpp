@@ -28,10 +28,11 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/PlayedPart.hpp"
 
 namespace fretbuzz {
 
-class Pluck {
+class Pluck final : public PlayedPart {
 public:
     enum class Stage { waiting, pulling, withdrawing, gone };
 
@@ -39,27 +40,32 @@ public:
     Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
           double dt, double k);
 
-    const std::vector<std::size_t>& pad() const { return pad_; }
-    void start(std::span<const double> u0, std::span<const double> u1);
+    const std::vector<std::size_t>& pad() const override { return pad_; }
+    void start(std::span<const double> u0, std::span<const double> u1) override;
     // Step n -> n + 1 from the pad points' free predictions w (pad order): writes the total
     // force per unit length at each pad point (plucker and obstacle) and returns
     // sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
-    double step(long n, std::span<const double> predicted, std::span<double> force);
+    double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    void read_obstacle(const std::vector<double>& obstacle) override;
+    bool left() const override { return stage_ == Stage::gone; }
 
     Stage stage() const { return stage_; }
     // u^n and u^{n-1} at the pad points (pad order): where the obstacle's solve takes over.
-    std::span<const double> current() const { return u_curr_; }
-    std::span<const double> previous() const { return u_prev_; }
+    std::span<const double> current() const override { return u_curr_; }
+    std::span<const double> previous() const override { return u_prev_; }
     double height() const { return p_curr_; }                  // p^n (solve orientation)
+    // p^n while it is on the string (pulling or withdrawing), NaN before and after.
+    double body_height() const override;
     double contact_energy() const { return 0.5 * dx_ * (psi_curr_ + psi_prev_); }
-    double work() const { return work_; }                      // work of the prescribed motion so far
-    double loss() const { return loss_; }                      // contact loss so far (>= 0)
+    double energy() const override { return contact_energy(); }
+    double work() const override { return work_; }             // work of the prescribed motion so far
+    double loss() const override { return loss_; }             // contact loss so far (>= 0)
     double contact_force() const { return contact_force_; }    // on the string, N (last step)
     long release_step() const { return release_step_; }        // -1 until it lets go
-    int max_iterations() const { return max_iterations_; }
+    int max_iterations() const override { return max_iterations_; }
     // In the last step: whether the obstacle pushed on a pad point, and whether the plucker touched.
-    bool touched_obstacle() const { return touched_obstacle_; }
-    bool acted() const { return contact_force_ != 0.0; }
+    bool touched_obstacle() const override { return touched_obstacle_; }
+    bool acted() const override { return contact_force_ != 0.0; }
 
 private:
     double solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push);

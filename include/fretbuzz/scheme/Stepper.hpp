@@ -23,10 +23,55 @@
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/PlayedPart.hpp"
 #include "fretbuzz/scheme/Pluck.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
 
 namespace fretbuzz {
+
+// The parts playing the string (the case's fingers, force gestures and pluckers, in that order)
+// as one collection of PlayedPart, each with whether it is on the string (a finger lifted, a
+// plucker gone: off). Finger f is part f. A copy links to its own parts.
+class PlayedParts {
+public:
+    PlayedParts() = default;
+    PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks);
+    PlayedParts(const PlayedParts& other);
+    PlayedParts(PlayedParts&& other) noexcept = default;  // (the parts stay where they are)
+    PlayedParts& operator=(const PlayedParts&) = delete;
+    PlayedParts& operator=(PlayedParts&&) = delete;
+
+    std::size_t size() const { return parts_.size(); }
+    bool empty() const { return parts_.empty(); }
+    PlayedPart& operator[](std::size_t k) { return *parts_[k]; }
+    const PlayedPart& operator[](std::size_t k) const { return *parts_[k]; }
+    bool on(std::size_t k) const { return on_[k] != 0; }
+    void set_on(std::size_t k, bool on) { on_[k] = on ? 1 : 0; }
+    // f(part) for every part on the string.
+    template <class F>
+    void each_on(F&& f) {
+        for (std::size_t k = 0; k < parts_.size(); ++k)
+            if (on_[k] != 0) f(*parts_[k]);
+    }
+    template <class F>
+    void each_on(F&& f) const {
+        for (std::size_t k = 0; k < parts_.size(); ++k)
+            if (on_[k] != 0) f(static_cast<const PlayedPart&>(*parts_[k]));
+    }
+
+    const std::vector<Finger>& fingers() const { return fingers_; }
+    Finger& finger(std::size_t f) { return fingers_.at(f); }
+    const std::vector<Pluck>& plucks() const { return plucks_; }
+
+private:
+    void link();
+
+    std::vector<Finger> fingers_;
+    std::vector<ForceProfile> gestures_;
+    std::vector<Pluck> plucks_;
+    std::vector<PlayedPart*> parts_;
+    std::vector<char> on_;
+};
 
 struct StepStatistics {
     long contact_steps = 0;            // steps with a non-zero obstacle contact force somewhere
@@ -83,7 +128,7 @@ public:
     bool place_finger(std::size_t f, double centre_m, double width_m);
     // press_finger: from this step on, its pressing force ramps to force_n over ramp_steps steps.
     void press_finger(std::size_t f, double force_n, long ramp_steps);
-    bool finger_on(std::size_t f) const { return finger_on_.at(f) != 0; }
+    bool finger_on(std::size_t f) const;  // (std::out_of_range for no finger f)
 
     long step_index() const { return n_; }
     double time() const { return static_cast<double>(n_) * plan_.dt(); }
@@ -94,18 +139,18 @@ public:
     // (u(x, t_n) - u(x, t_{n-1})) / dt
     double velocity(std::span<const double> mode_shapes) const;
     // An observation row (a pickup's mode shapes, kept by the caller, which may change its
-    // values and then calls observe again): observation() is displacement(mode_shapes), bit
-    // for bit, formed by the step's own pass over the modes when it can (one pass fewer).
+    // values and then calls observe again): observation() is displacement(mode_shapes), formed
+    // by the step's own pass over the modes (one pass fewer).
     void observe(std::span<const double> mode_shapes);
     double observation() const;
     // Rows read after free flights (an output row's probes and bridge, kept by the caller, which
-    // calls observe_rows again after changing their values): out[r] = displacement(rows[r]) bit
-    // for bit, formed by a flight's closing jump in its own pass over the modes when it can.
+    // calls observe_rows again after changing their values): out[r] = displacement(rows[r]),
+    // formed by a flight's closing jump in its own pass over the modes when it can.
     void observe_rows(std::span<const double* const> rows);
     void row_displacements(std::span<double> out) const;
     // The caller reads energy() after every step that is a multiple of `steps` (its audit at
     // each output row; 0: no such promise): the pass that steps the modes into such a step
-    // forms the modal energy too, bit for bit modal_energy's (one pass fewer at an audio rate).
+    // forms the modal energy too (one pass fewer at an audio rate).
     void audit_every(long steps) { audit_stride_ = steps; }
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
@@ -118,10 +163,12 @@ public:
     double finger_energy() const;  // kinetic and contact energy of the fingers
     double finger_loss() const;    // their contact losses so far (>= 0)
     double work() const;           // work of the external forces (pressing forces, gestures) so far
-    const std::vector<Finger>& fingers() const { return fingers_; }
-    // Whether fingers or gestures act (the balance then counts their work).
-    bool played() const { return !fingers_.empty() || !gestures_.empty() || !plucks_.empty(); }
-    const std::vector<Pluck>& plucks() const { return plucks_; }
+    const std::vector<Finger>& fingers() const { return parts_.fingers(); }
+    // Whether fingers, gestures or pluckers act (the balance then counts their work).
+    bool played() const { return !parts_.empty(); }
+    const std::vector<Pluck>& plucks() const { return parts_.plucks(); }
+    // Every part playing the string, fingers first, then gestures and pluckers (the case's order).
+    const PlayedParts& played_parts() const { return parts_; }
 
     // Whether the obstacle pushed on the string in the last step (forces() also holds the
     // fingers' and gestures' forces at their pads).
@@ -148,6 +195,8 @@ private:
     void solve_contacts();
     // Into grid_ at `points`: the forecast where it has them, row products otherwise.
     void predict_points(std::span<const std::size_t> points);
+    void keep_observation();  // observed_ from the state as it is
+    void landing_rows();      // the rows a flight's closing jump forms: flight_rows_, then the observed one
     void apply_impulse();
     // The exact point obstacles (Plan::point_contact): their step, their impulse with the grid's
     // forces, and their forces reported at their nearest grid points (forces()).
@@ -161,16 +210,14 @@ private:
     void advance_with_points();
     void advance_modes();
     void put_points_to_sleep();
-    // by_rows: each pad point's prediction by predict_points (else from the transform in grid_,
-    // or by rows over the stored prediction).
-    void solve_fingers(bool use_transform, bool by_rows);
+    // use_transform: the predictions are in grid_ already.
+    void solve_fingers(bool use_transform);
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
-    void retire_plucker(const Pluck& pluck);
+    void retire(const PlayedPart& part);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
     // Starts a played part from the string under its pad at two levels (n-1 and n).
-    template <class Part>
-    void start_part(Part& part, std::span<const double> u_before, std::span<const double> u_now);
+    void start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now);
 
     const Plan& plan_;
     ContactScheduler scheduler_;
@@ -188,11 +235,7 @@ private:
     std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
-    std::vector<Finger> fingers_;
-    std::vector<ForceProfile> gestures_;
-    std::vector<Pluck> plucks_;
-    std::vector<char> plucker_on_;        // per plucker: its pad is still claimed
-    std::vector<char> finger_on_;         // per finger: on the string (place_finger / lift_finger)
+    PlayedParts parts_;
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
@@ -206,24 +249,34 @@ private:
     double dissipated_ = 0.0;
     bool touched_obstacle_ = false;
     long next_speed_refresh_ = 0;
-    mutable long energy_step_ = -1;  // the step modal_energy_ belongs to
+    // The modal energy of step energy_step_, formed by the pass into an audited step (audit_every)
+    // or a flight's closing jump, else by modal_energy() when asked. Kept because it pays: without
+    // it, a run stepping at an audio rate makes a pass more per step (the sitar bridge at 48 kHz,
+    // fretbuzz_bench --contact: 13 % slower).
+    mutable long energy_step_ = -1;
     mutable double modal_energy_ = 0.0;
     StepStatistics stats_;
-    // The next step's free prediction at a few active points, formed by advance_modes while it
-    // holds q^{n+1}; solve_contacts reads it at step `step` (restart forgets it: the state changed).
+    // The next step's free prediction at the points solved now (active, pads), formed by
+    // advance_modes while it holds q^{n+1}; the next solve_contacts reads it. Whatever else
+    // changes the state (restart, a flight) empties it. Without it, a string resting on a
+    // bridge or held by a finger makes a pass more per step (fretbuzz_bench: the fretted pop
+    // 9 % slower, the bass pop's contact window 5.5 %, the sitar bridge 4.7 %).
     struct Forecast {
-        long step = -1;
         std::size_t count = 0;
-        std::array<std::size_t, kernels::kMaxForecastRows> points{};
-        std::array<double, kernels::kMaxForecastRows> values{};
+        std::array<std::size_t, kernels::kMaxPassRows> points{};
+        std::array<double, kernels::kMaxPassRows> values{};
     };
     Forecast forecast_;
+    std::vector<std::size_t> others_;       // scratch: points predict_points finds no forecast for
     const double* observed_row_ = nullptr;  // observe(): one row, or none
-    long observed_step_ = -1;               // the step observed_ belongs to
-    double observed_ = 0.0;
-    std::vector<const double*> flight_rows_;  // observe_rows()
-    std::vector<double> flight_row_values_;
-    long flight_rows_step_ = -1;              // the step flight_row_values_ belongs to
+    double observed_ = 0.0;                 // its displacement in the current state (fused_step)
+    std::vector<const double*> flight_rows_;    // observe_rows()
+    std::vector<const double*> landing_rows_;   // flight_rows_, then observed_row_ if any
+    // Their products, formed by the closing jump of the flight that ended at step
+    // flight_rows_step_. Kept because it pays: without it, every output row after a flight takes
+    // a pass of its own (fretbuzz_bench: Outputs/bass-pop-3s 16 % slower, Fast/bass-pop 6 %).
+    std::vector<double> landing_values_;
+    long flight_rows_step_ = -1;
     long audit_stride_ = 0;                   // audit_every()
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a stepper stays copyable)
 };
