@@ -64,7 +64,7 @@ public:
     // The same equation by Newton's method from r = b, the plain start: what solve's model
     // start is tested against (the same root to round-off).
     ContactSolution solve_from_b(double a, double b, double k) const;
-    // out[i] = solve(a[i], b[i], k) for every i, bit for bit. For alpha = 3/2, the first
+    // out[i] = solve(a[i], b[i], k) for every i, to round-off. For alpha = 3/2, the first
     // iterates and Newton's first step are computed four equations at a time (a string landing
     // on a flat obstacle: hundreds at once); the equations out of contact or solved there are
     // finished, the others go on in solve. Returns how many were finished four at a time.
