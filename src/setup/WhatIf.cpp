@@ -107,15 +107,15 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
     for (const auto& [name, value] : change.action12_m) {
         if (neck.fret_count < 12) throw InputError("--action12: the neck has only " + std::to_string(neck.fret_count) + " frets");
         require_mm("--action12 " + name, value, 1e-5, 10e-3);
-        set_end("--action12", name, [&](InstrumentString& s) { s.bridge = {StringEnd::Form::gap_over_fret, value, 12}; });
+        set_end("--action12", name, [gap = value](InstrumentString& s) { s.bridge = {StringEnd::Form::gap_over_fret, gap, 12}; });
     }
     for (const auto& [name, value] : change.nut_m) {
         require_mm("--nut " + name, value, 1e-5, 5e-3);
-        set_end("--nut", name, [&](InstrumentString& s) { s.nut = {StringEnd::Form::gap_over_fret, value, 1}; });
+        set_end("--nut", name, [gap = value](InstrumentString& s) { s.nut = {StringEnd::Form::gap_over_fret, gap, 1}; });
     }
     for (const auto& [name, value] : change.saddle_m) {
         require_mm("--saddle " + name, value, 1e-5, 30e-3);
-        set_end("--saddle", name, [&](InstrumentString& s) { s.bridge = {StringEnd::Form::height, value, 0}; });
+        set_end("--saddle", name, [height = value](InstrumentString& s) { s.bridge = {StringEnd::Form::height, height, 0}; });
     }
     return out;
 }
