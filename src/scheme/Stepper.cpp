@@ -660,7 +660,6 @@ bool Stepper::points_by_rows() const {
 }
 
 void Stepper::advance_with_points() {
-    const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
     kernels::StepPass pass;
     std::array<double, Plan::kMaxInlinePushes> coefficients;
@@ -684,13 +683,22 @@ void Stepper::advance_with_points() {
     // reference path forms them in passes of their own).
     forecast_.count = 0;
     const bool fused = plan_.options().fused_step;
-    double energy = 0.0;
-    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
     if (fused) {
         for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
         pass.predict_rows = predict_rows.data();
         pass.predict_count = points.size();
         pass.predicted = point_forecast_.data();
+    }
+    run_pass(pass);
+    point_forecast_step_ = fused ? n_ + 1 : -1;
+}
+
+void Stepper::run_pass(kernels::StepPass& pass) {
+    const ModalPropagator& prop = plan_.propagator();
+    // (at an audio rate every step: no integer division for it)
+    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
+    double energy = 0.0;
+    if (plan_.options().fused_step) {
         if (observed_row_ != nullptr) {
             pass.observe_row = observed_row_;
             pass.observed = &observed_;
@@ -701,7 +709,6 @@ void Stepper::advance_with_points() {
                                               prop.lossless() ? nullptr : prop.loss().data(), pass, q_.data(),
                                               d_.data(), q_.size());
     dissipated_ += plan_.modal_loss_scale() * losses;
-    point_forecast_step_ = fused ? n_ + 1 : -1;
     if (pass.energy != nullptr) keep_modal_energy(n_ + 1, energy);
 }
 
@@ -715,8 +722,6 @@ void Stepper::apply_impulse() {
 }
 
 void Stepper::advance_modes() {
-    const ModalPropagator& prop = plan_.propagator();
-    const std::size_t n = q_.size();
     if (!plan_.point_contact().empty() && points_by_rows()) {
         advance_with_points();
         return;
@@ -762,19 +767,7 @@ void Stepper::advance_modes() {
         pass.predict_count = count;
         pass.predicted = forecast_.values.data();
     }
-    if (fused && observed_row_ != nullptr) {
-        pass.observe_row = observed_row_;
-        pass.observed = &observed_;
-    }
-    // (at an audio rate every step: no integer division for it)
-    const bool audited = audit_stride_ == 1 || (audit_stride_ > 1 && (n_ + 1) % audit_stride_ == 0);
-    double energy = 0.0;
-    if (fused && audited) pass.energy = &energy;
-    const double losses = plan_.step_kernel()(prop.decay().data(), prop.beta().data(),
-                                              prop.lossless() ? nullptr : prop.loss().data(), pass, q_.data(),
-                                              d_.data(), n);
-    dissipated_ += plan_.modal_loss_scale() * losses;
-    if (pass.energy != nullptr) keep_modal_energy(n_ + 1, energy);
+    run_pass(pass);
 }
 
 void Stepper::put_points_to_sleep() {

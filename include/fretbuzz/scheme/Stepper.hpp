@@ -208,6 +208,9 @@ private:
     // apply_point_impulse's vector).
     bool points_by_rows() const;
     void advance_with_points();
+    // Runs the plan's step kernel on `pass`, adding (fused) the observation and, where audited, the
+    // energy of the state it leaves; counts its losses.
+    void run_pass(kernels::StepPass& pass);
     void advance_modes();
     void put_points_to_sleep();
     // use_transform: the predictions are in grid_ already.
