@@ -1,13 +1,19 @@
-// A force gesture (ForceProfile): a prescribed F(t) at a point or over a pad. Its work enters
-// the discrete balance exactly (H - work + dissipated constant to round-off, lossless and
-// lossy, over 1e5 steps, with the string driven into the frets), a string held by a constant
-// force settles at the static deflection of a taut string, the screened path equals the
+// A force gesture (ForceProfile): a prescribed F(t) at a point or over a pad, at its exact
+// position whatever the mode count. Its work enters the discrete balance exactly (H - work +
+// dissipated constant to round-off, lossless and lossy, over 1e5 steps, with the string driven
+// into the frets or onto exact point obstacles), a string held by a constant force settles at
+// the static deflection of a taut string at the force's own x, the response converges with the
+// mode count (and not to the grid-snapped force's), the screened path equals the
 // straightforward one, and bad gesture input is refused naming the key.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
 
 #include "SmallBass.hpp"
 #include "TestSupport.hpp"
@@ -72,6 +78,105 @@ TEST(ForceGesture, BalanceWithDampingIsExactForAPointForceUp) {
     const Balance b = balance(c, 100000);
     EXPECT_GT(b.work, 0.0);
     EXPECT_LT(b.worst, 1e-10);
+}
+
+// An ideal string (L = mu = 1, tension T) with `modes` modes and the given obstacle lines.
+Case ideal_string(std::size_t modes, double tension, const std::string& obstacle, double fs) {
+    const std::string text = R"(name = "ideal-gesture"
+[string]
+L = 1.0
+T = )" + std::to_string(tension) + R"(
+mu = 1.0
+modes = )" + std::to_string(modes) + R"(
+ideal = true
+[obstacle]
+)" + obstacle + R"(
+[excitation]
+type = "sine"
+mode = 1
+amplitude = 0.0
+[contact]
+K = 1e5
+alpha = 1.5
+[run]
+fs = )" + std::to_string(fs) + R"(
+duration = 1.0
+lossless = true
+[observe]
+x = [0.7]
+)";
+    return parse_case(text, "ideal-gesture.toml", DataSource::builtin());
+}
+
+// u(x_obs) at every step of `steps`.
+std::vector<double> observed(const Case& c, double x_obs, long steps) {
+    c.validate();
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    const std::vector<double> probe = plan.basis().mode_shapes_at(x_obs);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    std::vector<double> u;
+    for (long n = 0; n < steps; ++n) {
+        s.step();
+        u.push_back(s.displacement(probe));
+    }
+    return u;
+}
+
+// The static deflection of a taut string under a point force F at x0, u(x0) = F x0 (L - x0) / (T L),
+// at x0 = 0.2013, off every grid point: the modal series truncated after N modes falls short of it
+// by at most 2 F / (pi^2 N T) (its tail, sum_{j > N} 2 / (j pi)^2); the force at the nearest grid
+// point of 200 modes (0.1990) would give 1.1 % less.
+TEST(ForceGesture, APointForceSettlesAtTheStaticDeflectionAtItsExactPosition) {
+    const double x0 = 0.2013, force = 0.5, tension = 1e4;
+    const double expected = force * x0 * (1.0 - x0) / tension;
+    for (std::size_t modes : {200u, 800u}) {
+        // (fs high enough that the scheme's own static response, (w dt)^2 / (2 - 2 cos w dt) of
+        // the exact one per mode, adds less than 1e-4 of u)
+        Case c = ideal_string(modes, tension, "type = \"none\"", 1e6);
+        for (double& sigma : c.modes.sigma_per_s) sigma = 400.0;  // settles within 0.1 s
+        c.forces.push_back(push(x0, 0.0, -1.0, {{0.0, force}}));
+        const double u = observed(c, x0, 100000).back();
+        const double truncation = 2.0 * force / (std::numbers::pi * std::numbers::pi * static_cast<double>(modes) * tension);
+        std::printf("%zu modes: u(x0) = %.6e, static %.6e (relative %.2e, truncation bound %.2e)\n", modes, u, expected,
+                    (u - expected) / expected, truncation / expected);
+        EXPECT_NEAR(u, expected, truncation) << modes << " modes";
+    }
+}
+
+// A short push (1 ms up to 0.5 N and back) at x = 0.2013 on the ideal string (c = 100 m/s), with
+// no obstacle: u(0.7, t) over 20 ms at 200 and 400 modes against 800 (x is off every one of their
+// grid points). The differences shrink as the modes double; the same push at the nearest grid
+// point of 200 modes (what a grid-snapped force does) differs from the converged run by far more.
+TEST(ForceGesture, ResponseConvergesWithTheModeCountAtTheExactPosition) {
+    const double x0 = 0.2013;
+    const auto run = [&](std::size_t modes, double x) {
+        Case c = ideal_string(modes, 1e4, "type = \"none\"", 2e5);
+        c.forces.push_back(push(x, 0.0, 1.0, {{0.0, 0.0}, {0.0005, 0.5}, {0.001, 0.0}}));
+        return observed(c, 0.7, 4000);
+    };
+    const std::vector<double> u200 = run(200, x0), u400 = run(400, x0), u800 = run(800, x0);
+    const double snapped_x = std::round(x0 * 201.0) / 201.0;
+    const std::vector<double> snapped = run(200, snapped_x);
+    const double coarse = testing::relative_l2(u200, u800), fine = testing::relative_l2(u400, u800);
+    const double grid = testing::relative_l2(snapped, u800);
+    std::printf("relative L2 of u(0.7) against 800 modes: 200 modes %.3g, 400 modes %.3g; snapped to x = %.4f: %.3g\n",
+                coarse, fine, snapped_x, grid);
+    EXPECT_LT(coarse, 3e-4);
+    EXPECT_LT(fine, 0.6 * coarse);
+    EXPECT_GT(grid, 5.0 * coarse);
+}
+
+// Exact point obstacles (three, 2 mm apart, off the grid, coupled) and a gesture off the grid
+// pressing the string onto them, then letting go: lossless, H - work is constant to round-off.
+TEST(ForceGesture, LosslessBalanceWithExactPointsIsRoundOff) {
+    for (double width : {0.0, 0.013}) {
+        Case c = ideal_string(110, 1.0, "type = \"points\"\nx = [0.2, 0.202, 0.204]\nheight = -1e-3", 1e5);
+        c.forces.push_back(push(0.2513, width, 1.0, {{0.0, 0.0}, {0.2, 0.02}, {0.3, 0.0}}));
+        const Balance b = balance(c, 60000);
+        std::printf("width %g: balance %.2e, work %.3g J, %ld steps in contact\n", width, b.worst, b.work, b.contact_steps);
+        EXPECT_GT(b.contact_steps, 100);
+        EXPECT_LT(b.worst, 1e-12);
+    }
 }
 
 TEST(ForceGesture, AConstantForceSettlesAtTheTautStringsStaticDeflection) {

@@ -1,5 +1,5 @@
 // [[gesture]] tables: gestures in time. type = "force": a prescribed force F(t) at a point
-// or over a pad: position (m), width (m, default 0: the nearest grid point), direction
+// or over a pad: position (m), width (m, default 0: a point force at its exact position), direction
 // ("down", toward the fretboard, the default, or "up"), angle (degrees from z toward y, two
 // polarisations), force (N: a number, or [[t_s, F_N], ...] linear in between). type = "pluck"
 // (direction "up" or "down", required) or "pop" (always "up"): a plucker on a prescribed path,

@@ -356,8 +356,13 @@ void RunLoop::report_output() {
 void RunLoop::report_played() {
     for (RunObserver* o : observers_) o->finger_energy(stepper_.finger_energy(), stepper_.work(), stepper_.finger_loss());
     played_heights_.clear();
+    // The case's order: fingers, force gestures (no body: NaN), pluckers.
     const PlayedParts& parts = stepper_.played_parts();
-    for (std::size_t k = 0; k < parts.size(); ++k) played_heights_.push_back(plan_.oriented(parts[k].body_height()));
+    const std::size_t fingers = stepper_.fingers().size();
+    for (std::size_t k = 0; k <= parts.size(); ++k) {
+        if (k == fingers) played_heights_.insert(played_heights_.end(), stepper_.gestures().size(), std::nan(""));
+        if (k < parts.size()) played_heights_.push_back(plan_.oriented(parts[k].body_height()));
+    }
     for (RunObserver* o : observers_) o->played_heights(played_heights_);
 }
 

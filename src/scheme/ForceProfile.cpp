@@ -1,63 +1,36 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
+#include <numbers>
 
-#include "fretbuzz/scheme/SecondPolarisation.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
-ForceProfile::ForceProfile(const ForceSpec& spec, double dx, const std::vector<double>& obstacle,
-                           const PenaltyContact& law, double dt, double k)
+ForceProfile::ForceProfile(const ForceSpec& spec, const ModalBasis& basis, double dt, double along)
     : force_(spec.force_profile),
-      direction_(spec.direction * polarisation_share(spec.angle_deg, false)),  // its z part
-      dx_(dx),
+      along_(along),
       dt_(dt),
-      k_(k),
-      law_(law),
-      pad_(pad_points(spec.position_m, spec.width_m, dx, obstacle.size())) {
-    for (std::size_t i : pad_) g_.push_back(obstacle[i]);
-    u_curr_.assign(pad_.size(), 0.0);
-    u_prev_.assign(pad_.size(), 0.0);
-}
-
-void ForceProfile::read_obstacle(const std::vector<double>& obstacle) {
-    for (std::size_t p = 0; p < pad_.size(); ++p) g_[p] = obstacle[pad_[p]];
-}
-
-double ForceProfile::body_height() const { return std::numeric_limits<double>::quiet_NaN(); }
-
-void ForceProfile::start(std::span<const double> u0, std::span<const double> u1) {
-    u_prev_.assign(u0.begin(), u0.end());
-    u_curr_.assign(u1.begin(), u1.end());
-}
-
-double ForceProfile::step(long n, std::span<const double> predicted, std::span<double> force) {
-    const double applied = -direction_ * force_.at(static_cast<double>(n) * dt_) / (static_cast<double>(pad_.size()) * dx_);
-    double psi = 0.0, work = 0.0;
-    acted_ = applied != 0.0;
-    touched_obstacle_ = false;
-    for (std::size_t p = 0; p < pad_.size(); ++p) {
-        const double w = predicted[p] + k_ * applied;
-        double u_next = w, obstacle_force = 0.0;
-        if (std::isfinite(g_[p])) {
-            const double a = g_[p] - u_prev_[p];
-            const ContactSolution s = law_.solve(a, g_[p] - w - a, k_);
-            const double eta_next = a + s.increment;
-            u_next = g_[p] - eta_next;
-            obstacle_force = s.force;
-            touched_obstacle_ = touched_obstacle_ || s.force != 0.0;
-            psi += law_.potential(eta_next);
-            max_iterations_ = std::max(max_iterations_, s.iterations);
+      quiet_from_s_(force_.zero_from()),  // (also with no share here: the other polarisation's)
+      shape_(basis.mode_shapes_at(spec.position_m)),
+      on_grid_(basis.mode_count(), 0.0) {
+    // The pad's mean of sin(j pi x / L) over [x - w/2, x + w/2]: sin(j pi x / L) sin(h) / h.
+    const double half_angle = 0.5 * std::numbers::pi * spec.width_m / basis.length();
+    if (half_angle > 0.0)
+        for (std::size_t j = 0; j < shape_.size(); ++j) {
+            const double h = static_cast<double>(j + 1) * half_angle;
+            shape_[j] *= std::sin(h) / h;
         }
-        force[p] = applied + obstacle_force;
-        work += applied * (u_next - u_prev_[p]);
-        u_prev_[p] = u_curr_[p];
-        u_curr_[p] = u_next;
-    }
-    work_ += 0.5 * dx_ * work;
-    return psi;
+    basis.to_grid(shape_, on_grid_);
+}
+
+void ForceProfile::begin_step(std::span<const double> q, std::span<const double> d) {
+    double now = 0.0;
+    kernels::dot_current_previous(shape_.data(), q.data(), d.data(), q.size(), now, before_);
+}
+
+void ForceProfile::end_step(std::span<const double> q, double load) {
+    work_ += 0.5 * load * (kernels::dot(shape_.data(), q.data(), q.size()) - before_);
 }
 
 }  // namespace fretbuzz

@@ -18,36 +18,25 @@ SecondPolarisation::SecondPolarisation(const Plan& plan, std::span<const double>
       grid_(q0.size(), 0.0),
       before_(q0.size(), 0.0) {
     forces_.reserve(q0.size());
-    const double dx = plan.basis().grid_step();
     for (const ForceSpec& spec : plan.forces()) {
         const double share = polarisation_share(spec.angle_deg, true);
-        if (share == 0.0) continue;
-        std::vector<std::size_t> pad = pad_points(spec.position_m, spec.width_m, dx, q0.size());
-        const double per_point = share / (static_cast<double>(pad.size()) * dx);
-        gestures_.push_back({TimeProfile(spec.force_profile), per_point, std::move(pad)});
+        if (share != 0.0) gestures_.emplace_back(spec, plan.basis(), plan.dt(), share);
     }
+    gesture_load_.assign(gestures_.size(), 0.0);
 }
 
-void SecondPolarisation::add_gesture_forces(long n) {
-    // Explicit, as along z: f_i = sin(angle) F(t_n) / (pad dx), its work over the step
-    // dx f_i (y_i^{n+1} - y_i^{n-1}) / 2 with y_i^{n+1} = w_i + k f_i (no friction on a pad).
-    const ModalPropagator& prop = plan_.propagator_y();
-    const std::size_t size = q_.size();
+bool SecondPolarisation::add_gesture_loads(long n) {
+    // Explicit, as along z (see ForceProfile), added to the friction's impulse.
+    bool loaded = false;
     const double k = plan_.force_to_displacement();
-    const double dx = plan_.basis().grid_step();
-    kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), size);
-    for (const Gesture& g : gestures_) {
-        const double f = g.share * g.force.at(static_cast<double>(n) * plan_.dt());
-        if (f == 0.0) continue;
-        for (std::size_t i : g.pad) {
-            const double* row = plan_.basis().row(i).data();
-            double y_now = 0.0, y_before = 0.0;
-            kernels::dot_current_previous(row, q_.data(), d_.data(), size, y_now, y_before);
-            const double w = kernels::dot(row, predicted_.data(), size);
-            work_ += 0.5 * dx * f * (w + k * f - y_before);
-            forces_.emplace_back(i, f);
-        }
+    for (std::size_t g = 0; g < gestures_.size(); ++g) {
+        gesture_load_[g] = gestures_[g].at_step(n);
+        if (gesture_load_[g] == 0.0) continue;
+        if (!loaded && forces_.empty()) std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        loaded = true;
+        kernels::axpy(k * gesture_load_[g], gestures_[g].shape().data(), impulse_.data(), impulse_.size());
     }
+    return loaded;
 }
 
 void SecondPolarisation::first_step() {
@@ -61,7 +50,13 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
     const Friction& law = plan_.friction();
     const std::size_t n = q_.size();
     forces_.clear();
-    if (!gestures_.empty()) add_gesture_forces(step);
+    // The gestures' loads of this step move y at every point: the friction is solved with them.
+    const double k_load = plan_.force_to_displacement();
+    const auto load_at = [&](std::size_t i) {
+        double u = 0.0;
+        for (std::size_t g = 0; g < gestures_.size(); ++g) u += gestures_[g].at_step(step) * gestures_[g].on_grid(i);
+        return k_load * u;
+    };
     if (law.coefficient() > 0.0 && !normal.empty()) {
         const double dt = plan_.dt();
         const double k = plan_.force_to_displacement();
@@ -84,6 +79,7 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
                 w = kernels::dot(row, predicted_.data(), n);
                 kernels::dot_current_previous(row, q_.data(), d_.data(), n, y_now, y_before);
             }
+            if (!gestures_.empty()) w += load_at(i);
             const FrictionSolution s = law.solve((w - y_before) / (2.0 * dt), f_n, k, dt);
             max_iterations_ = std::max(max_iterations_, s.iterations);
             // -dx f (y^{n+1} - y^{n-1}) / 2 with y^{n+1} - y^{n-1} = 2 dt v: >= 0 exactly.
@@ -92,10 +88,15 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
         }
     }
     spread_forces();
+    const bool loaded = !gestures_.empty() && add_gesture_loads(step);
+    if (loaded)
+        for (ForceProfile& g : gestures_) g.begin_step(q_, d_);
     const double losses =
         kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
-                         forces_.empty() ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+                         forces_.empty() && !loaded ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     damping_ += plan_.modal_loss_scale() * losses;
+    for (std::size_t g = 0; g < gestures_.size() && loaded; ++g)
+        if (gesture_load_[g] != 0.0) gestures_[g].end_step(q_, gesture_load_[g]);
 }
 
 void SecondPolarisation::spread_forces() {

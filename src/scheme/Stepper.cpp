@@ -23,23 +23,30 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
                            plan.force_to_displacement());
     return parts;
 }
+
+// The case's force gestures along z, each at its exact position.
+std::vector<ForceProfile> gestures_of(const Plan& plan) {
+    std::vector<ForceProfile> gestures;
+    for (const ForceSpec& spec : plan.forces())
+        gestures.emplace_back(spec, plan.basis(), plan.dt(), -spec.direction * polarisation_share(spec.angle_deg, false));
+    return gestures;
+}
 }  // namespace
 
-PlayedParts::PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks)
-    : fingers_(std::move(fingers)), gestures_(std::move(gestures)), plucks_(std::move(plucks)) {
+PlayedParts::PlayedParts(std::vector<Finger> fingers, std::vector<Pluck> plucks)
+    : fingers_(std::move(fingers)), plucks_(std::move(plucks)) {
     link();
     on_.assign(parts_.size(), 1);
 }
 
 PlayedParts::PlayedParts(const PlayedParts& other)
-    : fingers_(other.fingers_), gestures_(other.gestures_), plucks_(other.plucks_), on_(other.on_) {
+    : fingers_(other.fingers_), plucks_(other.plucks_), on_(other.on_) {
     link();
 }
 
 void PlayedParts::link() {
     parts_.clear();
     for (Finger& f : fingers_) parts_.push_back(&f);
-    for (ForceProfile& g : gestures_) parts_.push_back(&g);
     for (Pluck& p : plucks_) parts_.push_back(&p);
 }
 
@@ -55,8 +62,9 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
-      parts_(parts_of<Finger>(plan, plan.fingers()), parts_of<ForceProfile>(plan, plan.forces()),
-             parts_of<Pluck>(plan, plan.plucks())),
+      parts_(parts_of<Finger>(plan, plan.fingers()), parts_of<Pluck>(plan, plan.plucks())),
+      gestures_(gestures_of(plan)),
+      gesture_load_(gestures_.size(), 0.0),
       on_pad_(q0.size(), 0),
       points_(plan.point_contact().make_state()),
       point_predicted_(plan.point_contact().size(), 0.0),
@@ -75,8 +83,11 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     others_.reserve(q0.size());
     std::size_t k = 0;  // the parts are in the specs' order
     for (const FingerSpec& spec : plan.fingers()) claim_pad(parts_[k++].pad(), spec.key);
-    for (const ForceSpec& spec : plan.forces()) claim_pad(parts_[k++].pad(), spec.key);
     for (const PluckSpec& spec : plan.plucks()) claim_pad(parts_[k++].pad(), spec.key);
+    const PointContact& points = plan.point_contact();
+    for (const ForceProfile& g : gestures_)
+        for (std::size_t p = 0; p < points.size(); ++p)
+            gesture_at_points_.push_back(kernels::dot(g.shape().data(), points.row(p).data(), q0.size()));
 }
 
 void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
@@ -288,6 +299,7 @@ double Stepper::finger_loss() const {
 double Stepper::work() const {
     double e = 0.0;
     for (std::size_t k = 0; k < parts_.size(); ++k) e += parts_[k].work();
+    for (const ForceProfile& g : gestures_) e += g.work();
     return y_ ? e + y_->work() : e;
 }
 
@@ -307,13 +319,18 @@ void Stepper::step() {
     wake_due_points();
     solve_contacts();
     apply_impulse();
-    advance_modes();
+    if (loaded_)
+        advance_loaded();
+    else
+        advance_modes();
     if (y_) y_->step(n_, rubbing_points());  // friction from this step's normal forces
     if (screening_) {
         scheduler_.end_step();
         if (n_ + 1 >= next_speed_refresh_) {
             scheduler_.motion_changed(q_, d_);  // the modes have decayed: a tighter bound
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
+        } else if (loaded_) {
+            scheduler_.pushed(q_, d_, impulse_);  // apply_impulse formed the whole impulse
         } else if (!forces_.empty()) {
             // the motion from here on is a new free motion; where apply_impulse projected the
             // forces onto the modes, the bounds grow by that impulse (no point's weight needed)
@@ -331,8 +348,10 @@ void Stepper::step() {
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                           std::vector<double>& u, std::vector<double>* v, bool step_head) {
     const long steps = flight.steps();
-    // A finger may touch at any time: its pad points are solved every step (and exact points).
-    if (n_ == 0 || !screening_ || pad_points_ != 0 || !plan_.point_contact().empty() || !active_.empty() || psi_curr_ != 0.0 || psi_prev_ != 0.0)
+    // A finger may touch at any time: its pad points are solved every step (and exact points);
+    // a gesture loads the string until its force has ended.
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || !plan_.point_contact().empty() || !active_.empty() ||
+        psi_curr_ != 0.0 || psi_prev_ != 0.0 || gestures_act_from(n_))
         return 0;
     scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
     const ModalPropagator& prop = plan_.propagator();
@@ -470,6 +489,8 @@ void Stepper::solve_contacts() {
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + plan_.point_contact().size());
+    loaded_ = false;
+    if (!gestures_.empty()) load_gestures();
     points_pushed_ = !plan_.point_contact().empty() && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
@@ -485,10 +506,12 @@ void Stepper::solve_contacts() {
     } else {
         predict_points(active_);
     }
+    if (loaded_)
+        for (std::size_t i : active_) grid_[i] += gestures_at_grid(i);
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (played()) solve_fingers(use_transform);
+    if (!parts_.empty()) solve_fingers(use_transform);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform;
@@ -578,7 +601,7 @@ void Stepper::solve_fingers(bool use_transform) {
         // at the pad's points, which are not active points: their values stay).
         if (!use_transform) predict_points(part.pad());
         pad_w_.clear();
-        for (std::size_t i : part.pad()) pad_w_.push_back(grid_[i]);
+        for (std::size_t i : part.pad()) pad_w_.push_back(loaded_ ? grid_[i] + gestures_at_grid(i) : grid_[i]);
         pad_f_.assign(pad_w_.size(), 0.0);
         psi_curr_ += part.step(n_, pad_w_, pad_f_);
         stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
@@ -596,7 +619,39 @@ void Stepper::solve_fingers(bool use_transform) {
         }
         solve(parts_[k]);
     }
-    if (acted) ++stats_.played_steps;
+    if (acted && !loaded_) ++stats_.played_steps;  // (load_gestures counted a loaded step)
+}
+
+void Stepper::load_gestures() {
+    for (std::size_t g = 0; g < gestures_.size(); ++g) {
+        gesture_load_[g] = gestures_[g].at_step(n_);
+        loaded_ = loaded_ || gesture_load_[g] != 0.0;
+    }
+    if (loaded_) ++stats_.played_steps;
+}
+
+double Stepper::gestures_at_grid(std::size_t i) const {
+    double u = 0.0;
+    for (std::size_t g = 0; g < gestures_.size(); ++g) u += gesture_load_[g] * gestures_[g].on_grid(i);
+    return plan_.force_to_displacement() * u;
+}
+
+double Stepper::gestures_at_point(std::size_t p) const {
+    const std::size_t points = plan_.point_contact().size();
+    double u = 0.0;
+    for (std::size_t g = 0; g < gestures_.size(); ++g) u += gesture_load_[g] * gesture_at_points_[g * points + p];
+    return plan_.force_to_displacement() * u;
+}
+
+bool Stepper::gestures_act_from(long n) const {
+    return std::any_of(gestures_.begin(), gestures_.end(), [n](const ForceProfile& g) { return g.acts_from(n); });
+}
+
+void Stepper::advance_loaded() {
+    for (ForceProfile& g : gestures_) g.begin_step(q_, d_);
+    advance_modes();
+    for (std::size_t g = 0; g < gestures_.size(); ++g)
+        if (gesture_load_[g] != 0.0) gestures_[g].end_step(q_, gesture_load_[g]);
 }
 
 void Stepper::retire(const PlayedPart& part) {
@@ -627,6 +682,8 @@ bool Stepper::solve_points() {
                 point_predicted_[p] = kernels::dot(points.row(p).data(), predicted_.data(), q_.size());
         }
     }
+    if (loaded_)
+        for (std::size_t p = 0; p < points.size(); ++p) point_predicted_[p] += gestures_at_point(p);
     const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
@@ -713,6 +770,19 @@ void Stepper::run_pass(kernels::StepPass& pass) {
 }
 
 void Stepper::apply_impulse() {
+    if (loaded_) {  // the gestures' loads with every force in one impulse vector (a few steps' work)
+        if (points_pushed_)
+            apply_point_impulse();
+        else if (forces_.empty())
+            std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        else
+            plan_.forces_to_modes(forces_, grid_, impulse_);
+        const double k = plan_.force_to_displacement();
+        for (std::size_t g = 0; g < gestures_.size(); ++g)
+            if (gesture_load_[g] != 0.0)
+                kernels::axpy(k * gesture_load_[g], gestures_[g].shape().data(), impulse_.data(), impulse_.size());
+        return;
+    }
     if (points_pushed_) {
         if (!points_by_rows()) apply_point_impulse();
         return;
@@ -722,17 +792,18 @@ void Stepper::apply_impulse() {
 }
 
 void Stepper::advance_modes() {
-    if (!plan_.point_contact().empty() && points_by_rows()) {
+    if (!loaded_ && !plan_.point_contact().empty() && points_by_rows()) {
         advance_with_points();
         return;
     }
-    const std::size_t pushes = points_pushed_ ? 0 : forces_.size();
+    const bool whole = points_pushed_ || loaded_;  // apply_impulse formed the whole impulse
+    const std::size_t pushes = whole ? 0 : forces_.size();
     kernels::StepPass pass;
     // Not zeroed (GCC zeroes such arrays with rep stos, slow to start, at every step): only the
     // first entries are read.
     std::array<double, kernels::kMaxPassRows> coefficients;
     std::array<const double*, kernels::kMaxPassRows> push_rows, predict_rows;
-    if (points_pushed_) {  // apply_point_impulse holds every force
+    if (whole) {
         pass.impulse = impulse_.data();
     } else if (plan_.pushes_inline(pushes)) {  // the pass adds the rows; otherwise apply_impulse made the vector
         for (std::size_t r = 0; r < pushes; ++r) {

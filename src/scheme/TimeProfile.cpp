@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fretbuzz {
 
@@ -16,6 +17,14 @@ double TimeProfile::at(double t) const {
     const auto before = after - 1;
     const double s = (t - (*before)[0]) / ((*after)[0] - (*before)[0]);
     return (*before)[1] + s * ((*after)[1] - (*before)[1]);
+}
+
+double TimeProfile::zero_from() const {
+    std::size_t k = points_.size();
+    while (k > 0 && points_[k - 1][1] == 0.0) --k;
+    if (k == 0) return -std::numeric_limits<double>::infinity();
+    if (k == points_.size()) return std::numeric_limits<double>::infinity();
+    return points_[k][0];  // the first zero after the last non-zero value
 }
 
 std::vector<std::size_t> pad_points(double centre, double width, double dx, std::size_t points) {

@@ -1,53 +1,50 @@
 #pragma once
-// A prescribed force F(t) on the string (a plain force gesture), spread evenly over a pad of
-// grid points (the nearest point when the pad is narrower than the grid step). Direction
-// +1 pushes toward the fretboard (down in the solve's orientation), -1 pulls away from it.
-// Known at step n, its force density f_i = -direction F(t_n) / (n_pad dx) enters the scheme
-// explicitly, u_i^{n+1} = w_i + (dt^2/mu) (f_i + obstacle force at i), the obstacle at a pad
-// point being solved with it (its scalar equation with w_i shifted by (dt^2/mu) f_i). Its
-// work over the step, dx sum_i f_i (u_i^{n+1} - u_i^{n-1}) / 2, is exactly what the discrete
-// energy gains from it, so H - work + dissipated stays constant to round-off.
+// A prescribed force F(t) on the string (a plain force gesture) at its exact position: a point
+// force at x (width 0), or a force spread evenly over [x - w/2, x + w/2], whatever the grid.
+// Its load on mode j is F(t) times the pad's weight on the mode,
+//     s_j = mean of phi_j over the pad = phi_j(x) sin(h_j) / h_j,   h_j = j pi w / (2 L)
+// (s_j = phi_j(x) for a point). Known at step n, it needs no solve of its own:
+//     q^{n+1} = C q^n - C~ q^{n-1} + (dt^2/mu) f^n s + (contact),   f^n = a F(t_n)
+// (a: its signed share along this polarisation), and the step's contacts are solved with the
+// free prediction shifted by its load. Its work over the step, f^n (u_s^{n+1} - u_s^{n-1}) / 2
+// with u_s = s . q the pad's mean displacement, is exactly what the discrete energy gains from
+// it, so H - work + dissipated stays constant to round-off.
 #include <cstddef>
 #include <span>
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
-#include "fretbuzz/scheme/PenaltyContact.hpp"
-#include "fretbuzz/scheme/PlayedPart.hpp"
+#include "fretbuzz/scheme/ModalBasis.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
 
-class ForceProfile final : public PlayedPart {
+class ForceProfile {
 public:
-    // obstacle: heights at every grid point in the solve's orientation (-inf: none); k = dt^2/mu.
-    ForceProfile(const ForceSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& law,
-                 double dt, double k);
+    // along: the force's signed component along the polarisation stepped, per newton of F, in
+    // the solve's orientation (along z: -direction cos(angle), down being negative).
+    ForceProfile(const ForceSpec& spec, const ModalBasis& basis, double dt, double along);
 
-    const std::vector<std::size_t>& pad() const override { return pad_; }
-    void start(std::span<const double> u0, std::span<const double> u1) override;
-    // Step n -> n + 1 from the pad points' free predictions w; writes the total force per
-    // unit length at each pad point and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
-    double step(long n, std::span<const double> predicted, std::span<double> force) override;
-    std::span<const double> current() const override { return u_curr_; }
-    std::span<const double> previous() const override { return u_prev_; }
-    void read_obstacle(const std::vector<double>& obstacle) override;
-    double work() const override { return work_; }
-    double body_height() const override;  // NaN: a force has no body
-    int max_iterations() const override { return max_iterations_; }
-    // In the last step: whether the obstacle pushed on a pad point, and whether the force acted.
-    bool touched_obstacle() const override { return touched_obstacle_; }
-    bool acted() const override { return acted_; }
+    // f^n: the load per unit of shape at step n (0 where it does not act).
+    double at_step(long n) const { return along_ * force_.at(static_cast<double>(n) * dt_); }
+    // Whether its force may be non-zero at step n or at any later step (whatever its share here).
+    bool acts_from(long n) const { return static_cast<double>(n) * dt_ < quiet_from_s_; }
+    std::span<const double> shape() const { return shape_; }  // s_j
+    // (S s)_i: the displacement at grid point i of the modal vector s.
+    double on_grid(std::size_t i) const { return on_grid_[i]; }
+
+    // Its work over one step of load f: begin_step before the modes move (u_s^{n-1} from q^n,
+    // d^n), end_step after (u_s^{n+1} from q^{n+1}).
+    void begin_step(std::span<const double> q, std::span<const double> d);
+    void end_step(std::span<const double> q, double load);
+    double work() const { return work_; }
 
 private:
     TimeProfile force_;
-    double direction_, dx_, dt_, k_;
-    const PenaltyContact& law_;
-    std::vector<std::size_t> pad_;
-    std::vector<double> g_, u_curr_, u_prev_;
+    double along_, dt_, quiet_from_s_;
+    std::vector<double> shape_, on_grid_;
+    double before_ = 0.0;  // u_s^{n-1} of the step being taken
     double work_ = 0.0;
-    int max_iterations_ = 0;
-    bool touched_obstacle_ = false, acted_ = false;
 };
 
 }  // namespace fretbuzz

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
@@ -50,18 +51,18 @@ public:
     double energy() const;               // H_y^{n-1/2}: the y modes' discrete energy
     double damping_dissipated() const { return damping_; }
     double friction_dissipated() const { return friction_; }
-    double work() const { return work_; }  // of the gestures' y parts so far
+    double work() const {  // of the gestures' y parts so far
+        double w = 0.0;
+        for (const ForceProfile& g : gestures_) w += g.work();
+        return w;
+    }
     // Points with a non-zero friction force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     int max_iterations() const { return max_iterations_; }
 
 private:
-    struct Gesture {  // the y part of a force gesture
-        TimeProfile force;
-        double share;  // sin(angle) / (pad points dx): force density per newton
-        std::vector<std::size_t> pad;
-    };
-    void add_gesture_forces(long n);
+    // The gestures' y loads of step n into impulse_ (with the friction's); whether any acts.
+    bool add_gesture_loads(long n);
     void spread_forces();
 
     const Plan& plan_;
@@ -72,8 +73,8 @@ private:
     std::optional<FreeFlight> flight_;
     double damping_ = 0.0;
     double friction_ = 0.0;
-    double work_ = 0.0;
-    std::vector<Gesture> gestures_;
+    std::vector<ForceProfile> gestures_;  // the y parts of the force gestures with an angle
+    std::vector<double> gesture_load_;
     int max_iterations_ = 0;
 };
 

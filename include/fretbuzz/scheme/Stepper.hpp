@@ -5,10 +5,12 @@
 // where f^n_i = (Psi(eta_i^{n+1}) - Psi(eta_i^{n-1})) / (eta_i^{n+1} - eta_i^{n-1}) is found by a
 // scalar solve at each grid point that can touch (ContactScheduler says which). It also keeps
 // the discrete energy H^{n+1/2} and the energy dissipated by damping, every step, so that
-// H + dissipated is constant to round-off. Fingers (see Finger), force gestures (ForceProfile)
-// and pluckers (Pluck) are advanced with the string: their pad points are solved every step
-// (a plucker's until it has left), and the balance becomes H - work + dissipated = constant
-// (work: done by the pressing forces, the gestures and the pluckers' motions). Nothing here does I/O.
+// H + dissipated is constant to round-off. Fingers (see Finger) and pluckers (Pluck) are
+// advanced with the string: their pad points are solved every step (a plucker's until it has
+// left). Force gestures (ForceProfile) load the modes at their exact positions, explicitly,
+// the contacts of the step being solved with their load. The balance becomes
+// H - work + dissipated = constant (work: done by the pressing forces, the gestures and the
+// pluckers' motions). Nothing here does I/O.
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -29,13 +31,13 @@
 
 namespace fretbuzz {
 
-// The parts playing the string (the case's fingers, force gestures and pluckers, in that order)
-// as one collection of PlayedPart, each with whether it is on the string (a finger lifted, a
-// plucker gone: off). Finger f is part f. A copy links to its own parts.
+// The parts playing the string at pads of grid points (the case's fingers and pluckers, in that
+// order) as one collection of PlayedPart, each with whether it is on the string (a finger
+// lifted, a plucker gone: off). Finger f is part f. A copy links to its own parts.
 class PlayedParts {
 public:
     PlayedParts() = default;
-    PlayedParts(std::vector<Finger> fingers, std::vector<ForceProfile> gestures, std::vector<Pluck> plucks);
+    PlayedParts(std::vector<Finger> fingers, std::vector<Pluck> plucks);
     PlayedParts(const PlayedParts& other);
     PlayedParts(PlayedParts&& other) noexcept = default;  // (the parts stay where they are)
     PlayedParts& operator=(const PlayedParts&) = delete;
@@ -67,7 +69,6 @@ private:
     void link();
 
     std::vector<Finger> fingers_;
-    std::vector<ForceProfile> gestures_;
     std::vector<Pluck> plucks_;
     std::vector<PlayedPart*> parts_;
     std::vector<char> on_;
@@ -165,13 +166,15 @@ public:
     double work() const;           // work of the external forces (pressing forces, gestures) so far
     const std::vector<Finger>& fingers() const { return parts_.fingers(); }
     // Whether fingers, gestures or pluckers act (the balance then counts their work).
-    bool played() const { return !parts_.empty(); }
+    bool played() const { return !parts_.empty() || !gestures_.empty(); }
     const std::vector<Pluck>& plucks() const { return parts_.plucks(); }
-    // Every part playing the string, fingers first, then gestures and pluckers (the case's order).
+    // Every part playing the string at a pad, fingers first, then pluckers (the case's order).
     const PlayedParts& played_parts() const { return parts_; }
+    // The force gestures along z (the case's order).
+    const std::vector<ForceProfile>& gestures() const { return gestures_; }
 
     // Whether the obstacle pushed on the string in the last step (forces() also holds the
-    // fingers' and gestures' forces at their pads).
+    // fingers' and pluckers' forces at their pads; a gesture's load is not a force there).
     bool touched_obstacle() const { return touched_obstacle_; }
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
@@ -215,6 +218,13 @@ private:
     void put_points_to_sleep();
     // use_transform: the predictions are in grid_ already.
     void solve_fingers(bool use_transform);
+    // The gestures' loads of step n_ (gesture_load_, loaded_), and each one's prediction shift
+    // at grid point i / exact point p.
+    void load_gestures();
+    double gestures_at_grid(std::size_t i) const;
+    double gestures_at_point(std::size_t p) const;
+    bool gestures_act_from(long n) const;
+    void advance_loaded();  // advance_modes with the gestures' loads in impulse_, and their work
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire(const PlayedPart& part);
@@ -239,6 +249,10 @@ private:
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
     PlayedParts parts_;
+    std::vector<ForceProfile> gestures_;
+    std::vector<double> gesture_load_;       // f^n of each gesture in the step being taken
+    std::vector<double> gesture_at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
+    bool loaded_ = false;                    // a gesture loads the step being taken
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad

@@ -11,6 +11,9 @@ class TimeProfile {
 public:
     explicit TimeProfile(std::vector<std::array<double, 2>> points);
     double at(double t) const;
+    // The earliest time from which it stays zero: -inf if it is zero throughout, +inf if it
+    // ends on a non-zero value.
+    double zero_from() const;
 
 private:
     std::vector<std::array<double, 2>> points_;
