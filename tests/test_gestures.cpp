@@ -18,6 +18,8 @@
 #include "SmallBass.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
+#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -204,6 +206,33 @@ TEST(ForceGesture, ScreenedAndStraightforwardPathsAgree) {
     const testing::PathComparison p = testing::compare_paths(c, 20000);
     EXPECT_GT(p.contact_steps, 0);
     EXPECT_LT(p.relative_l2, 1e-9);
+}
+
+// Once a gesture's force has ended the string flies freely between contacts again (the
+// whole run's fast path: screening and free flight), and agrees with every point solved
+// and every mode stepped at every step.
+TEST(ForceGesture, FreeFlightAfterTheGestureEqualsTheStraightforwardPath) {
+    Case c = small_bass_at_rest(400000.0, 0.05);
+    c.run.output_rate_hz = 50000.0;
+    c.forces.push_back(push(0.6371, 0.0, -1.0, {{0.0, 0.0}, {0.002, 1.0}, {0.0021, 0.0}}));
+    const auto record = [&c](bool fast) {
+        ResultRecorder recorder;
+        RunObserver* observers[] = {&recorder};
+        RunOptions options;
+        options.plan.screen_contacts = fast;
+        options.plan.choose_screening = false;
+        options.free_flight = fast;
+        const RunSummary s = simulate(c, observers, options);
+        EXPECT_LT(s.max_relative_balance_error, 1e-10);
+        return recorder.take();
+    };
+    const RecordedRun fast = record(true), plain = record(false);
+    ASSERT_EQ(fast.observation.size(), plain.observation.size());
+    EXPECT_GT(fast.summary.free_flight_fraction, 0.5);
+    const double l2 = testing::relative_l2(fast.observation, plain.observation);
+    std::printf("fast vs straightforward path after a gesture: relative L2 %.3g (free flight %.0f %%)\n", l2,
+                100.0 * fast.summary.free_flight_fraction);
+    EXPECT_LT(l2, 1e-9);
 }
 
 TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
