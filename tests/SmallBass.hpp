@@ -14,6 +14,8 @@
 #include "TestSupport.hpp"
 
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
+#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -54,6 +56,20 @@ inline PathComparison compare_paths(const Case& c, long steps) {
         }
     }
     return {std::sqrt(num / den), fast.statistics().contact_steps};
+}
+
+// A whole run of c, recorded: its fast path (screening, free flight) or the straightforward one
+// (every point solved and every mode stepped at every step); its energy balance within 1e-10.
+inline RecordedRun record_run(const Case& c, bool fast) {
+    ResultRecorder recorder;
+    RunObserver* observers[] = {&recorder};
+    RunOptions options;
+    options.plan.screen_contacts = fast;
+    options.plan.choose_screening = false;
+    options.free_flight = fast;
+    const RunSummary s = simulate(c, observers, options);
+    EXPECT_LT(s.max_relative_balance_error, 1e-10);
+    return recorder.take();
 }
 
 // The small bass's case text at 100 kHz for 10 ms (for runs of the command line), and a

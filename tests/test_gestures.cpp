@@ -18,8 +18,6 @@
 #include "SmallBass.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
-#include "fretbuzz/run/ResultRecorder.hpp"
-#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -215,18 +213,7 @@ TEST(ForceGesture, FreeFlightAfterTheGestureEqualsTheStraightforwardPath) {
     Case c = small_bass_at_rest(400000.0, 0.05);
     c.run.output_rate_hz = 50000.0;
     c.forces.push_back(push(0.6371, 0.0, -1.0, {{0.0, 0.0}, {0.002, 1.0}, {0.0021, 0.0}}));
-    const auto record = [&c](bool fast) {
-        ResultRecorder recorder;
-        RunObserver* observers[] = {&recorder};
-        RunOptions options;
-        options.plan.screen_contacts = fast;
-        options.plan.choose_screening = false;
-        options.free_flight = fast;
-        const RunSummary s = simulate(c, observers, options);
-        EXPECT_LT(s.max_relative_balance_error, 1e-10);
-        return recorder.take();
-    };
-    const RecordedRun fast = record(true), plain = record(false);
+    const RecordedRun fast = testing::record_run(c, true), plain = testing::record_run(c, false);
     ASSERT_EQ(fast.observation.size(), plain.observation.size());
     EXPECT_GT(fast.summary.free_flight_fraction, 0.5);
     const double l2 = testing::relative_l2(fast.observation, plain.observation);

@@ -248,18 +248,7 @@ TEST(Polarisations, FastPathEqualsTheStraightforwardPath) {
     // 20 ms of slapping: longer, sharp contacts amplify round-off differences in z alone.
     c.run.duration_s = 0.02;
     c.run.output_rate_hz = 50000.0;
-    const auto record = [&c](bool fast) {
-        ResultRecorder recorder;
-        RunObserver* observers[] = {&recorder};
-        RunOptions options;
-        options.plan.screen_contacts = fast;
-        options.plan.choose_screening = false;
-        options.free_flight = fast;
-        const RunSummary s = simulate(c, observers, options);
-        EXPECT_LT(s.max_relative_balance_error, 1e-10);
-        return recorder.take();
-    };
-    const RecordedRun fast = record(true), plain = record(false);
+    const RecordedRun fast = testing::record_run(c, true), plain = testing::record_run(c, false);
     ASSERT_EQ(fast.observation_y.size(), plain.observation_y.size());
     ASSERT_GT(fast.summary.free_flight_fraction, 0.0);
     EXPECT_GT(fast.summary.friction_j, 0.0);
