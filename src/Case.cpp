@@ -53,6 +53,9 @@ constexpr double kMaxContactLoss = 1000.0;
 constexpr double kMaxPluckStiffness = 1e15;
 // a gesture slower than 0.1 mm/s takes more than a minute to pull a string by 6 mm.
 constexpr double kMinGestureSpeed = 1e-4;
+// each force gesture keeps two vectors of the mode count (its load on every mode, and that
+// load's displacement on the grid): a hand has a few, and this bounds what a case can ask for.
+constexpr std::size_t kMaxForceGestures = 64;
 
 void require_length(const std::string& name, std::size_t actual, std::size_t expected) {
     if (actual != expected) {
@@ -419,6 +422,9 @@ void Case::validate() const {
     check_derived_quantities(*this);
     check_initial_shape_clears_obstacle(*this);
     for (const FingerSpec& f : fingers) check_finger(f, *this);
+    if (forces.size() > kMaxForceGestures)
+        throw InputError("gesture: " + std::to_string(forces.size()) + " force gestures; at most " +
+                         std::to_string(kMaxForceGestures) + " are allowed");
     for (const ForceSpec& f : forces) {
         check_pad(f.key, f.position_m, f.width_m, true, *this);
         check_force_profile(f.key, f.force_profile);

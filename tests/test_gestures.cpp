@@ -222,6 +222,14 @@ TEST(ForceGesture, FreeFlightAfterTheGestureEqualsTheStraightforwardPath) {
     EXPECT_LT(l2, 1e-9);
 }
 
+// `count` point force gestures 1 cm apart from 0.04 m on.
+std::string many_gestures(int count) {
+    std::string text;
+    for (int k = 0; k < count; ++k)
+        text += "\n[[gesture]]\ntype = \"force\"\nposition = " + std::to_string(0.04 + 0.01 * k) + "\nforce = 1\n";
+    return text;
+}
+
 TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
     const std::string g = "\n[[gesture]]\ntype = \"force\"\nposition = 0.6\n";
     const std::vector<std::pair<std::string, std::string>> cases = {
@@ -237,6 +245,8 @@ TEST(ForceGesture, BadGestureInputIsRefusedNamingTheKey) {
         {g + "force = 1\ndirection = \"sideways\"\n", "gesture[0].direction"},
         {g + "force = 1\nspeed = 2\n", "gesture[0].speed"},
         {g + "force = 1\n\n[[finger]]\nposition = 0.6\n", "gesture[0].position"},
+        {many_gestures(64), ""},
+        {many_gestures(65), "at most 64 are allowed"},
     };
     testing::expect_refused("bad-gesture", testing::small_bass_text(), cases);
 }

@@ -50,7 +50,7 @@ struct FingerSpec {
 struct ForceSpec {
     std::string key = "gesture";
     double position_m = 0.0;   // pad centre, in (0, L)
-    double width_m = 0.0;      // 0: the nearest grid point
+    double width_m = 0.0;      // 0: a point force at position_m
     double direction = 1.0;    // +1 toward the fretboard ("down"), -1 away from it ("up")
     // Two polarisations: the force leans by this angle from z toward +y, cos(angle) of it
     // along z (with `direction`), sin(angle) along y.

@@ -125,7 +125,7 @@ public:
     void lift_finger(std::size_t f);
     // place_finger: finger f (lifted first if it was on) lands at rest on the string with its
     // pad centred at centre_m (width at most its spec's). False, and the finger stays off, if
-    // the pad would overlap another finger's or gesture's.
+    // the pad would overlap another finger's or a plucker's (a force gesture claims no pad).
     bool place_finger(std::size_t f, double centre_m, double width_m);
     // press_finger: from this step on, its pressing force ramps to force_n over ramp_steps steps.
     void press_finger(std::size_t f, double force_n, long ramp_steps);
