@@ -89,8 +89,8 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
     }
     spread_forces();
     const bool loaded = !gestures_.empty() && add_gesture_loads(step);
-    if (loaded)
-        for (ForceProfile& g : gestures_) g.begin_step(q_, d_);
+    for (std::size_t g = 0; g < gestures_.size() && loaded; ++g)
+        if (gesture_load_[g] != 0.0) gestures_[g].begin_step(q_, d_);
     const double losses =
         kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
                          forces_.empty() && !loaded ? nullptr : impulse_.data(), q_.data(), d_.data(), n);

@@ -648,7 +648,8 @@ bool Stepper::gestures_act_from(long n) const {
 }
 
 void Stepper::advance_loaded() {
-    for (ForceProfile& g : gestures_) g.begin_step(q_, d_);
+    for (std::size_t g = 0; g < gestures_.size(); ++g)
+        if (gesture_load_[g] != 0.0) gestures_[g].begin_step(q_, d_);
     advance_modes();
     for (std::size_t g = 0; g < gestures_.size(); ++g)
         if (gesture_load_[g] != 0.0) gestures_[g].end_step(q_, gesture_load_[g]);
