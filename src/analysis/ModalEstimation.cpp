@@ -11,6 +11,7 @@
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
 #include "fretbuzz/analysis/SubbandFilter.hpp"
+#include "NumberText.hpp"
 
 namespace fretbuzz {
 
@@ -23,12 +24,6 @@ using std::numbers::pi;
 // the pair into one partial with a wrong damping), while a pole too many is caught by the
 // tests below (it explains no energy of its own).
 constexpr double kOrderFraction = 0.01;
-
-std::string format(double value) {
-    std::ostringstream s;
-    s << value;
-    return s.str();
-}
 
 // Runs of 3 or more equal samples at the peak: a clipped recording.
 std::size_t clipped_runs(std::span<const double> x, double peak) {
@@ -51,10 +46,10 @@ void check_signal(std::span<const double> x, double rate_hz, const EstimationOpt
     }
     const double silence = o.full_scale ? *o.full_scale * 1e-5 : 0.0;  // -100 dB full scale
     if (!(peak > silence))
-        throw InputError("recording: silent (peak " + format(peak) + "; a decay above " + format(silence) +
+        throw InputError("recording: silent (peak " + number_text(peak) + "; a decay above " + number_text(silence) +
                          " is needed)");
     if (clipped_runs(x, peak) >= 2 && (!o.full_scale || peak >= 0.99 * *o.full_scale))
-        throw InputError("recording: clipped (runs of equal samples at the peak " + format(peak) +
+        throw InputError("recording: clipped (runs of equal samples at the peak " + number_text(peak) +
                          "); record with headroom: every sample must stay below full scale");
 }
 
@@ -70,9 +65,9 @@ void check_free_decay(std::span<const double> decay, const ModalEstimate& e) {
     const double loss_db = 10.0 * std::log10(std::max(first, 1e-300) / std::max(last, 1e-300));
     if (!(loss_db >= ModalEstimation::kMinDecayLossDb))
         throw InputError("recording: not a free decay: from the first to the last quarter of the " +
-                         format(e.duration_s) + " s after the attack peak at " + format(e.start_s) +
-                         " s its level changes by " + format(-loss_db) +
-                         " dB (a plucked string's decay loses at least " + format(ModalEstimation::kMinDecayLossDb) +
+                         number_text(e.duration_s) + " s after the attack peak at " + number_text(e.start_s) +
+                         " s its level changes by " + number_text(-loss_db) +
+                         " dB (a plucked string's decay loses at least " + number_text(ModalEstimation::kMinDecayLossDb) +
                          " dB); a steady or growing sound has no dampings to measure: record a note left to ring "
                          "freely");
 }
@@ -106,8 +101,8 @@ double find_f0(const SubbandFilter& filter, double low_hz, double high_hz) {
         }
     }
     if (best_score <= 0.0)
-        throw InputError("recording: no partials above the noise floor between " + format(low_hz) + " and " +
-                         format(high_hz) + " Hz (give --f0 if the note is known)");
+        throw InputError("recording: no partials above the noise floor between " + number_text(low_hz) + " and " +
+                         number_text(high_hz) + " Hz (give --f0 if the note is known)");
     return best_f0;
 }
 
@@ -129,12 +124,12 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
     result.band_low_hz = o.band_low_hz;
     result.band_high_hz = o.band_high_hz.value_or(std::min(0.45 * rate_hz, 20000.0));
     if (!(o.band_low_hz >= 0.0 && result.band_high_hz > o.band_low_hz && result.band_high_hz <= 0.5 * rate_hz))
-        throw InputError("--band " + format(o.band_low_hz) + " " + format(result.band_high_hz) +
-                         ": must satisfy 0 <= low < high <= fs/2 = " + format(0.5 * rate_hz) + " Hz");
+        throw InputError("--band " + number_text(o.band_low_hz) + " " + number_text(result.band_high_hz) +
+                         ": must satisfy 0 <= low < high <= fs/2 = " + number_text(0.5 * rate_hz) + " Hz");
     if (o.f0_hz && !(*o.f0_hz >= result.band_low_hz && *o.f0_hz <= result.band_high_hz))
         throw InputError(out_of_range_message("--f0 (Hz)", *o.f0_hz,
-                                              "must lie in the analysed band [" + format(result.band_low_hz) + ", " +
-                                                  format(result.band_high_hz) + "] Hz"));
+                                              "must lie in the analysed band [" + number_text(result.band_low_hz) + ", " +
+                                                  number_text(result.band_high_hz) + "] Hz"));
 
     // The free decay: from just after the attack peak to the end.
     const auto peak_at = static_cast<std::size_t>(
@@ -144,8 +139,8 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
     result.start_s = static_cast<double>(start) / rate_hz;
     result.duration_s = static_cast<double>(signal.size() - start) / rate_hz;
     if (result.duration_s < kMinDecaySeconds)
-        throw InputError("recording: " + format(result.duration_s) + " s of decay after the attack peak at " +
-                         format(result.start_s) + " s; at least " + format(kMinDecaySeconds) + " s are needed");
+        throw InputError("recording: " + number_text(result.duration_s) + " s of decay after the attack peak at " +
+                         number_text(result.start_s) + " s; at least " + number_text(kMinDecaySeconds) + " s are needed");
 
     check_free_decay(signal.subspan(start), result);
 
@@ -241,8 +236,8 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
         if (!band_modes.empty()) law = fit_frequency_law(band_modes, band_frequencies);
     }
     if (found.empty())
-        throw InputError("recording: no partial of f0 = " + format(law.f0_hz) + " Hz found in the band [" +
-                         format(result.band_low_hz) + ", " + format(result.band_high_hz) +
+        throw InputError("recording: no partial of f0 = " + number_text(law.f0_hz) + " Hz found in the band [" +
+                         number_text(result.band_low_hz) + ", " + number_text(result.band_high_hz) +
                          "] Hz (check --f0 and --band)");
     std::vector<std::size_t> modes;
     std::vector<double> frequencies;

@@ -12,19 +12,14 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/TextFile.hpp"
+#include "NumberText.hpp"
 
 namespace fretbuzz {
 
 namespace {
 
-std::string format(double value) {
-    std::ostringstream s;
-    s << value;
-    return s.str();
-}
-
 std::string cut_advice(const RecordingLimits& limits) {
-    const std::string seconds = format(limits.max_seconds);
+    const std::string seconds = number_text(limits.max_seconds);
     return "cut the decay out first, e.g. `sox in.wav out.wav trim 0 " + seconds + "` or `ffmpeg -i in.wav -t " +
            seconds + " out.wav` (`remix 1` or `-ac 1` keeps one channel)";
 }
@@ -150,7 +145,7 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
                          " (" + name + " has " + std::to_string(channels) + " channel(s))");
     const double rate = info.samplerate;
     if (!(rate >= 1.0 && rate <= limits.max_rate_hz))
-        throw InputError(what + ": sample rate " + format(rate) + " Hz: must be in [1, " + format(limits.max_rate_hz) +
+        throw InputError(what + ": sample rate " + number_text(rate) + " Hz: must be in [1, " + number_text(limits.max_rate_hz) +
                          "] Hz (resample it, e.g. `sox in.wav -r 96000 out.wav`)");
 
     // The header's frame count is a claim: read in blocks until the data ends or the cap.
@@ -167,7 +162,7 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
         if (read <= 0) break;
         total += read;
         if (total > max_frames)
-            throw InputError(what + ": longer than " + format(limits.max_seconds) + " s at " + format(rate) +
+            throw InputError(what + ": longer than " + number_text(limits.max_seconds) + " s at " + number_text(rate) +
                              " Hz, the most fretbuzz estimate analyses; " + cut_advice(limits));
         for (sf_count_t i = 0; i < read; ++i)
             r.samples.push_back(block[static_cast<std::size_t>(i) * channels + channel - 1]);

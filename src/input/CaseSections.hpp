@@ -13,6 +13,9 @@
 
 namespace fretbuzz {
 
+// The most modes a case may ask for ([string] modes, a mode table's rows).
+inline constexpr std::size_t kMaxModes = 100000;
+
 // What [string] says beyond c.string: the mode count and the optional properties the
 // frequency and damping models use.
 struct StringDescription {

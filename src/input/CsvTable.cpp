@@ -11,19 +11,12 @@ namespace fretbuzz {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-    const auto first = s.find_first_not_of(" \t\r");
-    if (first == std::string_view::npos) return {};
-    const auto last = s.find_last_not_of(" \t\r");
-    return s.substr(first, last - first + 1);
-}
-
 std::vector<std::string_view> split(std::string_view line) {
     std::vector<std::string_view> cells;
     std::size_t start = 0;
     while (true) {
         const auto comma = line.find(',', start);
-        cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+        cells.push_back(trim_blanks(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
         if (comma == std::string_view::npos) break;
         start = comma + 1;
     }
@@ -69,10 +62,10 @@ CsvTable parse_csv(std::string_view text, const std::string& source, std::size_t
         const std::string at = source + ":" + std::to_string(line_number);
         if (raw.size() > kMaxLineBytes)
             throw InputError(at + ": the line is longer than " + std::to_string(kMaxLineBytes) + " bytes");
-        const std::string_view line = trim(raw);
+        const std::string_view line = trim_blanks(raw);
         if (line.empty()) continue;
         if (line.front() == '#') {
-            if (table.rows.empty() && table.column_names.empty()) table.column_names = names_of(trim(line.substr(1)));
+            if (table.rows.empty() && table.column_names.empty()) table.column_names = names_of(trim_blanks(line.substr(1)));
             continue;
         }
         std::vector<double> row;

@@ -12,10 +12,10 @@ namespace fretbuzz {
 
 namespace {
 
-constexpr std::size_t kMaxFret = 36;
+constexpr std::size_t kMaxFingerFret = 36;
 
 void read_finger(TomlSection& s, Case& c) {
-    if (const auto fret = s.optional_count("fret", 1, kMaxFret)) {
+    if (const auto fret = s.optional_count("fret", 1, kMaxFingerFret)) {
         if (s.has("position"))
             throw InputError(s.key_path("position") + ": give either position or fret, not both");
         c.add_fret_finger(*fret, s.key_path("fret"));
@@ -51,7 +51,7 @@ void read_finger(TomlSection& s, Case& c) {
 }  // namespace
 
 void read_fingers(TomlSection& top, Case& c) {
-    if (const auto fret = top.optional_count("fret", 1, kMaxFret)) c.add_fret_finger(*fret, "fret");
+    if (const auto fret = top.optional_count("fret", 1, kMaxFingerFret)) c.add_fret_finger(*fret, "fret");
     if (!top.has("finger")) return;
     for (TomlSection& s : top.sections("finger")) {
         read_finger(s, c);

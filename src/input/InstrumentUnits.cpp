@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/TextFile.hpp"
 
 namespace fretbuzz {
 
@@ -46,12 +47,6 @@ std::span<const Unit> units_of(Quantity kind) {
     return {};
 }
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-    return s;
-}
-
 // A decimal number at the start of s; advances s past it.
 std::optional<double> leading_number(std::string_view& s) {
     double v = 0.0;
@@ -69,7 +64,7 @@ std::optional<double> leading_value(std::string_view& s) {
     auto a = leading_number(rest);
     if (!a) return std::nullopt;
     double value = *a;
-    std::string_view after = trim(rest);
+    std::string_view after = trim_blanks(rest);
     if (!rest.empty() && rest.front() == '/') {  // a fraction a/b
         rest.remove_prefix(1);
         const auto b = leading_number(rest);
@@ -109,7 +104,7 @@ std::string example(Quantity kind) {
 
 double parse(std::string_view text, Quantity kind, std::optional<std::string_view> default_unit,
              const std::string& key) {
-    const std::string_view whole = trim(text);
+    const std::string_view whole = trim_blanks(text);
     const auto refuse = [&](const std::string& why) -> double {
         throw InputError(key + " = \"" + std::string(text) + "\": " + why + " (e.g. " + example(kind) +
                          "; units: " + unit_names(kind) + ")");
@@ -119,7 +114,7 @@ double parse(std::string_view text, Quantity kind, std::optional<std::string_vie
     std::string_view rest = whole;
     const auto value = leading_value(rest);
     if (!value) return refuse("not a number with its unit");
-    const std::string_view unit = trim(rest);
+    const std::string_view unit = trim_blanks(rest);
     double factor = 0.0;
     if (unit.empty()) {
         if (!default_unit) return refuse("say its unit");

@@ -16,8 +16,6 @@ namespace fretbuzz {
 
 namespace {
 
-constexpr std::size_t kMaxModes = 100000;
-
 void read_full_table(TomlSection& section, const DataSource& data, std::size_t mode_count, Case& c) {
     for (std::string_view other : {"measured", "measured_up_to", "nut_mobility", "frequency", "damping"})
         if (section.has(other))

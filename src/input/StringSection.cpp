@@ -10,8 +10,6 @@ namespace fretbuzz {
 
 namespace {
 
-constexpr std::size_t kMaxModes = 100000;
-
 std::optional<double> core_bending_stiffness(TomlSection& s, const std::optional<double>& core_diameter) {
     const auto given = s.optional_positive("E_core_I_core");
     const auto young_modulus = s.optional_positive("E_core");

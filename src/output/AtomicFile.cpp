@@ -13,6 +13,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "IoFailure.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {
@@ -20,10 +21,6 @@ namespace fretbuzz {
 namespace fs = std::filesystem;
 
 namespace {
-
-[[noreturn]] void io_failure(const std::string& what, const fs::path& path, int error) {
-    throw std::runtime_error("cannot " + what + " " + path.string() + ": " + std::strerror(error));
-}
 
 void sync(const fs::path& path, int flags) {
     const int fd = ::open(path.c_str(), flags | O_RDONLY | O_CLOEXEC);

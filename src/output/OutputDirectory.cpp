@@ -16,6 +16,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "IoFailure.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {
@@ -32,10 +33,6 @@ constexpr unsigned kTagRange = 1000000;   // the random number in a staging fold
 constexpr std::string_view kAsideSuffix = "-old";  // the old set, where folders cannot be swapped
 
 std::string system_message(int error) { return std::strerror(error); }
-
-[[noreturn]] void io_failure(const std::string& what, const fs::path& path, int error) {
-    throw std::runtime_error("cannot " + what + " " + path.string() + ": " + system_message(error));
-}
 
 // The longest name of a file a run or its report writes (besides the WAV files, checked as
 // they are named): what the output directory must have room for.

@@ -21,7 +21,7 @@ std::string parameter_name(ConvergenceParameter parameter) {
 
 namespace {
 
-std::string format(double value) {
+std::string ten_digits(double value) {
     std::ostringstream out;
     out.precision(10);
     out << value;
@@ -43,13 +43,13 @@ double common_comparison_rate(const std::vector<double>& sample_rates_hz, std::o
             if (!divides(fs, *requested))
                 throw InputError(out_of_range_message("--compare-rate", *requested,
                                                       "must divide every sampling rate exactly, and fs = " +
-                                                          format(fs) + " Hz is not a multiple of it"));
+                                                          ten_digits(fs) + " Hz is not a multiple of it"));
         rate = *requested;
     } else {
         long long common = 0;
         for (double fs : sample_rates_hz) {
             if (!is_whole(fs))
-                throw InputError("no common comparison rate: fs = " + format(fs) +
+                throw InputError("no common comparison rate: fs = " + ten_digits(fs) +
                                  " Hz is not a whole number of Hz; choose whole rates or give --compare-rate");
             common = std::gcd(common, std::llround(fs));
         }
@@ -60,8 +60,8 @@ double common_comparison_rate(const std::vector<double>& sample_rates_hz, std::o
     }
     const double samples = std::floor(window_s * rate + 1e-9) + 1.0;
     if (samples < static_cast<double>(minimum_samples))
-        throw InputError("no common comparison rate: the sampling rates share only " + format(rate) + " Hz, which gives " +
-                         format(samples) + " samples in the window of " + format(window_s) + " s (at least " +
+        throw InputError("no common comparison rate: the sampling rates share only " + ten_digits(rate) + " Hz, which gives " +
+                         ten_digits(samples) + " samples in the window of " + ten_digits(window_s) + " s (at least " +
                          std::to_string(minimum_samples) +
                          " are needed); choose rates with a larger common divisor (e.g. multiples of 1000 Hz)");
     return rate;
@@ -85,7 +85,7 @@ void check_study(const ConvergenceStudy& s) {
         require_positive("--duration", *s.duration_s);
         if (s.window_s > *s.duration_s)
             throw InputError(out_of_range_message("--window", s.window_s,
-                                                  "must not exceed --duration = " + format(*s.duration_s) + " s"));
+                                                  "must not exceed --duration = " + ten_digits(*s.duration_s) + " s"));
     }
     if (!(s.threshold > 0.0)) throw InputError(out_of_range_message("--threshold", s.threshold, "must be > 0"));
 }
@@ -138,7 +138,7 @@ ConvergenceReport run_convergence(const ConvergenceStudy& study) {
                          ": every level equals the reference; give at least one level other than the reference");
     if (levels.back() > report.reference)
         throw InputError(out_of_range_message("--reference-" + parameter_name(study.parameter), report.reference,
-                                              "must not be below the finest level " + format(levels.back())));
+                                              "must not be below the finest level " + ten_digits(levels.back())));
 
     Case base = study.base;
     report.observation_point_m = study.observation_point_m.value_or(

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace fretbuzz {
 
@@ -16,5 +17,13 @@ inline constexpr std::size_t kMaxLineBytes = 64u << 10;      // one row of a tab
 // the path's names are too long, it is missing, not a regular file, larger than max_bytes
 // or unreadable.
 std::string read_text_file(const std::filesystem::path& path, const std::string& what, std::size_t max_bytes);
+
+// s without its leading and trailing blanks (spaces, tabs, carriage returns).
+inline std::string_view trim_blanks(std::string_view s) {
+    const auto first = s.find_first_not_of(" \t\r");
+    if (first == std::string_view::npos) return {};
+    const auto last = s.find_last_not_of(" \t\r");
+    return s.substr(first, last - first + 1);
+}
 
 }  // namespace fretbuzz
