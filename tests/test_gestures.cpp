@@ -143,6 +143,36 @@ TEST(ForceGesture, APointForceSettlesAtTheStaticDeflectionAtItsExactPosition) {
     }
 }
 
+// The same along both polarisations: a force leaning 60 degrees from z toward y, down, at the
+// same off-grid x0 (200 modes): cos(60) of it deflects z down, sin(60) of it deflects y, each
+// to the taut string's static deflection within the series' truncation bound (at the nearest
+// grid point, 1.05 % short: outside it).
+TEST(ForceGesture, ALeaningForceSettlesAtTheStaticDeflectionAlongBothPolarisations) {
+    const double x0 = 0.2013, force = 0.5, tension = 1e4, angle = 60.0;
+    const std::size_t modes = 200;
+    Case c = ideal_string(modes, tension, "type = \"none\"", 1e6);
+    for (double& sigma : c.modes.sigma_per_s) sigma = 400.0;
+    c.polarisation.count = 2;
+    c.polarisation.table = c.modes;  // (y: the same modes and damping)
+    ForceSpec leaning = push(x0, 0.0, 1.0, {{0.0, force}});
+    leaning.angle_deg = angle;
+    c.forces.push_back(leaning);
+    c.validate();
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    s.add_second_polarisation(c.initial_displacement, c.initial_velocity);
+    for (long n = 0; n < 100000; ++n) s.step();
+    const std::vector<double> at = plan.basis().mode_shapes_at(x0);
+    const double static_deflection = force * x0 * (1.0 - x0) / tension;
+    const double truncation = 2.0 * force / (std::numbers::pi * std::numbers::pi * static_cast<double>(modes) * tension);
+    const double z = s.displacement(at), y = s.second_polarisation()->displacement(at);
+    const double cz = std::cos(angle * std::numbers::pi / 180.0), cy = std::sin(angle * std::numbers::pi / 180.0);
+    std::printf("leaning 60 degrees: z %.4e (static %.4e), y %.4e (static %.4e)\n", z, -cz * static_deflection, y,
+                cy * static_deflection);
+    EXPECT_NEAR(z, -cz * static_deflection, cz * truncation);
+    EXPECT_NEAR(y, cy * static_deflection, cy * truncation);
+}
+
 // A short push (1 ms up to 0.5 N and back) at x = 0.2013 on the ideal string (c = 100 m/s), with
 // no obstacle: u(0.7, t) over 20 ms at 200 and 400 modes against 800 (x is off every one of their
 // grid points). The differences shrink as the modes double; the same push at the nearest grid
