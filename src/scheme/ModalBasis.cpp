@@ -32,10 +32,10 @@ void ModalBasis::mode_shapes_at(double x, std::span<double> phi) const {
 }
 
 std::span<const double> ModalBasis::build_row(std::size_t i) const {
-    std::vector<double> built(modes_);
-    fill_row(i, built);
-    rows_[i] = std::move(built);
-    return rows_[i];
+    AlignedVector& row = rows_[i];
+    row.assign(modes_, 0.0);
+    fill_row(i, row);
+    return row;
 }
 
 std::span<const double> ModalBasis::row(std::size_t i, std::span<double> scratch) const {

@@ -429,7 +429,8 @@ long Stepper::end_flight(long flown, double energy_before) {
 
 void Stepper::first_step() {
     // q^1 is the exact free motion of each mode; contact acts from step 1 on.
-    std::vector<double> u0(q_.size()), q1(q_.size());
+    std::vector<double> u0(q_.size());
+    AlignedVector q1(q_.size());
     plan_.propagator().first_step(q_, v0_, q1, d_);
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);

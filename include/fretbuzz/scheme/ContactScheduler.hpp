@@ -26,6 +26,8 @@
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/scheme/CacheAligned.hpp"
+
 #include "fretbuzz/scheme/Plan.hpp"
 
 namespace fretbuzz {
@@ -102,9 +104,9 @@ private:
     bool stale_ = false;     // speed_ predates the last change of motion (no point asleep)
     std::size_t head_;
     double tail_ = 0.0;
-    std::vector<double> amplitude_;  // R_j at the last update_speed
+    AlignedVector amplitude_;  // R_j at the last update_speed
     // R_j(1, 1), and omega_j R_j(1, 1): how much a unit impulse on mode j can add to the bounds.
-    std::vector<double> push_reach_, push_speed_;
+    AlignedVector push_reach_, push_speed_;
     // Per grid point, sum_j |S_ij| times those, and the reach beyond the default head modes
     // (NaN until first needed).
     struct PointWeight {
@@ -126,7 +128,7 @@ private:
     // with (elementwise smallest: later amplitudes must stay within them), and which amplitudes
     // each point was last tested with (a point that failed is not tested again with the same ones).
     std::vector<std::size_t> parked_;
-    std::vector<double> envelope_;
+    AlignedVector envelope_;
     std::vector<Entry> held_;  // points park_due could not park
     std::vector<double> park_amplitude_;
     std::vector<long> tested_with_;

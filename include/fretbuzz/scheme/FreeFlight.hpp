@@ -7,6 +7,8 @@
 #include <span>
 #include <vector>
 
+#include "fretbuzz/scheme/CacheAligned.hpp"
+
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 
 namespace fretbuzz {
@@ -36,7 +38,7 @@ public:
 private:
     long steps_;
     std::size_t first_;
-    std::vector<double> qq_, qd_, dq_, dd_;  // P_j^M - I
+    AlignedVector qq_, qd_, dq_, dd_;  // P_j^M - I
 };
 
 }  // namespace fretbuzz

@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include "fretbuzz/scheme/CacheAligned.hpp"
+
 #include "fretbuzz/scheme/SineTransform.hpp"
 
 namespace fretbuzz {
@@ -29,7 +31,7 @@ public:
     // Row i of S: phi_j(x_i) for j = 1..Nm (reference stays valid for the basis' life). Inline
     // once built: a step asks for its points' rows several times.
     std::span<const double> row(std::size_t i) const {
-        const std::vector<double>& r = rows_[i];
+        const AlignedVector& r = rows_[i];
         return r.empty() ? build_row(i) : std::span<const double>(r);
     }
     // Row i: the kept one if it was built, else written into `scratch` (size mode_count())
@@ -52,7 +54,7 @@ private:
 
     std::vector<double> sine_table_;  // sin(pi k / N), k = 0..2N-1
     std::unique_ptr<SineTransform> transform_;
-    mutable std::vector<std::vector<double>> rows_;
+    mutable std::vector<AlignedVector> rows_;
 };
 
 }  // namespace fretbuzz

@@ -12,6 +12,8 @@
 #include <span>
 #include <vector>
 
+#include "fretbuzz/scheme/CacheAligned.hpp"
+
 #include "fretbuzz/model/ModeTable.hpp"
 
 namespace fretbuzz {
@@ -63,18 +65,18 @@ private:
     double dt_;
     bool lossless_ = true;
     std::vector<double> frequency_hz_;
-    std::vector<double> decay_, beta_, loss_, omega_, sigma_;
-    std::vector<double> rate_;            // omega_d (underdamped) or gamma = sqrt(sigma^2 - omega^2)
+    AlignedVector decay_, beta_, loss_, omega_, sigma_;
+    AlignedVector rate_;            // omega_d (underdamped) or gamma = sqrt(sigma^2 - omega^2)
     std::vector<unsigned char> underdamped_;
-    std::vector<double> half_decay_;      // e^{-sigma dt}
-    std::vector<double> expm1_half_;      // e^{-sigma dt} - 1
-    std::vector<double> sin_step_;        // sin(omega_d dt) or sinh(gamma dt)
-    std::vector<double> versine_step_;    // 1 - cos(omega_d dt) = 2 sin^2(omega_d dt / 2), or cosh(gamma dt) - 1
+    AlignedVector half_decay_;      // e^{-sigma dt}
+    AlignedVector expm1_half_;      // e^{-sigma dt} - 1
+    AlignedVector sin_step_;        // sin(omega_d dt) or sinh(gamma dt)
+    AlignedVector versine_step_;    // 1 - cos(omega_d dt) = 2 sin^2(omega_d dt / 2), or cosh(gamma dt) - 1
     // Underdamped amplitude R = sqrt(q^2 + ((a q + b d) / sin(omega_d dt))^2): a, b / sin(omega_d dt)
     // (zero for the modes handled one by one: overdamped or aliased).
-    std::vector<double> amplitude_q_, amplitude_d_;
+    AlignedVector amplitude_q_, amplitude_d_;
     std::vector<std::size_t> special_modes_;
-    std::vector<double> speed_factor_;
+    AlignedVector speed_factor_;
 };
 
 }  // namespace fretbuzz

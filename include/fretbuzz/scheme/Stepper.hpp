@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/scheme/CacheAligned.hpp"
+
 #include "fretbuzz/scheme/ContactScheduler.hpp"
 #include "fretbuzz/scheme/Finger.hpp"
 #include "fretbuzz/scheme/ForceProfile.hpp"
@@ -236,10 +238,10 @@ private:
     ContactScheduler scheduler_;
     const bool screening_;
     long n_ = 0;
-    std::vector<double> q_, d_;            // q^n and q^n - q^{n-1}
+    AlignedVector q_, d_;            // q^n and q^n - q^{n-1}
     std::vector<double> v0_;               // initial modal velocity (first step only)
-    std::vector<double> predicted_;        // q^{n+1} without contact force
-    std::vector<double> impulse_;          // contact contribution to q^{n+1}
+    AlignedVector predicted_;        // q^{n+1} without contact force
+    AlignedVector impulse_;          // contact contribution to q^{n+1}
     std::vector<double> grid_;             // scratch: a field on the grid
     std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at active points
     std::vector<std::size_t> active_;      // points solved every step
