@@ -33,7 +33,27 @@ Pluck::Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstac
     rho_.assign(pad_.size(), 0.0);
 }
 
+Pluck::Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyContact& obstacle_law, double dt, double k)
+    : spec_(spec),
+      s_(-spec.direction),
+      dx_(1.0),  // one entry standing for the whole pad: its force is the pad's, in N
+      dt_(dt),
+      k_(0.0),
+      start_step_(std::max(1L, std::lround(spec.start_s / dt))),
+      law_(spec.stiffness, spec.exponent),
+      obstacle_law_(obstacle_law),
+      g_(1, -std::numeric_limits<double>::infinity()),
+      u_curr_(1, 0.0),
+      u_prev_(1, 0.0),
+      rho_(1, 0.0),
+      shape_(std::move(shape)) {
+    // u_s moves by (dt^2/mu) F (s . s) for a force F spread over the pad.
+    for (double v : shape_) k_ += v * v;
+    k_ *= k;
+}
+
 void Pluck::read_obstacle(const std::vector<double>& obstacle) {
+    if (exact()) return;  // (used only with no obstacle)
     for (std::size_t p = 0; p < pad_.size(); ++p) g_[p] = obstacle[pad_[p]];
 }
 
@@ -50,7 +70,7 @@ void Pluck::start(std::span<const double> u0, std::span<const double> u1) {
 void Pluck::appear() {
     // Beside the pad's nearest point over both levels, gap away: y <= 0 at n - 1 and n.
     double nearest = s_ * u_curr_[0];
-    for (std::size_t p = 0; p < pad_.size(); ++p) nearest = std::min({nearest, s_ * u_curr_[p], s_ * u_prev_[p]});
+    for (std::size_t p = 0; p < u_curr_.size(); ++p) nearest = std::min({nearest, s_ * u_curr_[p], s_ * u_prev_[p]});
     p_curr_ = p_prev_ = s_ * (nearest - spec_.gap_m);
     stage_ = Stage::pulling;
 }
@@ -107,12 +127,12 @@ double Pluck::step(long n, std::span<const double> predicted, std::span<double> 
     if (stage_ == Stage::pulling) p_next += s_ * spec_.speed * dt_;
     if (stage_ == Stage::withdrawing) p_next -= s_ * spec_.withdraw_speed * dt_;
     // Hunt-Crossley coefficient at level n: each step's loss is >= 0 exactly.
-    for (std::size_t p = 0; p < pad_.size(); ++p)
+    for (std::size_t p = 0; p < u_curr_.size(); ++p)
         rho_[p] = spec_.loss * law_.force(s_ * (p_curr_ - u_curr_[p])) / (2.0 * dt_);
 
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0, pushed = 0.0;
     touched_obstacle_ = false;
-    for (std::size_t p = 0; p < pad_.size(); ++p) {
+    for (std::size_t p = 0; p < u_curr_.size(); ++p) {
         double obstacle_force = 0.0, push = 0.0;
         const double x = solve_point(p, predicted[p], p_next, obstacle_force, push);
         if (std::isfinite(g_[p])) obstacle_psi += obstacle_law_.potential(g_[p] - x);

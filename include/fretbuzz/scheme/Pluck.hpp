@@ -22,6 +22,15 @@
 // the first term is the work of the prescribed motion, the second the contact loss (>= 0).
 // Each pad point is one scalar increasing equation in u_i^{n+1} (the plucker's and the
 // obstacle's terms both increase with it): no global solve.
+//
+// At its exact position and width (whatever the grid) the plucker is one rigid pad touching
+// the pad's mean displacement u_s = s . q, s_j the pad's mean of phi_j (pad_mean_shapes): the
+// same law with y = s (p - u_s), force F = K_p [y]_+^alpha (+ its Hunt-Crossley term) on the
+// whole pad, spread evenly over it (modal impulse (dt^2/mu) F s). The stages and the scalar
+// solve above then act on one entry of weight 1 (dx -> 1, K -> K_p) whose step factor is
+// (dt^2/mu) (s . s): u_s^{n+1} = w_s + (dt^2/mu) (s . s) F with w_s the free step's u_s. This
+// is exact only where nothing else touches the string in a way that couples with the pad, so
+// the stepper uses it where the plucker is the case's only contact (see Stepper).
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -39,6 +48,11 @@ public:
     // obstacle: heights at every grid point in the solve's orientation (-inf: none); k = dt^2/mu.
     Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
           double dt, double k);
+    // At its exact position: shape = s (pad_mean_shapes), no grid pad; step() takes the pad's
+    // mean free prediction w_s and writes the force on the string (N) as its one entry.
+    Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyContact& obstacle_law, double dt, double k);
+    bool exact() const { return !shape_.empty(); }
+    std::span<const double> shape() const { return shape_; }  // s (exact only)
 
     const std::vector<std::size_t>& pad() const override { return pad_; }
     void start(std::span<const double> u0, std::span<const double> u1) override;
@@ -50,7 +64,7 @@ public:
     bool left() const override { return stage_ == Stage::gone; }
 
     Stage stage() const { return stage_; }
-    // u^n and u^{n-1} at the pad points (pad order): where the obstacle's solve takes over.
+    // u^n and u^{n-1} at the pad points (pad order; exact: u_s): where the obstacle's solve takes over.
     std::span<const double> current() const override { return u_curr_; }
     std::span<const double> previous() const override { return u_prev_; }
     double height() const { return p_curr_; }                  // p^n (solve orientation)
@@ -78,6 +92,7 @@ private:
     const PenaltyContact& obstacle_law_;
     std::vector<std::size_t> pad_;
     std::vector<double> g_, u_curr_, u_prev_, rho_;
+    std::vector<double> shape_;  // s where it acts at its exact position, else empty
     Stage stage_ = Stage::waiting;
     double p_curr_ = 0.0, p_prev_ = 0.0;       // p^n, p^{n-1}
     double psi_curr_ = 0.0, psi_prev_ = 0.0;   // sum_i Psi(y_i) at n and n - 1
