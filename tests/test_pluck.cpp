@@ -184,10 +184,12 @@ TEST(Pluck, AFrettedPopIsTheSameOnTheScreenedAndStraightforwardPaths) {
 
 // An ideal string (L = mu = 1, T = 1e4: c = 100 m/s) at rest, plucked up at x0 = 0.2013 (off
 // every grid point of 200, 400 and 800 modes) by an 8 mm pad moving at 0.5 m/s, stiffness 1e6,
-// let go at 1 mm, at 200 kHz. far_points: adds a point obstacle 5 cm below the string (never
+// let go at 1 mm, at 200 kHz. on_grid: adds a flat barrier 5 cm below the string (never
 // touched), with which the plucker acts on its grid pad instead of at its exact position.
-Case ideal_pluck(std::size_t modes, bool far_points = false) {
-    const std::string obstacle = far_points ? "type = \"points\"\nx = [0.5]\nheight = -0.05" : "type = \"none\"";
+const std::string kFarBarrier = "type = \"flat\"\nheight = -0.05";
+
+Case ideal_pluck(std::size_t modes, bool on_grid = false) {
+    const std::string obstacle = on_grid ? kFarBarrier : "type = \"none\"";
     Case c = testing::ideal_string(modes, 1e4, obstacle, 2e5);
     PluckSpec p = plucker(0.2013, -1.0, 0.5);
     p.release_displacement_m = 1e-3;
@@ -219,7 +221,7 @@ TEST(Pluck, AnExactPluckConvergesWithTheModeCount) {
 // grid point (up to dx/2 away), moves with the mode count.
 TEST(Pluck, AnExactPluckFirstTouchesAtTheSameStepWhateverTheModeCount) {
     const auto first = [](std::size_t modes, bool grid) {
-        const std::string obstacle = grid ? "type = \"points\"\nx = [0.5]\nheight = -0.05" : "type = \"none\"";
+        const std::string obstacle = grid ? kFarBarrier : "type = \"none\"";
         Case c = testing::ideal_string(modes, 1e4, obstacle, 2e5, "type = \"triangle\"\nposition = 0.25\namplitude = 1e-3");
         PluckSpec p = plucker(0.2013, -1.0, 0.5);
         p.gap_m = 3e-4;
@@ -261,6 +263,26 @@ TEST(Pluck, AnExactPluckKeepsTheBalanceToRoundOff) {
             EXPECT_TRUE(r.losses_never_fall);
         }
     }
+}
+
+// Pushed down onto two exact point obstacles off the grid (0.3 mm below the string, 4.5 mm
+// apart, 3 and 7 cm from the pad): the plucker and the points in contact at the same step move
+// one another through the modes and are solved as one system. Lossless, the balance is
+// round-off.
+TEST(Pluck, AnExactPluckPressingOntoExactPointsKeepsTheBalance) {
+    Case c = testing::ideal_string(200, 1e4, "type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3", 2e5);
+    c.contact.stiffness = 1e9;
+    PluckSpec p = plucker(0.2013, 1.0, 0.5);
+    p.release_displacement_m = 1e-3;
+    p.stiffness = 1e6;
+    c.plucks.push_back(p);
+    const PluckRun r = play(c, 10000);
+    std::printf("plucker onto exact points: balance %.2e, work %.3g J, %ld steps on the points, %ld played\n", r.worst,
+                r.work, r.contact_steps, r.played_steps);
+    EXPECT_GT(r.contact_steps, 100);
+    EXPECT_GT(r.played_steps, 100);
+    EXPECT_TRUE(r.gone);
+    EXPECT_LT(r.worst, 1e-12);
 }
 
 // Screening and free flight once the exact plucker has gone, against every mode stepped at every

@@ -24,13 +24,12 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
-// Whether the case's plucker acts at its exact position: it must be the only thing touching the
-// string (no finger, no other plucker, no obstacle on the grid or at points), so that its one
-// scalar equation is the whole contact solve of each step. Force gestures load the string
-// explicitly and may be present.
+// Whether the case's plucker acts at its exact position: nothing else may touch the string on
+// the grid (no finger, no other plucker, no obstacle on the grid), so that its one scalar
+// equation is the whole contact solve of each step, or one more equation in the exact points'
+// system (PointContact). Force gestures load the string explicitly and may be present.
 bool pluck_exact(const Plan& plan) {
-    return plan.plucks().size() == 1 && plan.fingers().empty() && plan.obstacle_points().empty() &&
-           plan.point_contact().empty();
+    return plan.plucks().size() == 1 && plan.fingers().empty() && plan.obstacle_points().empty();
 }
 
 std::vector<Pluck> plucks_of(const Plan& plan) {
@@ -111,6 +110,9 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
         const std::span<const double> shape = parts_.plucks().front().shape();
         for (const ForceProfile& g : gestures_)
             gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
+        pluck_self_ = kernels::dot(shape.data(), shape.data(), q0.size());
+        for (std::size_t p = 0; p < points.size(); ++p)
+            pluck_at_points_.push_back(kernels::dot(shape.data(), points.row(p).data(), q0.size()));
     }
 }
 
@@ -189,28 +191,42 @@ void Stepper::start_exact_pluck(double u_before, double u_now) {
     exact_pluck().start(std::span<const double>(&u_before, 1), std::span<const double>(&u_now, 1));
 }
 
-void Stepper::solve_exact_pluck() {
-    Pluck& pluck = exact_pluck();
-    if (pluck.left()) {
+bool Stepper::exact_pluck_acts() {
+    if (!exact_pluck_on()) return false;
+    if (exact_pluck().left()) {
         parts_.set_on(exact_pluck_, false);
-        return;
+        return false;
     }
-    // w_s = s . (free q^{n+1}), shifted by the gestures' loads of this step.
+    return true;
+}
+
+double Stepper::exact_pluck_prediction() const {
+    // w_s = s . (free q^{n+1}), shifted by the gestures' loads of this step (before the plucker's own).
     const ModalPropagator& prop = plan_.propagator();
-    const double* row = pluck.shape().data();
+    const double* row = parts_.plucks().front().shape().data();
     double w = 0.0;
     kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), &row, 1, q_.size(), &w);
     if (loaded_)
         for (std::size_t g = 0; g < gestures_.size(); ++g)
             w += plan_.force_to_displacement() * gesture_load_[g] * gesture_at_pluck_[g];
-    double force = 0.0;
-    psi_curr_ += pluck.step(n_, std::span<const double>(&w, 1), std::span<double>(&force, 1));
-    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, pluck.max_iterations());
+    return w;
+}
+
+void Stepper::take_pluck_force(double force) {
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, exact_pluck().max_iterations());
     pluck_load_ = force;
     if (force != 0.0) {
         if (!loaded_) ++stats_.played_steps;  // (load_gestures counted a loaded step)
         loaded_ = true;
     }
+}
+
+void Stepper::solve_exact_pluck() {
+    if (!exact_pluck_acts()) return;
+    const double w = exact_pluck_prediction();
+    double force = 0.0;
+    psi_curr_ += exact_pluck().step(n_, std::span<const double>(&w, 1), std::span<double>(&force, 1));
+    take_pluck_force(force);
 }
 
 bool Stepper::finger_on(std::size_t f) const {
@@ -555,7 +571,7 @@ void Stepper::solve_contacts() {
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
     pluck_load_ = 0.0;
-    if (exact_pluck_on()) solve_exact_pluck();
+    if (plan_.point_contact().empty()) solve_exact_pluck();  // (else solved with the points)
     points_pushed_ = !plan_.point_contact().empty() && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
@@ -750,7 +766,20 @@ bool Stepper::solve_points() {
     }
     if (loaded_)
         for (std::size_t p = 0; p < points.size(); ++p) point_predicted_[p] += gestures_at_point(p);
-    const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
+    const double k = plan_.force_to_displacement();
+    bool pushed = false;
+    if (exact_pluck_acts()) {
+        // The plucker at its exact position presses on u_s, which every point's row overlaps:
+        // one more unknown in the points' system.
+        Pluck& pluck = exact_pluck();
+        pluck.prepare(n_);
+        const double w = exact_pluck_prediction();
+        PointContact::Pad pad{&pluck, w, pluck_self_, pluck_at_points_, pluck.solve_alone(w)};
+        pushed = points.solve(points_, point_predicted_, plan_.contact(), k, pad);
+        take_pluck_force(pluck.conclude(n_, pad.x));
+    } else {
+        pushed = points.solve(points_, point_predicted_, plan_.contact(), k);
+    }
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
     return pushed;

@@ -38,10 +38,11 @@
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/PlayedPart.hpp"
+#include "fretbuzz/scheme/PointContact.hpp"
 
 namespace fretbuzz {
 
-class Pluck final : public PlayedPart {
+class Pluck final : public PlayedPart, public PadPress {
 public:
     enum class Stage { waiting, pulling, withdrawing, gone };
 
@@ -60,6 +61,15 @@ public:
     // force per unit length at each pad point (plucker and obstacle) and returns
     // sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
     double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    // At its exact position, solved with other contacts (PointContact): step() in three parts.
+    // prepare(n) sets the step's stage, p^{n+1} and loss coefficient; force_and_slope gives the
+    // force F on the string (N, solve orientation) at u_s^{n+1} = x and dF/dx (<= 0);
+    // solve_alone(w) is u_s^{n+1} with nothing else acting; conclude(n, x) takes the solution
+    // (energy, work, loss, stage) and returns F.
+    void prepare(long n);
+    void force_and_slope(double x, double& force, double& slope) const override;
+    double solve_alone(double w);
+    double conclude(long n, double x);
     void read_obstacle(const std::vector<double>& obstacle) override;
     bool left() const override { return stage_ == Stage::gone; }
 
@@ -82,6 +92,12 @@ public:
     bool acted() const override { return contact_force_ != 0.0; }
 
 private:
+    struct Sums {
+        double psi_next = 0.0, lost = 0.0, pushed = 0.0;
+    };
+    // Entry p's solution x (u^{n+1}) and the plucker's push there into the step's sums.
+    void take(std::size_t p, double x, double push, Sums& sums);
+    void finish(long n, const Sums& sums);
     double solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push);
     void appear();
 
@@ -95,6 +111,7 @@ private:
     std::vector<double> shape_;  // s where it acts at its exact position, else empty
     Stage stage_ = Stage::waiting;
     double p_curr_ = 0.0, p_prev_ = 0.0;       // p^n, p^{n-1}
+    double p_next_ = 0.0;                      // p^{n+1} of the step being taken
     double psi_curr_ = 0.0, psi_prev_ = 0.0;   // sum_i Psi(y_i) at n and n - 1
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     long release_step_ = -1;

@@ -233,7 +233,10 @@ private:
     bool exact_pluck_on() const { return exact_pluck_ < parts_.size() && parts_.on(exact_pluck_); }
     Pluck& exact_pluck() { return static_cast<Pluck&>(parts_[exact_pluck_]); }
     void start_exact_pluck(double u_before, double u_now);
-    void solve_exact_pluck();
+    bool exact_pluck_acts();  // on the string now (off for good once it has left)
+    double exact_pluck_prediction() const;
+    void take_pluck_force(double force);
+    void solve_exact_pluck();  // alone (no exact points)
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire(const PlayedPart& part);
@@ -265,6 +268,8 @@ private:
     std::size_t exact_pluck_ = static_cast<std::size_t>(-1);  // its part, if the plucker acts at its exact position
     double pluck_load_ = 0.0;                // the exact plucker's force on the string in this step (N)
     std::vector<double> gesture_at_pluck_;   // s_g . s of each gesture and the exact plucker's pad
+    std::vector<double> pluck_at_points_;    // s . phi(x_p) of the exact plucker's pad and each exact point
+    double pluck_self_ = 0.0;                // s . s
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
