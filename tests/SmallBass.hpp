@@ -1,7 +1,7 @@
 #pragma once
-// Shared by the finger and gesture tests: the Jazz Bass of bass-pluck (its neck rebuilt by
+// Shared by the finger, gesture and pluck tests: the Jazz Bass of bass-pluck (its neck rebuilt by
 // the fretboard generator) on 255 modes, so that runs of 1e5 steps take a second, and the
-// comparison of the screened path with the straightforward one, step by step.
+// comparison of the screened path with the straightforward one, step by step; an ideal string.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,6 +70,48 @@ inline RecordedRun record_run(const Case& c, bool fast) {
     const RunSummary s = simulate(c, observers, options);
     EXPECT_LT(s.max_relative_balance_error, 1e-10);
     return recorder.take();
+}
+
+// An ideal string (L = mu = 1, tension T) with `modes` modes and the given obstacle and
+// excitation lines (by default at rest).
+inline Case ideal_string(std::size_t modes, double tension, const std::string& obstacle, double fs,
+                         const std::string& excitation = "type = \"sine\"\nmode = 1\namplitude = 0.0") {
+    const std::string text = R"(name = "ideal-string"
+[string]
+L = 1.0
+T = )" + std::to_string(tension) + R"(
+mu = 1.0
+modes = )" + std::to_string(modes) + R"(
+ideal = true
+[obstacle]
+)" + obstacle + R"(
+[excitation]
+)" + excitation + R"(
+[contact]
+K = 1e5
+alpha = 1.5
+[run]
+fs = )" + std::to_string(fs) + R"(
+duration = 1.0
+lossless = true
+[observe]
+x = [0.7]
+)";
+    return parse_case(text, "ideal-string.toml", DataSource::builtin());
+}
+
+// u(x_obs) at every step of `steps`.
+inline std::vector<double> observed(const Case& c, double x_obs, long steps) {
+    c.validate();
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    const std::vector<double> probe = plan.basis().mode_shapes_at(x_obs);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    std::vector<double> u;
+    for (long n = 0; n < steps; ++n) {
+        s.step();
+        u.push_back(s.displacement(probe));
+    }
+    return u;
 }
 
 // The small bass's case text at 100 kHz for 10 ms (for runs of the command line), and a

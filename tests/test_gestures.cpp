@@ -24,6 +24,9 @@
 namespace fretbuzz {
 namespace {
 
+using testing::ideal_string;
+using testing::observed;
+
 Case small_bass_at_rest(double fs, double duration) { return testing::small_bass(fs, duration, 0.0); }
 
 ForceSpec push(double x, double width, double direction, std::vector<std::array<double, 2>> profile) {
@@ -78,48 +81,6 @@ TEST(ForceGesture, BalanceWithDampingIsExactForAPointForceUp) {
     const Balance b = balance(c, 100000);
     EXPECT_GT(b.work, 0.0);
     EXPECT_LT(b.worst, 1e-10);
-}
-
-// An ideal string (L = mu = 1, tension T) with `modes` modes and the given obstacle lines.
-Case ideal_string(std::size_t modes, double tension, const std::string& obstacle, double fs) {
-    const std::string text = R"(name = "ideal-gesture"
-[string]
-L = 1.0
-T = )" + std::to_string(tension) + R"(
-mu = 1.0
-modes = )" + std::to_string(modes) + R"(
-ideal = true
-[obstacle]
-)" + obstacle + R"(
-[excitation]
-type = "sine"
-mode = 1
-amplitude = 0.0
-[contact]
-K = 1e5
-alpha = 1.5
-[run]
-fs = )" + std::to_string(fs) + R"(
-duration = 1.0
-lossless = true
-[observe]
-x = [0.7]
-)";
-    return parse_case(text, "ideal-gesture.toml", DataSource::builtin());
-}
-
-// u(x_obs) at every step of `steps`.
-std::vector<double> observed(const Case& c, double x_obs, long steps) {
-    c.validate();
-    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
-    const std::vector<double> probe = plan.basis().mode_shapes_at(x_obs);
-    Stepper s(plan, c.initial_displacement, c.initial_velocity);
-    std::vector<double> u;
-    for (long n = 0; n < steps; ++n) {
-        s.step();
-        u.push_back(s.displacement(probe));
-    }
-    return u;
 }
 
 // The static deflection of a taut string under a point force F at x0, u(x0) = F x0 (L - x0) / (T L),

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -30,6 +31,7 @@ struct PluckRun {
     double worst = 0.0;      // max |H - W + D - (H - W + D)_1| / max(|H|, |W|)
     double work = 0.0;
     long release_step = -1;
+    long first_contact_step = -1;  // the first level at which the plucker pushes
     double force_at_release = 0.0, force_before_release = 0.0;
     double height_at_release = 0.0;  // the plucker's, at the release level
     double string_at_release = 0.0;  // u at the pad's centre then
@@ -53,6 +55,7 @@ PluckRun play(const Case& c, long steps) {
         ledger.push_back(s.energy() - s.work() + s.dissipated());
         scale = std::max({scale, std::abs(s.energy()), std::abs(s.work())});
         const Pluck& p = s.plucks().front();
+        if (r.first_contact_step < 0 && p.contact_force() != 0.0) r.first_contact_step = n;
         if (r.release_step < 0 && p.release_step() >= 0) {
             r.release_step = p.release_step();
             r.force_at_release = p.contact_force();
@@ -177,6 +180,124 @@ TEST(Pluck, AFrettedPopIsTheSameOnTheScreenedAndStraightforwardPaths) {
     const testing::PathComparison r = testing::compare_paths(small_fretted_pop(0.05), 6500);
     EXPECT_GT(r.contact_steps, 0);
     EXPECT_LT(r.relative_l2, 1e-9);
+}
+
+// An ideal string (L = mu = 1, T = 1e4: c = 100 m/s) at rest, plucked up at x0 = 0.2013 (off
+// every grid point of 200, 400 and 800 modes) by an 8 mm pad moving at 0.5 m/s, stiffness 1e6,
+// let go at 1 mm, at 200 kHz. on_grid: adds a flat barrier 5 cm below the string (never
+// touched), with which the plucker acts on its grid pad instead of at its exact position.
+const std::string kFarBarrier = "type = \"flat\"\nheight = -0.05";
+
+Case ideal_pluck(std::size_t modes, bool on_grid = false) {
+    const std::string obstacle = on_grid ? kFarBarrier : "type = \"none\"";
+    Case c = testing::ideal_string(modes, 1e4, obstacle, 2e5);
+    PluckSpec p = plucker(0.2013, -1.0, 0.5);
+    p.release_displacement_m = 1e-3;
+    p.stiffness = 1e6;
+    c.plucks.push_back(p);
+    return c;
+}
+
+// u(0.7) over 20 ms (the pull, the release at 2 ms, the string's free motion after it) at 200 and
+// 400 modes against 800: at its exact position the plucker's response converges with the mode
+// count; on its grid pad (whose set of points jumps with the grid) it stalls at about 2e-3.
+TEST(Pluck, AnExactPluckConvergesWithTheModeCount) {
+    const auto run = [](std::size_t modes, bool grid) { return testing::observed(ideal_pluck(modes, grid), 0.7, 4000); };
+    const std::vector<double> u800 = run(800, false);
+    const double coarse = testing::relative_l2(run(200, false), u800), fine = testing::relative_l2(run(400, false), u800);
+    const double grid_coarse = testing::relative_l2(run(200, true), u800);
+    std::printf("relative L2 of u(0.7) against 800 modes: exact 200 modes %.3g, 400 modes %.3g; grid pad 200 modes %.3g\n",
+                coarse, fine, grid_coarse);
+    EXPECT_LT(fine, 0.25 * coarse);
+    EXPECT_LT(coarse, 2e-4);
+    EXPECT_GT(grid_coarse, 5.0 * coarse);
+}
+
+// The string plucked 1 mm as a triangle at 0.25 and let go at t = 0; the plucker appears 0.3 mm
+// under it at t = dt and rises at 0.5 m/s. By d'Alembert (c = 100 m/s) the pad's mean height
+// stays at 0.8052 mm until the kink has crossed the pad (0.527 ms), then falls at 0.2667 m/s: the
+// plucker meets it at t* = 0.56396 ms. At its exact position the first contact is the same step
+// at 200, 400 and 800 modes, the one that t* falls in; the grid pad's, centred on the nearest
+// grid point (up to dx/2 away), moves with the mode count.
+TEST(Pluck, AnExactPluckFirstTouchesAtTheSameStepWhateverTheModeCount) {
+    const auto first = [](std::size_t modes, bool grid) {
+        const std::string obstacle = grid ? kFarBarrier : "type = \"none\"";
+        Case c = testing::ideal_string(modes, 1e4, obstacle, 2e5, "type = \"triangle\"\nposition = 0.25\namplitude = 1e-3");
+        PluckSpec p = plucker(0.2013, -1.0, 0.5);
+        p.gap_m = 3e-4;
+        p.release_displacement_m = 2e-3;
+        p.stiffness = 1e6;
+        c.plucks.push_back(p);
+        return play(c, 200).first_contact_step;
+    };
+    const double dt = 1.0 / 2e5, x0 = 0.2013, c = 100.0, kink = (0.25 - x0) / c;
+    const double fall = 0.5 * c * (1e-3 / 0.25 + 1e-3 / 0.75);
+    const double t_star = (3e-4 + 0.5 * dt + fall * kink) / (0.5 + fall);
+    const long expected = static_cast<long>(std::ceil(t_star / dt));
+    const long e200 = first(200, false), e400 = first(400, false), e800 = first(800, false);
+    std::printf("first contact step at 200/400/800 modes: exact %ld %ld %ld; grid pad %ld %ld %ld; d'Alembert t* = %.5f ms (step %ld)\n",
+                e200, e400, e800, first(200, true), first(400, true), first(800, true), 1e3 * t_star, expected);
+    for (long e : {e200, e400, e800}) EXPECT_EQ(e, expected);
+}
+
+// The exact plucker's work, contact energy and Hunt-Crossley loss in the discrete balance:
+// lossless, and with its loss and the string's damping, H - work + dissipated is constant to
+// round-off through the pull, the release and the withdrawal.
+TEST(Pluck, AnExactPluckKeepsTheBalanceToRoundOff) {
+    for (const bool lossy : {false, true}) {
+        Case c = ideal_pluck(200);
+        if (lossy) {
+            c.plucks.front().loss = 5.0;
+            c.plucks.front().exponent = 1.5;
+            c.plucks.front().stiffness = 1e8;
+            for (double& sigma : c.modes.sigma_per_s) sigma = 3.0;
+        }
+        const PluckRun r = play(c, 20000);
+        std::printf("%s: balance %.2e, work %.3g J, loss %.3g J\n", lossy ? "lossy" : "lossless", r.worst, r.work,
+                    r.contact_loss);
+        EXPECT_TRUE(r.gone);
+        EXPECT_GT(r.work, 0.0);
+        EXPECT_LT(r.worst, 1e-12);
+        if (lossy) {
+            EXPECT_GT(r.contact_loss, 0.0);
+            EXPECT_TRUE(r.losses_never_fall);
+        }
+    }
+}
+
+// Pushed down onto two exact point obstacles off the grid (0.3 mm below the string, 4.5 mm
+// apart, 3 and 7 cm from the pad): the plucker and the points in contact at the same step move
+// one another through the modes and are solved as one system. Lossless, the balance is
+// round-off.
+TEST(Pluck, AnExactPluckPressingOntoExactPointsKeepsTheBalance) {
+    Case c = testing::ideal_string(200, 1e4, "type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3", 2e5);
+    c.contact.stiffness = 1e9;
+    PluckSpec p = plucker(0.2013, 1.0, 0.5);
+    p.release_displacement_m = 1e-3;
+    p.stiffness = 1e6;
+    c.plucks.push_back(p);
+    const PluckRun r = play(c, 10000);
+    std::printf("plucker onto exact points: balance %.2e, work %.3g J, %ld steps on the points, %ld played\n", r.worst,
+                r.work, r.contact_steps, r.played_steps);
+    EXPECT_GT(r.contact_steps, 100);
+    EXPECT_GT(r.played_steps, 100);
+    EXPECT_TRUE(r.gone);
+    EXPECT_LT(r.worst, 1e-12);
+}
+
+// Screening and free flight once the exact plucker has gone, against every mode stepped at every
+// step.
+TEST(Pluck, AnExactPluckIsTheSameOnTheFastAndStraightforwardPaths) {
+    Case c = ideal_pluck(200);
+    c.run.duration_s = 0.05;
+    c.run.output_rate_hz = 50000.0;
+    const RecordedRun fast = testing::record_run(c, true), plain = testing::record_run(c, false);
+    ASSERT_EQ(fast.observation.size(), plain.observation.size());
+    const double l2 = testing::relative_l2(fast.observation, plain.observation);
+    std::printf("fast vs straightforward path, exact plucker: relative L2 %.3g (free flight %.0f %%)\n", l2,
+                100.0 * fast.summary.free_flight_fraction);
+    EXPECT_GT(fast.summary.free_flight_fraction, 0.5);
+    EXPECT_LT(l2, 1e-12);
 }
 
 TEST(Pluck, BadPluckInputIsRefusedNamingTheKey) {

@@ -7,20 +7,25 @@
 
 namespace fretbuzz {
 
+std::vector<double> pad_mean_shapes(const ModalBasis& basis, double x, double width) {
+    std::vector<double> shape = basis.mode_shapes_at(x);
+    // The pad's mean of sin(j pi x / L) over [x - w/2, x + w/2]: sin(j pi x / L) sin(h) / h.
+    const double half_angle = 0.5 * std::numbers::pi * width / basis.length();
+    if (half_angle > 0.0)
+        for (std::size_t j = 0; j < shape.size(); ++j) {
+            const double h = static_cast<double>(j + 1) * half_angle;
+            shape[j] *= std::sin(h) / h;
+        }
+    return shape;
+}
+
 ForceProfile::ForceProfile(const ForceSpec& spec, const ModalBasis& basis, double dt, double along)
     : force_(spec.force_profile),
       along_(along),
       dt_(dt),
       quiet_from_s_(force_.zero_from()),  // (also with no share here: the other polarisation's)
-      shape_(basis.mode_shapes_at(spec.position_m)),
+      shape_(pad_mean_shapes(basis, spec.position_m, spec.width_m)),
       on_grid_(basis.mode_count(), 0.0) {
-    // The pad's mean of sin(j pi x / L) over [x - w/2, x + w/2]: sin(j pi x / L) sin(h) / h.
-    const double half_angle = 0.5 * std::numbers::pi * spec.width_m / basis.length();
-    if (half_angle > 0.0)
-        for (std::size_t j = 0; j < shape_.size(); ++j) {
-            const double h = static_cast<double>(j + 1) * half_angle;
-            shape_[j] *= std::sin(h) / h;
-        }
     basis.to_grid(shape_, on_grid_);
 }
 

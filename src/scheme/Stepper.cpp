@@ -24,6 +24,23 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
+// Whether the case's plucker acts at its exact position: nothing else may touch the string on
+// the grid (no finger, no other plucker, no obstacle on the grid), so that its one scalar
+// equation is the whole contact solve of each step, or one more equation in the exact points'
+// system (PointContact). Force gestures load the string explicitly and may be present.
+bool pluck_exact(const Plan& plan) {
+    return plan.plucks().size() == 1 && plan.fingers().empty() && plan.obstacle_points().empty();
+}
+
+std::vector<Pluck> plucks_of(const Plan& plan) {
+    if (!pluck_exact(plan)) return parts_of<Pluck>(plan, plan.plucks());
+    const PluckSpec& spec = plan.plucks().front();
+    std::vector<Pluck> plucks;
+    plucks.emplace_back(spec, pad_mean_shapes(plan.basis(), spec.position_m, spec.width_m), plan.contact(), plan.dt(),
+                        plan.force_to_displacement());
+    return plucks;
+}
+
 // The case's force gestures along z, each at its exact position.
 std::vector<ForceProfile> gestures_of(const Plan& plan) {
     std::vector<ForceProfile> gestures;
@@ -62,7 +79,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
       grid_(q0.size(), 0.0),
       eta_prev_(q0.size(), 0.0),
       eta_curr_(q0.size(), 0.0),
-      parts_(parts_of<Finger>(plan, plan.fingers()), parts_of<Pluck>(plan, plan.plucks())),
+      parts_(parts_of<Finger>(plan, plan.fingers()), plucks_of(plan)),
       gestures_(gestures_of(plan)),
       gesture_load_(gestures_.size(), 0.0),
       on_pad_(q0.size(), 0),
@@ -88,6 +105,15 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     for (const ForceProfile& g : gestures_)
         for (std::size_t p = 0; p < points.size(); ++p)
             gesture_at_points_.push_back(kernels::dot(g.shape().data(), points.row(p).data(), q0.size()));
+    if (!parts_.plucks().empty() && parts_.plucks().front().exact()) {
+        exact_pluck_ = parts_.fingers().size();  // (no fingers: part 0)
+        const std::span<const double> shape = parts_.plucks().front().shape();
+        for (const ForceProfile& g : gestures_)
+            gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
+        pluck_self_ = kernels::dot(shape.data(), shape.data(), q0.size());
+        for (std::size_t p = 0; p < points.size(); ++p)
+            pluck_at_points_.push_back(kernels::dot(shape.data(), points.row(p).data(), q0.size()));
+    }
 }
 
 void Stepper::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
@@ -153,7 +179,54 @@ void Stepper::restart() {
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
     parts_.each_on([&](PlayedPart& part) { part.read_obstacle(plan_.obstacle()); });
+    if (exact_pluck_on()) {
+        double u_now = 0.0, u_before = 0.0;
+        kernels::dot_current_previous(exact_pluck().shape().data(), q_.data(), d_.data(), q_.size(), u_now, u_before);
+        start_exact_pluck(u_before, u_now);
+    }
     classify_points(grid_, impulse_);
+}
+
+void Stepper::start_exact_pluck(double u_before, double u_now) {
+    exact_pluck().start(std::span<const double>(&u_before, 1), std::span<const double>(&u_now, 1));
+}
+
+bool Stepper::exact_pluck_acts() {
+    if (!exact_pluck_on()) return false;
+    if (exact_pluck().left()) {
+        parts_.set_on(exact_pluck_, false);
+        return false;
+    }
+    return true;
+}
+
+double Stepper::exact_pluck_prediction() const {
+    // w_s = s . (free q^{n+1}), shifted by the gestures' loads of this step (before the plucker's own).
+    const ModalPropagator& prop = plan_.propagator();
+    const double* row = parts_.plucks().front().shape().data();
+    double w = 0.0;
+    kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), &row, 1, q_.size(), &w);
+    if (loaded_)
+        for (std::size_t g = 0; g < gestures_.size(); ++g)
+            w += plan_.force_to_displacement() * gesture_load_[g] * gesture_at_pluck_[g];
+    return w;
+}
+
+void Stepper::take_pluck_force(double force) {
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, exact_pluck().max_iterations());
+    pluck_load_ = force;
+    if (force != 0.0) {
+        if (!loaded_) ++stats_.played_steps;  // (load_gestures counted a loaded step)
+        loaded_ = true;
+    }
+}
+
+void Stepper::solve_exact_pluck() {
+    if (!exact_pluck_acts()) return;
+    const double w = exact_pluck_prediction();
+    double force = 0.0;
+    psi_curr_ += exact_pluck().step(n_, std::span<const double>(&w, 1), std::span<double>(&force, 1));
+    take_pluck_force(force);
 }
 
 bool Stepper::finger_on(std::size_t f) const {
@@ -342,6 +415,7 @@ void Stepper::step() {
         put_points_to_sleep();
     }
     if (points_pushed_) report_point_forces();
+    if (pluck_load_ != 0.0) report_force_at(plan_.plucks().front().position_m, pluck_load_);
     ++n_;
 }
 
@@ -350,7 +424,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const long steps = flight.steps();
     // A finger may touch at any time: its pad points are solved every step (and exact points);
     // a gesture loads the string until its force has ended.
-    if (n_ == 0 || !screening_ || pad_points_ != 0 || !plan_.point_contact().empty() || !active_.empty() ||
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || exact_pluck_on() || !plan_.point_contact().empty() || !active_.empty() ||
         psi_curr_ != 0.0 || psi_prev_ != 0.0 || gestures_act_from(n_))
         return 0;
     scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
@@ -431,6 +505,7 @@ void Stepper::first_step() {
     // q^1 is the exact free motion of each mode; contact acts from step 1 on.
     std::vector<double> u0(q_.size());
     AlignedVector q1(q_.size());
+    const double pad_before = exact_pluck_on() ? kernels::dot(exact_pluck().shape().data(), q_.data(), q_.size()) : 0.0;
     plan_.propagator().first_step(q_, v0_, q1, d_);
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);
@@ -440,7 +515,11 @@ void Stepper::first_step() {
     classify_points(grid_, u0);
     plan_.point_contact().start(points_, q_, d_);
     // Each played part starts from the string under its pad at levels 0 and 1.
-    for (std::size_t k = 0; k < parts_.size(); ++k) start_part(parts_[k], u0, grid_);
+    for (std::size_t k = 0; k < parts_.size(); ++k)
+        if (k == exact_pluck_)
+            start_exact_pluck(pad_before, kernels::dot(exact_pluck().shape().data(), q_.data(), q_.size()));
+        else
+            start_part(parts_[k], u0, grid_);
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
@@ -492,6 +571,8 @@ void Stepper::solve_contacts() {
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + plan_.point_contact().size());
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
+    pluck_load_ = 0.0;
+    if (plan_.point_contact().empty()) solve_exact_pluck();  // (else solved with the points)
     points_pushed_ = !plan_.point_contact().empty() && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
@@ -612,7 +693,7 @@ void Stepper::solve_fingers(bool use_transform) {
             if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
     for (std::size_t k = 0; k < parts_.size(); ++k) {
-        if (!parts_.on(k)) continue;
+        if (!parts_.on(k) || k == exact_pluck_) continue;  // (the exact plucker has its own solve)
         if (parts_[k].left()) {
             retire(parts_[k]);
             parts_.set_on(k, false);
@@ -686,7 +767,20 @@ bool Stepper::solve_points() {
     }
     if (loaded_)
         for (std::size_t p = 0; p < points.size(); ++p) point_predicted_[p] += gestures_at_point(p);
-    const bool pushed = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement());
+    const double k = plan_.force_to_displacement();
+    bool pushed = false;
+    if (exact_pluck_acts()) {
+        // The plucker at its exact position presses on u_s, which every point's row overlaps:
+        // one more unknown in the points' system.
+        Pluck& pluck = exact_pluck();
+        pluck.prepare(n_);
+        const double w = exact_pluck_prediction();
+        PointContact::Pad pad{&pluck, w, pluck_self_, pluck_at_points_, pluck.solve_alone(w)};
+        pushed = points.solve(points_, point_predicted_, plan_.contact(), k, pad);
+        take_pluck_force(pluck.conclude(n_, pad.x));
+    } else {
+        pushed = points.solve(points_, point_predicted_, plan_.contact(), k);
+    }
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
     return pushed;
@@ -701,15 +795,17 @@ void Stepper::apply_point_impulse() {
     plan_.point_contact().add_impulse(points_, plan_.force_to_displacement(), impulse_);
 }
 
-void Stepper::report_point_forces() {
-    // Each point's force as a force per length at its nearest grid point, the same total force.
+void Stepper::report_force_at(double x, double force) {
+    // As a force per length at the grid point nearest x, the same total force.
     const double dx = plan_.basis().grid_step();
+    const double index = std::clamp(std::round(x / dx) - 1.0, 0.0, static_cast<double>(q_.size() - 1));
+    forces_.emplace_back(static_cast<std::size_t>(index), force / dx);
+}
+
+void Stepper::report_point_forces() {
     const PointContact& points = plan_.point_contact();
-    for (std::size_t p = 0; p < points.size(); ++p) {
-        if (points_.force[p] == 0.0) continue;
-        const double index = std::clamp(std::round(points.point(p).x_m / dx) - 1.0, 0.0, static_cast<double>(q_.size() - 1));
-        forces_.emplace_back(static_cast<std::size_t>(index), points_.force[p] * points.weight(p) / dx);
-    }
+    for (std::size_t p = 0; p < points.size(); ++p)
+        if (points_.force[p] != 0.0) report_force_at(points.point(p).x_m, points_.force[p] * points.weight(p));
 }
 
 bool Stepper::points_by_rows() const {
@@ -783,6 +879,8 @@ void Stepper::apply_impulse() {
         for (std::size_t g = 0; g < gestures_.size(); ++g)
             if (gesture_load_[g] != 0.0)
                 kernels::axpy(k * gesture_load_[g], gestures_[g].shape().data(), impulse_.data(), impulse_.size());
+        if (pluck_load_ != 0.0)
+            kernels::axpy(k * pluck_load_, exact_pluck().shape().data(), impulse_.data(), impulse_.size());
         return;
     }
     if (points_pushed_) {

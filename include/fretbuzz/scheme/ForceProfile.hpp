@@ -19,6 +19,11 @@
 
 namespace fretbuzz {
 
+// s_j: the mean of phi_j over the pad [x - w/2, x + w/2] (phi_j(x) where w = 0), for every mode
+// of the basis. A force F spread evenly over the pad loads mode j with F s_j, and s . q is the
+// pad's mean displacement.
+std::vector<double> pad_mean_shapes(const ModalBasis& basis, double x, double width);
+
 class ForceProfile {
 public:
     // along: the force's signed component along the polarisation stepped, per newton of F, in

@@ -22,6 +22,15 @@
 // the first term is the work of the prescribed motion, the second the contact loss (>= 0).
 // Each pad point is one scalar increasing equation in u_i^{n+1} (the plucker's and the
 // obstacle's terms both increase with it): no global solve.
+//
+// At its exact position and width (whatever the grid) the plucker is one rigid pad touching
+// the pad's mean displacement u_s = s . q, s_j the pad's mean of phi_j (pad_mean_shapes): the
+// same law with y = s (p - u_s), force F = K_p [y]_+^alpha (+ its Hunt-Crossley term) on the
+// whole pad, spread evenly over it (modal impulse (dt^2/mu) F s). The stages and the scalar
+// solve above then act on one entry of weight 1 (dx -> 1, K -> K_p) whose step factor is
+// (dt^2/mu) (s . s): u_s^{n+1} = w_s + (dt^2/mu) (s . s) F with w_s the free step's u_s. This
+// is exact only where nothing else touches the string in a way that couples with the pad, so
+// the stepper uses it where the plucker is the case's only contact (see Stepper).
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -29,16 +38,22 @@
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/PlayedPart.hpp"
+#include "fretbuzz/scheme/PointContact.hpp"
 
 namespace fretbuzz {
 
-class Pluck final : public PlayedPart {
+class Pluck final : public PlayedPart, public PadPress {
 public:
     enum class Stage { waiting, pulling, withdrawing, gone };
 
     // obstacle: heights at every grid point in the solve's orientation (-inf: none); k = dt^2/mu.
     Pluck(const PluckSpec& spec, double dx, const std::vector<double>& obstacle, const PenaltyContact& obstacle_law,
           double dt, double k);
+    // At its exact position: shape = s (pad_mean_shapes), no grid pad; step() takes the pad's
+    // mean free prediction w_s and writes the force on the string (N) as its one entry.
+    Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyContact& obstacle_law, double dt, double k);
+    bool exact() const { return !shape_.empty(); }
+    std::span<const double> shape() const { return shape_; }  // s (exact only)
 
     const std::vector<std::size_t>& pad() const override { return pad_; }
     void start(std::span<const double> u0, std::span<const double> u1) override;
@@ -46,11 +61,20 @@ public:
     // force per unit length at each pad point (plucker and obstacle) and returns
     // sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
     double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    // At its exact position, solved with other contacts (PointContact): step() in three parts.
+    // prepare(n) sets the step's stage, p^{n+1} and loss coefficient; force_and_slope gives the
+    // force F on the string (N, solve orientation) at u_s^{n+1} = x and dF/dx (<= 0);
+    // solve_alone(w) is u_s^{n+1} with nothing else acting; conclude(n, x) takes the solution
+    // (energy, work, loss, stage) and returns F.
+    void prepare(long n);
+    void force_and_slope(double x, double& force, double& slope) const override;
+    double solve_alone(double w);
+    double conclude(long n, double x);
     void read_obstacle(const std::vector<double>& obstacle) override;
     bool left() const override { return stage_ == Stage::gone; }
 
     Stage stage() const { return stage_; }
-    // u^n and u^{n-1} at the pad points (pad order): where the obstacle's solve takes over.
+    // u^n and u^{n-1} at the pad points (pad order; exact: u_s): where the obstacle's solve takes over.
     std::span<const double> current() const override { return u_curr_; }
     std::span<const double> previous() const override { return u_prev_; }
     double height() const { return p_curr_; }                  // p^n (solve orientation)
@@ -68,6 +92,12 @@ public:
     bool acted() const override { return contact_force_ != 0.0; }
 
 private:
+    struct Sums {
+        double psi_next = 0.0, lost = 0.0, pushed = 0.0;
+    };
+    // Entry p's solution x (u^{n+1}) and the plucker's push there into the step's sums.
+    void take(std::size_t p, double x, double push, Sums& sums);
+    void finish(long n, const Sums& sums);
     double solve_point(std::size_t p, double w, double p_next, double& obstacle_force, double& push);
     void appear();
 
@@ -78,8 +108,10 @@ private:
     const PenaltyContact& obstacle_law_;
     std::vector<std::size_t> pad_;
     std::vector<double> g_, u_curr_, u_prev_, rho_;
+    std::vector<double> shape_;  // s where it acts at its exact position, else empty
     Stage stage_ = Stage::waiting;
     double p_curr_ = 0.0, p_prev_ = 0.0;       // p^n, p^{n-1}
+    double p_next_ = 0.0;                      // p^{n+1} of the step being taken
     double psi_curr_ = 0.0, psi_prev_ = 0.0;   // sum_i Psi(y_i) at n and n - 1
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     long release_step_ = -1;

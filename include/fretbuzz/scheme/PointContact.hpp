@@ -22,6 +22,21 @@
 
 namespace fretbuzz {
 
+// Something pressing on the string's pad-mean displacement u_s = s . q (a plucker at its exact
+// position, s its pad's mean of each mode shape), solved with the points in one system: its
+// force F on the string (N, solve orientation, loading the modes with (dt^2/mu) F s) at
+// u_s^{n+1} = x, and dF/dx (<= 0).
+class PadPress {
+public:
+    virtual void force_and_slope(double x, double& force, double& slope) const = 0;
+
+protected:
+    PadPress() = default;
+    PadPress(const PadPress&) = default;
+    PadPress& operator=(const PadPress&) = default;
+    ~PadPress() = default;
+};
+
 class PointContact {
 public:
     PointContact() = default;
@@ -51,14 +66,27 @@ public:
     // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
     // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const;
+    // A pad pressing on u_s in the same step: with its force F(x) the system gains one unknown,
+    //     r_p + k sum_q G_pq f_q + k h_p F(x) = b_p,   x - w - k sum_q c_q h_q f_q - k (s . s) F(x) = 0,
+    // h_p = phi(x_p) . s, w the free step's u_s; x holds the pad's solution alone on entry and
+    // the joint one on return.
+    struct Pad {
+        const PadPress* press = nullptr;
+        double predicted = 0.0;            // w
+        double self = 0.0;                 // s . s
+        std::span<const double> coupling;  // h_p
+        double x = 0.0;
+    };
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad& pad) const;
     // sum_p c_p Psi(eta_p) at the current and the previous level.
     double potential(const State& s, const PenaltyContact& law, bool current) const;
     // Adds the modal impulse k sum_p c_p f_p phi(x_p) to `impulse`.
     void add_impulse(const State& s, double k, std::span<double> impulse) const;
 
 private:
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
     template <class Matrix>
-    void solve_coupled(State& s, const PenaltyContact& law, double k) const;
+    void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
     double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
 
     std::vector<PointObstacle> points_;

@@ -176,7 +176,8 @@ public:
     const std::vector<ForceProfile>& gestures() const { return gestures_; }
 
     // Whether the obstacle pushed on the string in the last step (forces() also holds the
-    // fingers' and pluckers' forces at their pads; a gesture's load is not a force there).
+    // fingers' and pluckers' forces at their pads, a plucker at its exact position at its
+    // nearest grid point; a gesture's load is not a force there).
     bool touched_obstacle() const { return touched_obstacle_; }
     // Points with a non-zero force in the last step and that force (N/m).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
@@ -208,6 +209,8 @@ private:
     bool solve_points();
     void apply_point_impulse();
     void report_point_forces();
+    // A force (N) acting at x off the grid, in forces() as a force per length at the nearest grid point.
+    void report_force_at(double x, double force);
     // Whether the step pushes with the points' rows (and the grid's) on the fly, in the pass that
     // also forms the next prediction at every point where the step is fused (else through
     // apply_point_impulse's vector).
@@ -227,6 +230,15 @@ private:
     double gestures_at_point(std::size_t p) const;
     bool gestures_act_from(long n) const;
     void advance_loaded();  // advance_modes with the gestures' loads in impulse_, and their work
+    // The plucker at its exact position (where it is the case's only contact): its solve from
+    // the pad's mean free prediction, its force a load on the modes as a gesture's.
+    bool exact_pluck_on() const { return exact_pluck_ < parts_.size() && parts_.on(exact_pluck_); }
+    Pluck& exact_pluck() { return static_cast<Pluck&>(parts_[exact_pluck_]); }
+    void start_exact_pluck(double u_before, double u_now);
+    bool exact_pluck_acts();  // on the string now (off for good once it has left)
+    double exact_pluck_prediction() const;
+    void take_pluck_force(double force);
+    void solve_exact_pluck();  // alone (no exact points)
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire(const PlayedPart& part);
@@ -254,7 +266,12 @@ private:
     std::vector<ForceProfile> gestures_;
     std::vector<double> gesture_load_;       // f^n of each gesture in the step being taken
     std::vector<double> gesture_at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
-    bool loaded_ = false;                    // a gesture loads the step being taken
+    bool loaded_ = false;                    // a gesture or the exact plucker loads the step being taken
+    std::size_t exact_pluck_ = static_cast<std::size_t>(-1);  // its part, if the plucker acts at its exact position
+    double pluck_load_ = 0.0;                // the exact plucker's force on the string in this step (N)
+    std::vector<double> gesture_at_pluck_;   // s_g . s of each gesture and the exact plucker's pad
+    std::vector<double> pluck_at_points_;    // s . phi(x_p) of the exact plucker's pad and each exact point
+    double pluck_self_ = 0.0;                // s . s
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
