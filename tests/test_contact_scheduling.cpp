@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 
@@ -304,6 +305,24 @@ TEST(ContactScheduling, TransformThresholdFollowsThePlannedCost) {
     };
     EXPECT_GT(threshold(862), 3 * threshold(863));
     EXPECT_GT(threshold(1600), 2 * threshold(1599));  // 1601 prime, 1600 = 2^6 5^2
+}
+
+
+// The arrays the kernels sweep at every step start on a cache line (scheme/CacheAligned.hpp):
+// with malloc's 16-byte alignment a step's vector loads straddled two lines or not as the
+// heap's layout fell, which moved the bass pop's speed by 10-15 % between builds.
+TEST(ContactScheduling, TheArraysTheKernelsSweepStartOnACacheLine) {
+    const Case c = load_case("bass-pop");
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    s.step();
+    const auto on_a_line = [](std::span<const double> a) { return reinterpret_cast<std::uintptr_t>(a.data()) % 64 == 0; };
+    EXPECT_TRUE(on_a_line(s.modal_displacement()));
+    EXPECT_TRUE(on_a_line(s.modal_difference()));
+    EXPECT_TRUE(on_a_line(plan.propagator().decay()));
+    EXPECT_TRUE(on_a_line(plan.propagator().beta()));
+    EXPECT_TRUE(on_a_line(plan.propagator().loss()));
+    for (std::size_t i : {std::size_t{0}, c.mode_count() / 3, c.mode_count() - 1}) EXPECT_TRUE(on_a_line(plan.basis().row(i))) << i;
 }
 
 }  // namespace
