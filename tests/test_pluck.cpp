@@ -285,6 +285,26 @@ TEST(Pluck, AnExactPluckPressingOntoExactPointsKeepsTheBalance) {
     EXPECT_LT(r.worst, 1e-12);
 }
 
+// Two pluckers (each on its grid pad) pressing the string onto off-grid points: their pads and
+// the points would couple through the modes in one step, which no solve here takes together, so
+// the points join the grid beside them (Plan) and the balance stays round-off.
+TEST(Pluck, TwoPluckersPressingOntoPointsKeepTheBalance) {
+    Case c = testing::ideal_string(200, 1e4, "type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3", 2e5);
+    c.contact.stiffness = 1e9;
+    for (const double x : {0.2013, 0.2513}) {
+        PluckSpec p = plucker(x, 1.0, 0.5);
+        p.release_displacement_m = 1e-3;
+        p.stiffness = 1e6;
+        c.plucks.push_back(p);
+    }
+    const PluckRun r = play(c, 10000);
+    std::printf("two pluckers onto points: balance %.2e, %ld steps on the points, %ld played\n", r.worst, r.contact_steps,
+                r.played_steps);
+    EXPECT_GT(r.contact_steps, 100);
+    EXPECT_GT(r.played_steps, 100);
+    EXPECT_LT(r.worst, 1e-12);
+}
+
 // Screening and free flight once the exact plucker has gone, against every mode stepped at every
 // step.
 TEST(Pluck, AnExactPluckIsTheSameOnTheFastAndStraightforwardPaths) {
