@@ -26,6 +26,13 @@ void throw_if_stopped() {
     if (const int signal = stop_signal(); signal != 0) throw Interrupted(signal);
 }
 
+std::string number_text(double value) {
+    std::ostringstream out;
+    out.precision(6);
+    out << value;
+    return out.str();
+}
+
 std::string out_of_range_message(const std::string& name, double value, const std::string& allowed) {
     std::ostringstream out;
     out.precision(17);

@@ -34,6 +34,9 @@ int stop_signal() noexcept;
 // Throws Interrupted if a stop was asked for.
 void throw_if_stopped();
 
+// A number as messages quote it: six significant digits.
+std::string number_text(double value);
+
 // Formats "<name> = <value> is out of range: <allowed>" for InputError messages.
 std::string out_of_range_message(const std::string& name, double value, const std::string& allowed);
 

@@ -11,7 +11,6 @@
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
 #include "fretbuzz/analysis/SubbandFilter.hpp"
-#include "NumberText.hpp"
 
 namespace fretbuzz {
 

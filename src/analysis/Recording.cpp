@@ -12,7 +12,6 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/TextFile.hpp"
-#include "NumberText.hpp"
 
 namespace fretbuzz {
 

@@ -31,13 +31,6 @@ constexpr double kSteelYoungModulus = 200e9;  // Pa: the cores of wound strings 
 constexpr std::size_t kMaxStrings = 12;
 constexpr std::size_t kMaxFrets = 24;  // a stopped string reaches 3 L / 4 at most (stopped_string)
 
-std::string number_text(double v) {
-    std::ostringstream out;
-    out.precision(6);
-    out << v;
-    return out.str();
-}
-
 // An interval in a display unit, for checks and their messages: "(0, 5] mm".
 struct Range {
     double low, high;  // in the display unit

@@ -21,6 +21,11 @@ bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& option
     const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1;
     return c.two_polarisations() || pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
+
+// The step kernel for the modes' damping: without losses the step skips their terms.
+kernels::StepKernel step_kernel_for(const ModalPropagator& propagator) {
+    return propagator.lossless() ? kernels::step_lossless : kernels::step_lossy;
+}
 }  // namespace
 
 Plan::Plan(const Case& c, double dt, PlanOptions options)
@@ -31,7 +36,7 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       loss_scale_(mu_ / (4.0 * dt_ * dt_)),
       basis_(c.string.length_m, c.mode_count(), options.measure_transform),
       propagator_(c.modes, dt),
-      step_kernel_(propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy),
+      step_kernel_(step_kernel_for(propagator_)),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
       friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
@@ -76,7 +81,7 @@ void Plan::place_points(const Case& c) {
 
 void Plan::set_damping(std::span<const double> sigma_per_s) {
     propagator_.set_damping(sigma_per_s);
-    step_kernel_ = propagator_.lossless() ? kernels::step_lossless : kernels::step_lossy;
+    step_kernel_ = step_kernel_for(propagator_);
 }
 
 void Plan::set_obstacle_offset(double offset) {

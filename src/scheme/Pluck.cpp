@@ -7,6 +7,7 @@
 
 #include "MonotoneRoot.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
@@ -48,8 +49,8 @@ Pluck::Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyCont
       rho_(1, 0.0),
       shape_(std::move(shape)) {
     // u_s moves by (dt^2/mu) F (s . s) for a force F spread over the pad.
-    for (double v : shape_) k_ += v * v;
-    k_ *= k;
+    shape_square_ = kernels::dot(shape_.data(), shape_.data(), shape_.size());
+    k_ = k * shape_square_;
 }
 
 void Pluck::read_obstacle(const std::vector<double>& obstacle) {

@@ -102,17 +102,17 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     for (const FingerSpec& spec : plan.fingers()) claim_pad(parts_[k++].pad(), spec.key);
     for (const PluckSpec& spec : plan.plucks()) claim_pad(parts_[k++].pad(), spec.key);
     const PointContact& points = plan.point_contact();
-    for (const ForceProfile& g : gestures_)
-        for (std::size_t p = 0; p < points.size(); ++p)
-            gesture_at_points_.push_back(kernels::dot(g.shape().data(), points.row(p).data(), q0.size()));
+    // s . phi(x_p) of a pad's shape s with each exact point's row, appended to `out`.
+    const auto at_points = [&](std::span<const double> s, std::vector<double>& out) {
+        for (std::size_t p = 0; p < points.size(); ++p) out.push_back(kernels::dot(s.data(), points.row(p).data(), s.size()));
+    };
+    for (const ForceProfile& g : gestures_) at_points(g.shape(), gesture_at_points_);
     if (!parts_.plucks().empty() && parts_.plucks().front().exact()) {
         exact_pluck_ = parts_.fingers().size();  // (no fingers: part 0)
         const std::span<const double> shape = parts_.plucks().front().shape();
         for (const ForceProfile& g : gestures_)
             gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
-        pluck_self_ = kernels::dot(shape.data(), shape.data(), q0.size());
-        for (std::size_t p = 0; p < points.size(); ++p)
-            pluck_at_points_.push_back(kernels::dot(shape.data(), points.row(p).data(), q0.size()));
+        at_points(shape, pluck_at_points_);
     }
 }
 
@@ -775,7 +775,7 @@ bool Stepper::solve_points() {
         Pluck& pluck = exact_pluck();
         pluck.prepare(n_);
         const double w = exact_pluck_prediction();
-        PointContact::Pad pad{&pluck, w, pluck_self_, pluck_at_points_, pluck.solve_alone(w)};
+        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w)};
         pushed = points.solve(points_, point_predicted_, plan_.contact(), k, pad);
         take_pluck_force(pluck.conclude(n_, pad.x));
     } else {

@@ -54,6 +54,7 @@ public:
     Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyContact& obstacle_law, double dt, double k);
     bool exact() const { return !shape_.empty(); }
     std::span<const double> shape() const { return shape_; }  // s (exact only)
+    double shape_square() const { return shape_square_; }      // s . s (exact only)
 
     const std::vector<std::size_t>& pad() const override { return pad_; }
     void start(std::span<const double> u0, std::span<const double> u1) override;
@@ -103,6 +104,7 @@ private:
 
     PluckSpec spec_;
     double s_, dx_, dt_, k_;
+    double shape_square_ = 0.0;
     long start_step_;
     PenaltyContact law_;
     const PenaltyContact& obstacle_law_;

@@ -271,7 +271,6 @@ private:
     double pluck_load_ = 0.0;                // the exact plucker's force on the string in this step (N)
     std::vector<double> gesture_at_pluck_;   // s_g . s of each gesture and the exact plucker's pad
     std::vector<double> pluck_at_points_;    // s . phi(x_p) of the exact plucker's pad and each exact point
-    double pluck_self_ = 0.0;                // s . s
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
