@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "MillimetreText.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
@@ -17,13 +18,6 @@ namespace {
 
 constexpr double kHighestAction = 10e-3;
 constexpr double kHighestRelief = 1.0e-3;
-
-std::string mm(double metres) {
-    std::ostringstream out;
-    out.precision(3);
-    out << metres * 1e3 << " mm";
-    return out.str();
-}
 
 std::string note_name(const NoteVerdict& v) { return v.string_name + " " + std::to_string(v.fret); }
 
@@ -148,7 +142,7 @@ ActionAdvice lowest_clean_action(const Instrument& instrument, std::size_t strin
     }
     search.bisect(lo, hi);
     advice.lowest_clean_m = static_cast<double>(hi) * kActionStep;
-    advice.below = mm(static_cast<double>(lo) * kActionStep) + ": " + search.why(lo);
+    advice.below = mm_text(static_cast<double>(lo) * kActionStep) + ": " + search.why(lo);
     return advice;
 }
 
@@ -320,27 +314,27 @@ std::string advice_text(const Advice& a) {
     out << "Advice at the " << a.attack.label << " attack (" << a.maps << " maps played, " << std::lround(a.wall_seconds)
         << " s):\n";
     for (const ActionAdvice& x : a.actions) {
-        out << "  string " << x.string << ": action over fret 12 now " << mm(x.current_m) << "; ";
+        out << "  string " << x.string << ": action over fret 12 now " << mm_text(x.current_m) << "; ";
         if (std::isfinite(x.lowest_clean_m))
-            out << "the lowest without buzz is " << mm(x.lowest_clean_m) << " (" << x.below << ")\n";
+            out << "the lowest without buzz is " << mm_text(x.lowest_clean_m) << " (" << x.below << ")\n";
         else
-            out << "no action up to " << mm(kHighestAction) << " is free of buzz" << (x.below.empty() ? "" : ": " + x.below)
+            out << "no action up to " << mm_text(kHighestAction) << " is free of buzz" << (x.below.empty() ? "" : ": " + x.below)
                 << "\n";
     }
     if (a.proud.empty())
         out << "  no fret stands proud (lowering one fret by 0.1 mm or less clears no buzz without adding some)\n";
     for (const ProudFret& p : a.proud) {
-        out << "  fret " << p.fret << " stands proud: lowering it by " << mm(p.lower_by_m) << " clears";
+        out << "  fret " << p.fret << " stands proud: lowering it by " << mm_text(p.lower_by_m) << " clears";
         for (const std::string& n : p.cleared) out << " " << n;
         out << "\n";
     }
     const ReliefAdvice& r = a.relief;
-    out << "  relief (gap at fret " << r.fret << ") now " << mm(r.current_m) << "; ";
+    out << "  relief (gap at fret " << r.fret << ") now " << mm_text(r.current_m) << "; ";
     if (std::isfinite(r.lowest_m))
-        out << "the map is clean from " << mm(r.lowest_m) << " to " << mm(r.highest_m)
+        out << "the map is clean from " << mm_text(r.lowest_m) << " to " << mm_text(r.highest_m)
             << (r.highest_m >= r.searched_to_m ? " (the top of the search)" : "") << "\n";
     else
-        out << "no relief from 0 to " << mm(r.searched_to_m) << " gives a clean map\n";
+        out << "no relief from 0 to " << mm_text(r.searched_to_m) << " gives a clean map\n";
     return out.str();
 }
 

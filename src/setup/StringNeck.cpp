@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "MillimetreText.hpp"
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/Fretboard.hpp"
@@ -15,13 +16,6 @@ namespace fretbuzz {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-std::string mm_text(double metres) {
-    std::ostringstream out;
-    out.precision(3);
-    out << metres * 1e3 << " mm";
-    return out.str();
-}
 
 // A parabolic bow of depth 1 at mid-span, zero at the nut end and at the last fret.
 double unit_bow(double x, double last) {
