@@ -65,6 +65,15 @@ std::string aiff(const std::string& before = "") {
     return "FORM" + u32(static_cast<std::uint32_t>(body.size()), true) + body;
 }
 
+// The same as RF64: its ds64 chunk gives the data's length, and the data chunk's own size
+// field holds `data_size` (0xffffffff by the format; a damaged file may hold anything).
+std::string rf64(std::uint32_t data_size, const std::string& after = "") {
+    const std::string audio = pcm(false);
+    const std::string sizes = u32(0) + u32(0) + u32(static_cast<std::uint32_t>(audio.size())) + u32(0) +
+                              u32(static_cast<std::uint32_t>(audio.size() / 2)) + u32(0) + u32(0);
+    return "RF64" + u32(0xffffffffu) + "WAVE" + chunk("ds64", sizes) + fmt_chunk() + "data" + u32(data_size) + audio + after;
+}
+
 std::vector<double> expected() {
     std::vector<double> out;
     for (std::int16_t v : samples()) out.push_back(v / 32768.0);
@@ -86,6 +95,8 @@ TEST(RecordingReader, MetadataChunksNeverReachTheDecoder) {
         {"short cue", wav(short_cue(), short_cue())},
         {"smpl, acid and bext of junk", wav(chunk("smpl", std::string(7, '\xff')) + chunk("acid", "x") + chunk("bext", ""))},
         {"RIFX with a LIST", wav(chunk("LIST", "INFO" + std::string("ABCD") + u32(0xfffffff7u, true) + "abcdefgh", true), "", true)},
+        {"RF64 with a LIST after the data", rf64(0xffffffffu, endless_list())},
+        {"RF64 whose data chunk claims 2^32 - 188 bytes", rf64(0xffffff44u, endless_list())},
         {"AIFF", aiff()},
         {"AIFF with MARK and INST of junk", aiff(chunk("MARK", u16(0xffff, true), true) + chunk("INST", "", true))},
     };

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -98,17 +99,19 @@ SplicedFile needed_chunks(std::string_view b, const std::string& what) {
     SplicedFile file;
     std::copy_n(b.data(), file.head.size(), file.head.begin());
     std::vector<std::string_view> seen;
-    std::uint64_t rf64_data_bytes = 0;  // from the ds64 chunk
+    std::optional<std::uint64_t> rf64_data_bytes;  // from the first ds64 chunk
     for (std::size_t at = 12; at + 8 <= b.size();) {
         Chunk c{b.substr(at, 4), at, read_u32(b, at + 4, big_endian)};
         const std::size_t left = b.size() - at - 8;
-        if (rf64 && c.tag == "ds64" && c.size >= 28 && left >= 28) {
+        if (rf64 && c.tag == "ds64" && !rf64_data_bytes && c.size >= 28 && left >= 28) {
             rf64_data_bytes = read_u32(b, at + 16, false) | (read_u32(b, at + 20, false) << 32);
             // libsndfile skips a table of this many bytes after the three sizes
             if (read_u32(b, at + 32, false) > c.size - 28)
                 throw InputError(chunk_refusal(what, c, "has a size table longer than the chunk"));
         }
-        if (c.tag == audio && rf64 && c.size == 0xffffffffu) c.size = rf64_data_bytes;
+        // RF64's audio data is as long as its ds64 chunk says, whatever its own size field
+        // (libsndfile reads it so, and parses what follows as chunks).
+        if (rf64 && c.tag == audio) c.size = rf64_data_bytes ? *rf64_data_bytes : c.size == 0xffffffffu ? 0 : c.size;
         const bool audio_to_end = c.tag == audio && c.size > left;
         if (c.size > left && !audio_to_end)
             throw InputError(chunk_refusal(what, c, "claims " + std::to_string(c.size) +
