@@ -67,9 +67,12 @@ std::string aiff(const std::string& before = "") {
 
 // The same as RF64: its ds64 chunk gives the data's length, and the data chunk's own size
 // field holds `data_size` (0xffffffff by the format; a damaged file may hold anything).
-std::string rf64(std::uint32_t data_size, const std::string& after = "") {
+// `data_length`, where given, is the ds64 chunk's claim instead.
+std::string rf64(std::uint32_t data_size, const std::string& after = "", std::uint64_t data_length = 0) {
     const std::string audio = pcm(false);
-    const std::string sizes = u32(0) + u32(0) + u32(static_cast<std::uint32_t>(audio.size())) + u32(0) +
+    if (data_length == 0) data_length = audio.size();
+    const std::string sizes = u32(0) + u32(0) + u32(static_cast<std::uint32_t>(data_length & 0xffffffffu)) +
+                              u32(static_cast<std::uint32_t>(data_length >> 32)) +
                               u32(static_cast<std::uint32_t>(audio.size() / 2)) + u32(0) + u32(0);
     return "RF64" + u32(0xffffffffu) + "WAVE" + chunk("ds64", sizes) + fmt_chunk() + "data" + u32(data_size) + audio + after;
 }
@@ -97,6 +100,8 @@ TEST(RecordingReader, MetadataChunksNeverReachTheDecoder) {
         {"RIFX with a LIST", wav(chunk("LIST", "INFO" + std::string("ABCD") + u32(0xfffffff7u, true) + "abcdefgh", true), "", true)},
         {"RF64 with a LIST after the data", rf64(0xffffffffu, endless_list())},
         {"RF64 whose data chunk claims 2^32 - 188 bytes", rf64(0xffffff44u, endless_list())},
+        // libsndfile would seek backwards by 2^64 minus this, into chunks it parses again.
+        {"RF64 whose ds64 claims 0x9aabb7bcbbb2a423 bytes of data", rf64(0xffffffffu, "", 0x9aabb7bcbbb2a423u)},
         {"AIFF", aiff()},
         {"AIFF with MARK and INST of junk", aiff(chunk("MARK", u16(0xffff, true), true) + chunk("INST", "", true))},
     };

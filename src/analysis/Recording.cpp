@@ -71,14 +71,25 @@ std::string chunk_refusal(const std::string& what, const Chunk& c, const std::st
 }
 
 // The parts of the file libsndfile is given: the container's 12-byte header (its size field
-// set to what follows), then the chunks kept, in the file's order.
-struct SplicedFile {
-    std::array<char, 12> head{};
-    std::vector<std::string_view> chunks;
+// set to what follows), then the chunks kept, in the file's order. RF64's ds64 chunk is given
+// with its data length cut to what the file holds: libsndfile seeks past the audio by it, and
+// a length of 2^63 or more is a seek backwards, into chunks it would parse again for ever.
+// Built in place: the pieces point into it.
+class SplicedFile {
+public:
+    SplicedFile(std::string_view b, const std::string& what);
+    SplicedFile(const SplicedFile&) = delete;
+    SplicedFile& operator=(const SplicedFile&) = delete;
+
+    std::vector<std::string_view> pieces;
     std::size_t size = 0;
+
+private:
+    std::array<char, 12> head_{};
+    std::array<char, 36> ds64_{};  // its header and three sizes and table length
 };
 
-SplicedFile needed_chunks(std::string_view b, const std::string& what) {
+SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
     const std::string_view container = b.substr(0, 4);
     const bool big_endian = container == "RIFX" || container == "FORM";
     const bool rf64 = container == "RF64";
@@ -96,14 +107,19 @@ SplicedFile needed_chunks(std::string_view b, const std::string& what) {
         if (tag == "SSND") return 8;
         return 0;
     };
-    SplicedFile file;
-    std::copy_n(b.data(), file.head.size(), file.head.begin());
+    std::copy_n(b.data(), head_.size(), head_.begin());
+    pieces.emplace_back(head_.data(), head_.size());
     std::vector<std::string_view> seen;
-    std::optional<std::uint64_t> rf64_data_bytes;  // from the first ds64 chunk
+    std::optional<std::uint64_t> rf64_data_bytes;  // from the ds64 chunk
     for (std::size_t at = 12; at + 8 <= b.size();) {
         Chunk c{b.substr(at, 4), at, read_u32(b, at + 4, big_endian)};
         const std::size_t left = b.size() - at - 8;
-        if (rf64 && c.tag == "ds64" && !rf64_data_bytes && c.size >= 28 && left >= 28) {
+        const bool wanted = std::find(kept.begin(), kept.end(), c.tag) != kept.end() && !c.tag.empty() &&
+                            (c.tag != "ds64" || rf64) && std::find(seen.begin(), seen.end(), c.tag) == seen.end();
+        if (wanted && c.size < smallest(c.tag))
+            throw InputError(chunk_refusal(what, c, "holds " + std::to_string(c.size) + " bytes, fewer than the " +
+                                                        std::to_string(smallest(c.tag)) + " it must"));
+        if (wanted && c.tag == "ds64" && left >= 28) {
             rf64_data_bytes = read_u32(b, at + 16, false) | (read_u32(b, at + 20, false) << 32);
             // libsndfile skips a table of this many bytes after the three sizes
             if (read_u32(b, at + 32, false) > c.size - 28)
@@ -117,31 +133,30 @@ SplicedFile needed_chunks(std::string_view b, const std::string& what) {
             throw InputError(chunk_refusal(what, c, "claims " + std::to_string(c.size) +
                                                         " bytes, past the end of the file (" + std::to_string(b.size()) +
                                                         " bytes)"));
-        const bool wanted = std::find(kept.begin(), kept.end(), c.tag) != kept.end() && !c.tag.empty() &&
-                            std::find(seen.begin(), seen.end(), c.tag) == seen.end();
-        if (wanted) {
-            if (c.size < smallest(c.tag))
-                throw InputError(chunk_refusal(what, c, "holds " + std::to_string(c.size) + " bytes, fewer than the " +
-                                                            std::to_string(smallest(c.tag)) + " it must"));
-            seen.push_back(c.tag);
+        if (wanted) seen.push_back(c.tag);
+        if (wanted && c.tag == audio && rf64_data_bytes) {
+            // the ds64 given says what the file holds
+            const std::uint64_t held = std::min<std::uint64_t>(c.size, left);
+            for (std::size_t i = 0; i < 8; ++i) ds64_[16 + i] = static_cast<char>((held >> (8 * i)) & 0xffu);
         }
-        if (audio_to_end) {
-            file.chunks.push_back(b.substr(at));
-            break;
+        const std::size_t extent =
+            audio_to_end ? b.size() - at : 8 + static_cast<std::size_t>(c.size) + static_cast<std::size_t>(c.size & 1);
+        if (wanted && c.tag == "ds64") {
+            std::copy_n(b.data() + at, ds64_.size(), ds64_.begin());
+            pieces.emplace_back(ds64_.data(), ds64_.size());
+            pieces.push_back(b.substr(at + ds64_.size(), extent - ds64_.size()));
+        } else if (wanted) {
+            pieces.push_back(b.substr(at, extent));  // (a missing pad byte at the end: cut short)
         }
-        const std::size_t extent = 8 + static_cast<std::size_t>(c.size) + static_cast<std::size_t>(c.size & 1);
-        if (wanted) file.chunks.push_back(b.substr(at, extent));  // (a missing pad byte at the end: cut short)
+        if (audio_to_end) break;
         at += extent;
     }
-    file.size = file.head.size();
-    for (const std::string_view chunk : file.chunks) file.size += chunk.size();
+    for (const std::string_view piece : pieces) size += piece.size();
     // The container's size field: what follows it (RF64 keeps its 0xffffffff, its ds64 says).
     if (!rf64) {
-        const auto rest = static_cast<std::uint32_t>(std::min<std::size_t>(file.size - 8, 0xffffffffu));
-        for (std::size_t i = 0; i < 4; ++i)
-            file.head[4 + i] = static_cast<char>((rest >> (8 * (big_endian ? 3 - i : i))) & 0xffu);
+        const auto rest = static_cast<std::uint32_t>(std::min<std::size_t>(size - 8, 0xffffffffu));
+        for (std::size_t i = 0; i < 4; ++i) head_[4 + i] = static_cast<char>((rest >> (8 * (big_endian ? 3 - i : i))) & 0xffu);
     }
-    return file;
 }
 
 bool known_format(int format) {
@@ -207,15 +222,14 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
     if (!known_container(bytes))
         throw InputError(what + ": not a WAV, FLAC or AIFF file (convert it, e.g. `sox in.ogg out.wav`)");
     MemoryFile memory;
-    SplicedFile spliced;
+    std::optional<SplicedFile> spliced;
     if (bytes.substr(0, 4) == "fLaC") {
         memory.pieces = {bytes};
         memory.size = static_cast<sf_count_t>(bytes.size());
     } else {
-        spliced = needed_chunks(bytes, what);
-        memory.pieces = {std::string_view(spliced.head.data(), spliced.head.size())};
-        memory.pieces.insert(memory.pieces.end(), spliced.chunks.begin(), spliced.chunks.end());
-        memory.size = static_cast<sf_count_t>(spliced.size);
+        spliced.emplace(bytes, what);
+        memory.pieces = spliced->pieces;
+        memory.size = static_cast<sf_count_t>(spliced->size);
     }
     SF_VIRTUAL_IO io{memory_length, memory_seek, memory_read, memory_write, memory_tell};
     SF_INFO info{};
