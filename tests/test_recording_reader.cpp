@@ -67,13 +67,15 @@ std::string aiff(const std::string& before = "") {
 
 // The same as RF64: its ds64 chunk gives the data's length, and the data chunk's own size
 // field holds `data_size` (0xffffffff by the format; a damaged file may hold anything).
-// `data_length`, where given, is the ds64 chunk's claim instead.
-std::string rf64(std::uint32_t data_size, const std::string& after = "", std::uint64_t data_length = 0) {
+// `data_length`, where given, is the ds64 chunk's claim instead; `table` follows its sizes.
+std::string rf64(std::uint32_t data_size, const std::string& after = "", std::uint64_t data_length = 0,
+                 const std::string& table = "") {
     const std::string audio = pcm(false);
     if (data_length == 0) data_length = audio.size();
     const std::string sizes = u32(0) + u32(0) + u32(static_cast<std::uint32_t>(data_length & 0xffffffffu)) +
                               u32(static_cast<std::uint32_t>(data_length >> 32)) +
-                              u32(static_cast<std::uint32_t>(audio.size() / 2)) + u32(0) + u32(0);
+                              u32(static_cast<std::uint32_t>(audio.size() / 2)) + u32(0) +
+                              u32(static_cast<std::uint32_t>(table.size())) + table;
     return "RF64" + u32(0xffffffffu) + "WAVE" + chunk("ds64", sizes) + fmt_chunk() + "data" + u32(data_size) + audio + after;
 }
 
@@ -102,6 +104,9 @@ TEST(RecordingReader, MetadataChunksNeverReachTheDecoder) {
         {"RF64 whose data chunk claims 2^32 - 188 bytes", rf64(0xffffff44u, endless_list())},
         // libsndfile would seek backwards by 2^64 minus this, into chunks it parses again.
         {"RF64 whose ds64 claims 0x9aabb7bcbbb2a423 bytes of data", rf64(0xffffffffu, "", 0x9aabb7bcbbb2a423u)},
+        // libsndfile takes a ds64 chunk to end where the next 4 bytes read "fmt ", and parses
+        // the rest of it as chunks.
+        {"RF64 whose ds64 chunk holds chunks", rf64(0xffffffffu, "", 0, "junk" + fmt_chunk() + endless_list())},
         {"AIFF", aiff()},
         {"AIFF with MARK and INST of junk", aiff(chunk("MARK", u16(0xffff, true), true) + chunk("INST", "", true))},
     };
@@ -135,10 +140,12 @@ TEST(RecordingReader, ChunksLibsndfileReadsAreCheckedFirst) {
     EXPECT_NE(refusal("RIFF" + u32(static_cast<std::uint32_t>(body.size())) + body)
                   .find("bad.wav: its 'fmt ' chunk at byte 12 holds 8 bytes, fewer than the 16 it must"),
               std::string::npos);
-    // An RF64 size table longer than its ds64 chunk.
-    const std::string ds64 = chunk("ds64", std::string(24, '\0') + u32(1000));
-    body = "WAVE" + ds64 + fmt_chunk() + chunk("data", pcm(false));
-    EXPECT_NE(refusal("RF64" + u32(0xffffffffu) + body).find("its 'ds64' chunk at byte 12 has a size table longer than the chunk"),
+    // An AIFF COMM chunk of a size its parser does not read whole.
+    const std::string rate80("\x40\x0b\xfa\x00\x00\x00\x00\x00\x00\x00", 10);
+    body = "AIFF" + chunk("COMM", u16(1, true) + u32(200, true) + u16(16, true) + rate80 + "xy", true) +
+           chunk("SSND", u32(0, true) + u32(0, true) + pcm(true), true);
+    EXPECT_NE(refusal("FORM" + u32(static_cast<std::uint32_t>(body.size()), true) + body)
+                  .find("its 'COMM' chunk at byte 12 holds 20 bytes: a COMM chunk holds 18, 22, or 24 to 280"),
               std::string::npos);
     // Metadata past the end of the file is refused as damage, before anything is decoded.
     const std::string list = "LIST" + u32(4000) + "INFO";

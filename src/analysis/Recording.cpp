@@ -71,9 +71,11 @@ std::string chunk_refusal(const std::string& what, const Chunk& c, const std::st
 }
 
 // The parts of the file libsndfile is given: the container's 12-byte header (its size field
-// set to what follows), then the chunks kept, in the file's order. RF64's ds64 chunk is given
-// with its data length cut to what the file holds: libsndfile seeks past the audio by it, and
-// a length of 2^63 or more is a seek backwards, into chunks it would parse again for ever.
+// set to what follows), then the chunks kept, in the file's order, each of a size its parser
+// reads exactly: where a parser stops short, libsndfile parses the rest of the chunk as
+// chunks. RF64's ds64 chunk is given in its 28-byte form (no size table), with its data
+// length cut to what the file holds: libsndfile seeks past the audio by it, and a length of
+// 2^63 or more is a seek backwards, into chunks it would parse again for ever.
 // Built in place: the pieces point into it.
 class SplicedFile {
 public:
@@ -86,7 +88,7 @@ public:
 
 private:
     std::array<char, 12> head_{};
-    std::array<char, 36> ds64_{};  // its header and three sizes and table length
+    std::array<char, 36> ds64_{};
 };
 
 SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
@@ -107,6 +109,11 @@ SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
         if (tag == "SSND") return 8;
         return 0;
     };
+    // The COMM parser reads 18, 22, or 24 bytes and a name of up to 255 (its size made even).
+    const auto comm_read_whole = [](std::uint64_t bytes) {
+        bytes += bytes & 1;
+        return bytes == 18 || bytes == 22 || (bytes >= 24 && bytes <= 24 + 256);
+    };
     std::copy_n(b.data(), head_.size(), head_.begin());
     pieces.emplace_back(head_.data(), head_.size());
     std::vector<std::string_view> seen;
@@ -119,12 +126,14 @@ SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
         if (wanted && c.size < smallest(c.tag))
             throw InputError(chunk_refusal(what, c, "holds " + std::to_string(c.size) + " bytes, fewer than the " +
                                                         std::to_string(smallest(c.tag)) + " it must"));
-        if (wanted && c.tag == "ds64" && left >= 28) {
+        if (wanted && c.tag == "COMM" && !comm_read_whole(c.size))
+            throw InputError(chunk_refusal(what, c, "holds " + std::to_string(c.size) +
+                                                        " bytes: a COMM chunk holds 18, 22, or 24 to 280"));
+        if (wanted && c.tag == "ds64" && left >= 28)
             rf64_data_bytes = read_u32(b, at + 16, false) | (read_u32(b, at + 20, false) << 32);
-            // libsndfile skips a table of this many bytes after the three sizes
-            if (read_u32(b, at + 32, false) > c.size - 28)
-                throw InputError(chunk_refusal(what, c, "has a size table longer than the chunk"));
-        }
+        // A WAV file left unclosed by its recorder (RIFF size 8, data size 0): its data runs to
+        // the end, as libsndfile reads it.
+        if (!rf64 && !aiff && c.tag == audio && c.size == 0 && read_u32(b, 4, big_endian) == 8) c.size = left;
         // RF64's audio data is as long as its ds64 chunk says, whatever its own size field
         // (libsndfile reads it so, and parses what follows as chunks).
         if (rf64 && c.tag == audio) c.size = rf64_data_bytes ? *rf64_data_bytes : c.size == 0xffffffffu ? 0 : c.size;
@@ -142,9 +151,10 @@ SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
         const std::size_t extent =
             audio_to_end ? b.size() - at : 8 + static_cast<std::size_t>(c.size) + static_cast<std::size_t>(c.size & 1);
         if (wanted && c.tag == "ds64") {
-            std::copy_n(b.data() + at, ds64_.size(), ds64_.begin());
+            std::copy_n(b.data() + at, ds64_.size() - 4, ds64_.begin());
+            for (std::size_t i = 0; i < 4; ++i) ds64_[4 + i] = static_cast<char>(i == 0 ? 28 : 0);
+            std::fill_n(ds64_.end() - 4, 4, '\0');  // no table
             pieces.emplace_back(ds64_.data(), ds64_.size());
-            pieces.push_back(b.substr(at + ds64_.size(), extent - ds64_.size()));
         } else if (wanted) {
             pieces.push_back(b.substr(at, extent));  // (a missing pad byte at the end: cut short)
         }
