@@ -72,7 +72,8 @@ void read_run_section(TomlSection s, Case& c) {
 
 // Obstacles all lie on one side of the string: the contact solve takes one side per run.
 // Where every obstacle is a point, the points keep their exact positions (Case::point_obstacles);
-// mixed with a profile, they take their nearest grid points, solved with the profile's.
+// mixed with a profile, they take their nearest grid points, solved with the profile's. A
+// fretboard's crowns of zero width are exact points beside its board (solved with it).
 void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
     std::vector<std::vector<double>> obstacles;
     std::optional<ObstacleSide> side;
@@ -91,7 +92,7 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
             c.point_obstacles.insert(c.point_obstacles.end(), points.begin(), points.end());
             obstacles.push_back(no_obstacle(Grid{c.string.length_m, c.mode_count()}));
         } else {
-            obstacles.push_back(read_obstacle_section(obstacle, data, c));
+            obstacles.push_back(read_obstacle_section(obstacle, data, c, c.point_obstacles));
         }
         obstacle.finish();
     }
@@ -108,7 +109,15 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
     // Frets stand out toward the string: find them on the heights as the solve sees them.
     std::vector<double> toward_string = c.obstacle_height_m;
     if (c.obstacle_above) mirror(toward_string);
-    c.fret_positions_m = find_frets(toward_string, c.grid_step());
+    // Frets at their exact positions (a fretboard's crowns of zero width) are points, not peaks
+    // of the heights: the board alone has none (its end, above the body, is no fret).
+    if (!all_points && !c.point_obstacles.empty()) {
+        c.fret_positions_m.clear();
+        for (const PointObstacle& p : c.point_obstacles) c.fret_positions_m.push_back(p.x_m);
+        std::sort(c.fret_positions_m.begin(), c.fret_positions_m.end());
+    } else {
+        c.fret_positions_m = find_frets(toward_string, c.grid_step());
+    }
 }
 
 void read_observe_section(TomlSection s, Case& c) {
