@@ -863,8 +863,8 @@ void Stepper::report_point_forces() {
 }
 
 bool Stepper::points_by_rows() const {
-    const std::size_t pushes = forces_.size() + plan_.point_contact().size();
-    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxPassRows &&
+    const std::size_t pushes = forces_.size() + points_.awake;  // (resting points push nothing)
+    return pad_points_ == 0 && points_.awake <= kernels::kMaxPassRows &&
            pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
 }
 
@@ -890,15 +890,35 @@ void Stepper::advance_with_points() {
     pass.pushes = pushes;
     // The points' next prediction, the observation and the energy, formed in the same pass (the
     // reference path forms them in passes of their own).
+    // The awake points' rows, then the grid's active points' where they fit in the pass.
     forecast_.count = 0;
     const bool fused = plan_.options().fused_step;
+    std::array<std::size_t, kernels::kMaxPassRows> which;
+    std::array<double, kernels::kMaxPassRows> values;
+    std::size_t count = 0;
     if (fused) {
-        for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.resting[p] == 0) {
+                which[count] = p;
+                predict_rows[count++] = points.row(p).data();
+            }
+        const bool grid_fits = !active_.empty() && count + active_.size() <= kernels::kMaxPassRows &&
+                               active_.size() <= plan_.transform_threshold();
+        if (grid_fits)
+            for (std::size_t i : active_) {
+                forecast_.points[forecast_.count++] = i;
+                predict_rows[count++] = plan_.basis().row(i).data();
+            }
         pass.predict_rows = predict_rows.data();
-        pass.predict_count = points.size();
-        pass.predicted = point_forecast_.data();
+        pass.predict_count = count;
+        pass.predicted = values.data();
     }
     run_pass(pass);
+    if (fused) {
+        const std::size_t awake = count - forecast_.count;
+        for (std::size_t r = 0; r < awake; ++r) point_forecast_[which[r]] = values[r];
+        for (std::size_t r = 0; r < forecast_.count; ++r) forecast_.values[r] = values[awake + r];
+    }
     point_forecast_step_ = fused ? n_ + 1 : -1;
 }
 
