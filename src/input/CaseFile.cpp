@@ -113,8 +113,11 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
         return;
     }
     // Else frets stand out toward the string: found on the heights as the solve sees them,
-    // points on their nearest grid points; a fret found there is at the point's exact x.
-    std::vector<double> toward_string = c.obstacle_on_grid();
+    // points beside a profile on their nearest grid points (a fret found there is at the
+    // point's exact x); points alone (a bridge's) are no frets.
+    const bool all_points = std::all_of(c.obstacle_height_m.begin(), c.obstacle_height_m.end(),
+                                        [](double g) { return !std::isfinite(g); });
+    std::vector<double> toward_string = all_points ? c.obstacle_height_m : c.obstacle_on_grid();
     if (c.obstacle_above) mirror(toward_string);
     c.fret_positions_m = find_frets(toward_string, c.grid_step());
     for (double& x : c.fret_positions_m)
