@@ -384,7 +384,9 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
 
 double PointContact::potential(const State& s, const PenaltyContact& law, bool current) const {
     double sum = 0.0;
-    for (std::size_t p = 0; p < size(); ++p) sum += points_[p].weight_m * law.potential(current ? s.eta_curr[p] : s.eta_prev[p]);
+    for (std::size_t p = 0; p < size(); ++p)
+        if (const double eta = current ? s.eta_curr[p] : s.eta_prev[p]; eta > 0.0)  // (Psi = 0 apart)
+            sum += points_[p].weight_m * law.potential(eta);
     return sum;
 }
 

@@ -94,6 +94,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     solutions_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
+    pushes_.reserve(q0.size() + plan.point_contact().size());
     rubbing_.reserve(q0.size());
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
@@ -380,7 +381,7 @@ double Stepper::work() const {
 double Stepper::contact_energy() const {
     const double grid = 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_);
     const PointContact& points = plan_.point_contact();
-    if (points.empty()) return grid;
+    if (points_.awake == 0) return grid;  // (no points, or all resting: apart, Psi = 0)
     return grid + 0.5 * (points.potential(points_, plan_.contact(), true) + points.potential(points_, plan_.contact(), false));
 }
 
@@ -406,7 +407,14 @@ void Stepper::step() {
         } else if (loaded_ || (points_pushed_ && !points_by_rows())) {
             scheduler_.pushed(q_, d_, impulse_);  // apply_impulse formed the whole impulse
         } else if (points_pushed_) {
-            scheduler_.motion_changed(q_, d_);  // (the points' rows went into the pass)
+            // The points' rows went into the pass with the grid's: the bounds grow by each push
+            // times its point's weight (exact point p screened as N + p, its force as one per dx).
+            pushes_.assign(forces_.begin(), forces_.end());
+            const PointContact& points = plan_.point_contact();
+            const double dx = plan_.basis().grid_step();
+            for (std::size_t p = 0; p < points.size(); ++p)
+                if (points_.force[p] != 0.0) pushes_.emplace_back(q_.size() + p, points.weight(p) * points_.force[p] / dx);
+            scheduler_.pushed(q_, d_, pushes_, plan_.impulse_scale());
         } else if (!forces_.empty()) {
             // the motion from here on is a new free motion; where apply_impulse projected the
             // forces onto the modes, the bounds grow by that impulse (no point's weight needed)

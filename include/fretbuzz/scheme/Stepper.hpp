@@ -269,6 +269,7 @@ private:
     std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
+    std::vector<std::pair<std::size_t, double>> pushes_;  // scratch: forces_ and the exact points' (as N + p)
     PlayedParts parts_;
     std::vector<ForceProfile> gestures_;
     std::vector<double> gesture_load_;       // f^n of each gesture in the step being taken
