@@ -47,9 +47,20 @@ TEST(EstimateCommand, NotAudioIsRejectedAndNothingIsWritten) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(text.string() + ": not a WAV, FLAC or AIFF file"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
-    // A WAV whose chunks fit the file but whose format chunk is 4 bytes of text: libsndfile's
-    // refusal, naming the file.
+    // A WAV whose chunks fit the file but whose format chunk is 4 bytes of text: refused
+    // before libsndfile parses it.
     write_file(text, std::string("RIFF\x10\0\0\0WAVEfmt \x04\0\0\0text", 24));
+    r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(text.string() + ": its 'fmt ' chunk at byte 12 holds 4 bytes, fewer than the 16 it must"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    // A whole format chunk naming a codec libsndfile does not know (0x1234): its refusal,
+    // naming the file.
+    write_file(text, std::string("RIFF\x2c\0\0\0WAVEfmt \x10\0\0\0\x34\x12\x01\0\x40\x1f\0\0\x80\x3e\0\0\x02\0\x10\0"
+                                 "data\x08\0\0\0\1\2\3\4\5\6\7\x08",
+                                 52));
     r = run_cli("estimate " + text.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --out " + out.string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(text.string() + ": not audio libsndfile can read"), std::string::npos) << r.output;

@@ -3,12 +3,15 @@
 #include <sndfile.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/TextFile.hpp"
@@ -48,30 +51,111 @@ std::string printable(std::string_view tag) {
     return out;
 }
 
-// RIFF-style containers (WAV, RF64, AIFF): libsndfile's header parser can spin for minutes
-// over a chunk that claims to run far past the end of the file (a 213-byte RF64 file with
-// such a LIST chunk does it to libsndfile 1.2), so every chunk but the audio data must lie
-// inside the file. The audio data may end early: a recording cut short is still read.
-void check_chunks(std::string_view b, const std::string& what) {
-    if (b.substr(0, 4) == "fLaC") return;
-    const bool big_endian = b.substr(0, 4) == "RIFX" || b.substr(0, 4) == "FORM";
-    const bool rf64 = b.substr(0, 4) == "RF64";
-    const std::string_view audio = b.substr(0, 4) == "FORM" ? "SSND" : "data";
-    std::uint64_t rf64_data_bytes = 0;  // from the ds64 chunk
+// RIFF-style containers (WAV, RF64, AIFF) are walked chunk by chunk before libsndfile sees
+// them, and only the chunks that say how to read the audio reach it: the format, the audio
+// data and what they need (frame count, RF64 sizes, AIFF-C version). libsndfile 1.2 parses
+// metadata chunks (LIST, cue, smpl, acid...) with sizes it does not check: a 213-byte RF64
+// file whose LIST chunk runs far past the end of the file, or a LIST whose INFO entry claims
+// 2^32 - 9 bytes, keeps it jumping back and forth for ever. fretbuzz reads none of that
+// metadata. Every chunk must lie inside the file, except the audio data, which may end early:
+// a recording cut short is still read.
+struct Chunk {
+    std::string_view tag;
+    std::size_t at = 0;      // where its 8-byte header starts
+    std::uint64_t size = 0;  // as declared
+};
+
+std::string chunk_refusal(const std::string& what, const Chunk& c, const std::string& problem) {
+    return what + ": its '" + printable(c.tag) + "' chunk at byte " + std::to_string(c.at) + " " + problem +
+           ": a damaged file";
+}
+
+// The parts of the file libsndfile is given: the container's 12-byte header (its size field
+// set to what follows), then the chunks kept, in the file's order. RF64's ds64 chunk is given
+// with its data length cut to what the file holds: libsndfile seeks past the audio by it, and
+// a length of 2^63 or more is a seek backwards, into chunks it would parse again for ever.
+// Built in place: the pieces point into it.
+class SplicedFile {
+public:
+    SplicedFile(std::string_view b, const std::string& what);
+    SplicedFile(const SplicedFile&) = delete;
+    SplicedFile& operator=(const SplicedFile&) = delete;
+
+    std::vector<std::string_view> pieces;
+    std::size_t size = 0;
+
+private:
+    std::array<char, 12> head_{};
+    std::array<char, 36> ds64_{};  // its header and three sizes and table length
+};
+
+SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
+    const std::string_view container = b.substr(0, 4);
+    const bool big_endian = container == "RIFX" || container == "FORM";
+    const bool rf64 = container == "RF64";
+    const bool aiff = container == "FORM";
+    const std::string_view audio = aiff ? "SSND" : "data";
+    // What libsndfile needs to read the samples; each tag once (the first).
+    const std::array<std::string_view, 4> kept = aiff ? std::array<std::string_view, 4>{"COMM", "SSND", "FVER", ""}
+                                                      : std::array<std::string_view, 4>{"fmt ", "data", "fact", "ds64"};
+    // Smallest sizes for which libsndfile's parsers of these chunks stay inside them.
+    const auto smallest = [](std::string_view tag) -> std::uint64_t {
+        if (tag == "fmt ") return 16;
+        if (tag == "fact" || tag == "FVER") return 4;
+        if (tag == "ds64") return 28;
+        if (tag == "COMM") return 18;
+        if (tag == "SSND") return 8;
+        return 0;
+    };
+    std::copy_n(b.data(), head_.size(), head_.begin());
+    pieces.emplace_back(head_.data(), head_.size());
+    std::vector<std::string_view> seen;
+    std::optional<std::uint64_t> rf64_data_bytes;  // from the ds64 chunk
     for (std::size_t at = 12; at + 8 <= b.size();) {
-        const std::string_view tag = b.substr(at, 4);
-        std::uint64_t size = read_u32(b, at + 4, big_endian);
+        Chunk c{b.substr(at, 4), at, read_u32(b, at + 4, big_endian)};
         const std::size_t left = b.size() - at - 8;
-        if (rf64 && tag == "ds64" && size >= 16 && left >= 16)
+        const bool wanted = std::find(kept.begin(), kept.end(), c.tag) != kept.end() && !c.tag.empty() &&
+                            (c.tag != "ds64" || rf64) && std::find(seen.begin(), seen.end(), c.tag) == seen.end();
+        if (wanted && c.size < smallest(c.tag))
+            throw InputError(chunk_refusal(what, c, "holds " + std::to_string(c.size) + " bytes, fewer than the " +
+                                                        std::to_string(smallest(c.tag)) + " it must"));
+        if (wanted && c.tag == "ds64" && left >= 28) {
             rf64_data_bytes = read_u32(b, at + 16, false) | (read_u32(b, at + 20, false) << 32);
-        if (tag == audio && rf64 && size == 0xffffffffu) size = rf64_data_bytes;
-        if (size > left) {
-            if (tag == audio) return;
-            throw InputError(what + ": its '" + printable(tag) + "' chunk at byte " + std::to_string(at) + " claims " +
-                             std::to_string(size) + " bytes, past the end of the file (" + std::to_string(b.size()) +
-                             " bytes): a damaged file");
+            // libsndfile skips a table of this many bytes after the three sizes
+            if (read_u32(b, at + 32, false) > c.size - 28)
+                throw InputError(chunk_refusal(what, c, "has a size table longer than the chunk"));
         }
-        at += 8 + static_cast<std::size_t>(size) + static_cast<std::size_t>(size & 1);
+        // RF64's audio data is as long as its ds64 chunk says, whatever its own size field
+        // (libsndfile reads it so, and parses what follows as chunks).
+        if (rf64 && c.tag == audio) c.size = rf64_data_bytes ? *rf64_data_bytes : c.size == 0xffffffffu ? 0 : c.size;
+        const bool audio_to_end = c.tag == audio && c.size > left;
+        if (c.size > left && !audio_to_end)
+            throw InputError(chunk_refusal(what, c, "claims " + std::to_string(c.size) +
+                                                        " bytes, past the end of the file (" + std::to_string(b.size()) +
+                                                        " bytes)"));
+        if (wanted) seen.push_back(c.tag);
+        if (wanted && c.tag == audio && rf64_data_bytes) {
+            // the ds64 given says what the file holds
+            const std::uint64_t held = std::min<std::uint64_t>(c.size, left);
+            for (std::size_t i = 0; i < 8; ++i) ds64_[16 + i] = static_cast<char>((held >> (8 * i)) & 0xffu);
+        }
+        const std::size_t extent =
+            audio_to_end ? b.size() - at : 8 + static_cast<std::size_t>(c.size) + static_cast<std::size_t>(c.size & 1);
+        if (wanted && c.tag == "ds64") {
+            std::copy_n(b.data() + at, ds64_.size(), ds64_.begin());
+            pieces.emplace_back(ds64_.data(), ds64_.size());
+            pieces.push_back(b.substr(at + ds64_.size(), extent - ds64_.size()));
+        } else if (wanted) {
+            pieces.push_back(b.substr(at, extent));  // (a missing pad byte at the end: cut short)
+        }
+        if (audio_to_end) break;
+        at += extent;
+    }
+    for (const std::string_view piece : pieces) size += piece.size();
+    // The container's size field: what follows it (RF64 keeps its 0xffffffff, its ds64 says).
+    if (!rf64) {
+        const auto rest = static_cast<std::uint32_t>(std::min<std::size_t>(size - 8, 0xffffffffu));
+        for (std::size_t i = 0; i < 4; ++i) head_[4 + i] = static_cast<char>((rest >> (8 * (big_endian ? 3 - i : i))) & 0xffu);
     }
 }
 
@@ -88,20 +172,21 @@ bool known_format(int format) {
     }
 }
 
-// libsndfile reads from memory through its virtual I/O.
+// libsndfile reads from memory through its virtual I/O: the file's bytes, or the pieces of a
+// spliced one, back to back.
 struct MemoryFile {
-    std::string_view bytes;
+    std::vector<std::string_view> pieces;
+    sf_count_t size = 0;
     sf_count_t position = 0;
 };
 
-sf_count_t memory_length(void* user) { return static_cast<sf_count_t>(static_cast<MemoryFile*>(user)->bytes.size()); }
+sf_count_t memory_length(void* user) { return static_cast<MemoryFile*>(user)->size; }
 
 sf_count_t memory_seek(sf_count_t offset, int whence, void* user) {
     auto& file = *static_cast<MemoryFile*>(user);
-    const auto size = static_cast<sf_count_t>(file.bytes.size());
-    const sf_count_t base = whence == SEEK_CUR ? file.position : whence == SEEK_END ? size : 0;
+    const sf_count_t base = whence == SEEK_CUR ? file.position : whence == SEEK_END ? file.size : 0;
     // Positions past the end read nothing; before the start, or absurdly far, they are refused.
-    const sf_count_t limit = size + (sf_count_t{1} << 40);
+    const sf_count_t limit = file.size + (sf_count_t{1} << 40);
     if (offset < -base || offset > limit - base) return -1;
     file.position = base + offset;
     return file.position;
@@ -109,12 +194,20 @@ sf_count_t memory_seek(sf_count_t offset, int whence, void* user) {
 
 sf_count_t memory_read(void* destination, sf_count_t count, void* user) {
     auto& file = *static_cast<MemoryFile*>(user);
-    const auto size = static_cast<sf_count_t>(file.bytes.size());
-    if (count <= 0 || file.position >= size) return 0;
-    const sf_count_t n = std::min(count, size - file.position);
-    std::memcpy(destination, file.bytes.data() + file.position, static_cast<std::size_t>(n));
-    file.position += n;
-    return n;
+    auto* out = static_cast<char*>(destination);
+    sf_count_t done = 0, start = 0;
+    for (const std::string_view piece : file.pieces) {
+        const auto length = static_cast<sf_count_t>(piece.size());
+        if (done < count && file.position < start + length) {
+            const sf_count_t from = file.position - start;
+            const sf_count_t n = std::min(count - done, length - from);
+            std::memcpy(out + done, piece.data() + from, static_cast<std::size_t>(n));
+            done += n;
+            file.position += n;
+        }
+        start += length;
+    }
+    return done;
 }
 
 sf_count_t memory_write(const void*, sf_count_t, void*) { return 0; }
@@ -128,8 +221,16 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
     const std::string what = "recording " + name;
     if (!known_container(bytes))
         throw InputError(what + ": not a WAV, FLAC or AIFF file (convert it, e.g. `sox in.ogg out.wav`)");
-    check_chunks(bytes, what);
-    MemoryFile memory{bytes};
+    MemoryFile memory;
+    std::optional<SplicedFile> spliced;
+    if (bytes.substr(0, 4) == "fLaC") {
+        memory.pieces = {bytes};
+        memory.size = static_cast<sf_count_t>(bytes.size());
+    } else {
+        spliced.emplace(bytes, what);
+        memory.pieces = spliced->pieces;
+        memory.size = static_cast<sf_count_t>(spliced->size);
+    }
     SF_VIRTUAL_IO io{memory_length, memory_seek, memory_read, memory_write, memory_tell};
     SF_INFO info{};
     const std::unique_ptr<SNDFILE, int (*)(SNDFILE*)> file(sf_open_virtual(&io, SFM_READ, &info, &memory), sf_close);
