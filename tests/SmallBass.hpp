@@ -35,6 +35,7 @@ inline Case small_bass(double fs, double duration, double amplitude) {
 struct PathComparison {
     double relative_l2 = 0.0;  // of the modal state over every step
     long contact_steps = 0;    // on the screened path
+    StepStatistics fast, plain;
 };
 
 // Runs c screened and straightforward side by side for `steps` steps.
@@ -55,7 +56,7 @@ inline PathComparison compare_paths(const Case& c, long steps) {
             den += b * b;
         }
     }
-    return {std::sqrt(num / den), fast.statistics().contact_steps};
+    return {std::sqrt(num / den), fast.statistics().contact_steps, fast.statistics(), plain.statistics()};
 }
 
 // A whole run of c, recorded: its fast path (screening, free flight) or the straightforward one

@@ -197,10 +197,16 @@ TEST_F(CaseFileSchema, ObstaclesAreCombinedByTheirMaximum) {
     const Case c = parse(replaced(kBase, "[obstacle]\ntype = \"none\"",
                                   "[[obstacle]]\ntype = \"flat\"\nheight = -2e-3\n"
                                   "[[obstacle]]\ntype = \"points\"\nx = [0.1, 0.9]\nheight = -1e-3"));
+    // The points keep their exact positions beside the flat barrier; on the grid,
     // x_i = (i + 1) / 50: 0.1 is i = 4, 0.9 is i = 44.
-    EXPECT_EQ(c.obstacle_height_m[4], -1e-3);
-    EXPECT_EQ(c.obstacle_height_m[44], -1e-3);
-    EXPECT_EQ(c.obstacle_height_m[20], -2e-3);
+    ASSERT_EQ(c.point_obstacles.size(), 2u);
+    EXPECT_EQ(c.point_obstacles[0].x_m, 0.1);
+    EXPECT_EQ(c.point_obstacles[1].x_m, 0.9);
+    EXPECT_EQ(c.obstacle_height_m[4], -2e-3);
+    const std::vector<double> on_grid = c.obstacle_on_grid();
+    EXPECT_EQ(on_grid[4], -1e-3);
+    EXPECT_EQ(on_grid[44], -1e-3);
+    EXPECT_EQ(on_grid[20], -2e-3);
 }
 
 TEST_F(CaseFileSchema, ShapeFileIsSampledOnTheGrid) {

@@ -39,9 +39,12 @@ TEST(FretHeights, AnOffsetMovesOneFretTopByItsValueAndNothingElse) {
     const Case nominal = parse(neck_with(""));
     const Case changed = parse(neck_with("height_offsets = { 9 = 0.05e-3, 14 = -0.2e-3 }\n"));
     const std::size_t at9 = nearest_point(nominal, fret_x(9)), at14 = nearest_point(nominal, fret_x(14));
-    ASSERT_EQ(nominal.obstacle_height_m.size(), changed.obstacle_height_m.size());
-    for (std::size_t i = 0; i < nominal.obstacle_height_m.size(); ++i) {
-        const double moved = changed.obstacle_height_m[i] - nominal.obstacle_height_m[i];
+    // (crowns of zero width are exact points: on the grid, each on its nearest grid point)
+    const std::vector<double> g_nominal = nominal.obstacle_on_grid(), g_changed = changed.obstacle_on_grid();
+    ASSERT_EQ(g_nominal.size(), g_changed.size());
+    EXPECT_EQ(nominal.obstacle_height_m, changed.obstacle_height_m);  // the board is unchanged
+    for (std::size_t i = 0; i < g_nominal.size(); ++i) {
+        const double moved = g_changed[i] - g_nominal[i];
         if (i == at9)
             EXPECT_NEAR(moved, 0.05e-3, 1e-18);
         else if (i == at14)
@@ -50,7 +53,7 @@ TEST(FretHeights, AnOffsetMovesOneFretTopByItsValueAndNothingElse) {
             EXPECT_EQ(moved, 0.0) << "grid point " << i;
     }
     // The worn fret still stands above the board (1.2 mm fret height).
-    EXPECT_GT(changed.obstacle_height_m[at14], changed.obstacle_height_m[at14 - 5] + 0.9e-3);
+    EXPECT_GT(g_changed[at14], g_changed[at14 - 5] + 0.9e-3);
     EXPECT_EQ(changed.fret_positions_m.size(), nominal.fret_positions_m.size());
 }
 
@@ -93,17 +96,17 @@ TEST(FretHeights, ASweepSetsOneFretThroughItsKey) {
     // The sweep adds fret 9 to the case's own offsets, exactly as the case file would.
     const Case swept = sweep_case(spec, spec.runs[1]);
     const Case direct = parse(neck_with("height_offsets = { 14 = -0.2e-3, 9 = 0.05e-3 }\n"));
-    EXPECT_EQ(swept.obstacle_height_m, direct.obstacle_height_m);
+    EXPECT_EQ(swept.obstacle_on_grid(), direct.obstacle_on_grid());
     const Case zero = sweep_case(spec, spec.runs[0]);
-    EXPECT_EQ(zero.obstacle_height_m, parse(neck_with("height_offsets = { 14 = -0.2e-3 }\n")).obstacle_height_m);
+    EXPECT_EQ(zero.obstacle_on_grid(), parse(neck_with("height_offsets = { 14 = -0.2e-3 }\n")).obstacle_on_grid());
     // A whole table as a value too (what the set-up study writes per note).
     write_text(dir.path() / "spec2.toml",
                "[sweep]\ncase = \"neck.toml\"\n[[parameter]]\nkey = \"obstacle.frets.height_offsets\"\n"
                "values = [{ 9 = 0.05e-3 }, {}]\n");
     const SweepSpec tables = load_sweep(dir.path() / "spec2.toml");
-    EXPECT_EQ(sweep_case(tables, tables.runs[0]).obstacle_height_m,
-              parse(neck_with("height_offsets = { 9 = 0.05e-3 }\n")).obstacle_height_m);
-    EXPECT_EQ(sweep_case(tables, tables.runs[1]).obstacle_height_m, parse(neck_with("")).obstacle_height_m);
+    EXPECT_EQ(sweep_case(tables, tables.runs[0]).obstacle_on_grid(),
+              parse(neck_with("height_offsets = { 9 = 0.05e-3 }\n")).obstacle_on_grid());
+    EXPECT_EQ(sweep_case(tables, tables.runs[1]).obstacle_on_grid(), parse(neck_with("")).obstacle_on_grid());
     // Out of range through the sweep: refused before anything runs, naming the key.
     write_text(dir.path() / "spec3.toml",
                "[sweep]\ncase = \"neck.toml\"\n[[parameter]]\nkey = \"obstacle.frets.height_offsets.25\"\n"

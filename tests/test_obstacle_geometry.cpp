@@ -81,7 +81,10 @@ TEST(ObstacleGeometry, FretboardReproducesThePublishedBassNeck) {
 }
 
 TEST(ObstacleGeometry, BassPluckCaseBuildsThePublishedNeck) {
-    expect_matches_published_neck(load_case("bass-pluck").obstacle_height_m);
+    // Its crowns are exact points: on the grid, each on its nearest grid point, as published.
+    const Case c = load_case("bass-pluck");
+    EXPECT_EQ(c.point_obstacles.size(), 20u);
+    expect_matches_published_neck(c.obstacle_on_grid());
 }
 
 TEST(ObstacleGeometry, FretboardBoardLiesOneFretHeightBelowTheFretLine) {

@@ -108,6 +108,37 @@ TEST(PointContact, FirstContactWhereDAlembertPutsIt) {
     EXPECT_NEAR(summary.first_contact_s, 0.3875, 5e-5);
 }
 
+// Beside an obstacle on the grid, the point still acts at its exact x: with a flat barrier
+// 4 mm below (reached after the point), d'Alembert's first contact at 110 and 400 modes; with
+// the barrier 1.5 mm below, point and barrier in contact in the same steps, solved together,
+// keep the lossless balance at round-off.
+TEST(PointContact, BesideAnObstacleOnTheGridThePointKeepsItsExactPosition) {
+    for (const double barrier : {-4e-3, -1.5e-3})
+        for (std::size_t modes : {110u, 400u}) {
+            std::string text = ideal_string(modes, "x = 0.2\nheight = -1e-3");
+            text.replace(text.find("[obstacle]"), 10,
+                         "[[obstacle]]\ntype = \"flat\"\nheight = " + std::to_string(barrier) + "\n[[obstacle]]");
+            const Case c = parse_case(text, "ideal-point-flat.toml", DataSource::builtin());
+            ASSERT_EQ(c.point_obstacles.size(), 1u);
+            const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+            Stepper s(plan, c.initial_displacement, c.initial_velocity);
+            double first = -1.0, h0 = 0.0, worst = 0.0;
+            for (long n = 0; n < 60000; ++n) {
+                s.step();
+                if (s.touched_obstacle() && first < 0.0) first = s.time();
+                if (n == 1) h0 = s.energy();
+                if (n > 1) worst = std::max(worst, std::abs(s.energy() - h0) / h0);
+            }
+            std::printf("%zu modes, a flat barrier %.1f mm below: first contact at %.5f s, %ld joint steps, balance %.2g\n",
+                        modes, -1e3 * barrier, first, s.statistics().joint_steps, worst);
+            if (barrier < -2e-3)
+                EXPECT_NEAR(first, 0.3875, 5e-5) << modes << " modes";
+            else
+                EXPECT_GT(s.statistics().joint_steps, 100);
+            EXPECT_LT(worst, 1e-12);
+        }
+}
+
 // The point acts at x = 0.2 whatever the grid: runs at 200, 400 and 800 modes (the point
 // 0.2 grid steps off the nearest grid point of each, one contact width for all) meet it at
 // d'Alembert's time, and their signals differ by what the truncated series differ by,

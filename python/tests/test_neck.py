@@ -30,11 +30,11 @@ class GeometryTest(unittest.TestCase):
         case = fretbuzz.load_case("bass-neck")
         g = fretbuzz.Bench("bass-neck").geometry()
         table = fretbuzz.Bench("bass-neck").strings_table().iloc[0]
-        x, obstacle = case.grid_x, case.obstacle_height
+        x = case.grid_x
         dx = x[1] - x[0]
+        crowns = case.point_obstacles  # (x, height, width): the frets' crowns at their exact positions
         for _, row in g[g["fret"] > 0].iterrows():
-            # The fret's grid point: the highest within a grid step (fret 12 lies halfway between two).
-            top = obstacle[abs(x - row["x_m"]) <= dx].max()
+            top = max(h for at, h, _ in crowns if abs(at - row["x_m"]) <= dx)
             string_at = (table["nut_height_m"] + (table["saddle_height_m"] - table["nut_height_m"]) * row["x_m"] /
                          table["scale_length_m"])
             self.assertAlmostEqual(row["top_m"] - string_at, top, delta=1e-15)

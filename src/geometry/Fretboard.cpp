@@ -54,7 +54,17 @@ double Fretboard::fret_top_height(std::size_t n) const {
     return fret_line_height(fret_position(n)) + (offset == fret_height_offset_m.end() ? 0.0 : offset->second);
 }
 
-std::vector<double> Fretboard::sample(const Grid& grid) const {
+std::vector<double> Fretboard::sample(const Grid& grid) const { return sample(grid, true); }
+
+std::vector<double> Fretboard::sample_board(const Grid& grid) const { return sample(grid, !point_crowns()); }
+
+std::vector<std::pair<double, double>> Fretboard::crowns() const {
+    std::vector<std::pair<double, double>> out;
+    for (std::size_t n = 1; n <= fret_count; ++n) out.emplace_back(fret_position(n), fret_top_height(n));
+    return out;
+}
+
+std::vector<double> Fretboard::sample(const Grid& grid, bool with_point_crowns) const {
     const double nothing = -std::numeric_limits<double>::infinity();
     // Round-off in x_i must not move a grid point that sits on the end of the board.
     const double board_end = board_end_m + 1e-9 * grid.length_m;
@@ -68,6 +78,7 @@ std::vector<double> Fretboard::sample(const Grid& grid) const {
         const double top = fret_top_height(n);
         for (std::size_t i = 0; i < grid.points; ++i)
             if (std::abs(grid.x(i) - xn) <= 0.5 * crown_width_m) g[i] = std::max(g[i], top);
+        if (!with_point_crowns) continue;
         double& nearest = g[nearest_grid_point(grid, xn)];
         nearest = std::max(nearest, top);
     }

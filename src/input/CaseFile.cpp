@@ -71,14 +71,13 @@ void read_run_section(TomlSection s, Case& c) {
 }
 
 // Obstacles all lie on one side of the string: the contact solve takes one side per run.
-// Where every obstacle is a point, the points keep their exact positions (Case::point_obstacles);
-// mixed with a profile, they take their nearest grid points, solved with the profile's.
+// Points keep their exact positions (Case::point_obstacles), beside a profile too (solved with
+// it), and so do a fretboard's crowns of zero width.
 void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
     std::vector<std::vector<double>> obstacles;
+    std::vector<PointObstacle> crowns;
     std::optional<ObstacleSide> side;
-    const bool all_points = !sections.empty() && std::all_of(sections.begin(), sections.end(), [](TomlSection& s) {
-        return is_point_section(s);
-    });
+    const Grid grid{c.string.length_m, c.mode_count()};
     for (TomlSection& obstacle : sections) {
         const ObstacleSide this_side = read_obstacle_side(obstacle);
         if (side && this_side != *side)
@@ -86,12 +85,12 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
                              sections.front().key_path("side") + " is \"" + to_string(*side) +
                              "\": all obstacles of a case must lie on the same side of the string");
         side = this_side;
-        if (all_points) {
+        if (is_point_section(obstacle)) {
             const std::vector<PointObstacle> points = read_point_section(obstacle, c);
             c.point_obstacles.insert(c.point_obstacles.end(), points.begin(), points.end());
-            obstacles.push_back(no_obstacle(Grid{c.string.length_m, c.mode_count()}));
+            obstacles.push_back(no_obstacle(grid));
         } else {
-            obstacles.push_back(read_obstacle_section(obstacle, data, c));
+            obstacles.push_back(read_obstacle_section(obstacle, data, c, crowns));
         }
         obstacle.finish();
     }
@@ -105,10 +104,25 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
     if (c.obstacle_above) std::for_each(obstacles.begin(), obstacles.end(), mirror);
     c.obstacle_height_m = highest_of(obstacles);
     if (c.obstacle_above) mirror(c.obstacle_height_m);
-    // Frets stand out toward the string: find them on the heights as the solve sees them.
-    std::vector<double> toward_string = c.obstacle_height_m;
+    c.point_obstacles.insert(c.point_obstacles.end(), crowns.begin(), crowns.end());
+    // A fretboard's crowns are its frets (the board alone has none: its end, above the body,
+    // is no fret).
+    if (!crowns.empty()) {
+        for (const PointObstacle& p : crowns) c.fret_positions_m.push_back(p.x_m);
+        std::sort(c.fret_positions_m.begin(), c.fret_positions_m.end());
+        return;
+    }
+    // Else frets stand out toward the string: found on the heights as the solve sees them,
+    // points beside a profile on their nearest grid points (a fret found there is at the
+    // point's exact x); points alone (a bridge's) are no frets.
+    const bool all_points = std::all_of(c.obstacle_height_m.begin(), c.obstacle_height_m.end(),
+                                        [](double g) { return !std::isfinite(g); });
+    std::vector<double> toward_string = all_points ? c.obstacle_height_m : c.obstacle_on_grid();
     if (c.obstacle_above) mirror(toward_string);
     c.fret_positions_m = find_frets(toward_string, c.grid_step());
+    for (double& x : c.fret_positions_m)
+        for (const PointObstacle& p : c.point_obstacles)
+            if (std::abs(p.x_m - x) <= 0.5 * c.grid_step()) x = p.x_m;
 }
 
 void read_observe_section(TomlSection s, Case& c) {

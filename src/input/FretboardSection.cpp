@@ -72,7 +72,7 @@ NeckRelief read_relief(TomlSection& s, double last_fret) {
 
 }  // namespace
 
-std::vector<double> read_fretboard(TomlSection& s, const Grid& grid) {
+std::vector<double> read_fretboard(TomlSection& s, const Grid& grid, std::vector<PointObstacle>& points) {
     Fretboard board;
     board.scale_length_m = s.optional_positive("scale_length").value_or(grid.length_m);
     read_frets(s.section("frets"), board);
@@ -98,7 +98,9 @@ std::vector<double> read_fretboard(TomlSection& s, const Grid& grid) {
             throw InputError(out_of_range_message(s.key_path("body_height"), body, "must be in [-0.1, 0.1] m"));
         board.body_height_m = body;
     }
-    return board.sample(grid);
+    if (!board.point_crowns()) return board.sample(grid);
+    for (const auto& [x, top] : board.crowns()) points.push_back({x, top, grid.step()});
+    return board.sample_board(grid);
 }
 
 }  // namespace fretbuzz

@@ -122,7 +122,8 @@ std::vector<PointObstacle> read_point_section(TomlSection& section, const Case& 
     return read_point_list(section, Grid{c.string.length_m, c.mode_count()});
 }
 
-std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c) {
+std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c,
+                                          std::vector<PointObstacle>& points) {
     const std::string type = section.text("type");
     const Grid grid{c.string.length_m, c.mode_count()};
     if (type == "none") return no_obstacle(grid);
@@ -130,7 +131,7 @@ std::vector<double> read_obstacle_section(TomlSection& section, const DataSource
     if (type == "flat") return read_flat(section, grid);
     if (type == "points") return read_points(section, grid);
     if (type == "bridge") return read_bridge(section, grid);
-    if (type == "fretboard") return read_fretboard(section, grid);
+    if (type == "fretboard") return read_fretboard(section, grid, points);
     throw InputError(section.key_path("type") + " = \"" + type +
                      "\": must be one of \"table\", \"flat\", \"points\", \"bridge\", \"fretboard\", \"none\"");
 }

@@ -51,6 +51,17 @@ Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
     return stopped_from_zero(open, stop_m, modes);
 }
 
+Case with_points_on_grid(const Case& c) {
+    Case g = c;
+    const double dx = c.grid_step();
+    for (double& x : g.fret_positions_m)
+        if (std::any_of(c.point_obstacles.begin(), c.point_obstacles.end(), [x](const PointObstacle& p) { return p.x_m == x; }))
+            x = std::clamp(std::round(x / dx), 1.0, static_cast<double>(c.mode_count())) * dx;
+    g.obstacle_height_m = c.obstacle_on_grid();
+    g.point_obstacles.clear();
+    return g;
+}
+
 namespace {
 Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     const double length = open.string.length_m;
@@ -97,6 +108,8 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
         const std::size_t k = nearest(stop_m);
         for (std::size_t i = k > 0 ? k - 1 : 0; i <= std::min(k + 1, n_open - 1); ++i)
             stop_height = std::max(stop_height, open.obstacle_height_m[i]);
+        for (const PointObstacle& p : open.point_obstacles)  // a fret at its exact position
+            if (std::abs(p.x_m - stop_m) <= 1.5 * dx_open) stop_height = std::max(stop_height, p.height_m);
         // Nothing within a few millimetres (no fret there): the finger holds the string at rest height.
         if (!(stop_height > -kFarBelow)) stop_height = 0.0;
     }
@@ -104,9 +117,13 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     // A fret one open grid step wide may fall between the points of a coarser grid: the point
     // whose cell holds a fret takes the highest open height in its cell (the fret's top), and
     // the fret moves to that point (at most dx / 2).
+    // (frets that are exact points stay at their exact positions: see below)
+    const auto is_point = [&](double x) {
+        return std::any_of(open.point_obstacles.begin(), open.point_obstacles.end(), [x](const PointObstacle& p) { return p.x_m == x; });
+    };
     std::vector<double> frets;
     for (double x : open.fret_positions_m)
-        if (x - stop_m >= 1.5 * dx_open) frets.push_back(x - stop_m);
+        if (x - stop_m >= 1.5 * dx_open && !is_point(x)) frets.push_back(x - stop_m);
     const double toward = open.contact_orientation();
     const auto top_of_cell = [&](double s) {
         double best = open.obstacle_height_m[nearest(stop_m + s)];
@@ -129,8 +146,13 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     for (const PointObstacle& p : open.point_obstacles) {
         const double s = p.x_m - stop_m;
         if (stop_m > 0.0 && s < 1.5 * dx_open) continue;  // under the finger
-        if (s > 0.0 && s < sounding) c.point_obstacles.push_back({s, p.height_m - stop_height * (1.0 - s / sounding), p.weight_m});
+        if (s > 0.0 && s < sounding) {
+            c.point_obstacles.push_back({s, p.height_m - stop_height * (1.0 - s / sounding), p.weight_m});
+            if (std::find(open.fret_positions_m.begin(), open.fret_positions_m.end(), p.x_m) != open.fret_positions_m.end())
+                c.fret_positions_m.push_back(s);
+        }
     }
+    std::sort(c.fret_positions_m.begin(), c.fret_positions_m.end());
     c.observation_points_m.clear();
     for (double x : open.observation_points_m)
         if (x > stop_m) c.observation_points_m.push_back(x - stop_m);

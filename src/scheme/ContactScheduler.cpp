@@ -33,15 +33,16 @@ ContactScheduler::ContactScheduler(const Plan& plan)
     : plan_(plan), norm_(std::sqrt(2.0 / plan.basis().length())), head_(std::min(kHeadModes, plan.mode_count())) {
     // Room for every point twice (asleep and just woken), so that stepping never allocates.
     std::vector<Entry> storage;
-    storage.reserve(2 * plan.mode_count() + 16);
+    const std::size_t points = plan.screened_points();
+    storage.reserve(2 * points + 16);
     queue_ = decltype(queue_)(std::greater<>(), std::move(storage));
     amplitude_.reserve(plan.mode_count());
-    parked_.reserve(plan.mode_count());
-    envelope_.assign(plan.mode_count(), 0.0);
-    held_.reserve(2 * plan.mode_count() + 16);
+    parked_.reserve(points);
+    envelope_.assign(points, 0.0);
+    held_.reserve(2 * points + 16);
     park_amplitude_.reserve(plan.mode_count());
-    tested_with_.assign(plan.mode_count(), -1);
-    retry_reach_.assign(plan.mode_count(), std::numeric_limits<double>::infinity());
+    tested_with_.assign(points, -1);
+    retry_reach_.assign(points, std::numeric_limits<double>::infinity());
     row_scratch_.assign(plan.mode_count(), 0.0);  // sized here: parking runs in real-time audio paths
     compute_push_weights();
 }
@@ -62,13 +63,13 @@ void ContactScheduler::compute_push_weights() {
     prop.free_amplitudes(push_speed_, push_speed_, push_reach_);
     for (std::size_t j = 0; j < n; ++j) push_speed_[j] = prop.speed_factor()[j] * push_reach_[j];
     const double unknown = std::numeric_limits<double>::quiet_NaN();
-    point_weight_.assign(n, {unknown, unknown, unknown});
+    point_weight_.assign(plan_.screened_points(), {unknown, unknown, unknown});
 }
 
 const ContactScheduler::PointWeight& ContactScheduler::point_weight(std::size_t i) {
     PointWeight& w = point_weight_[i];
     if (std::isnan(w.reach)) {
-        const std::span<const double> row = plan_.basis().row(i);
+        const std::span<const double> row = plan_.screened_row(i);
         const std::size_t n = row.size(), head = std::min(kHeadModes, n);
         double reach_head = 0.0, speed_head = 0.0, speed_tail = 0.0;
         kernels::weighted_abs_sums(push_reach_.data(), push_speed_.data(), row.data(), head, reach_head, speed_head);
@@ -163,10 +164,10 @@ bool ContactScheduler::park(std::size_t i) {
         return false;
     tested_with_[i] = amplitude_epoch_;
     // Parking tests every sleeping point once: their rows are not worth keeping (N^2 numbers).
-    const std::span<const double> row = plan_.basis().row(i, row_scratch_);
+    const std::span<const double> row = plan_.screened_row(i, row_scratch_);
     const double envelope = kernels::weighted_abs_sum(amplitude_.data(), row.data(), row.size()) * (1.0 + kSlack);
     // u_i >= -envelope from now until the next impulse: its gap u_i - g stays above -envelope - g.
-    const double room = -plan_.obstacle()[i] - slack_;
+    const double room = -plan_.screened_height(i) - slack_;
     if (!(envelope < room)) {
         // Worth another test once the amplitudes have shrunk in proportion (a guess: skipping
         // a test only leaves the point in the queue).
@@ -215,8 +216,7 @@ void ContactScheduler::unpark() {
     // Until now u_i >= -E_i: each point goes back to the queue with that gap, no look needed.
     if (parked_.empty()) return;
     ++releases_;
-    const std::vector<double>& g = plan_.obstacle();
-    for (std::size_t i : parked_) queue_.emplace(budget_ + std::max(-envelope_[i] - g[i] - slack_, 0.0), i);
+    for (std::size_t i : parked_) queue_.emplace(budget_ + std::max(-envelope_[i] - plan_.screened_height(i) - slack_, 0.0), i);
     parked_.clear();
     park_epoch_ = -1;
 }

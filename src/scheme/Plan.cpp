@@ -12,13 +12,18 @@ namespace fretbuzz {
 namespace {
 // A point the grid's own solve takes: on a grid point, one grid step wide (or any point of a
 // case with two polarisations, whose friction acts at grid points).
+bool has_grid_obstacle(const Case& c) {
+    return std::any_of(c.obstacle_height_m.begin(), c.obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
+}
+
 bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
     const double dx = c.grid_step();
     const double x = (std::round(p.x_m / dx)) * dx;
-    // A finger's pad, or pluckers' pads (more than one: a single plucker joins the points' own
-    // solve), would couple with off-grid points through the modes in the same step, and no solve
-    // takes them together: beside them the points join the grid, where every equation is its own.
-    const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1;
+    // A finger's pad, or pluckers' pads (more than one, or one beside an obstacle on the grid: a
+    // single plucker alone joins the points' own solve), would couple with off-grid points through
+    // the modes in the same step, and no solve takes them together: beside them the points join
+    // the grid, where every equation is its own.
+    const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1 || (!c.plucks.empty() && has_grid_obstacle(c));
     return c.two_polarisations() || pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 
@@ -69,7 +74,9 @@ void Plan::place_points(const Case& c) {
     for (PointObstacle& p : points)
         p.height_m = oriented(p.height_m);
     if (!all_on_grid) {
-        point_contact_ = PointContact(basis_, std::move(points));
+        // Beside obstacle points on the grid (a fretboard's board under its frets), the points'
+        // equations and the grid's are solved together: their couplings phi(x_p) . S_i are kept.
+        point_contact_ = PointContact(basis_, std::move(points), has_grid_obstacle(c));
         return;
     }
     for (const PointObstacle& p : points) {
@@ -135,10 +142,12 @@ ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool
     // string keeps touching it while it sounds: free flight comes rarely, if ever.
     constexpr double kRestingGap = 1e-6;
     bool rests_on_it = false;
-    // Points off the grid are solved every step (PointContact): nothing to screen.
+    // Points off the grid are solved every step (PointContact): with no obstacle on the grid
+    // beside them, nothing is left to screen.
     const bool off_grid = std::any_of(c.point_obstacles.begin(), c.point_obstacles.end(),
                                       [&](const PointObstacle& p) { return !joins_grid(c, p, options); });
-    if (off_grid && options.choose_screening) return {false, "off (automatic: exact point obstacles)"};
+    if (off_grid && !has_grid_obstacle(c) && options.choose_screening)
+        return {false, "off (automatic: exact point obstacles)"};
     const auto count = [&](double h) {
         ++points;
         rests_on_it = rests_on_it || c.contact_orientation() * h >= -kRestingGap;

@@ -16,12 +16,13 @@ namespace {
 // Points whose rows are orthogonal to this (on distinct grid points: round-off) are solved alone.
 constexpr double kUncoupled = 1e-12;
 constexpr int kMaxNewton = 60;
-// Up to this many points the Newton system lives on the stack.
-constexpr int kSmall = 16;
+// Up to this many points the Newton system lives on the stack (a bass's 20 or 24 frets).
+constexpr int kSmall = 32;
 using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmall, kSmall>;
 }  // namespace
 
-PointContact::PointContact(const ModalBasis& basis, std::vector<PointObstacle> points) : points_(std::move(points)) {
+PointContact::PointContact(const ModalBasis& basis, std::vector<PointObstacle> points, bool grid_coupled)
+    : points_(std::move(points)) {
     const std::size_t count = points_.size();
     const std::size_t n = basis.mode_count();
     for (const PointObstacle& p : points_) {
@@ -36,6 +37,13 @@ PointContact::PointContact(const ModalBasis& basis, std::vector<PointObstacle> p
     for (std::size_t p = 0; p < count; ++p)
         for (std::size_t q = 0; q < count; ++q)
             if (p != q && std::abs(gram(p, q)) > kUncoupled * std::sqrt(gram(p, p) * gram(q, q))) coupled_ = true;
+    if (grid_coupled && count > 0) {
+        // M_pi = sum_j S_ij phi_j(x_p): each point's row taken to the grid (one transform each, once).
+        grid_points_ = n;
+        grid_rows_.resize(count * n);
+        for (std::size_t p = 0; p < count; ++p)
+            basis.to_grid(rows_[p], std::span<double>(grid_rows_).subspan(p * n, n));
+    }
 }
 
 void PointContact::set_offset(double offset) {
@@ -45,17 +53,39 @@ void PointContact::set_offset(double offset) {
 
 PointContact::State PointContact::make_state() const {
     State s;
-    for (std::vector<double>* v : {&s.eta_prev, &s.eta_curr, &s.force, &s.increment, &s.b, &s.quotient, &s.slope, &s.residual})
+    for (std::vector<double>* v : {&s.eta_prev, &s.eta_curr, &s.force, &s.increment, &s.b, &s.quotient, &s.slope, &s.residual, &s.candidate})
         v->assign(size(), 0.0);
+    s.resting.assign(size(), 0);
+    s.awake_list.reserve(size());
+    s.awake = size();
     return s;
+}
+
+namespace {
+// A resting point's eta: far enough apart that no step can bring it to contact.
+constexpr double kRestingEta = -1.0;
+}  // namespace
+
+void PointContact::rest(State& s, std::size_t p) const {
+    if (s.resting[p] != 0) return;
+    s.resting[p] = 1;
+    --s.awake;
+    s.eta_prev[p] = s.eta_curr[p] = kRestingEta;
+    s.force[p] = 0.0;
+}
+
+void PointContact::wake(State& s, std::size_t p, std::span<const double> q, std::span<const double> d) const {
+    double u_now = 0.0, u_before = 0.0;
+    kernels::dot_current_previous(rows_[p].data(), q.data(), d.data(), q.size(), u_now, u_before);
+    s.eta_curr[p] = heights_[p] - u_now;
+    s.eta_prev[p] = heights_[p] - u_before;
+    if (s.resting[p] != 0) ++s.awake;
+    s.resting[p] = 0;
 }
 
 void PointContact::start(State& s, std::span<const double> q, std::span<const double> d) const {
     for (std::size_t p = 0; p < size(); ++p) {
-        double u_now = 0.0, u_before = 0.0;
-        kernels::dot_current_previous(rows_[p].data(), q.data(), d.data(), q.size(), u_now, u_before);
-        s.eta_curr[p] = heights_[p] - u_now;
-        s.eta_prev[p] = heights_[p] - u_before;
+        wake(s, p, q, d);
         s.force[p] = 0.0;
     }
 }
@@ -69,11 +99,20 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
 }
 
 bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const {
+    solve_points(s, predicted, law, k, pad);
+    return commit(s);
+}
+
+void PointContact::solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const {
     const std::size_t count = size();
     s.iterations = 0;
     // Each point alone first: the answer where the points do not couple, else Newton's start.
     for (std::size_t p = 0; p < count; ++p) {
         const double a = s.eta_prev[p];
+        if (s.resting[p] != 0) {  // (its prediction was not formed)
+            s.b[p] = s.increment[p] = s.force[p] = 0.0;
+            continue;
+        }
         s.b[p] = heights_[p] - predicted[p] - a;
         const ContactSolution alone = law.solve(a, s.b[p], k * gram(p, p));
         s.increment[p] = alone.increment;
@@ -89,17 +128,20 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     }
     // The pad moves every point it overlaps in mode space, and they move it.
     if (pad != nullptr && (pressed || touching > 0)) {
-        if (count + 1 <= static_cast<std::size_t>(kSmall))
+        if (s.awake + 1 <= static_cast<std::size_t>(kSmall))
             solve_coupled<SmallMatrix>(s, law, k, pad);
         else
             solve_coupled<Eigen::MatrixXd>(s, law, k, pad);
     } else if (coupled_ && touching > 0 && count > 1) {
-        if (count <= static_cast<std::size_t>(kSmall))
+        if (s.awake <= static_cast<std::size_t>(kSmall))
             solve_coupled<SmallMatrix>(s, law, k, nullptr);
         else
             solve_coupled<Eigen::MatrixXd>(s, law, k, nullptr);
     }
-    for (std::size_t p = 0; p < count; ++p) {
+}
+
+bool PointContact::commit(State& s) const {
+    for (std::size_t p = 0; p < size(); ++p) {
         const double eta_next = s.eta_prev[p] + s.increment[p];
         s.eta_prev[p] = s.eta_curr[p];
         s.eta_curr[p] = eta_next;
@@ -107,9 +149,161 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     return std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
 }
 
+bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const {
+    solve_points(s, predicted, law, k, nullptr);
+    const bool points_push = std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
+    const bool grid_pushes = solve_grid(s, law, k, grid);
+    // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
+    // grid solved with the points' forces already; the points, with no force of their own, need
+    // the grid's push to leave them apart.
+    bool joint = points_push && grid_pushes;
+    if (grid_pushes && !points_push) {
+        for (std::size_t p = 0; p < size() && !joint; ++p) {
+            double shift = 0.0;
+            for (std::size_t r = 0; r < grid.points.size(); ++r)
+                if (grid.solutions[r].force != 0.0) shift += grid_coupling(p, grid.points[r]) * grid.solutions[r].force;
+            s.quotient[p] = s.increment[p] - k * grid.step * shift;
+            joint = law.difference_quotient(s.eta_prev[p], s.quotient[p]) != 0.0;
+        }
+        if (!joint)
+            for (std::size_t p = 0; p < size(); ++p) s.increment[p] = s.quotient[p];
+    }
+    s.joint = joint;
+    if (joint) {
+        if (s.awake <= static_cast<std::size_t>(kSmall))
+            solve_with_grid<SmallMatrix>(s, law, k, grid);
+        else
+            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid);
+    }
+    return commit(s);
+}
+
+bool PointContact::solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid) const {
+    bool pushes = false;
+    for (std::size_t r = 0; r < grid.points.size(); ++r) {
+        const std::size_t i = grid.points[r];
+        double b = grid.b[r];
+        for (std::size_t p = 0; p < size(); ++p)
+            if (s.force[p] != 0.0) b -= k * points_[p].weight_m * grid_coupling(p, i) * s.force[p];
+        grid.solutions[r] = law.solve(grid.a[r], b, k);
+        pushes = pushes || grid.solutions[r].force != 0.0;
+    }
+    return pushes;
+}
+
+double PointContact::newton_scale(State& s) const {
+    // The awake points (a resting one is apart and stays so: its force is zero whatever the
+    // others do, and no equation of the others reads its unknown), and the size of their
+    // unknowns, which Newton's tolerance is relative to.
+    s.awake_list.clear();
+    double scale = std::numeric_limits<double>::min();
+    for (std::size_t p = 0; p < size(); ++p) {
+        if (s.resting[p] != 0) {
+            s.quotient[p] = s.force[p] = 0.0;
+            continue;
+        }
+        s.awake_list.push_back(p);
+        scale = std::max({scale, std::abs(s.b[p]), std::abs(s.eta_prev[p]), std::abs(s.increment[p])});
+    }
+    return scale;
+}
+
+template <class Matrix>
+void PointContact::points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r,
+                                   Matrix& jacobian) const {
+    // J = I + k G diag(d f_q / d r_q) over the awake points, at r's quotients
+    const std::vector<std::size_t>& awake = s.awake_list;
+    for (std::size_t q : awake) s.slope[q] = law.slope_of_quotient(s.eta_prev[q], r[q], s.quotient[q]);
+    for (std::size_t a = 0; a < awake.size(); ++a)
+        for (std::size_t c = 0; c < awake.size(); ++c)
+            jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) =
+                (a == c ? 1.0 : 0.0) + k * gram(awake[a], awake[c]) * s.slope[awake[c]];
+}
+
+template <class Matrix>
+void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid) const {
+    // Newton on the points' increments r_p, the grid's equations solved inside each evaluation:
+    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i - b_p,
+    //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi f_i' / (1 + k f_i').
+    const double scale = newton_scale(s);
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t count = awake.size();
+    const auto m = static_cast<Eigen::Index>(count);
+    Matrix jacobian(m, m);
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
+    std::vector<double>& r = s.increment;
+    const auto residual_at = [&](const std::vector<double>& at) {
+        for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
+        // (the grid reads the points' forces from s.force: the quotients, for this evaluation)
+        std::swap(s.force, s.quotient);
+        solve_grid(s, law, k, grid);
+        std::swap(s.force, s.quotient);
+        double largest = 0.0;
+        for (std::size_t p : awake) {
+            double push = 0.0;
+            for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
+            double grid_push = 0.0;
+            for (std::size_t g = 0; g < grid.points.size(); ++g)
+                if (grid.solutions[g].force != 0.0) grid_push += grid_coupling(p, grid.points[g]) * grid.solutions[g].force;
+            s.residual[p] = at[p] + k * push + k * grid.step * grid_push - s.b[p];
+            largest = std::max(largest, std::abs(s.residual[p]));
+        }
+        return largest;
+    };
+    const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * scale;
+    // residual_at swaps s.force with s.quotient: the trial point lives in a vector of its own.
+    std::vector<double>& candidate = s.candidate;
+    std::copy(r.begin(), r.end(), candidate.begin());
+    double norm = residual_at(r);
+    int iteration = 0;
+    for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
+        points_jacobian(s, law, k, r, jacobian);
+        for (std::size_t g = 0; g < grid.points.size(); ++g) {
+            const ContactSolution& sol = grid.solutions[g];
+            if (sol.force == 0.0 && sol.increment + grid.a[g] <= 0.0 && grid.a[g] <= 0.0) continue;
+            const double slope = law.slope_of_quotient(grid.a[g], sol.increment, sol.force);
+            const double w = slope / (1.0 + k * slope);
+            if (w == 0.0) continue;
+            const std::size_t i = grid.points[g];
+            for (std::size_t a = 0; a < count; ++a)
+                for (std::size_t c = 0; c < count; ++c) {
+                    const std::size_t p = awake[a], q = awake[c];
+                    jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) -=
+                        k * k * grid.step * points_[q].weight_m * s.slope[q] * grid_coupling(p, i) * grid_coupling(q, i) * w;
+                }
+        }
+        for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
+        step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
+        double t = 1.0;
+        bool decreased = false;
+        for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
+            for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
+            const double trial_norm = residual_at(candidate);
+            if (trial_norm < norm) {
+                r.swap(candidate);
+                norm = trial_norm;
+                decreased = true;
+                break;
+            }
+        }
+        if (!decreased) {
+            residual_at(r);  // back to r's quotients and grid solutions
+            break;
+        }
+    }
+    if (!(norm <= 1e-9 * scale))
+        throw SolverError("point contact: the joint Newton solve of " + std::to_string(count) +
+                          " points and the grid's obstacle points did not converge (residual " + std::to_string(norm) +
+                          " m)");
+    s.iterations = std::max(s.iterations, iteration);
+    for (std::size_t p : awake) s.force[p] = s.quotient[p];
+}
+
 template <class Matrix>
 void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const {
-    const std::size_t count = size();
+    double scale = newton_scale(s);
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t count = awake.size();
     const std::size_t last = count;  // the pad's row and column, where there is one
     const auto m = static_cast<Eigen::Index>(pad != nullptr ? count + 1 : count);
     Matrix jacobian(m, m);
@@ -120,27 +314,23 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     // returns the largest size of them.
     const auto residual_at = [&](const std::vector<double>& r, double at) {
         double largest = 0.0;
-        for (std::size_t q = 0; q < count; ++q) s.quotient[q] = law.difference_quotient(s.eta_prev[q], r[q]);
+        for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], r[q]);
         if (pad != nullptr) pad->press->force_and_slope(at, pad_force, pad_slope);
-        for (std::size_t p = 0; p < count; ++p) {
+        for (std::size_t p : awake) {
             double push = 0.0;
-            for (std::size_t q = 0; q < count; ++q)
-                push += gram(p, q) * s.quotient[q];
+            for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
             s.residual[p] = r[p] + k * push - s.b[p];
             if (pad != nullptr) s.residual[p] += k * pad->coupling[p] * pad_force;
             largest = std::max(largest, std::abs(s.residual[p]));
         }
         if (pad != nullptr) {
             double push = 0.0;
-            for (std::size_t q = 0; q < count; ++q) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
+            for (std::size_t q : awake) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
             pad_residual = at - pad->predicted - k * push - k * pad->self * pad_force;
             largest = std::max(largest, std::abs(pad_residual));
         }
         return largest;
     };
-    double scale = std::numeric_limits<double>::min();
-    for (std::size_t p = 0; p < count; ++p)
-        scale = std::max({scale, std::abs(s.b[p]), std::abs(s.eta_prev[p]), std::abs(s.increment[p])});
     if (pad != nullptr) scale = std::max({scale, std::abs(pad->predicted), std::abs(x)});
     const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * scale;
     std::vector<double>& r = s.increment;
@@ -148,17 +338,14 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     std::vector<double>& trial = s.force;  // scratch until the forces are formed at the end
     int iteration = 0;
     for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
-        // J = I + k G diag(d f_q / d r_q), bordered by the pad's row and column
-        for (std::size_t q = 0; q < count; ++q) s.slope[q] = law.slope_of_quotient(s.eta_prev[q], r[q], s.quotient[q]);
-        for (std::size_t p = 0; p < count; ++p)
-            for (std::size_t q = 0; q < count; ++q)
-                jacobian(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(q)) =
-                    (p == q ? 1.0 : 0.0) + k * gram(p, q) * s.slope[q];
-        for (std::size_t p = 0; p < count; ++p) step(static_cast<Eigen::Index>(p)) = -s.residual[p];
+        // the points' Jacobian, bordered by the pad's row and column
+        points_jacobian(s, law, k, r, jacobian);
+        for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
         if (pad != nullptr) {
             const auto e = static_cast<Eigen::Index>(last);
-            for (std::size_t p = 0; p < count; ++p) {
-                const auto i = static_cast<Eigen::Index>(p);
+            for (std::size_t a = 0; a < count; ++a) {
+                const std::size_t p = awake[a];
+                const auto i = static_cast<Eigen::Index>(a);
                 jacobian(i, e) = k * pad->coupling[p] * pad_slope;
                 jacobian(e, i) = -k * points_[p].weight_m * pad->coupling[p] * s.slope[p];
             }
@@ -170,7 +357,7 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
         double t = 1.0;
         bool decreased = false;
         for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
-            for (std::size_t p = 0; p < count; ++p) trial[p] = r[p] + t * step(static_cast<Eigen::Index>(p));
+            for (std::size_t a = 0; a < count; ++a) trial[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
             const double trial_x = pad != nullptr ? x + t * step(static_cast<Eigen::Index>(last)) : 0.0;
             const double trial_norm = residual_at(trial, trial_x);
             if (trial_norm < norm) {
@@ -191,13 +378,15 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
                           (pad != nullptr ? " points and a pad" : " points") + " did not converge (residual " +
                           std::to_string(norm) + " m)");
     s.iterations = std::max(s.iterations, iteration);
-    for (std::size_t p = 0; p < count; ++p) s.force[p] = s.quotient[p];
+    for (std::size_t p = 0; p < size(); ++p) s.force[p] = s.quotient[p];
     if (pad != nullptr) pad->x = x;
 }
 
 double PointContact::potential(const State& s, const PenaltyContact& law, bool current) const {
     double sum = 0.0;
-    for (std::size_t p = 0; p < size(); ++p) sum += points_[p].weight_m * law.potential(current ? s.eta_curr[p] : s.eta_prev[p]);
+    for (std::size_t p = 0; p < size(); ++p)
+        if (const double eta = current ? s.eta_curr[p] : s.eta_prev[p]; eta > 0.0)  // (Psi = 0 apart)
+            sum += points_[p].weight_m * law.potential(eta);
     return sum;
 }
 

@@ -115,13 +115,14 @@ bool contact_possible(const Case& c) {
         for (std::size_t j = 0; j < n; ++j) bound += std::abs(phi[j]) * reach[j];
         return bound * (1.0 + 1e-9) >= -s * g;  // u can reach g (a margin for round-off)
     };
-    for (std::size_t i = 0; i < n; ++i) {
-        const double g = c.obstacle_height_m[i];
-        if (std::isfinite(g) && reaches(basis.row(i, row), g)) return true;
-    }
+    // Points first: a fretboard's crowns stand above its board (a few rows, not hundreds).
     for (const PointObstacle& p : c.point_obstacles) {
         basis.mode_shapes_at(p.x_m, row);
         if (reaches(row, p.height_m)) return true;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = c.obstacle_height_m[i];
+        if (std::isfinite(g) && reaches(basis.row(i, row), g)) return true;
     }
     return false;
 }

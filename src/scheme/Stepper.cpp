@@ -94,6 +94,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     solutions_.reserve(q0.size());
     due_.reserve(2 * q0.size() + 16);
     forces_.reserve(q0.size());
+    pushes_.reserve(q0.size() + plan.point_contact().size());
     rubbing_.reserve(q0.size());
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
@@ -178,6 +179,7 @@ void Stepper::restart() {
         scheduler_.update_speed(q_, d_);
         next_speed_refresh_ = n_ + kSpeedRefreshSteps;
     }
+    classify_exact_points();
     parts_.each_on([&](PlayedPart& part) { part.read_obstacle(plan_.obstacle()); });
     if (exact_pluck_on()) {
         double u_now = 0.0, u_before = 0.0;
@@ -379,7 +381,7 @@ double Stepper::work() const {
 double Stepper::contact_energy() const {
     const double grid = 0.5 * plan_.basis().grid_step() * (psi_curr_ + psi_prev_);
     const PointContact& points = plan_.point_contact();
-    if (points.empty()) return grid;
+    if (points_.awake == 0) return grid;  // (no points, or all resting: apart, Psi = 0)
     return grid + 0.5 * (points.potential(points_, plan_.contact(), true) + points.potential(points_, plan_.contact(), false));
 }
 
@@ -402,8 +404,17 @@ void Stepper::step() {
         if (n_ + 1 >= next_speed_refresh_) {
             scheduler_.motion_changed(q_, d_);  // the modes have decayed: a tighter bound
             next_speed_refresh_ = n_ + 1 + kSpeedRefreshSteps;
-        } else if (loaded_) {
+        } else if (loaded_ || (points_pushed_ && !points_by_rows())) {
             scheduler_.pushed(q_, d_, impulse_);  // apply_impulse formed the whole impulse
+        } else if (points_pushed_) {
+            // The points' rows went into the pass with the grid's: the bounds grow by each push
+            // times its point's weight (exact point p screened as N + p, its force as one per dx).
+            pushes_.assign(forces_.begin(), forces_.end());
+            const PointContact& points = plan_.point_contact();
+            const double dx = plan_.basis().grid_step();
+            for (std::size_t p = 0; p < points.size(); ++p)
+                if (points_.force[p] != 0.0) pushes_.emplace_back(q_.size() + p, points.weight(p) * points_.force[p] / dx);
+            scheduler_.pushed(q_, d_, pushes_, plan_.impulse_scale());
         } else if (!forces_.empty()) {
             // the motion from here on is a new free motion; where apply_impulse projected the
             // forces onto the modes, the bounds grow by that impulse (no point's weight needed)
@@ -422,9 +433,9 @@ void Stepper::step() {
 long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                           std::vector<double>& u, std::vector<double>* v, bool step_head) {
     const long steps = flight.steps();
-    // A finger may touch at any time: its pad points are solved every step (and exact points);
+    // A finger may touch at any time: its pad points are solved every step (and awake exact points);
     // a gesture loads the string until its force has ended.
-    if (n_ == 0 || !screening_ || pad_points_ != 0 || exact_pluck_on() || !plan_.point_contact().empty() || !active_.empty() ||
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || exact_pluck_on() || points_.awake != 0 || !active_.empty() ||
         psi_curr_ != 0.0 || psi_prev_ != 0.0 || gestures_act_from(n_))
         return 0;
     scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
@@ -514,6 +525,7 @@ void Stepper::first_step() {
     if (screening_) scheduler_.update_speed(q_, d_);
     classify_points(grid_, u0);
     plan_.point_contact().start(points_, q_, d_);
+    classify_exact_points();
     // Each played part starts from the string under its pad at levels 0 and 1.
     for (std::size_t k = 0; k < parts_.size(); ++k)
         if (k == exact_pluck_)
@@ -532,8 +544,8 @@ void Stepper::activate(std::size_t i, double u_now, double u_before) {
 
 bool Stepper::sleeps_on_low_modes(std::size_t i, std::size_t head, double tail) {
     // u_i >= (first `head` modes of u_i) - tail: a lower bound on the gap, cheap to get.
-    const double low = kernels::dot(plan_.basis().row(i).data(), q_.data(), head);
-    return scheduler_.sleep(i, low - tail - plan_.obstacle()[i]);
+    const double low = kernels::dot(plan_.screened_row(i).data(), q_.data(), head);
+    return scheduler_.sleep(i, low - tail - plan_.screened_height(i));
 }
 
 void Stepper::wake_due_points() {
@@ -548,6 +560,10 @@ void Stepper::wake_due_points() {
     const std::size_t head = scheduler_.head_modes();
     const double tail = scheduler_.tail_bound();
     for (std::size_t i : due_) {
+        if (i >= n) {  // an exact point
+            wake_exact_point(i - n, head, tail);
+            continue;
+        }
         const std::span<const double> row = plan_.basis().row(i);
         // Cheapest first: the low modes and a bound on the rest, then the exact height.
         double u_now = 0.0, u_before = 0.0;
@@ -563,17 +579,39 @@ void Stepper::wake_due_points() {
     }
 }
 
+void Stepper::wake_exact_point(std::size_t p, std::size_t head, double tail) {
+    const std::size_t n = q_.size();
+    const std::size_t i = n + p;
+    if (head < n && sleeps_on_low_modes(i, head, tail)) return;
+    const double u_now = kernels::dot(plan_.point_contact().row(p).data(), q_.data(), n);
+    if (scheduler_.sleep(i, u_now - plan_.point_contact().height(p))) return;
+    plan_.point_contact().wake(points_, p, q_, d_);
+    point_forecast_step_ = -1;  // (formed for the points awake then)
+}
+
+void Stepper::classify_exact_points() {
+    // After start(): every point awake; those apart over both levels and far enough go to sleep.
+    if (!screening_) return;
+    const PointContact& points = plan_.point_contact();
+    for (std::size_t p = 0; p < points.size(); ++p)
+        if (points_.eta_prev[p] <= 0.0 && points_.eta_curr[p] <= 0.0 &&
+            scheduler_.sleep(q_.size() + p, -points_.eta_curr[p]))
+            points.rest(points_, p);
+}
+
 void Stepper::solve_contacts() {
     forces_.clear();
     touched_obstacle_ = false;
     psi_prev_ = psi_curr_;
     psi_curr_ = 0.0;
-    stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + plan_.point_contact().size());
+    stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + points_.awake);
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
     pluck_load_ = 0.0;
-    if (plan_.point_contact().empty()) solve_exact_pluck();  // (else solved with the points)
-    points_pushed_ = !plan_.point_contact().empty() && solve_points();
+    if (points_.awake == 0) solve_exact_pluck();  // (else solved with the points)
+    // Exact points beside awake obstacle points of the grid: both in one solve (see PointContact).
+    const bool joint = plan_.point_contact().grid_coupled() && points_.awake != 0 && !active_.empty();
+    points_pushed_ = points_.awake != 0 && !joint && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
         return;
@@ -596,7 +634,7 @@ void Stepper::solve_contacts() {
     if (!parts_.empty()) solve_fingers(use_transform);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
-    const bool together = use_transform;
+    const bool together = use_transform || joint;
     // Raw pointers and local sums: the forces' emplace_back would otherwise make the compiler
     // reload every member at every point (503 points at the flat obstacle's onset).
     double* eta_prev = eta_prev_.data();
@@ -612,7 +650,10 @@ void Stepper::solve_contacts() {
             solve_a_[p] = eta_prev[i];
             solve_b_[p] = g[i] - grid[i] - eta_prev[i];
         }
-        law.solve_all(solve_a_, solve_b_, k, solutions_);
+        if (joint)
+            solve_points_with_grid();
+        else
+            law.solve_all(solve_a_, solve_b_, k, solutions_);
     }
     double psi = psi_curr_;
     int most_iterations = stats_.max_newton_iterations;
@@ -748,25 +789,36 @@ void Stepper::retire(const PlayedPart& part) {
     pad_points_ -= pad.size();
 }
 
-bool Stepper::solve_points() {
+void Stepper::predict_exact_points() {
     const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
     if (point_forecast_step_ == n_) {  // the last step's pass formed it
         std::copy(point_forecast_.begin(), point_forecast_.end(), point_predicted_.begin());
-    } else {
-        std::array<const double*, kernels::kMaxPassRows> rows;
-        if (points.size() <= rows.size()) {
-            for (std::size_t p = 0; p < points.size(); ++p) rows[p] = points.row(p).data();
-            kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), rows.data(),
-                                      points.size(), q_.size(), point_predicted_.data());
-        } else {  // more points than a pass takes: the prediction stored once, then a product per point
-            kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
-            for (std::size_t p = 0; p < points.size(); ++p)
-                point_predicted_[p] = kernels::dot(points.row(p).data(), predicted_.data(), q_.size());
-        }
+    } else if (points_.awake <= kernels::kMaxPassRows) {  // the awake points' rows (resting ones need none)
+        std::array<const double*, kernels::kMaxPassRows> rows{};
+        std::array<std::size_t, kernels::kMaxPassRows> which{};
+        std::array<double, kernels::kMaxPassRows> values{};
+        std::size_t m = 0;
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.resting[p] == 0) {
+                which[m] = p;
+                rows[m++] = points.row(p).data();
+            }
+        kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), rows.data(), m,
+                                  q_.size(), values.data());
+        for (std::size_t r = 0; r < m; ++r) point_predicted_[which[r]] = values[r];
+    } else {  // more points than a pass takes: the prediction stored once, then a product per point
+        kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), q_.size());
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.resting[p] == 0) point_predicted_[p] = kernels::dot(points.row(p).data(), predicted_.data(), q_.size());
     }
     if (loaded_)
         for (std::size_t p = 0; p < points.size(); ++p) point_predicted_[p] += gestures_at_point(p);
+}
+
+bool Stepper::solve_points() {
+    predict_exact_points();
+    const PointContact& points = plan_.point_contact();
     const double k = plan_.force_to_displacement();
     bool pushed = false;
     if (exact_pluck_acts()) {
@@ -784,6 +836,16 @@ bool Stepper::solve_points() {
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || pushed;
     return pushed;
+}
+
+void Stepper::solve_points_with_grid() {
+    predict_exact_points();
+    const PointContact& points = plan_.point_contact();
+    PointContact::Grid grid{active_, solve_a_, solve_b_, solutions_, plan_.basis().grid_step()};
+    points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement(), grid);
+    if (points_.joint) ++stats_.joint_steps;
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
+    touched_obstacle_ = touched_obstacle_ || points_pushed_;
 }
 
 void Stepper::apply_point_impulse() {
@@ -809,8 +871,8 @@ void Stepper::report_point_forces() {
 }
 
 bool Stepper::points_by_rows() const {
-    const std::size_t pushes = forces_.size() + plan_.point_contact().size();
-    return pad_points_ == 0 && plan_.point_contact().size() <= kernels::kMaxPassRows &&
+    const std::size_t pushes = forces_.size() + points_.awake;  // (resting points push nothing)
+    return pad_points_ == 0 && points_.awake <= kernels::kMaxPassRows &&
            pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
 }
 
@@ -836,15 +898,35 @@ void Stepper::advance_with_points() {
     pass.pushes = pushes;
     // The points' next prediction, the observation and the energy, formed in the same pass (the
     // reference path forms them in passes of their own).
+    // The awake points' rows, then the grid's active points' where they fit in the pass.
     forecast_.count = 0;
     const bool fused = plan_.options().fused_step;
+    std::array<std::size_t, kernels::kMaxPassRows> which;
+    std::array<double, kernels::kMaxPassRows> values;
+    std::size_t count = 0;
     if (fused) {
-        for (std::size_t p = 0; p < points.size(); ++p) predict_rows[p] = points.row(p).data();
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.resting[p] == 0) {
+                which[count] = p;
+                predict_rows[count++] = points.row(p).data();
+            }
+        const bool grid_fits = !active_.empty() && count + active_.size() <= kernels::kMaxPassRows &&
+                               active_.size() <= plan_.transform_threshold();
+        if (grid_fits)
+            for (std::size_t i : active_) {
+                forecast_.points[forecast_.count++] = i;
+                predict_rows[count++] = plan_.basis().row(i).data();
+            }
         pass.predict_rows = predict_rows.data();
-        pass.predict_count = points.size();
-        pass.predicted = point_forecast_.data();
+        pass.predict_count = count;
+        pass.predicted = values.data();
     }
     run_pass(pass);
+    if (fused) {
+        const std::size_t awake = count - forecast_.count;
+        for (std::size_t r = 0; r < awake; ++r) point_forecast_[which[r]] = values[r];
+        for (std::size_t r = 0; r < forecast_.count; ++r) forecast_.values[r] = values[awake + r];
+    }
     point_forecast_step_ = fused ? n_ + 1 : -1;
 }
 
@@ -892,7 +974,7 @@ void Stepper::apply_impulse() {
 }
 
 void Stepper::advance_modes() {
-    if (!loaded_ && !plan_.point_contact().empty() && points_by_rows()) {
+    if (!loaded_ && points_.awake != 0 && points_by_rows()) {
         advance_with_points();
         return;
     }
@@ -944,6 +1026,14 @@ void Stepper::advance_modes() {
 void Stepper::put_points_to_sleep() {
     // A point out of contact over both recent levels, and far enough from the obstacle,
     // leaves the active set until the scheduler says it could be back.
+    if (points_.awake != 0) {
+        const PointContact& points = plan_.point_contact();
+        for (std::size_t p = 0; p < points.size(); ++p)
+            if (points_.resting[p] == 0 && points_.eta_curr[p] <= 0.0 && points_.eta_prev[p] <= 0.0) {
+                scheduler_.refresh(q_, d_);
+                if (scheduler_.sleep(q_.size() + p, -points_.eta_curr[p])) points.rest(points_, p);
+            }
+    }
     std::erase_if(active_, [this](std::size_t i) {
         if (!(eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0)) return false;
         scheduler_.refresh(q_, d_);  // the speed bound is kept current only while some point sleeps

@@ -391,17 +391,27 @@ TEST(StoppedString, AStoppedVoiceSoundsAtTheHeldStringsPitch) {
 }
 
 TEST(StoppedString, KeepsEveryFretOnACoarserGrid) {
-    // With half the modes the grid step doubles: a fret one open grid step wide would fall
-    // between points. Each fret keeps its top, at the point nearest to it.
+    // With half the modes the grid step doubles. Crowns of zero width are exact points: each
+    // fret keeps its exact position and its top, whatever the mode count.
     const Case open = load_case("bass-pluck");
-    const Case coarse = stopped_string(open, 0.0, open.mode_count() / 2);
-    ASSERT_EQ(coarse.fret_positions_m.size(), open.fret_positions_m.size());
+    ASSERT_EQ(open.point_obstacles.size(), 20u);
+    for (const std::size_t modes : {open.mode_count() / 2, std::size_t{110}}) {
+        const Case coarse = stopped_string(open, 0.0, modes);
+        ASSERT_EQ(coarse.fret_positions_m.size(), open.fret_positions_m.size());
+        ASSERT_EQ(coarse.point_obstacles.size(), open.point_obstacles.size());
+        for (std::size_t k = 0; k < open.fret_positions_m.size(); ++k) {
+            EXPECT_EQ(coarse.fret_positions_m[k], open.fret_positions_m[k]) << k;
+            EXPECT_EQ(coarse.point_obstacles[k].x_m, open.point_obstacles[k].x_m) << k;
+            EXPECT_EQ(coarse.point_obstacles[k].height_m, open.point_obstacles[k].height_m) << k;
+        }
+    }
+    // Placed on the grid (where the scheme puts them beside a finger's pad), each fret keeps its
+    // top at the grid point nearest to it.
+    const Case coarse = with_points_on_grid(stopped_string(open, 0.0, open.mode_count() / 2));
     for (std::size_t k = 0; k < open.fret_positions_m.size(); ++k) {
         EXPECT_NEAR(coarse.fret_positions_m[k], open.fret_positions_m[k], 0.5 * coarse.grid_step()) << k;
-        const auto at = [](const Case& c, double x) {
-            return c.obstacle_height_m[static_cast<std::size_t>(std::lround(x / c.grid_step())) - 1];
-        };
-        EXPECT_EQ(at(coarse, coarse.fret_positions_m[k]), at(open, open.fret_positions_m[k])) << k;
+        const std::size_t at = static_cast<std::size_t>(std::lround(coarse.fret_positions_m[k] / coarse.grid_step())) - 1;
+        EXPECT_EQ(coarse.obstacle_height_m[at], open.point_obstacles[k].height_m) << k;
     }
 }
 

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
@@ -49,7 +50,16 @@ struct Fretboard {
     double fret_position(std::size_t n) const;  // n = 1..fret_count
     double fret_line_height(double x) const;    // height of a fret top at x
     double fret_top_height(std::size_t n) const;  // fret n's top: the fret line plus its offset
+    // The board and its frets on the grid; a crown of zero width on its nearest grid point.
     std::vector<double> sample(const Grid& grid) const;
+    // Crowns of zero width act at their exact x_n instead (sample_board leaves them out: the
+    // grid point nearest one keeps the board's height): each as (x_n, top height).
+    bool point_crowns() const { return crown_width_m == 0.0; }
+    std::vector<double> sample_board(const Grid& grid) const;
+    std::vector<std::pair<double, double>> crowns() const;
+
+private:
+    std::vector<double> sample(const Grid& grid, bool with_point_crowns) const;
 };
 
 }  // namespace fretbuzz

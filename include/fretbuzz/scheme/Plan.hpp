@@ -127,6 +127,19 @@ public:
     const PointContact& point_contact() const { return point_contact_; }
     // Grid points where an obstacle exists at all (g > -inf).
     const std::vector<std::size_t>& obstacle_points() const { return obstacle_points_; }
+    // What the contact screening watches (ContactScheduler): grid points i < N, then the exact
+    // points p as N + p; each one's row of mode shapes (a grid row not kept by the basis goes
+    // to `scratch`) and obstacle height in the solve's coordinate.
+    std::size_t screened_points() const { return mode_count() + point_contact_.size(); }
+    std::span<const double> screened_row(std::size_t i) const {
+        return i < mode_count() ? basis_.row(i) : point_contact_.row(i - mode_count());
+    }
+    std::span<const double> screened_row(std::size_t i, std::span<double> scratch) const {
+        return i < mode_count() ? basis_.row(i, scratch) : point_contact_.row(i - mode_count());
+    }
+    double screened_height(std::size_t i) const {
+        return i < mode_count() ? obstacle_[i] : point_contact_.height(i - mode_count());
+    }
     // The fingers of the case (they press toward the obstacle side, see Finger).
     const std::vector<FingerSpec>& fingers() const { return fingers_; }
     // Prescribed forces on the string (force gestures).

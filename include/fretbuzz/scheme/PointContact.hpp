@@ -8,10 +8,18 @@
 // grid, a force at one point moves the others in the same step (phi(x_p) . phi(x_q) != 0 for
 // p != q): with r_p = eta_p^{n+1} - eta_p^{n-1}, a_p = eta_p^{n-1} and b_p the free step's r_p,
 //     r_p + (dt^2/mu) sum_q G_pq f_q(r_q) = b_p,   G_pq = c_q phi(x_p) . phi(x_q),
-// a P x P system solved by Newton's method (Eigen's LU for its steps; up to 16 points on the
+// a P x P system solved by Newton's method (Eigen's LU for its steps; up to 32 points on the
 // stack: stepping allocates nothing) from each point's own
 // scalar root. A single point, or points that do not couple (on the grid), take the scalar
 // solve of PenaltyContact with the step factor scaled by G_pp.
+//
+// Beside obstacle points on the grid (a fretboard's board under its exact frets), a grid point's
+// force f_i moves every point p by k dx M_pi f_i (M_pi = phi(x_p) . S_i), and each point's force
+// moves grid point i by k c_p M_pi f_p. The grid's equations stay one scalar each given the
+// points' forces,
+//     r_i + k f_i(r_i) = b_i - k sum_p c_p M_pi f_p,
+// so Newton's method runs on the points' P unknowns alone, each grid equation solved inside it
+// (the grid's unknowns eliminated: a Schur complement, P x P, whatever the grid points in contact).
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -41,7 +49,8 @@ class PointContact {
 public:
     PointContact() = default;
     // points: heights in the solve's coordinate (obstacle below the string).
-    PointContact(const ModalBasis& basis, std::vector<PointObstacle> points);
+    // grid_coupled: obstacle points on the grid are solved with these (see above): M is kept.
+    PointContact(const ModalBasis& basis, std::vector<PointObstacle> points, bool grid_coupled = false);
 
     std::size_t size() const { return points_.size(); }
     bool empty() const { return points_.empty(); }
@@ -57,12 +66,21 @@ public:
     // What a stepper keeps between steps: eta at levels n - 1 and n, the last forces, and the
     // Newton system's storage (made once: stepping allocates nothing).
     struct State {
-        std::vector<double> eta_prev, eta_curr, force, increment, b, quotient, slope, residual;
+        std::vector<double> eta_prev, eta_curr, force, increment, b, quotient, slope, residual, candidate;
         int iterations = 0;
+        bool joint = false;  // the last step solved points and grid together (Newton)
+        // Points the screening put to sleep (apart from the string, and it cannot reach them
+        // before the scheduler says): no force, no prediction needed, eta held a metre apart.
+        std::vector<char> resting;
+        std::size_t awake = 0;
+        std::vector<std::size_t> awake_list;  // (Newton's scratch)
     };
     State make_state() const;
-    // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)).
+    // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)); every point awake.
     void start(State& s, std::span<const double> q, std::span<const double> d) const;
+    void rest(State& s, std::size_t p) const;
+    // Point p awake again, eta from the state (q^n, d^n).
+    void wake(State& s, std::size_t p, std::span<const double> q, std::span<const double> d) const;
     // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
     // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const;
@@ -78,6 +96,19 @@ public:
         double x = 0.0;
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad& pad) const;
+    // The grid's active obstacle points in the same step (grid_coupled() only): each one's
+    // eta^{n-1} (a) and free-step increment (b); `solutions` receives each one's solution with
+    // the points' forces (the caller moves the grid's eta on).
+    struct Grid {
+        std::span<const std::size_t> points;
+        std::span<const double> a, b;
+        std::span<ContactSolution> solutions;
+        double step = 0.0;  // dx
+    };
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
+    bool grid_coupled() const { return !grid_rows_.empty(); }
+    // M_pi = phi(x_p) . S_i
+    double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
     // sum_p c_p Psi(eta_p) at the current and the previous level.
     double potential(const State& s, const PenaltyContact& law, bool current) const;
     // Adds the modal impulse k sum_p c_p f_p phi(x_p) to `impulse`.
@@ -85,6 +116,16 @@ public:
 
 private:
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
+    // The points' own solve (alone, then together where they couple), eta not yet moved on.
+    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
+    bool commit(State& s) const;  // moves eta one level on; whether any point pushed
+    // The grid's equations given the points' forces; returns whether any grid point pushed.
+    bool solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid) const;
+    double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
+    template <class Matrix>
+    void points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
+    template <class Matrix>
+    void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid) const;
     template <class Matrix>
     void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
     double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
@@ -94,6 +135,8 @@ private:
     std::vector<std::vector<double>> rows_;
     std::vector<double> gram_;  // G_pq = c_q phi(x_p) . phi(x_q), row by row
     bool coupled_ = false;
+    std::size_t grid_points_ = 0;
+    std::vector<double> grid_rows_;  // M_pi, point by point (empty unless grid_coupled)
 };
 
 }  // namespace fretbuzz

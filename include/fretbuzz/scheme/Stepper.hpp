@@ -82,6 +82,7 @@ struct StepStatistics {
     int max_newton_iterations = 0;
     double points_solved = 0;          // sum over steps of the points solved
     long free_flight_steps = 0;        // steps jumped over by FreeFlight
+    long joint_steps = 0;              // steps whose exact points and grid points were solved together
 };
 
 class Stepper {
@@ -191,6 +192,9 @@ private:
     // Looks at every obstacle point for the state with u^n, u^{n-1} on the grid.
     void classify_points(std::span<const double> u_now, std::span<const double> u_before);
     void wake_due_points();
+    // Exact point p, due (screened as point N + p): back to the solve, or asleep again.
+    void wake_exact_point(std::size_t p, std::size_t head, double tail);
+    void classify_exact_points();  // puts the exact points apart from the string to sleep
     void activate(std::size_t i, double u_now, double u_before);
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail);
     // The flight's closing jump of modes [first, N) after `flown` steps: the modal energy and the
@@ -207,6 +211,9 @@ private:
     // The exact point obstacles (Plan::point_contact): their step, their impulse with the grid's
     // forces, and their forces reported at their nearest grid points (forces()).
     bool solve_points();
+    void predict_exact_points();  // point_predicted_: the free step's u at each exact point
+    // The exact points with the grid's active points (solve_a_, solve_b_ formed): into solutions_.
+    void solve_points_with_grid();
     void apply_point_impulse();
     void report_point_forces();
     // A force (N) acting at x off the grid, in forces() as a force per length at the nearest grid point.
@@ -262,6 +269,7 @@ private:
     std::vector<ContactSolution> solutions_;
     std::vector<std::size_t> due_;         // scratch: sleeping points to check now
     std::vector<std::pair<std::size_t, double>> forces_;
+    std::vector<std::pair<std::size_t, double>> pushes_;  // scratch: forces_ and the exact points' (as N + p)
     PlayedParts parts_;
     std::vector<ForceProfile> gestures_;
     std::vector<double> gesture_load_;       // f^n of each gesture in the step being taken

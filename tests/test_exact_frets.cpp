@@ -1,0 +1,136 @@
+// A fretboard's crowns of zero width at their exact positions x_n = S (1 - 2^(-n/12)), the board
+// between them on the grid: the first contact with a fret whatever the mode count, the energy
+// balance to round-off with frets and board in contact in the same steps (solved together), the
+// screened path against the straightforward one.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "SmallBass.hpp"
+#include "TestSupport.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Stepper.hpp"
+
+namespace fretbuzz {
+namespace {
+
+// bass-pluck (its neck from the fretboard generator) on `modes` modes, lossless, released from
+// `amplitude` at 0.637 m.
+Case fretted_bass(std::size_t modes, double amplitude, double fs, const std::string& fret_height = "1.2e-3") {
+    std::string text = builtin_case_text("bass-pluck");
+    text.replace(text.find("height = 1.2e-3"), 15, "height = " + fret_height);
+    text.replace(text.find("modes = 862"), 11, "modes = " + std::to_string(modes));
+    text.replace(text.find("amplitude = 0.5e-3"), 18, "amplitude = " + std::to_string(amplitude));
+    Case c = parse_case(text, "fretted-bass.toml", DataSource::builtin());
+    c.make_lossless();
+    c.run.sample_rate_hz = fs;
+    return c;
+}
+
+// The same case with each crown on its nearest grid point (the obstacle as it was sampled).
+Case crowns_on_grid(Case c) {
+    c.obstacle_height_m = c.obstacle_on_grid();
+    c.point_obstacles.clear();
+    return c;
+}
+
+struct FretRun {
+    double first_contact_s = -1.0;
+    double worst_balance = 0.0;  // |H - H_0| / H_0
+    long contact_steps = 0, joint_steps = 0;
+};
+
+FretRun run(const Case& c, long steps, PlanOptions options = {}) {
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz, options);
+    Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    FretRun r;
+    double h0 = 0.0;
+    for (long n = 0; n < steps; ++n) {
+        s.step();
+        if (s.touched_obstacle() && r.first_contact_s < 0.0) r.first_contact_s = s.time();
+        if (n == 1) h0 = s.energy();
+        if (n > 1) r.worst_balance = std::max(r.worst_balance, std::abs(s.energy() - h0) / h0);
+    }
+    r.contact_steps = s.statistics().contact_steps;
+    r.joint_steps = s.statistics().joint_steps;
+    return r;
+}
+
+double fret_x(int n) { return 0.863 * (1.0 - std::exp2(-n / 12.0)); }
+
+TEST(ExactFrets, CrownsOfZeroWidthAreExactPointsOneGridStepWide) {
+    for (std::size_t modes : {110u, 400u}) {
+        const Case c = fretted_bass(modes, 0.5e-3, 1e6);
+        ASSERT_EQ(c.point_obstacles.size(), 20u);
+        ASSERT_EQ(c.fret_positions_m.size(), 20u);
+        for (int n = 1; n <= 20; ++n) {
+            const PointObstacle& p = c.point_obstacles[static_cast<std::size_t>(n - 1)];
+            EXPECT_NEAR(p.x_m, fret_x(n), 1e-15) << "fret " << n;
+            EXPECT_EQ(c.fret_positions_m[static_cast<std::size_t>(n - 1)], p.x_m);
+            EXPECT_DOUBLE_EQ(p.weight_m, c.grid_step());
+        }
+        // The grid point nearest a crown keeps the board's height (1.2 mm below the fret line).
+        const std::size_t near12 = static_cast<std::size_t>(std::lround(fret_x(12) / c.grid_step())) - 1;
+        EXPECT_LT(c.obstacle_height_m[near12], c.point_obstacles[11].height_m - 1e-3);
+        // The plan solves them beside the board, screening on.
+        const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+        EXPECT_EQ(plan.point_contact().size(), 20u);
+        EXPECT_TRUE(plan.point_contact().grid_coupled());
+        EXPECT_TRUE(choose_screening(c, {}, true).screen) << choose_screening(c, {}, true).reason;
+    }
+}
+
+TEST(ExactFrets, FirstFretContactIndependentOfTheModeCount) {
+    // Released from 3 mm at 0.637 m, the string first meets a fret (the board lies 1.2 mm lower)
+    // at the time its free motion crosses the crown's height at x_n: with the crowns at x_n, 110
+    // and 400 modes agree to a step (1 us; measured: 4073 and 4072 us), where crowns on their
+    // nearest grid points moved the contact by 33 us (4079 and 4046 us).
+    const double fs = 1e6;
+    const FretRun exact_110 = run(fretted_bass(110, 3e-3, fs), 6000);
+    const FretRun exact_400 = run(fretted_bass(400, 3e-3, fs), 6000);
+    const FretRun grid_110 = run(crowns_on_grid(fretted_bass(110, 3e-3, fs)), 6000);
+    const FretRun grid_400 = run(crowns_on_grid(fretted_bass(400, 3e-3, fs)), 6000);
+    std::printf("first fret contact: %.0f us (110 modes), %.0f us (400); crowns on the grid: %.0f us, %.0f us\n",
+                1e6 * exact_110.first_contact_s, 1e6 * exact_400.first_contact_s, 1e6 * grid_110.first_contact_s,
+                1e6 * grid_400.first_contact_s);
+    ASSERT_GT(exact_110.first_contact_s, 0.0);
+    ASSERT_GT(exact_400.first_contact_s, 0.0);
+    EXPECT_LE(std::abs(exact_110.first_contact_s - exact_400.first_contact_s), 2.5 / fs);
+    // (what the crowns on the grid gave: the check can tell)
+    EXPECT_GT(std::abs(grid_110.first_contact_s - grid_400.first_contact_s), 10.0 / fs);
+}
+
+TEST(ExactFrets, EnergyBalanceToRoundOffWithFretsAndBoardInContactTogether) {
+    // Frets 0.02 mm high: the string lands on crowns and board in the same steps, solved as one
+    // system (the grid's equations inside the points' Newton solve).
+    const Case c = fretted_bass(110, 6e-3, 1e6, "0.02e-3");
+    const FretRun r = run(c, 30000);
+    std::printf("crowns and board together: %ld joint steps of %ld in contact, balance %.2g\n", r.joint_steps,
+                r.contact_steps, r.worst_balance);
+    EXPECT_GT(r.joint_steps, 20);
+    EXPECT_GT(r.contact_steps, 200);
+    EXPECT_LT(r.worst_balance, 1e-12);  // measured 3e-14
+}
+
+TEST(ExactFrets, ScreenedPathEqualsTheStraightforwardOne) {
+    // Screening puts crowns apart from the string to sleep as it does grid points; both paths
+    // solve the same equations, rounding differently: they agree to round-off amplified by the
+    // contacts.
+    const Case c = fretted_bass(110, 6e-3, 1e6, "0.1e-3");
+    const testing::PathComparison p = testing::compare_paths(c, 30000);
+    EXPECT_GT(p.fast.joint_steps, 0);
+    EXPECT_GT(p.contact_steps, 200);
+    // far fewer points solved per step: the crowns sleep while the string is away
+    EXPECT_LT(p.fast.points_solved, 0.5 * p.plain.points_solved);
+    std::printf("screened vs straightforward, crowns and board: relative L2 %.3g, points solved per step %.2f vs %.2f\n",
+                p.relative_l2, p.fast.points_solved / 30000.0, p.plain.points_solved / 30000.0);
+    EXPECT_LT(p.relative_l2, 1e-9);
+}
+
+}  // namespace
+}  // namespace fretbuzz
