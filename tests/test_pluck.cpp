@@ -151,6 +151,49 @@ TEST(Pluck, ScreenedAndStraightforwardPathsAgree) {
     EXPECT_LT(r.relative_l2, 1e-9);
 }
 
+// A plucker on the grid points of its pad beside a flat barrier (pressing the string onto it),
+// screening on: when the plucker leaves, its pad's points join that step's obstacle solve,
+// with that step's predicted heights (they once kept their last heights as the plucker's: the
+// balance jumped by 5e-4 of the energy at the release).
+TEST(Pluck, APluckerLeavingABarrierHandsItsPointsOverWithinTheBalance) {
+    const std::string text = R"(name = "pluck-barrier"
+[string]
+L = 1.0
+T = 10000.0
+mu = 1.0
+modes = 200
+ideal = true
+[obstacle]
+type = "flat"
+height = -0.3e-3
+[excitation]
+type = "sine"
+mode = 1
+amplitude = 0.0
+[contact]
+K = 1e9
+alpha = 1.5
+[run]
+fs = 200000.0
+duration = 0.05
+lossless = true
+[observe]
+x = [0.7]
+[[gesture]]
+type = "pluck"
+position = 0.2013
+direction = "down"
+speed = 0.5
+stiffness = 1e6
+release_displacement = 1e-3
+)";
+    const Case c = parse_case(text, "pluck-barrier.toml", DataSource::builtin());
+    const PluckRun r = play(c, 2000);
+    EXPECT_TRUE(r.gone);
+    EXPECT_GT(r.contact_steps, 0);
+    EXPECT_LT(r.worst, 1e-12);
+}
+
 // The fretted pop of the built-in cases, small: a finger presses the string onto fret 5,
 // then a pop pulls it up 2 mm at 0.637 m and lets go; with damping and the finger's loss.
 Case small_fretted_pop(double duration) {

@@ -44,6 +44,11 @@ std::uint64_t read_u32(std::string_view b, std::size_t at, bool big_endian) {
     return v;
 }
 
+// The other way: v's low `bytes` bytes written at `out`.
+void write_uint(char* out, std::uint64_t v, std::size_t bytes, bool big_endian) {
+    for (std::size_t i = 0; i < bytes; ++i) out[big_endian ? bytes - 1 - i : i] = static_cast<char>((v >> (8 * i)) & 0xffu);
+}
+
 std::string printable(std::string_view tag) {
     std::string out(tag);
     for (char& c : out)
@@ -146,14 +151,14 @@ SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
         if (wanted && c.tag == audio && rf64_data_bytes) {
             // the ds64 given says what the file holds
             const std::uint64_t held = std::min<std::uint64_t>(c.size, left);
-            for (std::size_t i = 0; i < 8; ++i) ds64_[16 + i] = static_cast<char>((held >> (8 * i)) & 0xffu);
+            write_uint(ds64_.data() + 16, held, 8, false);
         }
         const std::size_t extent =
             audio_to_end ? b.size() - at : 8 + static_cast<std::size_t>(c.size) + static_cast<std::size_t>(c.size & 1);
         if (wanted && c.tag == "ds64") {
             std::copy_n(b.data() + at, ds64_.size() - 4, ds64_.begin());
-            for (std::size_t i = 0; i < 4; ++i) ds64_[4 + i] = static_cast<char>(i == 0 ? 28 : 0);
-            std::fill_n(ds64_.end() - 4, 4, '\0');  // no table
+            write_uint(ds64_.data() + 4, 28, 4, false);
+            write_uint(ds64_.data() + 32, 0, 4, false);  // no table
             pieces.emplace_back(ds64_.data(), ds64_.size());
         } else if (wanted) {
             pieces.push_back(b.substr(at, extent));  // (a missing pad byte at the end: cut short)
@@ -165,7 +170,7 @@ SplicedFile::SplicedFile(std::string_view b, const std::string& what) {
     // The container's size field: what follows it (RF64 keeps its 0xffffffff, its ds64 says).
     if (!rf64) {
         const auto rest = static_cast<std::uint32_t>(std::min<std::size_t>(size - 8, 0xffffffffu));
-        for (std::size_t i = 0; i < 4; ++i) head_[4 + i] = static_cast<char>((rest >> (8 * (big_endian ? 3 - i : i))) & 0xffu);
+        write_uint(head_.data() + 4, rest, 4, big_endian);
     }
 }
 

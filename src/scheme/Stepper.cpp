@@ -743,6 +743,12 @@ void Stepper::solve_fingers(bool use_transform) {
     for (std::size_t k = 0; k < parts_.size(); ++k) {
         if (!parts_.on(k) || k == exact_pluck_) continue;  // (the exact plucker has its own solve)
         if (parts_[k].left()) {
+            // Its pad's points join this step's obstacle solve below: they need this step's
+            // predicted heights (formed above for the active points only), loads included.
+            const std::vector<std::size_t>& pad = parts_[k].pad();
+            if (!use_transform) predict_points(pad);
+            if (loaded_)
+                for (std::size_t i : pad) grid_[i] += gestures_at_grid(i);
             retire(parts_[k]);
             parts_.set_on(k, false);
             continue;
