@@ -127,10 +127,12 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         pt.y = (x - z_) - z_next_minus_z;
         detail::MonotoneValue v{x - w, std::abs(x) + std::abs(w), 1.0};
         pt.obstacle_force = 0.0;
+        double obstacle_slope = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
             const auto [quotient, slope] = obstacle_law_.quotient_and_slope(obstacle_at, r_o);
             pt.obstacle_force = quotient;
+            obstacle_slope = slope;
             v.slope += k_ * slope;
             v.h -= k_ * pt.obstacle_force;
             v.scale += k_ * pt.obstacle_force;
@@ -146,6 +148,8 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         v.scale += k_ * (std::abs(pt.push) + push_slope * (std::abs(z_) + std::abs(s) + std::abs(c)));
         v.slope = psi_slope + k_ * push_slope;
         pt.slope = -push_slope * psi_slope / v.slope;  // d(push)/dZ: dy/dZ = -psi'/h'
+        pt.response = -(obstacle_slope + push_slope) / v.slope;  // dF/dw = (1/h' - 1) / k, h' = 1 + k (...)
+        pt.push_response = push_slope / v.slope;
         return v;
     };
     if (detail::monotone_root(evaluate, guess, kMaxIterations) < 0) fail(spec_, "pad point", pt.x);
@@ -154,14 +158,25 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
 }
 
 double Finger::step(long n, std::span<const double> predicted, std::span<double> force) {
+    prepare(n);
+    trial(predicted, force);
+    return commit();
+}
+
+void Finger::prepare(long n) {
     const std::size_t count = pad_.size();
-    const double press = pressing_force_at_step(n);
+    press_ = pressing_force_at_step(n);
     const double z_prev = z_ - dz_;
     for (std::size_t p = 0; p < count; ++p) {
         c_[p] = u_prev_[p] - z_prev;
         // Hunt-Crossley loss, its coefficient taken at level n so the step stays exactly lossy.
         rho_[p] = spec_.loss * law_.force(u_curr_[p] - z_) / (2.0 * dt_);
     }
+}
+
+void Finger::trial(std::span<const double> predicted, std::span<double> force) {
+    const std::size_t count = pad_.size();
+    const double press = press_;
     std::vector<Point>& pts = points_;
     pts.resize(count);
     // G(s) = m (s - dz) + F - dx sum push(s), s = z^{n+1} - z^n: increasing, slope >= m.
@@ -205,13 +220,32 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     }
     if (it == kMaxIterations) fail(spec_, "finger height", s);
     max_iterations_ = std::max(max_iterations_, it + 1);
+    s_ = s;
+    g_slope_ = slope;
+    for (std::size_t p = 0; p < count; ++p) force[p] = pts[p].obstacle_force - pts[p].push;
+}
 
+void Finger::respond(std::span<const double> v, std::span<double> out) const {
+    // F_i = (x_i - w_i) / k; dx_i/dw_j = delta_ij / h_i' + (k a_i / h_i') ds/dw_j, and
+    // ds/dw_j = dx a_j / (h_j' G'), a = d(push)/dy: so
+    //     dF_i/dw_j = delta_ij (1/h_i' - 1) / k + (a_i / h_i') dx (a_j / h_j') / G'.
+    const std::size_t count = pad_.size();
+    double through_z = 0.0;
+    for (std::size_t p = 0; p < count; ++p) through_z += points_[p].push_response * v[p];
+    through_z *= dx_ / g_slope_;
+    for (std::size_t p = 0; p < count; ++p)
+        out[p] = points_[p].response * v[p] + points_[p].push_response * through_z;
+}
+
+double Finger::commit() {
+    const std::size_t count = pad_.size();
+    const std::vector<Point>& pts = points_;
+    const double press = press_, s = s_;
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0;
     touched_obstacle_ = false;
     for (std::size_t p = 0; p < count; ++p) {
         const Point& pt = pts[p];
         touched_obstacle_ = touched_obstacle_ || pt.obstacle_force != 0.0;
-        force[p] = pt.obstacle_force - pt.push;
         obstacle_psi += pt.obstacle_psi;
         psi_next += law_.potential(pt.y);
         const double r = pt.y - c_[p];

@@ -55,6 +55,8 @@ PointContact::State PointContact::make_state() const {
     State s;
     for (std::vector<double>* v : {&s.eta_prev, &s.eta_curr, &s.force, &s.increment, &s.b, &s.quotient, &s.slope, &s.residual, &s.candidate})
         v->assign(size(), 0.0);
+    for (std::vector<double>* v : {&s.pad_shift, &s.pad_force, &s.pad_direction, &s.pad_response})
+        v->assign(grid_points_, 0.0);
     s.resting.assign(size(), 0);
     s.awake_list.reserve(size());
     s.awake = size();
@@ -178,20 +180,14 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     // no force of their own, need the grid's push to leave them apart.
     bool joint = points_push && grid_pushes;
     if (grid_pushes && !points_push) {
-        // The grid's push at u(x_p) (M_pi) and at u_s (m_i).
-        const auto grid_push = [&](const auto& coupling) {
-            double shift = 0.0;
-            for (std::size_t r = 0; r < grid.points.size(); ++r)
-                if (grid.solutions[r].force != 0.0) shift += coupling(grid.points[r]) * grid.solutions[r].force;
-            return k * grid.step * shift;
-        };
+        // The grid's (and the pads') push at u(x_p) and at u_s.
         for (std::size_t p = 0; p < size() && !joint; ++p) {
-            s.quotient[p] = s.increment[p] - grid_push([&](std::size_t i) { return grid_coupling(p, i); });
+            s.quotient[p] = s.increment[p] - grid_push(s, k, grid, p, pad);
             joint = law.difference_quotient(s.eta_prev[p], s.quotient[p]) != 0.0;
         }
         double pad_x = 0.0;
         if (!joint && pad != nullptr) {
-            pad_x = pad->x + grid_push([&](std::size_t i) { return pad->grid[i]; });
+            pad_x = pad->x + grid_push(s, k, grid, size(), pad);
             joint = pad_force_at(pad, pad_x) != 0.0;
         }
         if (!joint) {
@@ -209,9 +205,38 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     return commit(s);
 }
 
-bool PointContact::solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad,
+double PointContact::grid_push(const State& s, double k, const Grid& grid, std::size_t p, const Pad* pad) const {
+    const auto coupling = [&](std::size_t i) { return p < size() ? grid_coupling(p, i) : pad->grid[i]; };
+    double shift = 0.0;
+    for (std::size_t r = 0; r < grid.points.size(); ++r)
+        if (grid.solutions[r].force != 0.0) shift += coupling(grid.points[r]) * grid.solutions[r].force;
+    if (grid.pads != nullptr) {
+        const std::span<const std::size_t> pads = grid.pads->points();
+        for (std::size_t r = 0; r < pads.size(); ++r)
+            if (s.pad_force[r] != 0.0) shift += coupling(pads[r]) * s.pad_force[r];
+    }
+    return k * grid.step * shift;
+}
+
+bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad,
                               double pad_force) const {
     bool pushes = false;
+    if (grid.pads != nullptr) {
+        // The pads' predictions raised by the points' (and the pad's) forces; one trial of their solve.
+        const std::span<const std::size_t> pads = grid.pads->points();
+        for (std::size_t r = 0; r < pads.size(); ++r) {
+            const std::size_t i = pads[r];
+            double shift = 0.0;
+            for (std::size_t p = 0; p < size(); ++p)
+                if (s.force[p] != 0.0) shift += points_[p].weight_m * grid_coupling(p, i) * s.force[p];
+            if (pad_force != 0.0) shift += pad->grid[i] * pad_force;
+            s.pad_shift[r] = k * shift;
+        }
+        const auto n = pads.size();
+        grid.pads->forces(std::span<const double>(s.pad_shift).first(n), std::span<double>(s.pad_force).first(n));
+        pushes = std::any_of(s.pad_force.begin(), s.pad_force.begin() + static_cast<std::ptrdiff_t>(n),
+                             [](double f) { return f != 0.0; });
+    }
     for (std::size_t r = 0; r < grid.points.size(); ++r) {
         const std::size_t i = grid.points[r];
         double b = grid.b[r];
@@ -269,9 +294,43 @@ void PointContact::pad_border(const State& s, double k, const Pad& pad, double p
 }
 
 template <class Matrix>
+void PointContact::pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope,
+                                 Matrix& jacobian) const {
+    // The pads' part of the Jacobian, a column per unknown: unknown c moves the pads' predictions
+    // along v (k c_q f_q' M_q. for a point, k F' m for the pad), their forces by dF/dw v, and the
+    // rows by k dx M_p. (dF/dw v) (the pad's row: minus k dx m . (dF/dw v)).
+    const std::span<const std::size_t> pads = grid.pads->points();
+    const std::size_t n = pads.size();
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t count = awake.size();
+    const std::span<double> v = std::span<double>(s.pad_direction).first(n);
+    const std::span<double> response = std::span<double>(s.pad_response).first(n);
+    const std::size_t columns = pad != nullptr ? count + 1 : count;
+    for (std::size_t c = 0; c < columns; ++c) {
+        const bool pad_column = c == count;
+        const double scale = pad_column ? k * pad_slope : k * points_[awake[c]].weight_m * s.slope[awake[c]];
+        if (scale == 0.0) continue;
+        for (std::size_t r = 0; r < n; ++r) v[r] = scale * (pad_column ? pad->grid[pads[r]] : grid_coupling(awake[c], pads[r]));
+        grid.pads->respond(v, response);
+        const auto column = static_cast<Eigen::Index>(c);
+        for (std::size_t a = 0; a < count; ++a) {
+            double sum = 0.0;
+            for (std::size_t r = 0; r < n; ++r) sum += grid_coupling(awake[a], pads[r]) * response[r];
+            jacobian(static_cast<Eigen::Index>(a), column) += k * grid.step * sum;
+        }
+        if (pad != nullptr) {
+            double sum = 0.0;
+            for (std::size_t r = 0; r < n; ++r) sum += pad->grid[pads[r]] * response[r];
+            jacobian(static_cast<Eigen::Index>(count), column) -= k * grid.step * sum;
+        }
+    }
+}
+
+template <class Matrix>
 void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const {
     // Newton on the points' increments r_p (and the pad's x), the grid's equations solved inside
-    // each evaluation (w_i = f_i' / (1 + k f_i') their response to a push):
+    // each evaluation (w_i = f_i' / (1 + k f_i') their response to a push), and the fingers' pads
+    // too (GridPads: their forces join the grid's in R_p and R_x; pads_jacobian their part of J):
     //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k h_p F(x) - b_p,
     //     R_x = x - w - k sum_q c_q h_q f_q - k (s . s) F(x) - k dx sum_i m_i f_i,
     //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi w_i,
@@ -298,20 +357,14 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
         for (std::size_t p : awake) {
             double push = 0.0;
             for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
-            double grid_push = 0.0;
-            for (std::size_t g = 0; g < grid.points.size(); ++g)
-                if (grid.solutions[g].force != 0.0) grid_push += grid_coupling(p, grid.points[g]) * grid.solutions[g].force;
-            s.residual[p] = at[p] + k * push + k * grid.step * grid_push - s.b[p];
+            s.residual[p] = at[p] + k * push + grid_push(s, k, grid, p, pad) - s.b[p];
             if (pad != nullptr) s.residual[p] += k * pad->coupling[p] * pad_force;
             largest = std::max(largest, std::abs(s.residual[p]));
         }
         if (pad != nullptr) {
             double push = 0.0;
             for (std::size_t q : awake) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
-            double grid_push = 0.0;
-            for (std::size_t g = 0; g < grid.points.size(); ++g)
-                if (grid.solutions[g].force != 0.0) grid_push += pad->grid[grid.points[g]] * grid.solutions[g].force;
-            pad_residual = at_x - pad->predicted - k * push - k * pad->self * pad_force - k * grid.step * grid_push;
+            pad_residual = at_x - pad->predicted - k * push - k * pad->self * pad_force - grid_push(s, k, grid, size(), pad);
             largest = std::max(largest, std::abs(pad_residual));
         }
         return largest;
@@ -352,12 +405,17 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
                 jacobian(e, e) += kkw * pad_slope * m_i * m_i;
             }
         }
+        if (grid.pads != nullptr) pads_jacobian(s, k, grid, pad, pad_slope, jacobian);
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
         if (pad != nullptr) step(e) = -pad_residual;
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
         double t = 1.0;
         bool decreased = false;
-        for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
+        // Backtracking is for the kink of [eta]_+ far from the solution; near it, a full Newton
+        // step that does not lower the residual finds it at its round-off floor (a stiff pad's
+        // force rounds to its slope times eps |u|, far above eps times the unknowns).
+        const int halvings = norm <= 1e-9 * scale ? 1 : 40;
+        for (int halving = 0; halving < halvings; ++halving, t *= 0.5) {
             for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
             const double trial_x = pad != nullptr ? x + t * step(e) : 0.0;
             const double trial_norm = residual_at(candidate, trial_x);

@@ -52,6 +52,17 @@ public:
     // force per unit length on the string at each pad point (finger and obstacle) into
     // `force` and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
     double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    // The same step in parts, for a solve that tries several predictions of the pad (exact
+    // points beside it, whose forces move the pad through the modes): prepare(n), then any
+    // number of trials (nothing moves on), then commit() with the last trial's solution.
+    void prepare(long n);
+    // The pad's forces per unit length for predictions w (pad order), as step() writes them.
+    void trial(std::span<const double> predicted, std::span<double> force);
+    // The last trial's linearisation dF_i/dw_j applied to v, into out (pad order): each point's
+    // own response and the rank-one term through the finger's height.
+    void respond(std::span<const double> v, std::span<double> out) const;
+    // Moves the state on with the last trial; returns step()'s sum of Psi_obstacle.
+    double commit();
     std::span<const double> current() const override { return u_curr_; }
     std::span<const double> previous() const override { return u_prev_; }
 
@@ -92,6 +103,8 @@ private:
         double push = 0.0;   // Q + rho (y - c): force per unit length on the finger
         double slope = 0.0;  // d(push)/dZ through this point's inner solution
         double obstacle_force = 0.0, obstacle_psi = 0.0;
+        double response = 0.0;       // dF/dw at a fixed finger height: (1/h' - 1) / k
+        double push_response = 0.0;  // d(push)/dw at a fixed finger height
     };
     Point solve_point(std::size_t p, double w, double s, double guess) const;
     double pressing_force_at_step(long n) const;
@@ -108,6 +121,7 @@ private:
     double z_ = 0.0, dz_ = 0.0;                    // z^n and z^n - z^{n-1} (difference form keeps digits)
     double psi_curr_ = 0.0, psi_prev_ = 0.0;       // sum_i Psi_f(u_i - z) at n and n-1
     std::vector<Point> points_;                    // scratch: the inner solutions
+    double press_ = 0.0, s_ = 0.0, g_slope_ = 0.0;  // the step's pressing force; the last trial's s and dG/ds
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     int max_iterations_ = 0;
     bool touched_obstacle_ = false;

@@ -47,6 +47,27 @@ protected:
     ~PadPress() = default;
 };
 
+// Parts on grid points with a solve of their own (fingers, a lumped mass each over a pad of grid
+// points), solved inside the points' Newton beside the grid's obstacle points: a point's force
+// f_p raises pad point i's prediction by k c_p M_pi f_p, and pad point i's force F_i moves point
+// p by k dx M_pi F_i.
+class GridPads {
+public:
+    // Their grid points (every pad's, one after the other).
+    virtual std::span<const std::size_t> points() const = 0;
+    // For the pads' predictions raised by `shift` (points() order), each point's force per unit
+    // length on the string (solve orientation) into `force`: a trial, nothing moves on.
+    virtual void forces(std::span<const double> shift, std::span<double> force) = 0;
+    // The last trial's dF_i/dw_j applied to v, into out.
+    virtual void respond(std::span<const double> v, std::span<double> out) const = 0;
+
+protected:
+    GridPads() = default;
+    GridPads(const GridPads&) = default;
+    GridPads& operator=(const GridPads&) = default;
+    ~GridPads() = default;
+};
+
 class PointContact {
 public:
     PointContact() = default;
@@ -76,6 +97,9 @@ public:
         std::vector<char> resting;
         std::size_t awake = 0;
         std::vector<std::size_t> awake_list;  // (Newton's scratch)
+        // With GridPads: each pad point's shift and force, a direction and its response (one per
+        // grid point: room for any pad).
+        std::vector<double> pad_shift, pad_force, pad_direction, pad_response;
     };
     State make_state() const;
     // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)); every point awake.
@@ -107,6 +131,7 @@ public:
         std::span<const double> a, b;
         std::span<ContactSolution> solutions;
         double step = 0.0;  // dx
+        GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
     // The points, the pad and the grid's active obstacle points in one solve (no point need be
@@ -125,14 +150,20 @@ private:
     // The points' own solve (alone, then together where they couple), eta not yet moved on.
     void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
-    // The grid's equations given the points' forces; returns whether any grid point pushed.
-    bool solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force) const;
+    // The grid's equations (and the pads') given the points' forces; returns whether any grid or
+    // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
+    bool solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force) const;
+    // k dx sum_i M_pi f_i over the grid's pushing points and the pads' (u at x_p: p < size(); the
+    // pad's u_s for p == size(), pad given).
+    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, const Pad* pad) const;
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
     double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
     template <class Matrix>
     void points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
     template <class Matrix>
     void pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const;
+    template <class Matrix>
+    void pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope, Matrix& jacobian) const;
     template <class Matrix>
     void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
     template <class Matrix>
