@@ -228,7 +228,7 @@ TEST(Pluck, AFrettedPopIsTheSameOnTheScreenedAndStraightforwardPaths) {
 // An ideal string (L = mu = 1, T = 1e4: c = 100 m/s) at rest, plucked up at x0 = 0.2013 (off
 // every grid point of 200, 400 and 800 modes) by an 8 mm pad moving at 0.5 m/s, stiffness 1e6,
 // let go at 1 mm, at 200 kHz. on_grid: adds a flat barrier 5 cm below the string (never
-// touched), with which the plucker acts on its grid pad instead of at its exact position.
+// touched), on the grid.
 const std::string kFarBarrier = "type = \"flat\"\nheight = -0.05";
 
 Case ideal_pluck(std::size_t modes, bool on_grid = false) {
@@ -243,25 +243,35 @@ Case ideal_pluck(std::size_t modes, bool on_grid = false) {
 
 // u(0.7) over 20 ms (the pull, the release at 2 ms, the string's free motion after it) at 200 and
 // 400 modes against 800: at its exact position the plucker's response converges with the mode
-// count; on its grid pad (whose set of points jumps with the grid) it stalls at about 2e-3.
+// count (on a grid pad, whose set of points jumps with the grid, it stalled at about 2e-3).
 TEST(Pluck, AnExactPluckConvergesWithTheModeCount) {
-    const auto run = [](std::size_t modes, bool grid) { return testing::observed(ideal_pluck(modes, grid), 0.7, 4000); };
-    const std::vector<double> u800 = run(800, false);
-    const double coarse = testing::relative_l2(run(200, false), u800), fine = testing::relative_l2(run(400, false), u800);
-    const double grid_coarse = testing::relative_l2(run(200, true), u800);
-    std::printf("relative L2 of u(0.7) against 800 modes: exact 200 modes %.3g, 400 modes %.3g; grid pad 200 modes %.3g\n",
-                coarse, fine, grid_coarse);
+    const auto run = [](std::size_t modes) { return testing::observed(ideal_pluck(modes), 0.7, 4000); };
+    const std::vector<double> u800 = run(800);
+    const double coarse = testing::relative_l2(run(200), u800), fine = testing::relative_l2(run(400), u800);
+    std::printf("relative L2 of u(0.7) against 800 modes: exact 200 modes %.3g, 400 modes %.3g\n", coarse, fine);
     EXPECT_LT(fine, 0.25 * coarse);
     EXPECT_LT(coarse, 2e-4);
-    EXPECT_GT(grid_coarse, 5.0 * coarse);
+}
+
+// Beside a flat barrier 5 cm below (never touched) the plucker still acts at its exact position
+// and width: its run is the plucker's alone, at every mode count (the barrier's grid points are
+// solved with the pad every step, apart).
+TEST(Pluck, APluckBesideAFarBarrierIsThePluckerAlone) {
+    for (const std::size_t modes : {200u, 400u, 800u}) {
+        const std::vector<double> alone = testing::observed(ideal_pluck(modes), 0.7, 4000);
+        const std::vector<double> beside = testing::observed(ideal_pluck(modes, true), 0.7, 4000);
+        const double l2 = testing::relative_l2(beside, alone);
+        std::printf("%zu modes: u(0.7) beside the far barrier against the plucker alone: relative L2 %.3g\n", modes, l2);
+        EXPECT_LT(l2, 1e-12);
+    }
 }
 
 // The string plucked 1 mm as a triangle at 0.25 and let go at t = 0; the plucker appears 0.3 mm
 // under it at t = dt and rises at 0.5 m/s. By d'Alembert (c = 100 m/s) the pad's mean height
 // stays at 0.8052 mm until the kink has crossed the pad (0.527 ms), then falls at 0.2667 m/s: the
 // plucker meets it at t* = 0.56396 ms. At its exact position the first contact is the same step
-// at 200, 400 and 800 modes, the one that t* falls in; the grid pad's, centred on the nearest
-// grid point (up to dx/2 away), moves with the mode count.
+// at 200, 400 and 800 modes, the one that t* falls in, with or without a flat barrier on the grid
+// 5 cm below (on a grid pad, centred on the nearest grid point, it moved with the mode count).
 TEST(Pluck, AnExactPluckFirstTouchesAtTheSameStepWhateverTheModeCount) {
     const auto first = [](std::size_t modes, bool grid) {
         const std::string obstacle = grid ? kFarBarrier : "type = \"none\"";
@@ -278,9 +288,10 @@ TEST(Pluck, AnExactPluckFirstTouchesAtTheSameStepWhateverTheModeCount) {
     const double t_star = (3e-4 + 0.5 * dt + fall * kink) / (0.5 + fall);
     const long expected = static_cast<long>(std::ceil(t_star / dt));
     const long e200 = first(200, false), e400 = first(400, false), e800 = first(800, false);
-    std::printf("first contact step at 200/400/800 modes: exact %ld %ld %ld; grid pad %ld %ld %ld; d'Alembert t* = %.5f ms (step %ld)\n",
-                e200, e400, e800, first(200, true), first(400, true), first(800, true), 1e3 * t_star, expected);
-    for (long e : {e200, e400, e800}) EXPECT_EQ(e, expected);
+    const long b200 = first(200, true), b400 = first(400, true), b800 = first(800, true);
+    std::printf("first contact step at 200/400/800 modes: alone %ld %ld %ld; beside the barrier %ld %ld %ld; d'Alembert t* = %.5f ms (step %ld)\n",
+                e200, e400, e800, b200, b400, b800, 1e3 * t_star, expected);
+    for (long e : {e200, e400, e800, b200, b400, b800}) EXPECT_EQ(e, expected);
 }
 
 // The exact plucker's work, contact energy and Hunt-Crossley loss in the discrete balance:
@@ -312,20 +323,55 @@ TEST(Pluck, AnExactPluckKeepsTheBalanceToRoundOff) {
 // apart, 3 and 7 cm from the pad): the plucker and the points in contact at the same step move
 // one another through the modes and are solved as one system. Lossless, the balance is
 // round-off.
-TEST(Pluck, AnExactPluckPressingOntoExactPointsKeepsTheBalance) {
-    Case c = testing::ideal_string(200, 1e4, "type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3", 2e5);
+// The ideal string pushed down 1 mm at 0.2013 m onto `obstacle` (K = 1e9), lossless.
+Case pressed_down_onto(const std::string& obstacle) {
+    Case c = testing::ideal_string(200, 1e4, obstacle, 2e5);
     c.contact.stiffness = 1e9;
     PluckSpec p = plucker(0.2013, 1.0, 0.5);
     p.release_displacement_m = 1e-3;
     p.stiffness = 1e6;
     c.plucks.push_back(p);
-    const PluckRun r = play(c, 10000);
+    return c;
+}
+
+TEST(Pluck, AnExactPluckPressingOntoExactPointsKeepsTheBalance) {
+    const PluckRun r = play(pressed_down_onto("type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3"), 10000);
     std::printf("plucker onto exact points: balance %.2e, work %.3g J, %ld steps on the points, %ld played\n", r.worst,
                 r.work, r.contact_steps, r.played_steps);
     EXPECT_GT(r.contact_steps, 100);
     EXPECT_GT(r.played_steps, 100);
     EXPECT_TRUE(r.gone);
     EXPECT_LT(r.worst, 1e-12);
+}
+
+// Pushed down onto a flat barrier on the grid 0.3 mm below the string (every grid point an
+// obstacle point): the pad at its exact position and the barrier's points in contact at the
+// same step move one another through the modes and are solved as one system (the pad's
+// unknown, the grid's equations inside it). Lossless, the balance is round-off; screened, the
+// run is the straightforward one.
+Case pressed_onto_a_barrier() { return pressed_down_onto("type = \"flat\"\nheight = -0.3e-3"); }
+
+TEST(Pluck, AnExactPluckPressingOntoABarrierOnTheGridKeepsTheBalance) {
+    const Case c = pressed_onto_a_barrier();
+    const PluckRun r = play(c, 10000);
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    const Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    std::printf("plucker onto a flat barrier: balance %.2e, work %.3g J, %ld steps on the barrier, %ld played\n", r.worst,
+                r.work, r.contact_steps, r.played_steps);
+    EXPECT_TRUE(s.plucks().front().exact());
+    EXPECT_GT(r.contact_steps, 100);
+    EXPECT_GT(r.played_steps, 100);
+    EXPECT_TRUE(r.gone);
+    EXPECT_LT(r.worst, 1e-12);
+}
+
+TEST(Pluck, AnExactPluckOntoABarrierIsTheSameOnTheScreenedPath) {
+    const testing::PathComparison p = testing::compare_paths(pressed_onto_a_barrier(), 10000);
+    std::printf("screened vs straightforward, plucker onto a flat barrier: relative L2 %.3g, %ld joint steps, points solved per step %.2f vs %.2f\n",
+                p.relative_l2, p.fast.joint_steps, p.fast.points_solved / 10000.0, p.plain.points_solved / 10000.0);
+    EXPECT_GT(p.fast.joint_steps, 100);
+    EXPECT_LT(p.fast.points_solved, p.plain.points_solved);
+    EXPECT_LT(p.relative_l2, 1e-9);
 }
 
 // Two pluckers (each on its grid pad) pressing the string onto off-grid points: their pads and

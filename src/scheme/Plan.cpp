@@ -19,11 +19,11 @@ bool has_grid_obstacle(const Case& c) {
 bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
     const double dx = c.grid_step();
     const double x = (std::round(p.x_m / dx)) * dx;
-    // A finger's pad, or pluckers' pads (more than one, or one beside an obstacle on the grid: a
-    // single plucker alone joins the points' own solve), would couple with off-grid points through
+    // A finger's pad, or pluckers' pads (more than one: a single plucker joins the points' own
+    // solve, beside the grid's obstacle points too), would couple with off-grid points through
     // the modes in the same step, and no solve takes them together: beside them the points join
     // the grid, where every equation is its own.
-    const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1 || (!c.plucks.empty() && has_grid_obstacle(c));
+    const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1;
     return c.two_polarisations() || pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 

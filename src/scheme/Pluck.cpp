@@ -54,7 +54,7 @@ Pluck::Pluck(const PluckSpec& spec, std::vector<double> shape, const PenaltyCont
 }
 
 void Pluck::read_obstacle(const std::vector<double>& obstacle) {
-    if (exact()) return;  // (used only with no obstacle)
+    if (exact()) return;  // (the obstacle's points are solved beside it: see Stepper)
     for (std::size_t p = 0; p < pad_.size(); ++p) g_[p] = obstacle[pad_[p]];
 }
 

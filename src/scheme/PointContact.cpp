@@ -19,6 +19,17 @@ constexpr int kMaxNewton = 60;
 // Up to this many points the Newton system lives on the stack (a bass's 20 or 24 frets).
 constexpr int kSmall = 32;
 using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmall, kSmall>;
+
+// Newton's answer is taken when its residual is small, or when its last correction is: a stiff
+// row (a pad of stiffness 1e15 at 48 kHz: dR/dx ~ 1e9) cannot get its residual below its slope
+// times the rounding of x, ~1e-10 m, however exact x is (detail::monotone_root's floor, for
+// one unknown). The correction J^-1 R measures the error in the unknowns themselves.
+// (`stalled`: the line search found no decrease, so the correction is the one at the answer.)
+template <class Vector>
+bool converged(double norm, const Vector& correction, bool stalled, double scale) {
+    const double tolerance = 1e-9 * scale;
+    return norm <= tolerance || (stalled && correction.cwiseAbs().maxCoeff() <= tolerance);
+}
 }  // namespace
 
 PointContact::PointContact(const ModalBasis& basis, std::vector<PointObstacle> points, bool grid_coupled)
@@ -127,7 +138,7 @@ void PointContact::solve_points(State& s, std::span<const double> predicted, con
         pressed = force != 0.0;
     }
     // The pad moves every point it overlaps in mode space, and they move it.
-    if (pad != nullptr && (pressed || touching > 0)) {
+    if (pad != nullptr && s.awake > 0 && (pressed || touching > 0)) {  // (no point awake: the pad's own solution)
         if (s.awake + 1 <= static_cast<std::size_t>(kSmall))
             solve_coupled<SmallMatrix>(s, law, k, pad);
         else
@@ -150,41 +161,74 @@ bool PointContact::commit(State& s) const {
 }
 
 bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const {
-    solve_points(s, predicted, law, k, nullptr);
-    const bool points_push = std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
-    const bool grid_pushes = solve_grid(s, law, k, grid);
+    return solve(s, predicted, law, k, grid, nullptr);
+}
+
+bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
+                         Pad& pad) const {
+    return solve(s, predicted, law, k, grid, &pad);
+}
+
+namespace {
+double pad_force_at(const PointContact::Pad* pad, double x) {
+    double force = 0.0, slope = 0.0;
+    if (pad != nullptr) pad->press->force_and_slope(x, force, slope);
+    return force;
+}
+}  // namespace
+
+bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
+                         Pad* pad) const {
+    solve_points(s, predicted, law, k, pad);
+    const double pad_force = pad_force_at(pad, pad != nullptr ? pad->x : 0.0);
+    const bool points_push =
+        pad_force != 0.0 || std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
+    const bool grid_pushes = solve_grid(s, law, k, grid, pad, pad_force);
     // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
-    // grid solved with the points' forces already; the points, with no force of their own, need
-    // the grid's push to leave them apart.
+    // grid solved with the points' (and the pad's) forces already; the points and the pad, with
+    // no force of their own, need the grid's push to leave them apart.
     bool joint = points_push && grid_pushes;
     if (grid_pushes && !points_push) {
-        for (std::size_t p = 0; p < size() && !joint; ++p) {
+        // The grid's push at u(x_p) (M_pi) and at u_s (m_i).
+        const auto grid_push = [&](const auto& coupling) {
             double shift = 0.0;
             for (std::size_t r = 0; r < grid.points.size(); ++r)
-                if (grid.solutions[r].force != 0.0) shift += grid_coupling(p, grid.points[r]) * grid.solutions[r].force;
-            s.quotient[p] = s.increment[p] - k * grid.step * shift;
+                if (grid.solutions[r].force != 0.0) shift += coupling(grid.points[r]) * grid.solutions[r].force;
+            return k * grid.step * shift;
+        };
+        for (std::size_t p = 0; p < size() && !joint; ++p) {
+            s.quotient[p] = s.increment[p] - grid_push([&](std::size_t i) { return grid_coupling(p, i); });
             joint = law.difference_quotient(s.eta_prev[p], s.quotient[p]) != 0.0;
         }
-        if (!joint)
+        double pad_x = 0.0;
+        if (!joint && pad != nullptr) {
+            pad_x = pad->x + grid_push([&](std::size_t i) { return pad->grid[i]; });
+            joint = pad_force_at(pad, pad_x) != 0.0;
+        }
+        if (!joint) {
             for (std::size_t p = 0; p < size(); ++p) s.increment[p] = s.quotient[p];
+            if (pad != nullptr) pad->x = pad_x;
+        }
     }
     s.joint = joint;
     if (joint) {
-        if (s.awake <= static_cast<std::size_t>(kSmall))
-            solve_with_grid<SmallMatrix>(s, law, k, grid);
+        if (s.awake + 1 <= static_cast<std::size_t>(kSmall))
+            solve_with_grid<SmallMatrix>(s, law, k, grid, pad);
         else
-            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid);
+            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad);
     }
     return commit(s);
 }
 
-bool PointContact::solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid) const {
+bool PointContact::solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad,
+                              double pad_force) const {
     bool pushes = false;
     for (std::size_t r = 0; r < grid.points.size(); ++r) {
         const std::size_t i = grid.points[r];
         double b = grid.b[r];
         for (std::size_t p = 0; p < size(); ++p)
             if (s.force[p] != 0.0) b -= k * points_[p].weight_m * grid_coupling(p, i) * s.force[p];
+        if (pad_force != 0.0) b -= k * pad->grid[i] * pad_force;
         grid.solutions[r] = law.solve(grid.a[r], b, k);
         pushes = pushes || grid.solutions[r].force != 0.0;
     }
@@ -221,22 +265,45 @@ void PointContact::points_jacobian(State& s, const PenaltyContact& law, double k
 }
 
 template <class Matrix>
-void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid) const {
-    // Newton on the points' increments r_p, the grid's equations solved inside each evaluation:
-    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i - b_p,
-    //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi f_i' / (1 + k f_i').
-    const double scale = newton_scale(s);
+void PointContact::pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const {
+    // The pad's row and column beside the points' Jacobian (points_jacobian's slopes):
+    // dR_p/dx = k h_p F', dR_x/dr_q = -k c_q h_q f_q', dR_x/dx = 1 - k (s . s) F'.
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const auto e = static_cast<Eigen::Index>(awake.size());
+    for (std::size_t a = 0; a < awake.size(); ++a) {
+        const std::size_t p = awake[a];
+        const auto i = static_cast<Eigen::Index>(a);
+        jacobian(i, e) = k * pad.coupling[p] * pad_slope;
+        jacobian(e, i) = -k * points_[p].weight_m * pad.coupling[p] * s.slope[p];
+    }
+    jacobian(e, e) = 1.0 - k * pad.self * pad_slope;
+}
+
+template <class Matrix>
+void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const {
+    // Newton on the points' increments r_p (and the pad's x), the grid's equations solved inside
+    // each evaluation (w_i = f_i' / (1 + k f_i') their response to a push):
+    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k h_p F(x) - b_p,
+    //     R_x = x - w - k sum_q c_q h_q f_q - k (s . s) F(x) - k dx sum_i m_i f_i,
+    //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi w_i,
+    //     dR_p/dx = k h_p F' - k^2 dx F' sum_i M_pi m_i w_i,
+    //     dR_x/dr_q = -k c_q h_q f_q' + k^2 dx c_q f_q' sum_i m_i M_qi w_i,
+    //     dR_x/dx = 1 - k (s . s) F' + k^2 dx F' sum_i m_i^2 w_i.
+    double scale = newton_scale(s);
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
-    const auto m = static_cast<Eigen::Index>(count);
+    const std::size_t last = count;  // the pad's row and column, where there is one
+    const auto m = static_cast<Eigen::Index>(pad != nullptr ? count + 1 : count);
     Matrix jacobian(m, m);
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
     std::vector<double>& r = s.increment;
-    const auto residual_at = [&](const std::vector<double>& at) {
+    double x = pad != nullptr ? pad->x : 0.0, pad_force = 0.0, pad_slope = 0.0, pad_residual = 0.0;
+    const auto residual_at = [&](const std::vector<double>& at, double at_x) {
         for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
+        if (pad != nullptr) pad->press->force_and_slope(at_x, pad_force, pad_slope);
         // (the grid reads the points' forces from s.force: the quotients, for this evaluation)
         std::swap(s.force, s.quotient);
-        solve_grid(s, law, k, grid);
+        solve_grid(s, law, k, grid, pad, pad_force);
         std::swap(s.force, s.quotient);
         double largest = 0.0;
         for (std::size_t p : awake) {
@@ -246,18 +313,32 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
             for (std::size_t g = 0; g < grid.points.size(); ++g)
                 if (grid.solutions[g].force != 0.0) grid_push += grid_coupling(p, grid.points[g]) * grid.solutions[g].force;
             s.residual[p] = at[p] + k * push + k * grid.step * grid_push - s.b[p];
+            if (pad != nullptr) s.residual[p] += k * pad->coupling[p] * pad_force;
             largest = std::max(largest, std::abs(s.residual[p]));
+        }
+        if (pad != nullptr) {
+            double push = 0.0;
+            for (std::size_t q : awake) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
+            double grid_push = 0.0;
+            for (std::size_t g = 0; g < grid.points.size(); ++g)
+                if (grid.solutions[g].force != 0.0) grid_push += pad->grid[grid.points[g]] * grid.solutions[g].force;
+            pad_residual = at_x - pad->predicted - k * push - k * pad->self * pad_force - k * grid.step * grid_push;
+            largest = std::max(largest, std::abs(pad_residual));
         }
         return largest;
     };
+    if (pad != nullptr) scale = std::max({scale, std::abs(pad->predicted), std::abs(x)});
     const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * scale;
     // residual_at swaps s.force with s.quotient: the trial point lives in a vector of its own.
     std::vector<double>& candidate = s.candidate;
     std::copy(r.begin(), r.end(), candidate.begin());
-    double norm = residual_at(r);
+    double norm = residual_at(r, x);
     int iteration = 0;
+    bool stalled = false;
     for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
         points_jacobian(s, law, k, r, jacobian);
+        const auto e = static_cast<Eigen::Index>(last);
+        if (pad != nullptr) pad_border(s, k, *pad, pad_slope, jacobian);
         for (std::size_t g = 0; g < grid.points.size(); ++g) {
             const ContactSolution& sol = grid.solutions[g];
             if (sol.force == 0.0 && sol.increment + grid.a[g] <= 0.0 && grid.a[g] <= 0.0) continue;
@@ -265,38 +346,54 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
             const double w = slope / (1.0 + k * slope);
             if (w == 0.0) continue;
             const std::size_t i = grid.points[g];
+            const double kkw = k * k * grid.step * w;
             for (std::size_t a = 0; a < count; ++a)
                 for (std::size_t c = 0; c < count; ++c) {
                     const std::size_t p = awake[a], q = awake[c];
                     jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) -=
-                        k * k * grid.step * points_[q].weight_m * s.slope[q] * grid_coupling(p, i) * grid_coupling(q, i) * w;
+                        kkw * points_[q].weight_m * s.slope[q] * grid_coupling(p, i) * grid_coupling(q, i);
                 }
+            if (pad != nullptr) {
+                const double m_i = pad->grid[i];
+                for (std::size_t a = 0; a < count; ++a) {
+                    const std::size_t p = awake[a];
+                    const auto ia = static_cast<Eigen::Index>(a);
+                    jacobian(ia, e) -= kkw * pad_slope * grid_coupling(p, i) * m_i;
+                    jacobian(e, ia) += kkw * points_[p].weight_m * s.slope[p] * m_i * grid_coupling(p, i);
+                }
+                jacobian(e, e) += kkw * pad_slope * m_i * m_i;
+            }
         }
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
+        if (pad != nullptr) step(e) = -pad_residual;
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
         double t = 1.0;
         bool decreased = false;
         for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
             for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
-            const double trial_norm = residual_at(candidate);
+            const double trial_x = pad != nullptr ? x + t * step(e) : 0.0;
+            const double trial_norm = residual_at(candidate, trial_x);
             if (trial_norm < norm) {
                 r.swap(candidate);
+                x = trial_x;
                 norm = trial_norm;
                 decreased = true;
                 break;
             }
         }
         if (!decreased) {
-            residual_at(r);  // back to r's quotients and grid solutions
+            residual_at(r, x);  // back to r's quotients and grid solutions
+            stalled = true;
             break;
         }
     }
-    if (!(norm <= 1e-9 * scale))
+    if (!converged(norm, step, stalled, scale))
         throw SolverError("point contact: the joint Newton solve of " + std::to_string(count) +
-                          " points and the grid's obstacle points did not converge (residual " + std::to_string(norm) +
-                          " m)");
+                          (pad != nullptr ? " points, a pad" : " points") +
+                          " and the grid's obstacle points did not converge (residual " + std::to_string(norm) + " m)");
     s.iterations = std::max(s.iterations, iteration);
     for (std::size_t p : awake) s.force[p] = s.quotient[p];
+    if (pad != nullptr) pad->x = x;
 }
 
 template <class Matrix>
@@ -337,20 +434,14 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     double norm = residual_at(r, x);
     std::vector<double>& trial = s.force;  // scratch until the forces are formed at the end
     int iteration = 0;
+    bool stalled = false;
     for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
         // the points' Jacobian, bordered by the pad's row and column
         points_jacobian(s, law, k, r, jacobian);
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
         if (pad != nullptr) {
-            const auto e = static_cast<Eigen::Index>(last);
-            for (std::size_t a = 0; a < count; ++a) {
-                const std::size_t p = awake[a];
-                const auto i = static_cast<Eigen::Index>(a);
-                jacobian(i, e) = k * pad->coupling[p] * pad_slope;
-                jacobian(e, i) = -k * points_[p].weight_m * pad->coupling[p] * s.slope[p];
-            }
-            jacobian(e, e) = 1.0 - k * pad->self * pad_slope;
-            step(e) = -pad_residual;
+            pad_border(s, k, *pad, pad_slope, jacobian);
+            step(static_cast<Eigen::Index>(last)) = -pad_residual;
         }
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
         // Backtracking on the residual: the kink of [eta]_+ at eta = 0 can overshoot.
@@ -370,10 +461,11 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
         }
         if (!decreased) {
             residual_at(r, x);  // back to r's quotients
-            break;              // at the round-off floor
+            stalled = true;     // at the round-off floor
+            break;
         }
     }
-    if (!(norm <= 1e-9 * scale))
+    if (!converged(norm, step, stalled, scale))
         throw SolverError("point contact: the coupled Newton solve of " + std::to_string(count) +
                           (pad != nullptr ? " points and a pad" : " points") + " did not converge (residual " +
                           std::to_string(norm) + " m)");

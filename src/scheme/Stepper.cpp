@@ -24,12 +24,12 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
-// Whether the case's plucker acts at its exact position: nothing else may touch the string on
-// the grid (no finger, no other plucker, no obstacle on the grid), so that its one scalar
-// equation is the whole contact solve of each step, or one more equation in the exact points'
-// system (PointContact). Force gestures load the string explicitly and may be present.
+// Whether the case's plucker acts at its exact position: no other pad may touch the string on
+// the grid (no finger, no other plucker), so that its one scalar equation is the whole contact
+// solve of each step, or one more equation in the system of the exact points and the grid's
+// obstacle points (PointContact). Force gestures load the string explicitly and may be present.
 bool pluck_exact(const Plan& plan) {
-    return plan.plucks().size() == 1 && plan.fingers().empty() && plan.obstacle_points().empty();
+    return plan.plucks().size() == 1 && plan.fingers().empty();
 }
 
 std::vector<Pluck> plucks_of(const Plan& plan) {
@@ -114,6 +114,10 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
         for (const ForceProfile& g : gestures_)
             gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
         at_points(shape, pluck_at_points_);
+        if (!plan.obstacle_points().empty()) {  // m_i = s . S_i: its coupling to the grid's obstacle points
+            pluck_at_grid_.resize(q0.size());
+            plan.basis().to_grid(shape, pluck_at_grid_);
+        }
     }
 }
 
@@ -608,9 +612,12 @@ void Stepper::solve_contacts() {
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
     pluck_load_ = 0.0;
-    if (points_.awake == 0) solve_exact_pluck();  // (else solved with the points)
+    // The exact plucker beside awake obstacle points of the grid: one solve with them.
+    const bool pluck_with_grid = !active_.empty() && exact_pluck_acts();
+    if (points_.awake == 0 && !pluck_with_grid) solve_exact_pluck();  // (else solved with the points)
     // Exact points beside awake obstacle points of the grid: both in one solve (see PointContact).
-    const bool joint = plan_.point_contact().grid_coupled() && points_.awake != 0 && !active_.empty();
+    const bool joint =
+        pluck_with_grid || (plan_.point_contact().grid_coupled() && points_.awake != 0 && !active_.empty());
     points_pushed_ = points_.awake != 0 && !joint && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
@@ -651,7 +658,7 @@ void Stepper::solve_contacts() {
             solve_b_[p] = g[i] - grid[i] - eta_prev[i];
         }
         if (joint)
-            solve_points_with_grid();
+            solve_points_with_grid(pluck_with_grid);
         else
             law.solve_all(solve_a_, solve_b_, k, solutions_);
     }
@@ -833,7 +840,7 @@ bool Stepper::solve_points() {
         Pluck& pluck = exact_pluck();
         pluck.prepare(n_);
         const double w = exact_pluck_prediction();
-        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w)};
+        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w), {}};
         pushed = points.solve(points_, point_predicted_, plan_.contact(), k, pad);
         take_pluck_force(pluck.conclude(n_, pad.x));
     } else {
@@ -844,11 +851,21 @@ bool Stepper::solve_points() {
     return pushed;
 }
 
-void Stepper::solve_points_with_grid() {
-    predict_exact_points();
+void Stepper::solve_points_with_grid(bool with_pluck) {
     const PointContact& points = plan_.point_contact();
+    if (!points.empty()) predict_exact_points();
     PointContact::Grid grid{active_, solve_a_, solve_b_, solutions_, plan_.basis().grid_step()};
-    points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), plan_.force_to_displacement(), grid);
+    const double k = plan_.force_to_displacement();
+    if (with_pluck) {
+        Pluck& pluck = exact_pluck();
+        pluck.prepare(n_);
+        const double w = exact_pluck_prediction();
+        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w), pluck_at_grid_};
+        points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid, pad);
+        take_pluck_force(pluck.conclude(n_, pad.x));
+    } else {
+        points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid);
+    }
     if (points_.joint) ++stats_.joint_steps;
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
     touched_obstacle_ = touched_obstacle_ || points_pushed_;

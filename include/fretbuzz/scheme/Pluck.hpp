@@ -28,9 +28,10 @@
 // same law with y = s (p - u_s), force F = K_p [y]_+^alpha (+ its Hunt-Crossley term) on the
 // whole pad, spread evenly over it (modal impulse (dt^2/mu) F s). The stages and the scalar
 // solve above then act on one entry of weight 1 (dx -> 1, K -> K_p) whose step factor is
-// (dt^2/mu) (s . s): u_s^{n+1} = w_s + (dt^2/mu) (s . s) F with w_s the free step's u_s. This
-// is exact only where nothing else touches the string in a way that couples with the pad, so
-// the stepper uses it where the plucker is the case's only contact (see Stepper).
+// (dt^2/mu) (s . s): u_s^{n+1} = w_s + (dt^2/mu) (s . s) F with w_s the free step's u_s. Where
+// obstacle points push in the same step the pad is one more unknown in their system
+// (PointContact); another pad on the grid (a finger, a second plucker) would couple with it
+// and no solve takes them together, so the stepper uses it for a single plucker with no finger.
 #include <cstddef>
 #include <span>
 #include <vector>

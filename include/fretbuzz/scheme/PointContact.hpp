@@ -20,6 +20,8 @@
 //     r_i + k f_i(r_i) = b_i - k sum_p c_p M_pi f_p,
 // so Newton's method runs on the points' P unknowns alone, each grid equation solved inside it
 // (the grid's unknowns eliminated: a Schur complement, P x P, whatever the grid points in contact).
+// A pad (below) joins that system as one more unknown: it moves grid point i by k m_i F,
+// m_i = s . S_i, and grid point i moves it by k dx m_i f_i.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -94,6 +96,7 @@ public:
         double self = 0.0;                 // s . s
         std::span<const double> coupling;  // h_p
         double x = 0.0;
+        std::span<const double> grid;  // m_i = s . S_i at every grid point (with a Grid only)
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad& pad) const;
     // The grid's active obstacle points in the same step (grid_coupled() only): each one's
@@ -106,6 +109,9 @@ public:
         double step = 0.0;  // dx
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
+    // The points, the pad and the grid's active obstacle points in one solve (no point need be
+    // grid_coupled() where there are none awake).
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad& pad) const;
     bool grid_coupled() const { return !grid_rows_.empty(); }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
@@ -120,12 +126,15 @@ private:
     void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
     // The grid's equations given the points' forces; returns whether any grid point pushed.
-    bool solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid) const;
+    bool solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force) const;
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
     double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
     template <class Matrix>
     void points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
     template <class Matrix>
-    void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid) const;
+    void pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const;
+    template <class Matrix>
+    void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
     template <class Matrix>
     void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
     double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }

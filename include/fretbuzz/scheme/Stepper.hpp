@@ -213,7 +213,7 @@ private:
     bool solve_points();
     void predict_exact_points();  // point_predicted_: the free step's u at each exact point
     // The exact points with the grid's active points (solve_a_, solve_b_ formed): into solutions_.
-    void solve_points_with_grid();
+    void solve_points_with_grid(bool with_pluck);  // (and the exact plucker's pad, if with_pluck)
     void apply_point_impulse();
     void report_point_forces();
     // A force (N) acting at x off the grid, in forces() as a force per length at the nearest grid point.
@@ -279,6 +279,7 @@ private:
     double pluck_load_ = 0.0;                // the exact plucker's force on the string in this step (N)
     std::vector<double> gesture_at_pluck_;   // s_g . s of each gesture and the exact plucker's pad
     std::vector<double> pluck_at_points_;    // s . phi(x_p) of the exact plucker's pad and each exact point
+    std::vector<double> pluck_at_grid_;      // s . S_i of its pad and each grid point (beside an obstacle on the grid)
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
