@@ -15,6 +15,7 @@
 
 #include "SmallBass.hpp"
 #include "TestSupport.hpp"
+#include "TwoPolarisations.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
@@ -40,19 +41,7 @@ void remove_obstacle(Case& c) {
     c.point_obstacles.clear();  // (the frets' crowns)
 }
 
-// A stepper with both polarisations, started as a run starts it.
-struct TwoPolarisations {
-    explicit TwoPolarisations(const Case& c, PlanOptions options = {})
-        : plan(c, 1.0 / c.run.sample_rate_hz, options),
-          stepper(plan, along_polarisation(c.initial_displacement, c.polarisation.angle_deg, false),
-                  along_polarisation(c.initial_velocity, c.polarisation.angle_deg, false)) {
-        stepper.add_second_polarisation(along_polarisation(c.initial_displacement, c.polarisation.angle_deg, true),
-                                        along_polarisation(c.initial_velocity, c.polarisation.angle_deg, true));
-    }
-    const SecondPolarisation& y() const { return *stepper.second_polarisation(); }
-    Plan plan;
-    Stepper stepper;
-};
+using testing::TwoPolarisations;
 
 TEST(Polarisations, AngleZeroGivesTheOnePolarisationRunExactly) {
     Case one = two_polarisation_bass(400000.0, 0.0, 0.3);
