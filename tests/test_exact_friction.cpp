@@ -147,6 +147,21 @@ TEST(ExactFriction, BalanceIsExactWithDamping) {
     expect_exact_balance(t, "three exact points, damped");
 }
 
+TEST(ExactFriction, CrownsBesideTheBoardKeepTheBalance) {
+    // The small bass slapping its frets at 30 degrees: its crowns at their exact positions,
+    // solved with the board's grid points rubbing in the same step.
+    Case c = testing::small_bass(400000.0, 0.25, 6e-3);
+    c.run.output_rate_hz.reset();
+    c.polarisation.count = 2;
+    c.polarisation.angle_deg = 30.0;
+    c.polarisation.friction = 0.3;
+    c.make_lossless();
+    c.validate();
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    ASSERT_TRUE(plan.point_contact().grid_coupled());
+    expect_exact_balance(balance(c, 40000), "crowns beside the board");
+}
+
 // When the bridge first pushes and what it has done 3 ms on.
 struct Onset {
     long first_contact_step = -1;

@@ -38,8 +38,7 @@ public:
     // of every point that rubs, with its normal force per unit length (the obstacle's, or
     // under a finger the finger's push plus the obstacle's).
     // `point_normal`: the exact points' normal forces per unit length (PointContact's, 0 where a
-    // point does not push; empty when none pushes). The plan never has both rub in one run:
-    // beside an obstacle on the grid, or a finger, its points join the grid.
+    // point does not push; empty when none pushes), solved with the grid's where both rub.
     // Force gestures with an angle push y too (known at step n, explicit as along z).
     void step(long n, std::span<const std::pair<std::size_t, double>> normal, std::span<const double> point_normal = {});
     // Free flight over `flown` steps of a flight planned for `planned` (no contact meanwhile):
@@ -71,9 +70,11 @@ private:
     // The gestures' y loads of step n into impulse_ (with the friction's); whether any acts.
     bool add_gesture_loads(long n, bool pushed);
     void spread_forces();
-    // Friction at the exact points: their forces' impulse into impulse_ (added to the grid's if
-    // `pushed`); whether any point rubbed.
-    bool rub_points(long n, std::span<const double> point_normal, bool pushed);
+    // Friction at the exact points (with the grid points of joint_index_ if `joint`: their
+    // forces then join forces_); predicted_ holds the free step already if `joint`.
+    void solve_points(long n, std::span<const double> point_normal, bool joint);
+    // Their impulse into impulse_ (added to the grid's if `pushed`); whether anything pushed.
+    bool add_point_impulse(bool pushed);
     void report_point_forces();
 
     const Plan& plan_;
@@ -88,6 +89,8 @@ private:
     std::vector<double> gesture_load_;
     PointFriction point_friction_;
     std::vector<double> point_v0_, point_force_;
+    std::vector<std::size_t> joint_index_;  // grid points rubbing beside exact points: their solve's data
+    std::vector<double> joint_v0_, joint_normal_, joint_force_, joint_velocity_;
     std::vector<double> gesture_at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
     int max_iterations_ = 0;
 };
