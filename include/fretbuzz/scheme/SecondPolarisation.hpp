@@ -8,7 +8,8 @@
 // non-zero normal force F_n, a friction force f_y opposes the sliding (see Friction): a
 // scalar solve per point, since S dx S^T = I makes the force at point i move y at point i
 // only. At point obstacles held at their exact positions (Plan::point_contact) friction acts
-// on each point's row over its width, and the points in contact solve together (PointFriction).
+// on each point's row over its width, and the points in contact solve together, with the grid's
+// points rubbing beside them (PointFriction).
 // Its work per step, dx sum_i f_y (y^{n+1} - y^{n-1}) / 2 (c_p for width at an exact point), is
 // never positive and is kept as the friction dissipation, so that
 //     H_z + H_y + contact - work + damping(z) + damping(y) + friction = constant
