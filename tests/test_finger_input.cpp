@@ -155,7 +155,11 @@ TEST(FingerInput, TheRangesAreWhatRuns) {
             extra << pop << "stiffness = " << stiffness << "\nloss = 1000\nspeed = 1e-4\n";
             Case c = parse_case(small_bass(fs, extra.str()), "corner.toml", DataSource::builtin());
             c.run.allow_aliasing = true;
-            EXPECT_NO_THROW(simulate(c, {})) << extra.str() << " at fs = " << fs;
+            RunSummary s;
+            ASSERT_NO_THROW(s = simulate(c, {})) << extra.str() << " at fs = " << fs;
+            // The stiffest pad's balance rests at its slope times the rounding of its position
+            // (5e-7 at 48 kHz, on its grid pad as at its exact position beside the frets).
+            EXPECT_LT(s.max_relative_balance_error, stiffness > 1.0 ? 1e-5 : 1e-12) << extra.str() << " at fs = " << fs;
         }
     }
 }

@@ -10,8 +10,7 @@
 namespace fretbuzz {
 
 namespace {
-// A point the grid's own solve takes: on a grid point, one grid step wide (or any point of a
-// case with two polarisations, whose friction acts at grid points).
+// A point the grid's own solve takes: on a grid point, one grid step wide.
 bool has_grid_obstacle(const Case& c) {
     return std::any_of(c.obstacle_height_m.begin(), c.obstacle_height_m.end(), [](double g) { return std::isfinite(g); });
 }
@@ -24,7 +23,7 @@ bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& option
     // points through the modes in the same step, and no solve takes them together: beside them
     // the points join the grid, where every equation is its own.
     const bool pads_on_grid = c.plucks.size() > 1 || (!c.fingers.empty() && !c.plucks.empty());
-    return c.two_polarisations() || pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
+    return pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 
 // The step kernel for the modes' damping: without losses the step skips their terms.

@@ -23,16 +23,27 @@ SecondPolarisation::SecondPolarisation(const Plan& plan, std::span<const double>
         if (share != 0.0) gestures_.emplace_back(spec, plan.basis(), plan.dt(), share);
     }
     gesture_load_.assign(gestures_.size(), 0.0);
+    const PointContact& points = plan.point_contact();
+    if (!points.empty()) {
+        point_friction_ = PointFriction(points);
+        point_v0_.assign(points.size(), 0.0);
+        point_force_.assign(points.size(), 0.0);
+        for (std::vector<double>* v : {&joint_v0_, &joint_normal_, &joint_force_, &joint_velocity_}) v->reserve(q0.size());
+        joint_index_.reserve(q0.size());
+        for (const ForceProfile& g : gestures_)
+            for (std::size_t p = 0; p < points.size(); ++p)
+                gesture_at_points_.push_back(kernels::dot(g.shape().data(), points.row(p).data(), q0.size()));
+    }
 }
 
-bool SecondPolarisation::add_gesture_loads(long n) {
+bool SecondPolarisation::add_gesture_loads(long n, bool pushed) {
     // Explicit, as along z (see ForceProfile), added to the friction's impulse.
     bool loaded = false;
     const double k = plan_.force_to_displacement();
     for (std::size_t g = 0; g < gestures_.size(); ++g) {
         gesture_load_[g] = gestures_[g].at_step(n);
         if (gesture_load_[g] == 0.0) continue;
-        if (!loaded && forces_.empty()) std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        if (!loaded && !pushed) std::fill(impulse_.begin(), impulse_.end(), 0.0);
         loaded = true;
         kernels::axpy(k * gesture_load_[g], gestures_[g].shape().data(), impulse_.data(), impulse_.size());
     }
@@ -45,7 +56,8 @@ void SecondPolarisation::first_step() {
     q_ = std::move(q1);
 }
 
-void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal) {
+void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, double>> normal,
+                              std::span<const double> point_normal) {
     const ModalPropagator& prop = plan_.propagator_y();
     const Friction& law = plan_.friction();
     const std::size_t n = q_.size();
@@ -57,6 +69,12 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
         for (std::size_t g = 0; g < gestures_.size(); ++g) u += gestures_[g].at_step(step) * gestures_[g].on_grid(i);
         return k_load * u;
     };
+    // Exact points rubbing beside grid points: both solved together (PointFriction).
+    const bool points_rub = law.coefficient() > 0.0 && !point_normal.empty();
+    const bool joint = points_rub && !normal.empty();
+    joint_index_.clear();
+    joint_v0_.clear();
+    joint_normal_.clear();
     if (law.coefficient() > 0.0 && !normal.empty()) {
         const double dt = plan_.dt();
         const double k = plan_.force_to_displacement();
@@ -80,6 +98,12 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
                 kernels::dot_current_previous(row, q_.data(), d_.data(), n, y_now, y_before);
             }
             if (!gestures_.empty()) w += load_at(i);
+            if (joint) {
+                joint_index_.push_back(i);
+                joint_v0_.push_back((w - y_before) / (2.0 * dt));
+                joint_normal_.push_back(f_n);
+                continue;
+            }
             const FrictionSolution s = law.solve((w - y_before) / (2.0 * dt), f_n, k, dt);
             max_iterations_ = std::max(max_iterations_, s.iterations);
             // -dx f (y^{n+1} - y^{n-1}) / 2 with y^{n+1} - y^{n-1} = 2 dt v: >= 0 exactly.
@@ -87,16 +111,76 @@ void SecondPolarisation::step(long step, std::span<const std::pair<std::size_t, 
             if (s.force != 0.0) forces_.emplace_back(i, s.force);
         }
     }
+    if (points_rub) solve_points(step, point_normal, joint);  // (the grid's forces into forces_ if joint)
     spread_forces();
-    const bool loaded = !gestures_.empty() && add_gesture_loads(step);
+    bool pushed = !forces_.empty();
+    if (points_rub) pushed = add_point_impulse(pushed);
+    const bool loaded = !gestures_.empty() && add_gesture_loads(step, pushed);
     for (std::size_t g = 0; g < gestures_.size() && loaded; ++g)
         if (gesture_load_[g] != 0.0) gestures_[g].begin_step(q_, d_);
     const double losses =
         kernels::advance(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(),
-                         forces_.empty() && !loaded ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
+                         !pushed && !loaded ? nullptr : impulse_.data(), q_.data(), d_.data(), n);
     damping_ += plan_.modal_loss_scale() * losses;
     for (std::size_t g = 0; g < gestures_.size() && loaded; ++g)
         if (gesture_load_[g] != 0.0) gestures_[g].end_step(q_, gesture_load_[g]);
+    if (pushed && !point_normal.empty()) report_point_forces();
+}
+
+void SecondPolarisation::solve_points(long step, std::span<const double> point_normal, bool joint) {
+    const PointContact& points = plan_.point_contact();
+    const std::size_t n = q_.size();
+    const double dt = plan_.dt();
+    const double k = plan_.force_to_displacement();
+    const ModalPropagator& prop = plan_.propagator_y();
+    if (!joint) kernels::predict(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), predicted_.data(), n);
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        point_v0_[p] = 0.0;
+        if (point_normal[p] == 0.0) continue;
+        const double* row = points.row(p).data();
+        double y_now = 0.0, y_before = 0.0;
+        double w = kernels::dot(row, predicted_.data(), n);
+        kernels::dot_current_previous(row, q_.data(), d_.data(), n, y_now, y_before);
+        for (std::size_t g = 0; g < gestures_.size(); ++g)
+            w += k * gestures_[g].at_step(step) * gesture_at_points_[g * points.size() + p];
+        point_v0_[p] = (w - y_before) / (2.0 * dt);
+    }
+    if (joint) {
+        joint_force_.resize(joint_index_.size());
+        joint_velocity_.resize(joint_index_.size());
+        PointFriction::Grid grid{joint_index_, joint_v0_, joint_normal_, joint_force_, joint_velocity_,
+                                 plan_.basis().grid_step()};
+        friction_ -= point_friction_.solve(plan_.friction(), point_v0_, point_normal, k, dt, point_force_, grid);
+        for (std::size_t r = 0; r < joint_index_.size(); ++r)
+            if (joint_force_[r] != 0.0) forces_.emplace_back(joint_index_[r], joint_force_[r]);
+    } else {
+        friction_ -= point_friction_.solve(plan_.friction(), point_v0_, point_normal, k, dt, point_force_);
+    }
+    max_iterations_ = std::max(max_iterations_, point_friction_.iterations());
+}
+
+bool SecondPolarisation::add_point_impulse(bool pushed) {
+    const PointContact& points = plan_.point_contact();
+    const double k = plan_.force_to_displacement();
+    bool rubbed = false;
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        if (point_force_[p] == 0.0) continue;
+        if (!rubbed && !pushed) std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        rubbed = true;
+        kernels::axpy(k * points.weight(p) * point_force_[p], points.row(p).data(), impulse_.data(), impulse_.size());
+    }
+    return rubbed || pushed;
+}
+
+void SecondPolarisation::report_point_forces() {
+    // As a force per length at the grid point nearest x_p, the same total force (as along z).
+    const PointContact& points = plan_.point_contact();
+    const double dx = plan_.basis().grid_step();
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        if (point_force_[p] == 0.0) continue;
+        const double index = std::clamp(std::round(points.point(p).x_m / dx) - 1.0, 0.0, static_cast<double>(q_.size() - 1));
+        forces_.emplace_back(static_cast<std::size_t>(index), point_force_[p] * points.weight(p) / dx);
+    }
 }
 
 void SecondPolarisation::spread_forces() {

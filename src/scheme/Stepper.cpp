@@ -405,7 +405,8 @@ void Stepper::step() {
         advance_loaded();
     else
         advance_modes();
-    if (y_) y_->step(n_, rubbing_points());  // friction from this step's normal forces
+    // Friction from this step's normal forces (the grid's and the exact points').
+    if (y_) y_->step(n_, rubbing_points(), points_pushed_ ? std::span<const double>(points_.force) : std::span<const double>());
     if (screening_) {
         scheduler_.end_step();
         if (n_ + 1 >= next_speed_refresh_) {

@@ -7,8 +7,11 @@
 // with one polarisation, then hands the normal forces here. At each obstacle point with a
 // non-zero normal force F_n, a friction force f_y opposes the sliding (see Friction): a
 // scalar solve per point, since S dx S^T = I makes the force at point i move y at point i
-// only. Its work per step, dx sum_i f_y (y^{n+1} - y^{n-1}) / 2, is never positive and is
-// kept as the friction dissipation, so that
+// only. At point obstacles held at their exact positions (Plan::point_contact) friction acts
+// on each point's row over its width, and the points in contact solve together, with the grid's
+// points rubbing beside them (PointFriction).
+// Its work per step, dx sum_i f_y (y^{n+1} - y^{n-1}) / 2 (c_p for width at an exact point), is
+// never positive and is kept as the friction dissipation, so that
 //     H_z + H_y + contact - work + damping(z) + damping(y) + friction = constant
 // to round-off. Nothing here does I/O; a one-polarisation run never creates this object.
 #include <cstddef>
@@ -20,6 +23,7 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/PointFriction.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
 
 namespace fretbuzz {
@@ -34,8 +38,10 @@ public:
     // n -> n + 1 after the normal solve of the same step: `normal` holds (grid point, F_n)
     // of every point that rubs, with its normal force per unit length (the obstacle's, or
     // under a finger the finger's push plus the obstacle's).
+    // `point_normal`: the exact points' normal forces per unit length (PointContact's, 0 where a
+    // point does not push; empty when none pushes), solved with the grid's where both rub.
     // Force gestures with an angle push y too (known at step n, explicit as along z).
-    void step(long n, std::span<const std::pair<std::size_t, double>> normal);
+    void step(long n, std::span<const std::pair<std::size_t, double>> normal, std::span<const double> point_normal = {});
     // Free flight over `flown` steps of a flight planned for `planned` (no contact meanwhile):
     // with probes, the first `head` modes are stepped one by one and u_y at the probes kept
     // per step (flight_rows()); the other modes jump in closed form when flown == planned.
@@ -56,14 +62,21 @@ public:
         for (const ForceProfile& g : gestures_) w += g.work();
         return w;
     }
-    // Points with a non-zero friction force in the last step and that force (N/m).
+    // Points with a non-zero friction force in the last step and that force (N/m); an exact
+    // point's at its nearest grid point, as a force per grid step (the same total force).
     std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
     int max_iterations() const { return max_iterations_; }
 
 private:
     // The gestures' y loads of step n into impulse_ (with the friction's); whether any acts.
-    bool add_gesture_loads(long n);
+    bool add_gesture_loads(long n, bool pushed);
     void spread_forces();
+    // Friction at the exact points (with the grid points of joint_index_ if `joint`: their
+    // forces then join forces_); predicted_ holds the free step already if `joint`.
+    void solve_points(long n, std::span<const double> point_normal, bool joint);
+    // Their impulse into impulse_ (added to the grid's if `pushed`); whether anything pushed.
+    bool add_point_impulse(bool pushed);
+    void report_point_forces();
 
     const Plan& plan_;
     std::vector<double> q_, d_, v0_;
@@ -75,6 +88,11 @@ private:
     double friction_ = 0.0;
     std::vector<ForceProfile> gestures_;  // the y parts of the force gestures with an angle
     std::vector<double> gesture_load_;
+    PointFriction point_friction_;
+    std::vector<double> point_v0_, point_force_;
+    std::vector<std::size_t> joint_index_;  // grid points rubbing beside exact points: their solve's data
+    std::vector<double> joint_v0_, joint_normal_, joint_force_, joint_velocity_;
+    std::vector<double> gesture_at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
     int max_iterations_ = 0;
 };
 
