@@ -85,7 +85,7 @@ void Finger::press(double force_n, long from, long ramp_steps) {
 }
 
 void Finger::rest() {
-    z_ = dz_ = 0.0;
+    z_ = dz_ = dz_before_ = 0.0;
     psi_curr_ = psi_prev_ = 0.0;
     contact_force_ = 0.0;
     touched_obstacle_ = false;
@@ -99,6 +99,7 @@ double Finger::energy() const {
 void Finger::start(std::span<const double> u0, std::span<const double> u1) {
     const double z0 = *std::max_element(u0.begin(), u0.end()) + spec_.initial_gap_m;
     dz_ = -spec_.initial_velocity * dt_;  // toward the fretboard: down in the solve's orientation
+    dz_before_ = dz_;
     z_ = z0 + dz_;
     psi_prev_ = psi_curr_ = 0.0;
     for (std::size_t p = 0; p < pad_.size(); ++p) {
@@ -169,47 +170,57 @@ void Finger::prepare(long n) {
     const double z_prev = z_ - dz_;
     for (std::size_t p = 0; p < count; ++p) {
         c_[p] = u_prev_[p] - z_prev;
+        guess_[p] = 2.0 * u_curr_[p] - u_prev_[p];  // u^{n+1} carried on at its last rate
         // Hunt-Crossley loss, its coefficient taken at level n so the step stays exactly lossy.
         rho_[p] = spec_.loss * law_.force(u_curr_[p] - z_) / (2.0 * dt_);
     }
 }
 
+double Finger::sweep(std::span<const double> predicted, double s, double& slope) {
+    // G(s) = m (s - dz) + F - dx sum push(s), s = z^{n+1} - z^n: increasing, slope >= m.
+    const std::size_t count = pad_.size();
+    points_.resize(count);  // (within the reserved room)
+    double push = 0.0, push_slope = 0.0;
+    for (std::size_t p = 0; p < count; ++p) {
+        points_[p] = solve_point(p, predicted[p], s, guess_[p]);
+        guess_[p] = points_[p].x;
+        push += points_[p].push;
+        push_slope += points_[p].slope;
+    }
+    contact_force_ = dx_ * push;
+    slope = m_ - dx_ * push_slope;
+    return m_ * (s - dz_) + press_ - contact_force_;
+}
+
+void Finger::set_residual(double s, double G, double slope) {
+    s_ = s;
+    g_slope_ = slope;
+    residual_ = G / m_;
+    // Round-off in G: its terms', and its slope times the rounding of z^{n+1} = z^n + s, which
+    // every pad point's contact sees (a stiff pad: the pad's terms dominate).
+    residual_size_ = (m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press_) + std::abs(contact_force_) +
+                      slope * (std::abs(z_) + std::abs(s))) / m_;
+}
+
 void Finger::trial(std::span<const double> predicted, std::span<double> force) {
     const std::size_t count = pad_.size();
-    const double press = press_;
-    std::vector<Point>& pts = points_;
-    pts.resize(count);
-    // G(s) = m (s - dz) + F - dx sum push(s), s = z^{n+1} - z^n: increasing, slope >= m.
-    const auto evaluate = [&](double s, double& slope) {
-        double push = 0.0, push_slope = 0.0;
-        for (std::size_t p = 0; p < count; ++p) {
-            pts[p] = solve_point(p, predicted[p], s, guess_[p]);
-            guess_[p] = pts[p].x;
-            push += pts[p].push;
-            push_slope += pts[p].slope;
-        }
-        contact_force_ = dx_ * push;
-        slope = m_ - dx_ * push_slope;
-        return m_ * (s - dz_) + press - contact_force_;
-    };
-    double s = dz_ + (contact_force_ - press) / m_;
+    double s = dz_ + (contact_force_ - press_) / m_;
     double slope = m_;
-    double G = evaluate(s, slope);
+    double G = sweep(predicted, s, slope);
     double lo = s, hi = s;
     (G > 0.0 ? lo : hi) = s - G / m_;
     int it = 0;
     for (; it < kMaxIterations; ++it) {
-        // Round-off in G: its terms', and its slope times the rounding of z^{n+1} = z^n + s,
-        // which every pad point's contact sees (a stiff pad: the pad's terms dominate).
-        const double scale = m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press) + std::abs(contact_force_) +
-                             slope * (std::abs(z_) + std::abs(s));
-        if (std::abs(G) <= 8.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
+        set_residual(s, G, slope);
+        if (std::abs(residual_) <= 8.0 * kEps * residual_size_ ||
+            hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi)))
+            break;
         double next = s - G / slope;
         const bool newton = next > lo && next < hi;
         if (!newton) next = 0.5 * (lo + hi);
         const double previous = s, g_before = G;
         s = next;
-        G = evaluate(s, slope);
+        G = sweep(predicted, s, slope);
         (G > 0.0 ? hi : lo) = s;
         if (std::abs(s - previous) <= kEps * std::abs(s)) break;
         // A Newton step of a few ulps of z that does not halve G: G is at the round-off of
@@ -220,21 +231,15 @@ void Finger::trial(std::span<const double> predicted, std::span<double> force) {
     }
     if (it == kMaxIterations) fail(spec_, "finger height", s);
     max_iterations_ = std::max(max_iterations_, it + 1);
-    s_ = s;
-    g_slope_ = slope;
-    for (std::size_t p = 0; p < count; ++p) force[p] = pts[p].obstacle_force - pts[p].push;
+    set_residual(s, G, slope);
+    for (std::size_t p = 0; p < count; ++p) force[p] = points_[p].obstacle_force - points_[p].push;
 }
 
-void Finger::respond(std::span<const double> v, std::span<double> out) const {
-    // F_i = (x_i - w_i) / k; dx_i/dw_j = delta_ij / h_i' + (k a_i / h_i') ds/dw_j, and
-    // ds/dw_j = dx a_j / (h_j' G'), a = d(push)/dy: so
-    //     dF_i/dw_j = delta_ij (1/h_i' - 1) / k + (a_i / h_i') dx (a_j / h_j') / G'.
-    const std::size_t count = pad_.size();
-    double through_z = 0.0;
-    for (std::size_t p = 0; p < count; ++p) through_z += points_[p].push_response * v[p];
-    through_z *= dx_ / g_slope_;
-    for (std::size_t p = 0; p < count; ++p)
-        out[p] = points_[p].response * v[p] + points_[p].push_response * through_z;
+void Finger::trial_at(std::span<const double> predicted, double s, std::span<double> force) {
+    double slope = m_;
+    const double G = sweep(predicted, s, slope);
+    set_residual(s, G, slope);
+    for (std::size_t p = 0; p < pad_.size(); ++p) force[p] = points_[p].obstacle_force - points_[p].push;
 }
 
 double Finger::commit() {
@@ -258,6 +263,7 @@ double Finger::commit() {
     psi_prev_ = psi_curr_;
     psi_curr_ = psi_next;
     z_ += s;
+    dz_before_ = dz_;
     dz_ = s;
     return obstacle_psi;
 }

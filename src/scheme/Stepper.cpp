@@ -788,27 +788,65 @@ namespace {
 class FingerPads final : public GridPads {
 public:
     FingerPads(PlayedParts& parts, std::span<const std::size_t> points, std::span<const double> w, std::vector<double>& trial)
-        : parts_(parts), points_(points), w_(w), trial_(trial) {}
+        : parts_(parts), points_(points), w_(w), trial_(trial) {
+        each([&](Finger&, std::size_t, std::size_t, std::size_t) { ++count_; });
+    }
     std::span<const std::size_t> points() const override { return points_; }
-    void forces(std::span<const double> shift, std::span<double> force) override {
-        trial_.resize(w_.size());  // (within the reserved capacity)
-        for (std::size_t r = 0; r < w_.size(); ++r) trial_[r] = w_[r] + shift[r];
-        each([&](Finger& f, std::size_t at, std::size_t n) {
+    std::size_t heights() const override { return count_; }
+    std::size_t end(std::size_t f) const override {
+        std::size_t last = 0;
+        each([&](Finger&, std::size_t k, std::size_t at, std::size_t n) {
+            if (k == f) last = at + n;
+        });
+        return last;
+    }
+    void solve(std::span<const double> shift, std::span<double> force, std::span<double> height, std::span<double> residual,
+               std::span<double> size) override {
+        raise(shift);
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
             f.trial(std::span<const double>(trial_).subspan(at, n), force.subspan(at, n));
+            height[k] = f.height_step();
+            residual[k] = f.residual();
+            size[k] = f.residual_size();
         });
     }
-    void respond(std::span<const double> v, std::span<double> out) const override {
-        each([&](Finger& f, std::size_t at, std::size_t n) { f.respond(v.subspan(at, n), out.subspan(at, n)); });
+    void guess(std::span<double> height) const override {
+        each([&](Finger& f, std::size_t k, std::size_t, std::size_t) { height[k] = f.height_guess(); });
+    }
+    void trial(std::span<const double> shift, std::span<const double> height, std::span<double> force,
+               std::span<double> residual, std::span<double> size) override {
+        raise(shift);
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
+            f.trial_at(std::span<const double>(trial_).subspan(at, n), height[k], force.subspan(at, n));
+            residual[k] = f.residual();
+            size[k] = f.residual_size();
+        });
+    }
+    void slopes(std::span<double> response, std::span<double> lift, std::span<double> pull,
+                std::span<double> slope) const override {
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
+            for (std::size_t p = 0; p < n; ++p) {
+                response[at + p] = f.response(p);
+                lift[at + p] = f.lift(p);
+                pull[at + p] = f.pull() * f.lift(p);
+            }
+            slope[k] = f.residual_slope();
+        });
     }
 
 private:
+    void raise(std::span<const double> shift) {
+        trial_.resize(w_.size());  // (within the reserved capacity)
+        for (std::size_t r = 0; r < w_.size(); ++r) trial_[r] = w_[r] + shift[r];
+    }
+    // f(finger, its index among those on, where its points start, how many).
     template <class F>
     void each(F&& f) const {
-        std::size_t at = 0;
+        std::size_t at = 0, index = 0;
         for (std::size_t k = 0; k < parts_.fingers().size(); ++k) {
             if (!parts_.on(k)) continue;
             Finger& finger = parts_.finger(k);
-            f(finger, at, finger.pad().size());
+            f(finger, index++, at, finger.pad().size());
             at += finger.pad().size();
         }
     }
@@ -816,6 +854,7 @@ private:
     std::span<const std::size_t> points_;
     std::span<const double> w_;
     std::vector<double>& trial_;
+    std::size_t count_ = 0;
 };
 }  // namespace
 
@@ -972,7 +1011,7 @@ void Stepper::report_point_forces() {
 
 bool Stepper::points_by_rows() const {
     const std::size_t pushes = forces_.size() + points_.awake;  // (resting points push nothing)
-    return pad_points_ == 0 && points_.awake <= kernels::kMaxPassRows &&
+    return points_.awake <= kernels::kMaxPassRows &&
            pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
 }
 
@@ -1010,13 +1049,20 @@ void Stepper::advance_with_points() {
                 which[count] = p;
                 predict_rows[count++] = points.row(p).data();
             }
-        const bool grid_fits = !active_.empty() && count + active_.size() <= kernels::kMaxPassRows &&
-                               active_.size() <= plan_.transform_threshold();
-        if (grid_fits)
-            for (std::size_t i : active_) {
+        // (and the fingers' pads, solved again at the next step)
+        const std::size_t solved = active_.size() + pad_points_;
+        const bool grid_fits = solved != 0 && count + solved <= kernels::kMaxPassRows &&
+                               solved <= plan_.transform_threshold();
+        if (grid_fits) {
+            const auto add = [&](std::size_t i) {
                 forecast_.points[forecast_.count++] = i;
                 predict_rows[count++] = plan_.basis().row(i).data();
-            }
+            };
+            for (std::size_t i : active_) add(i);
+            parts_.each_on([&](const PlayedPart& part) {
+                for (std::size_t i : part.pad()) add(i);
+            });
+        }
         pass.predict_rows = predict_rows.data();
         pass.predict_count = count;
         pass.predicted = values.data();
