@@ -205,19 +205,22 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     solve_points(s, predicted, law, k, pad, held);
     if (held) {
         grid.pads->guess(std::span<double>(s.height).first(grid.pads->heights()));
-        if (s.awake + 1 + grid.pads->heights() <= static_cast<std::size_t>(kSmall))
-            solve_with_grid<SmallMatrix>(s, law, k, grid, pad, false);
-        else
-            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad, false);
-        // Still joint where both sides push at the solution.
-        const bool points_push = pad_force_at(pad, pad != nullptr ? pad->x : 0.0) != 0.0 ||
-                                 std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
-        const std::size_t n = grid.pads->points().size();
-        bool grid_pushes = std::any_of(s.pad_force.begin(), s.pad_force.begin() + static_cast<std::ptrdiff_t>(n),
-                                       [](double f) { return f != 0.0; });
-        for (const ContactSolution& g : grid.solutions) grid_pushes = grid_pushes || g.force != 0.0;
-        s.joint = points_push && grid_pushes;
-        return commit(s);
+        const bool solved = s.awake + 1 + grid.pads->heights() <= static_cast<std::size_t>(kSmall)
+                                ? solve_with_grid<SmallMatrix>(s, law, k, grid, pad, false, true)
+                                : solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad, false, true);
+        if (solved) {
+            // Still joint where both sides push at the solution.
+            const bool points_push = pad_force_at(pad, pad != nullptr ? pad->x : 0.0) != 0.0 ||
+                                     std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
+            const std::size_t n = grid.pads->points().size();
+            bool grid_pushes = std::any_of(s.pad_force.begin(), s.pad_force.begin() + static_cast<std::ptrdiff_t>(n),
+                                           [](double f) { return f != 0.0; });
+            for (const ContactSolution& g : grid.solutions) grid_pushes = grid_pushes || g.force != 0.0;
+            s.joint = points_push && grid_pushes;
+            return commit(s);
+        }
+        // Not from that start (a note let go or struck anew): from each side's own solution.
+        solve_points(s, predicted, law, k, pad);
     }
     const double pad_force = pad_force_at(pad, pad != nullptr ? pad->x : 0.0);
     const bool points_push =
@@ -402,7 +405,8 @@ void PointContact::pads_jacobian(State& s, double k, const Grid& grid, const Pad
 }
 
 template <class Matrix>
-void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated) const {
+bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated,
+                                   bool may_fail) const {
     // Newton on the points' increments r_p (and the pad's x, and the fingers' height steps), the
     // grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their response
     // to a push), and the fingers' pad points too (GridPads: their forces join the grid's in R_p
@@ -466,7 +470,9 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
     double norm = residual_at(r, x, s.height, !evaluated);
     int iteration = 0;
     bool stalled = false;
-    for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
+    // (a start carried on from the last steps that needs more than a few iterations is a poor one)
+    const int iterations = may_fail ? 8 : kMaxNewton;
+    for (; iteration < iterations && norm > tolerance; ++iteration) {
         points_jacobian(s, law, k, r, jacobian);
         const auto e = static_cast<Eigen::Index>(last);
         if (pad != nullptr) pad_border(s, k, *pad, pad_slope, jacobian);
@@ -504,7 +510,7 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
         if (pad != nullptr) step(e) = -pad_residual;
         for (std::size_t f = 0; f < fingers; ++f) step(static_cast<Eigen::Index>(first_height + f)) = -s.height_residual[f];
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
-        double t = 1.0;
+        double t = 1.0, trial_x = 0.0, trial_norm = 0.0;
         bool decreased = false;
         // Backtracking is for the kink of [eta]_+ far from the solution; near it, a full Newton
         // step that does not lower the residual finds it at its round-off floor (a stiff pad's
@@ -512,10 +518,10 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
         const int halvings = norm <= 1e-9 * scale ? 1 : 40;
         for (int halving = 0; halving < halvings; ++halving, t *= 0.5) {
             for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
-            const double trial_x = pad != nullptr ? x + t * step(e) : 0.0;
+            trial_x = pad != nullptr ? x + t * step(e) : 0.0;
             for (std::size_t f = 0; f < fingers; ++f)
                 s.height_candidate[f] = s.height[f] + t * step(static_cast<Eigen::Index>(first_height + f));
-            const double trial_norm = residual_at(candidate, trial_x, s.height_candidate, true);
+            trial_norm = residual_at(candidate, trial_x, s.height_candidate, true);
             if (trial_norm < norm) {
                 r.swap(candidate);
                 s.height.swap(s.height_candidate);
@@ -527,25 +533,30 @@ void PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
         }
         if (!decreased) {
             stalled = true;
-            if (converged(norm, step, stalled, scale)) {
+            if (trial_norm <= 2.0 * norm && converged(trial_norm, step, stalled, scale)) {
                 // At the round-off floor, the last trial as good as r: it is the one evaluated
                 // (the fingers' state is its trial's), so it is the answer.
                 r.swap(candidate);
                 s.height.swap(s.height_candidate);
-                x = pad != nullptr ? x + t * 2.0 * step(e) : 0.0;
+                x = trial_x;
+                norm = trial_norm;
             } else {
                 residual_at(r, x, s.height, true);  // back to r's quotients and grid solutions
             }
             break;
         }
     }
-    if (!converged(norm, step, stalled, scale))
+    // (a held note's start: taken only where Newton got to round-off, as it does from a good one)
+    if (may_fail && !(norm <= tolerance || (stalled && converged(norm, step, stalled, scale)))) return false;
+    if (!converged(norm, step, stalled, scale)) {
         throw SolverError("point contact: the joint Newton solve of " + std::to_string(count) +
                           (pad != nullptr ? " points, a pad" : " points") +
                           " and the grid's obstacle points did not converge (residual " + std::to_string(norm) + " m)");
+    }
     s.iterations = std::max(s.iterations, iteration);
     for (std::size_t p : awake) s.force[p] = s.quotient[p];
     if (pad != nullptr) pad->x = x;
+    return true;
 }
 
 template <class Matrix>

@@ -188,7 +188,10 @@ private:
     template <class Matrix>
     void pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope, Matrix& jacobian) const;
     template <class Matrix>
-    void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated) const;
+    // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
+    // does not converge (else throws SolverError).
+    bool solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated,
+                         bool may_fail = false) const;
     template <class Matrix>
     void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
     double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
