@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <numbers>
 #include <string>
@@ -20,8 +21,8 @@
 namespace fretbuzz {
 namespace {
 
-Case small_bass(double fs, double duration, double amplitude = 0.2e-3) {
-    return testing::small_bass(fs, duration, amplitude);
+Case small_bass(double fs, double duration, double amplitude = 0.2e-3, std::size_t modes = 255) {
+    return testing::small_bass(fs, duration, amplitude, modes);
 }
 
 struct Ledger {
@@ -180,8 +181,8 @@ double cents(double f, double reference) { return 1200.0 * std::log2(f / referen
 // of the modes above it (nu_j / (j nu_1) - 1 is +4.6 cents at j = 2, +5 at j = 4), so a note
 // stopped on the measured table sounds where those modes put it, up to 7 cents off
 // nu_1 L / (L - x_k) (see docs/validation.md). The model table isolates the scheme.
-Case small_model_bass(double fs, double duration, double kB = 3.5e-5) {
-    Case c = small_bass(fs, duration);
+Case small_model_bass(double fs, double duration, double kB = 3.5e-5, std::size_t modes = 255) {
+    Case c = small_bass(fs, duration, 0.2e-3, modes);
     const double nu0 = std::sqrt(c.string.tension_n / c.string.linear_density) / (2.0 * c.string.length_m);
     for (std::size_t j = 0; j < c.mode_count(); ++j) {
         const double n = static_cast<double>(j + 1);
@@ -211,8 +212,7 @@ INSTANTIATE_TEST_SUITE_P(Frets, StoppedNote, ::testing::Values(1, 5, 7, 12));
 // Without bending stiffness (B = 0) the stopped string is the ideal one, pinned at the fret:
 // the few cents of the stiff string (the string held over the fret by the finger is partly
 // clamped there, which raises a stiff string's pitch; see docs/validation.md) are gone, and
-// what is left is the grid's (+0.5 cents at fret 1, +1.0 at fret 12 on 255 modes, halved on
-// 511 modes).
+// what is left is the truncation's (the crown acts at its exact position beside the finger).
 TEST(Finger, AnIdealStringStoppedAtAFretSoundsAtTheStoppedLengthsPitchWithinTheGridsError) {
     Case open = small_model_bass(100000.0, 1.3, 0.0);
     const double f_open = fundamental(open, 0.3, open.modes.frequency_hz[0]);
@@ -220,13 +220,37 @@ TEST(Finger, AnIdealStringStoppedAtAFretSoundsAtTheStoppedLengthsPitchWithinTheG
     for (const std::size_t k : {std::size_t{1}, std::size_t{12}}) {
         Case stopped = open;
         stopped.add_fret_finger(k, "fret");
-        // Beside the finger the fret's crown takes its nearest grid point: the string stops there.
-        const double dx = open.grid_step();
-        const double fret = std::round(open.fret_positions_m[k - 1] / dx) * dx;
+        const double fret = open.fret_positions_m[k - 1];
         const double expected = f_open * length / (length - fret);
         const double f = fundamental(stopped, 0.3, expected);
+        std::printf("fret %zu: %.3f cents from the exact fret's pitch\n", k, cents(f, expected));
         EXPECT_LT(std::abs(cents(f, expected)), 1.5) << "fret " << k << ": " << f << " Hz, expected " << expected;
     }
+}
+
+// The crown the finger presses the string onto acts at its exact position, so the stopped length
+// is the same on any mode count: the note's pitch moves with the truncation alone. On its nearest
+// grid point, fret 6 moves by +3.8 mm on 110 modes (7.8 mm apart) and by -1.0 mm on 400: 13.5
+// cents apart on top of the truncation's.
+TEST(Finger, AStoppedNotesPitchHardlyDependsOnTheModeCount) {
+    constexpr std::size_t kFret = 6;
+    const auto pitch = [&](std::size_t modes, bool on_grid) {
+        Case c = small_model_bass(100000.0, 1.3, 0.0, modes);
+        if (on_grid) {  // each crown on its nearest grid point (the obstacle as it was sampled)
+            c.obstacle_height_m = c.obstacle_on_grid();
+            c.point_obstacles.clear();
+        }
+        c.add_fret_finger(kFret, "fret");
+        const double length = c.string.length_m;
+        const double expected = c.modes.frequency_hz[0] * length / (length - c.fret_positions_m[kFret - 1]);
+        return fundamental(c, 0.3, expected);
+    };
+    const double exact_110 = pitch(110, false), exact_400 = pitch(400, false);
+    const double grid_110 = pitch(110, true), grid_400 = pitch(400, true);
+    std::printf("fret %zu: %.4f Hz (110 modes), %.4f Hz (400): %.3f cents apart; crowns on the grid: %.4f Hz, %.4f Hz: %.3f cents\n",
+                kFret, exact_110, exact_400, cents(exact_110, exact_400), grid_110, grid_400, cents(grid_110, grid_400));
+    EXPECT_LT(std::abs(cents(exact_110, exact_400)), 0.25 * std::abs(cents(grid_110, grid_400)));
+    EXPECT_LT(std::abs(cents(exact_110, exact_400)), 3.0);  // the truncation's: 1.9 cents at fret 5
 }
 
 TEST(Finger, TheOpenStringReturnsWhenTheFingerLifts) {

@@ -159,9 +159,8 @@ void Engine::add_finger_room() {
     // stepper is given the finger (lifted right after the first step) so that its room exists
     // before any note. Its pad is as wide as any fret's, so moving it allocates nothing.
     if (case_.fret_positions_m.empty()) return;
-    // Beside the finger's pad, exact frets act at their nearest grid points (Plan): the finger
-    // is placed, and the frets reported, where they act.
-    case_ = with_points_on_grid(case_);
+    // Exact frets keep their exact positions beside the finger wherever it is placed (the Plan
+    // solves it with them), so the frets stay where the case puts them whatever the mode count.
     const std::size_t frets = case_.fret_positions_m.size();
     FingerSpec spare = case_.fret_finger(1, "the engine's finger: fret");
     for (std::size_t k = 1; k <= frets; ++k) {

@@ -85,7 +85,7 @@ void Finger::press(double force_n, long from, long ramp_steps) {
 }
 
 void Finger::rest() {
-    z_ = dz_ = 0.0;
+    z_ = dz_ = dz_before_ = 0.0;
     psi_curr_ = psi_prev_ = 0.0;
     contact_force_ = 0.0;
     touched_obstacle_ = false;
@@ -99,6 +99,7 @@ double Finger::energy() const {
 void Finger::start(std::span<const double> u0, std::span<const double> u1) {
     const double z0 = *std::max_element(u0.begin(), u0.end()) + spec_.initial_gap_m;
     dz_ = -spec_.initial_velocity * dt_;  // toward the fretboard: down in the solve's orientation
+    dz_before_ = dz_;
     z_ = z0 + dz_;
     psi_prev_ = psi_curr_ = 0.0;
     for (std::size_t p = 0; p < pad_.size(); ++p) {
@@ -127,10 +128,12 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         pt.y = (x - z_) - z_next_minus_z;
         detail::MonotoneValue v{x - w, std::abs(x) + std::abs(w), 1.0};
         pt.obstacle_force = 0.0;
+        double obstacle_slope = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
             const auto [quotient, slope] = obstacle_law_.quotient_and_slope(obstacle_at, r_o);
             pt.obstacle_force = quotient;
+            obstacle_slope = slope;
             v.slope += k_ * slope;
             v.h -= k_ * pt.obstacle_force;
             v.scale += k_ * pt.obstacle_force;
@@ -146,6 +149,8 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         v.scale += k_ * (std::abs(pt.push) + push_slope * (std::abs(z_) + std::abs(s) + std::abs(c)));
         v.slope = psi_slope + k_ * push_slope;
         pt.slope = -push_slope * psi_slope / v.slope;  // d(push)/dZ: dy/dZ = -psi'/h'
+        pt.response = -(obstacle_slope + push_slope) / v.slope;  // dF/dw = (1/h' - 1) / k, h' = 1 + k (...)
+        pt.push_response = push_slope / v.slope;
         return v;
     };
     if (detail::monotone_root(evaluate, guess, kMaxIterations) < 0) fail(spec_, "pad point", pt.x);
@@ -154,47 +159,68 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
 }
 
 double Finger::step(long n, std::span<const double> predicted, std::span<double> force) {
+    prepare(n);
+    trial(predicted, force);
+    return commit();
+}
+
+void Finger::prepare(long n) {
     const std::size_t count = pad_.size();
-    const double press = pressing_force_at_step(n);
+    press_ = pressing_force_at_step(n);
     const double z_prev = z_ - dz_;
     for (std::size_t p = 0; p < count; ++p) {
         c_[p] = u_prev_[p] - z_prev;
+        guess_[p] = 2.0 * u_curr_[p] - u_prev_[p];  // u^{n+1} carried on at its last rate
         // Hunt-Crossley loss, its coefficient taken at level n so the step stays exactly lossy.
         rho_[p] = spec_.loss * law_.force(u_curr_[p] - z_) / (2.0 * dt_);
     }
-    std::vector<Point>& pts = points_;
-    pts.resize(count);
+}
+
+double Finger::sweep(std::span<const double> predicted, double s, double& slope) {
     // G(s) = m (s - dz) + F - dx sum push(s), s = z^{n+1} - z^n: increasing, slope >= m.
-    const auto evaluate = [&](double s, double& slope) {
-        double push = 0.0, push_slope = 0.0;
-        for (std::size_t p = 0; p < count; ++p) {
-            pts[p] = solve_point(p, predicted[p], s, guess_[p]);
-            guess_[p] = pts[p].x;
-            push += pts[p].push;
-            push_slope += pts[p].slope;
-        }
-        contact_force_ = dx_ * push;
-        slope = m_ - dx_ * push_slope;
-        return m_ * (s - dz_) + press - contact_force_;
-    };
-    double s = dz_ + (contact_force_ - press) / m_;
+    const std::size_t count = pad_.size();
+    points_.resize(count);  // (within the reserved room)
+    double push = 0.0, push_slope = 0.0;
+    for (std::size_t p = 0; p < count; ++p) {
+        points_[p] = solve_point(p, predicted[p], s, guess_[p]);
+        guess_[p] = points_[p].x;
+        push += points_[p].push;
+        push_slope += points_[p].slope;
+    }
+    contact_force_ = dx_ * push;
+    slope = m_ - dx_ * push_slope;
+    return m_ * (s - dz_) + press_ - contact_force_;
+}
+
+void Finger::set_residual(double s, double G, double slope) {
+    s_ = s;
+    g_slope_ = slope;
+    residual_ = G / m_;
+    // Round-off in G: its terms', and its slope times the rounding of z^{n+1} = z^n + s, which
+    // every pad point's contact sees (a stiff pad: the pad's terms dominate).
+    residual_size_ = (m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press_) + std::abs(contact_force_) +
+                      slope * (std::abs(z_) + std::abs(s))) / m_;
+}
+
+void Finger::trial(std::span<const double> predicted, std::span<double> force) {
+    const std::size_t count = pad_.size();
+    double s = dz_ + (contact_force_ - press_) / m_;
     double slope = m_;
-    double G = evaluate(s, slope);
+    double G = sweep(predicted, s, slope);
     double lo = s, hi = s;
     (G > 0.0 ? lo : hi) = s - G / m_;
     int it = 0;
     for (; it < kMaxIterations; ++it) {
-        // Round-off in G: its terms', and its slope times the rounding of z^{n+1} = z^n + s,
-        // which every pad point's contact sees (a stiff pad: the pad's terms dominate).
-        const double scale = m_ * (std::abs(s) + std::abs(dz_)) + std::abs(press) + std::abs(contact_force_) +
-                             slope * (std::abs(z_) + std::abs(s));
-        if (std::abs(G) <= 8.0 * kEps * scale || hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi))) break;
+        set_residual(s, G, slope);
+        if (std::abs(residual_) <= 8.0 * kEps * residual_size_ ||
+            hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi)))
+            break;
         double next = s - G / slope;
         const bool newton = next > lo && next < hi;
         if (!newton) next = 0.5 * (lo + hi);
         const double previous = s, g_before = G;
         s = next;
-        G = evaluate(s, slope);
+        G = sweep(predicted, s, slope);
         (G > 0.0 ? hi : lo) = s;
         if (std::abs(s - previous) <= kEps * std::abs(s)) break;
         // A Newton step of a few ulps of z that does not halve G: G is at the round-off of
@@ -205,13 +231,26 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     }
     if (it == kMaxIterations) fail(spec_, "finger height", s);
     max_iterations_ = std::max(max_iterations_, it + 1);
+    set_residual(s, G, slope);
+    for (std::size_t p = 0; p < count; ++p) force[p] = points_[p].obstacle_force - points_[p].push;
+}
 
+void Finger::trial_at(std::span<const double> predicted, double s, std::span<double> force) {
+    double slope = m_;
+    const double G = sweep(predicted, s, slope);
+    set_residual(s, G, slope);
+    for (std::size_t p = 0; p < pad_.size(); ++p) force[p] = points_[p].obstacle_force - points_[p].push;
+}
+
+double Finger::commit() {
+    const std::size_t count = pad_.size();
+    const std::vector<Point>& pts = points_;
+    const double press = press_, s = s_;
     double obstacle_psi = 0.0, psi_next = 0.0, lost = 0.0;
     touched_obstacle_ = false;
     for (std::size_t p = 0; p < count; ++p) {
         const Point& pt = pts[p];
         touched_obstacle_ = touched_obstacle_ || pt.obstacle_force != 0.0;
-        force[p] = pt.obstacle_force - pt.push;
         obstacle_psi += pt.obstacle_psi;
         psi_next += law_.potential(pt.y);
         const double r = pt.y - c_[p];
@@ -224,6 +263,7 @@ double Finger::step(long n, std::span<const double> predicted, std::span<double>
     psi_prev_ = psi_curr_;
     psi_curr_ = psi_next;
     z_ += s;
+    dz_before_ = dz_;
     dz_ = s;
     return obstacle_psi;
 }

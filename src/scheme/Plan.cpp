@@ -18,11 +18,11 @@ bool has_grid_obstacle(const Case& c) {
 bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
     const double dx = c.grid_step();
     const double x = (std::round(p.x_m / dx)) * dx;
-    // A finger's pad, or pluckers' pads (more than one: a single plucker joins the points' own
-    // solve, beside the grid's obstacle points too), would couple with off-grid points through
-    // the modes in the same step, and no solve takes them together: beside them the points join
-    // the grid, where every equation is its own.
-    const bool pads_on_grid = !c.fingers.empty() || c.plucks.size() > 1;
+    // Pluckers' pads (more than one, or one beside a finger: a single plucker joins the points'
+    // own solve, fingers join it through their pads' grid points) would couple with off-grid
+    // points through the modes in the same step, and no solve takes them together: beside them
+    // the points join the grid, where every equation is its own.
+    const bool pads_on_grid = c.plucks.size() > 1 || (!c.fingers.empty() && !c.plucks.empty());
     return pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 
@@ -73,9 +73,10 @@ void Plan::place_points(const Case& c) {
     for (PointObstacle& p : points)
         p.height_m = oriented(p.height_m);
     if (!all_on_grid) {
-        // Beside obstacle points on the grid (a fretboard's board under its frets), the points'
-        // equations and the grid's are solved together: their couplings phi(x_p) . S_i are kept.
-        point_contact_ = PointContact(basis_, std::move(points), has_grid_obstacle(c));
+        // Beside obstacle points on the grid (a fretboard's board under its frets) or a finger's
+        // pad, the points' equations and the grid's are solved together: their couplings
+        // phi(x_p) . S_i are kept.
+        point_contact_ = PointContact(basis_, std::move(points), has_grid_obstacle(c) || !c.fingers.empty());
         return;
     }
     for (const PointObstacle& p : points) {

@@ -98,6 +98,9 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     rubbing_.reserve(q0.size());
     pad_w_.reserve(q0.size());  // any pad, even one moved at run time (place_finger)
     pad_f_.reserve(q0.size());
+    joint_pads_.reserve(q0.size());
+    joint_w_.reserve(q0.size());
+    joint_trial_.reserve(q0.size());
     others_.reserve(q0.size());
     std::size_t k = 0;  // the parts are in the specs' order
     for (const FingerSpec& spec : plan.fingers()) claim_pad(parts_[k++].pad(), spec.key);
@@ -616,9 +619,11 @@ void Stepper::solve_contacts() {
     // The exact plucker beside awake obstacle points of the grid: one solve with them.
     const bool pluck_with_grid = !active_.empty() && exact_pluck_acts();
     if (points_.awake == 0 && !pluck_with_grid) solve_exact_pluck();  // (else solved with the points)
-    // Exact points beside awake obstacle points of the grid: both in one solve (see PointContact).
-    const bool joint =
-        pluck_with_grid || (plan_.point_contact().grid_coupled() && points_.awake != 0 && !active_.empty());
+    // Exact points beside awake obstacle points of the grid or a finger's pad: all in one solve
+    // (see PointContact).
+    const bool coupled_points = plan_.point_contact().grid_coupled() && points_.awake != 0;
+    const bool fingers_with_points = coupled_points && fingers_on();
+    const bool joint = pluck_with_grid || (coupled_points && !active_.empty()) || fingers_with_points;
     points_pushed_ = points_.awake != 0 && !joint && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
@@ -639,7 +644,7 @@ void Stepper::solve_contacts() {
     const std::vector<double>& g = plan_.obstacle();
     const PenaltyContact& law = plan_.contact();
     const double k = plan_.force_to_displacement();
-    if (!parts_.empty()) solve_fingers(use_transform);
+    if (!parts_.empty()) solve_fingers(use_transform, fingers_with_points);
     // Many points (a string landing on a long obstacle): their equations together, the same
     // solutions (see PenaltyContact::solve_all).
     const bool together = use_transform || joint;
@@ -659,7 +664,7 @@ void Stepper::solve_contacts() {
             solve_b_[p] = g[i] - grid[i] - eta_prev[i];
         }
         if (joint)
-            solve_points_with_grid(pluck_with_grid);
+            solve_points_with_grid(pluck_with_grid, fingers_with_points);
         else
             law.solve_all(solve_a_, solve_b_, k, solutions_);
     }
@@ -725,21 +730,39 @@ void Stepper::predict_points(std::span<const std::size_t> points) {
     plan_.predicted_at(others_, predicted_, q_, d_, grid_);
 }
 
-void Stepper::solve_fingers(bool use_transform) {
+bool Stepper::fingers_on() const {
+    for (std::size_t f = 0; f < parts_.fingers().size(); ++f)
+        if (parts_.on(f)) return true;
+    return false;
+}
+
+void Stepper::take_part(const PlayedPart& part, double obstacle_psi, std::span<const double> force) {
+    psi_curr_ += obstacle_psi;
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
+    touched_obstacle_ = touched_obstacle_ || part.touched_obstacle();
+    for (std::size_t p = 0; p < force.size(); ++p)
+        if (force[p] != 0.0) forces_.emplace_back(part.pad()[p], force[p]);
+}
+
+void Stepper::solve_fingers(bool use_transform, bool with_points) {
     bool acted = false;
-    const auto solve = [&](PlayedPart& part) {
+    joint_pads_.clear();
+    joint_w_.clear();
+    const auto solve = [&](PlayedPart& part, std::size_t k) {
         // The pad's predicted heights: from the transform, or the forecast and rows (into grid_
         // at the pad's points, which are not active points: their values stay).
         if (!use_transform) predict_points(part.pad());
         pad_w_.clear();
         for (std::size_t i : part.pad()) pad_w_.push_back(loaded_ ? grid_[i] + gestures_at_grid(i) : grid_[i]);
+        if (with_points && k < parts_.fingers().size()) {  // stepped in the points' solve
+            parts_.finger(k).prepare(n_);
+            joint_pads_.insert(joint_pads_.end(), part.pad().begin(), part.pad().end());
+            joint_w_.insert(joint_w_.end(), pad_w_.begin(), pad_w_.end());
+            return;
+        }
         pad_f_.assign(pad_w_.size(), 0.0);
-        psi_curr_ += part.step(n_, pad_w_, pad_f_);
-        stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, part.max_iterations());
-        touched_obstacle_ = touched_obstacle_ || part.touched_obstacle();
+        take_part(part, part.step(n_, pad_w_, pad_f_), pad_f_);
         acted = acted || part.acted();
-        for (std::size_t p = 0; p < pad_f_.size(); ++p)
-            if (pad_f_[p] != 0.0) forces_.emplace_back(part.pad()[p], pad_f_[p]);
     };
     for (std::size_t k = 0; k < parts_.size(); ++k) {
         if (!parts_.on(k) || k == exact_pluck_) continue;  // (the exact plucker has its own solve)
@@ -754,10 +777,86 @@ void Stepper::solve_fingers(bool use_transform) {
             parts_.set_on(k, false);
             continue;
         }
-        solve(parts_[k]);
+        solve(parts_[k], k);
     }
     if (acted && !loaded_) ++stats_.played_steps;  // (load_gestures counted a loaded step)
 }
+
+namespace {
+// The fingers on the string as the points' solve sees them (GridPads): their pads one after the
+// other, each finger's trial from its pad's predictions raised by the points' push.
+class FingerPads final : public GridPads {
+public:
+    FingerPads(PlayedParts& parts, std::span<const std::size_t> points, std::span<const double> w, std::vector<double>& trial)
+        : parts_(parts), points_(points), w_(w), trial_(trial) {
+        each([&](Finger&, std::size_t, std::size_t, std::size_t) { ++count_; });
+    }
+    std::span<const std::size_t> points() const override { return points_; }
+    std::size_t heights() const override { return count_; }
+    std::size_t end(std::size_t f) const override {
+        std::size_t last = 0;
+        each([&](Finger&, std::size_t k, std::size_t at, std::size_t n) {
+            if (k == f) last = at + n;
+        });
+        return last;
+    }
+    void solve(std::span<const double> shift, std::span<double> force, std::span<double> height, std::span<double> residual,
+               std::span<double> size) override {
+        raise(shift);
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
+            f.trial(std::span<const double>(trial_).subspan(at, n), force.subspan(at, n));
+            height[k] = f.height_step();
+            residual[k] = f.residual();
+            size[k] = f.residual_size();
+        });
+    }
+    void guess(std::span<double> height) const override {
+        each([&](Finger& f, std::size_t k, std::size_t, std::size_t) { height[k] = f.height_guess(); });
+    }
+    void trial(std::span<const double> shift, std::span<const double> height, std::span<double> force,
+               std::span<double> residual, std::span<double> size) override {
+        raise(shift);
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
+            f.trial_at(std::span<const double>(trial_).subspan(at, n), height[k], force.subspan(at, n));
+            residual[k] = f.residual();
+            size[k] = f.residual_size();
+        });
+    }
+    void slopes(std::span<double> response, std::span<double> lift, std::span<double> pull,
+                std::span<double> slope) const override {
+        each([&](Finger& f, std::size_t k, std::size_t at, std::size_t n) {
+            for (std::size_t p = 0; p < n; ++p) {
+                response[at + p] = f.response(p);
+                lift[at + p] = f.lift(p);
+                pull[at + p] = f.pull() * f.lift(p);
+            }
+            slope[k] = f.residual_slope();
+        });
+    }
+
+private:
+    void raise(std::span<const double> shift) {
+        trial_.resize(w_.size());  // (within the reserved capacity)
+        for (std::size_t r = 0; r < w_.size(); ++r) trial_[r] = w_[r] + shift[r];
+    }
+    // f(finger, its index among those on, where its points start, how many).
+    template <class F>
+    void each(F&& f) const {
+        std::size_t at = 0, index = 0;
+        for (std::size_t k = 0; k < parts_.fingers().size(); ++k) {
+            if (!parts_.on(k)) continue;
+            Finger& finger = parts_.finger(k);
+            f(finger, index++, at, finger.pad().size());
+            at += finger.pad().size();
+        }
+    }
+    PlayedParts& parts_;
+    std::span<const std::size_t> points_;
+    std::span<const double> w_;
+    std::vector<double>& trial_;
+    std::size_t count_ = 0;
+};
+}  // namespace
 
 void Stepper::load_gestures() {
     for (std::size_t g = 0; g < gestures_.size(); ++g) {
@@ -852,10 +951,12 @@ bool Stepper::solve_points() {
     return pushed;
 }
 
-void Stepper::solve_points_with_grid(bool with_pluck) {
+void Stepper::solve_points_with_grid(bool with_pluck, bool with_fingers) {
     const PointContact& points = plan_.point_contact();
     if (!points.empty()) predict_exact_points();
     PointContact::Grid grid{active_, solve_a_, solve_b_, solutions_, plan_.basis().grid_step()};
+    FingerPads pads(parts_, joint_pads_, joint_w_, joint_trial_);
+    if (with_fingers) grid.pads = &pads;
     const double k = plan_.force_to_displacement();
     if (with_pluck) {
         Pluck& pluck = exact_pluck();
@@ -866,6 +967,20 @@ void Stepper::solve_points_with_grid(bool with_pluck) {
         take_pluck_force(pluck.conclude(n_, pad.x));
     } else {
         points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid);
+    }
+    if (with_fingers) {
+        // The fingers' last trial is the joint solution: their steps move on with it.
+        bool acted = false;
+        std::size_t at = 0;
+        for (std::size_t f = 0; f < parts_.fingers().size(); ++f) {
+            if (!parts_.on(f)) continue;
+            Finger& finger = parts_.finger(f);
+            const std::size_t n = finger.pad().size();
+            take_part(finger, finger.commit(), std::span<const double>(points_.pad_force).subspan(at, n));
+            acted = acted || finger.acted();
+            at += n;
+        }
+        if (acted && !loaded_) ++stats_.played_steps;
     }
     if (points_.joint) ++stats_.joint_steps;
     stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, points_.iterations);
@@ -896,7 +1011,7 @@ void Stepper::report_point_forces() {
 
 bool Stepper::points_by_rows() const {
     const std::size_t pushes = forces_.size() + points_.awake;  // (resting points push nothing)
-    return pad_points_ == 0 && points_.awake <= kernels::kMaxPassRows &&
+    return points_.awake <= kernels::kMaxPassRows &&
            pushes <= Plan::kMaxInlinePushes && (forces_.empty() || plan_.pushes_inline(forces_.size()));
 }
 
@@ -934,13 +1049,20 @@ void Stepper::advance_with_points() {
                 which[count] = p;
                 predict_rows[count++] = points.row(p).data();
             }
-        const bool grid_fits = !active_.empty() && count + active_.size() <= kernels::kMaxPassRows &&
-                               active_.size() <= plan_.transform_threshold();
-        if (grid_fits)
-            for (std::size_t i : active_) {
+        // (and the fingers' pads, solved again at the next step)
+        const std::size_t solved = active_.size() + pad_points_;
+        const bool grid_fits = solved != 0 && count + solved <= kernels::kMaxPassRows &&
+                               solved <= plan_.transform_threshold();
+        if (grid_fits) {
+            const auto add = [&](std::size_t i) {
                 forecast_.points[forecast_.count++] = i;
                 predict_rows[count++] = plan_.basis().row(i).data();
-            }
+            };
+            for (std::size_t i : active_) add(i);
+            parts_.each_on([&](const PlayedPart& part) {
+                for (std::size_t i : part.pad()) add(i);
+            });
+        }
         pass.predict_rows = predict_rows.data();
         pass.predict_count = count;
         pass.predicted = values.data();

@@ -72,6 +72,18 @@ TEST_P(FrettedNote, SoundsAtTheHeldStringsPitch) {
 
 INSTANTIATE_TEST_SUITE_P(Bass, FrettedNote, ::testing::Values(1, 5, 12));
 
+TEST(RealtimeFinger, TheFretsStayWhereTheCasePutsThem) {
+    // The voice drops modes (a coarser grid), but its crowns stay exact points beside the
+    // finger: each fret acts, and the finger stops the string, at the case's x_n.
+    const Case c = load_case("bass-pluck");
+    Engine engine(c, {});
+    ASSERT_LT(engine.voice_case().mode_count(), c.mode_count());
+    ASSERT_EQ(static_cast<std::size_t>(engine.fret_count()), c.fret_positions_m.size());
+    EXPECT_EQ(engine.voice_case().point_obstacles.size(), c.point_obstacles.size());
+    for (int k = 1; k <= engine.fret_count(); ++k)
+        EXPECT_EQ(engine.fret_position_m(k), c.fret_positions_m[static_cast<std::size_t>(k - 1)]) << "fret " << k;
+}
+
 TEST(RealtimeFinger, LiftingTheFingerReturnsToTheOpenPitch) {
     Engine engine(load_case("bass-pluck"), {});
     std::vector<float> out;

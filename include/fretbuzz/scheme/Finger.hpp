@@ -23,7 +23,9 @@
 // increasing in u_i^{n+1}); the finger's own equation G(z^{n+1}) = 0 is then increasing in
 // z^{n+1} (the contact force on it can only fall as it rises). Both are solved by Newton's
 // method inside a bracket (the slopes are at least 1 and M/dt^2), with the finger's slope
-// from the inner solutions: a nested scalar solve, no global system. Failure throws.
+// from the inner solutions: a nested scalar solve, no global system. Failure throws. Beside
+// exact points (PointContact::GridPads) s = z^{n+1} - z^n is instead one unknown of their Newton
+// solve: trial_at() solves each pad point at a given s, and G(s) is one more row.
 #include <algorithm>
 #include <cstddef>
 #include <span>
@@ -52,6 +54,31 @@ public:
     // force per unit length on the string at each pad point (finger and obstacle) into
     // `force` and returns sum_i Psi_obstacle(eta_i^{n+1}) over the pad.
     double step(long n, std::span<const double> predicted, std::span<double> force) override;
+    // The same step in parts, for a solve that tries several predictions of the pad (exact
+    // points beside it, whose forces move the pad through the modes): prepare(n), then any
+    // number of trials (nothing moves on), then commit() with the last trial's solution.
+    void prepare(long n);
+    // The pad's forces per unit length for predictions w (pad order), as step() writes them,
+    // the finger's height solved (height_step(): its s = z^{n+1} - z^n).
+    void trial(std::span<const double> predicted, std::span<double> force);
+    // A trial at a given s, the finger's height one more unknown of a larger Newton solve: each
+    // pad point's own equation only. residual() is then the finger's equation at s.
+    void trial_at(std::span<const double> predicted, double s, std::span<double> force);
+    double height_step() const { return s_; }
+    // s carried on from the last two steps (a start for a solve of the next).
+    double height_guess() const { return 2.0 * dz_ - dz_before_; }
+    // The finger's equation at the last trial, G(s) / (M/dt^2) (m; G = 0 at trial()'s s), the
+    // size its round-off is relative to, and its slope in s.
+    double residual() const { return residual_; }
+    double residual_size() const { return residual_size_; }
+    double residual_slope() const { return g_slope_ / m_; }
+    // The last trial's slopes at pad point p: its force per unit length against its prediction
+    // at a fixed s, and against s; the residual's against p's prediction is pull() * lift(p).
+    double response(std::size_t p) const { return points_[p].response; }
+    double lift(std::size_t p) const { return points_[p].push_response; }
+    double pull() const { return -dx_ / m_; }
+    // Moves the state on with the last trial; returns step()'s sum of Psi_obstacle.
+    double commit();
     std::span<const double> current() const override { return u_curr_; }
     std::span<const double> previous() const override { return u_prev_; }
 
@@ -92,8 +119,13 @@ private:
         double push = 0.0;   // Q + rho (y - c): force per unit length on the finger
         double slope = 0.0;  // d(push)/dZ through this point's inner solution
         double obstacle_force = 0.0, obstacle_psi = 0.0;
+        double response = 0.0;       // dF/dw at a fixed finger height: (1/h' - 1) / k
+        double push_response = 0.0;  // d(push)/dw at a fixed finger height
     };
     Point solve_point(std::size_t p, double w, double s, double guess) const;
+    // Every pad point's solution at s (into points_); returns G(s), its slope into `slope`.
+    double sweep(std::span<const double> predicted, double s, double& slope);
+    void set_residual(double s, double G, double slope);
     double pressing_force_at_step(long n) const;
 
     FingerSpec spec_;
@@ -106,8 +138,11 @@ private:
     std::vector<double> u_curr_, u_prev_, guess_;  // u^n, u^{n-1}, last u^{n+1} (pad order)
     std::vector<double> c_, rho_;                  // per step: u^{n-1} - z^{n-1}, loss coefficient
     double z_ = 0.0, dz_ = 0.0;                    // z^n and z^n - z^{n-1} (difference form keeps digits)
+    double dz_before_ = 0.0;                       // z^{n-1} - z^{n-2}
     double psi_curr_ = 0.0, psi_prev_ = 0.0;       // sum_i Psi_f(u_i - z) at n and n-1
     std::vector<Point> points_;                    // scratch: the inner solutions
+    double press_ = 0.0, s_ = 0.0, g_slope_ = 0.0;  // the step's pressing force; the last trial's s and dG/ds
+    double residual_ = 0.0, residual_size_ = 0.0;   // the last trial's G / m_ and its size
     double work_ = 0.0, loss_ = 0.0, contact_force_ = 0.0;
     int max_iterations_ = 0;
     bool touched_obstacle_ = false;

@@ -47,6 +47,42 @@ protected:
     ~PadPress() = default;
 };
 
+// Parts on grid points with a solve of their own (fingers, a lumped mass each over a pad of grid
+// points), solved with the points beside the grid's obstacle points: a point's force f_p raises
+// pad point i's prediction by k c_p M_pi f_p, and pad point i's force F_i moves point p by
+// k dx M_pi F_i. Each finger's height step s is one more unknown of the points' Newton solve; its
+// pad points' equations are one scalar each given s (solved inside every evaluation, as the
+// grid's obstacle points are), and the finger's own equation G(s) = 0 is one more row.
+class GridPads {
+public:
+    // Their grid points (every pad's, one after the other).
+    virtual std::span<const std::size_t> points() const = 0;
+    // How many fingers, and where finger f's points end in points().
+    virtual std::size_t heights() const = 0;
+    virtual std::size_t end(std::size_t f) const = 0;
+    // Each finger's own solve for the pads' predictions raised by `shift` (points() order): each
+    // point's force per unit length on the string (solve orientation) into `force`, each finger's
+    // s into `height`, its residual (zero) into `residual`, its round-off size into `size`.
+    virtual void solve(std::span<const double> shift, std::span<double> force, std::span<double> height,
+                       std::span<double> residual, std::span<double> size) = 0;
+    // Each finger's s carried on from its last steps (Newton's start for a held note).
+    virtual void guess(std::span<double> height) const = 0;
+    // The same at given heights s: each pad point's equation alone; `residual` receives each
+    // finger's equation G(s) / (M/dt^2) (m).
+    virtual void trial(std::span<const double> shift, std::span<const double> height, std::span<double> force,
+                       std::span<double> residual, std::span<double> size) = 0;
+    // The last solve's or trial's slopes: at each pad point, dF_i/dw_i (s fixed) into `response`,
+    // dF_i/ds into `lift`, d residual/dw_i into `pull`; each finger's d residual/ds into `slope`.
+    virtual void slopes(std::span<double> response, std::span<double> lift, std::span<double> pull,
+                        std::span<double> slope) const = 0;
+
+protected:
+    GridPads() = default;
+    GridPads(const GridPads&) = default;
+    GridPads& operator=(const GridPads&) = default;
+    ~GridPads() = default;
+};
+
 class PointContact {
 public:
     PointContact() = default;
@@ -68,14 +104,21 @@ public:
     // What a stepper keeps between steps: eta at levels n - 1 and n, the last forces, and the
     // Newton system's storage (made once: stepping allocates nothing).
     struct State {
-        std::vector<double> eta_prev, eta_curr, force, increment, b, quotient, slope, residual, candidate;
+        std::vector<double> eta_before, eta_prev, eta_curr, force, increment, b, quotient, slope, residual, candidate;
         int iterations = 0;
+        double prediction_size = 0.0;  // the largest |height| or |predicted u| of the awake points
         bool joint = false;  // the last step solved points and grid together (Newton)
         // Points the screening put to sleep (apart from the string, and it cannot reach them
         // before the scheduler says): no force, no prediction needed, eta held a metre apart.
         std::vector<char> resting;
         std::size_t awake = 0;
         std::vector<std::size_t> awake_list;  // (Newton's scratch)
+        std::vector<std::size_t> pushing;     // (the grid's solve's scratch: the points pushing)
+        // With GridPads: each pad point's shift, force and slopes (one per grid point: room for any
+        // pad); each finger's height step, its trial, residual, round-off size and slope.
+        std::vector<double> pad_shift, pad_force, pad_response, pad_lift, pad_pull;
+        std::vector<double> height, height_candidate, height_residual, height_size, height_slope;
+        std::vector<std::size_t> height_end;  // where each finger's pad points end
     };
     State make_state() const;
     // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)); every point awake.
@@ -107,6 +150,7 @@ public:
         std::span<const double> a, b;
         std::span<ContactSolution> solutions;
         double step = 0.0;  // dx
+        GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
     // The points, the pad and the grid's active obstacle points in one solve (no point need be
@@ -123,10 +167,18 @@ public:
 private:
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
     // The points' own solve (alone, then together where they couple), eta not yet moved on.
-    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
+    // held: Newton's start only (a joint solve follows), eta carried on where in contact.
+    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad,
+                      bool held = false) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
-    // The grid's equations given the points' forces; returns whether any grid point pushed.
-    bool solve_grid(const State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force) const;
+    // The grid's equations (and the pads') given the points' forces; returns whether any grid or
+    // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
+    // `height`: the fingers' heights to try (GridPads::trial); none: their own solves (GridPads::solve).
+    bool solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force,
+                    const std::vector<double>* height = nullptr) const;
+    // k dx sum_i M_pi f_i over the grid's pushing points and the pads' (u at x_p: p < size(); the
+    // pad's u_s for p == size(), pad given).
+    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, const Pad* pad) const;
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
     double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
     template <class Matrix>
@@ -134,7 +186,12 @@ private:
     template <class Matrix>
     void pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const;
     template <class Matrix>
-    void solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
+    void pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope, Matrix& jacobian) const;
+    template <class Matrix>
+    // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
+    // does not converge (else throws SolverError).
+    bool solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated,
+                         bool may_fail = false) const;
     template <class Matrix>
     void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
     double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }

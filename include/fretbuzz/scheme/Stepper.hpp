@@ -213,7 +213,7 @@ private:
     bool solve_points();
     void predict_exact_points();  // point_predicted_: the free step's u at each exact point
     // The exact points with the grid's active points (solve_a_, solve_b_ formed): into solutions_.
-    void solve_points_with_grid(bool with_pluck);  // (and the exact plucker's pad, if with_pluck)
+    void solve_points_with_grid(bool with_pluck, bool with_fingers);  // (and the exact plucker's pad, if with_pluck)
     void apply_point_impulse();
     void report_point_forces();
     // A force (N) acting at x off the grid, in forces() as a force per length at the nearest grid point.
@@ -228,8 +228,12 @@ private:
     void run_pass(kernels::StepPass& pass);
     void advance_modes();
     void put_points_to_sleep();
-    // use_transform: the predictions are in grid_ already.
-    void solve_fingers(bool use_transform);
+    // use_transform: the predictions are in grid_ already. with_points: the fingers are solved
+    // with the exact points (solve_points_with_grid): their pads' predictions only, and prepare().
+    void solve_fingers(bool use_transform, bool with_points);
+    bool fingers_on() const;
+    // A part's step done (its obstacle potential and its forces on the pad): into the step's sums.
+    void take_part(const PlayedPart& part, double obstacle_psi, std::span<const double> force);
     // The gestures' loads of step n_ (gesture_load_, loaded_), and each one's prediction shift
     // at grid point i / exact point p.
     void load_gestures();
@@ -283,6 +287,10 @@ private:
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
+    // The fingers solved with the exact points: their pads' grid points, one after the other, and
+    // their predictions; scratch for a trial's.
+    std::vector<std::size_t> joint_pads_;
+    std::vector<double> joint_w_, joint_trial_;
     std::vector<std::pair<std::size_t, double>> rubbing_;  // scratch: where friction acts, F_n
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
     PointContact::State points_;            // the exact point obstacles' state
