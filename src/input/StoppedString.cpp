@@ -51,17 +51,6 @@ Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
     return stopped_from_zero(open, stop_m, modes);
 }
 
-Case with_points_on_grid(const Case& c) {
-    Case g = c;
-    const double dx = c.grid_step();
-    for (double& x : g.fret_positions_m)
-        if (std::any_of(c.point_obstacles.begin(), c.point_obstacles.end(), [x](const PointObstacle& p) { return p.x_m == x; }))
-            x = std::clamp(std::round(x / dx), 1.0, static_cast<double>(c.mode_count())) * dx;
-    g.obstacle_height_m = c.obstacle_on_grid();
-    g.point_obstacles.clear();
-    return g;
-}
-
 namespace {
 Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     const double length = open.string.length_m;

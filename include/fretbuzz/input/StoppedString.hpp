@@ -36,9 +36,5 @@ bool stops_at_far_end(const Case& c);
 // (then the open case's, truncated). Observation points before the stop are dropped.
 Case stopped_string(const Case& open, double stop_m, std::size_t modes);
 
-// The case with its exact point obstacles (a fretboard's crowns) on their nearest grid points,
-// its fret positions moved with them: where the scheme puts them beside pluckers' grid pads
-// (see Plan), for a caller that places fingers by the frets and wants them where they act.
-Case with_points_on_grid(const Case& c);
 
 }  // namespace fretbuzz
