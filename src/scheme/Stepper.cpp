@@ -834,11 +834,6 @@ public:
         });
     }
 
-private:
-    void raise(std::span<const double> shift) {
-        trial_.resize(w_.size());  // (within the reserved capacity)
-        for (std::size_t r = 0; r < w_.size(); ++r) trial_[r] = w_[r] + shift[r];
-    }
     // f(finger, its index among those on, where its points start, how many).
     template <class F>
     void each(F&& f) const {
@@ -849,6 +844,12 @@ private:
             f(finger, index++, at, finger.pad().size());
             at += finger.pad().size();
         }
+    }
+
+private:
+    void raise(std::span<const double> shift) {
+        trial_.resize(w_.size());  // (within the reserved capacity)
+        for (std::size_t r = 0; r < w_.size(); ++r) trial_[r] = w_[r] + shift[r];
     }
     PlayedParts& parts_;
     std::span<const std::size_t> points_;
@@ -971,15 +972,10 @@ void Stepper::solve_points_with_grid(bool with_pluck, bool with_fingers) {
     if (with_fingers) {
         // The fingers' last trial is the joint solution: their steps move on with it.
         bool acted = false;
-        std::size_t at = 0;
-        for (std::size_t f = 0; f < parts_.fingers().size(); ++f) {
-            if (!parts_.on(f)) continue;
-            Finger& finger = parts_.finger(f);
-            const std::size_t n = finger.pad().size();
+        pads.each([&](Finger& finger, std::size_t, std::size_t at, std::size_t n) {
             take_part(finger, finger.commit(), std::span<const double>(points_.pad_force).subspan(at, n));
             acted = acted || finger.acted();
-            at += n;
-        }
+        });
         if (acted && !loaded_) ++stats_.played_steps;
     }
     if (points_.joint) ++stats_.joint_steps;
