@@ -169,6 +169,13 @@ void PointContact::solve_points(State& s, std::span<const double> predicted, con
     }
 }
 
+namespace {
+// Whether any of these forces acts.
+bool any_push(std::span<const double> forces) {
+    return std::any_of(forces.begin(), forces.end(), [](double f) { return f != 0.0; });
+}
+}  // namespace
+
 bool PointContact::commit(State& s) const {
     for (std::size_t p = 0; p < size(); ++p) {
         const double eta_next = s.eta_prev[p] + s.increment[p];
@@ -176,7 +183,7 @@ bool PointContact::commit(State& s) const {
         s.eta_prev[p] = s.eta_curr[p];
         s.eta_curr[p] = eta_next;
     }
-    return std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
+    return any_push(s.force);
 }
 
 namespace {
@@ -210,11 +217,8 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
                                 : solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad, false, true);
         if (solved) {
             // Still joint where both sides push at the solution.
-            const bool points_push = pad_force_at(pad, pad != nullptr ? pad->x : 0.0) != 0.0 ||
-                                     std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
-            const std::size_t n = grid.pads->points().size();
-            bool grid_pushes = std::any_of(s.pad_force.begin(), s.pad_force.begin() + static_cast<std::ptrdiff_t>(n),
-                                           [](double f) { return f != 0.0; });
+            const bool points_push = pad_force_at(pad, pad != nullptr ? pad->x : 0.0) != 0.0 || any_push(s.force);
+            bool grid_pushes = any_push(std::span<const double>(s.pad_force).first(grid.pads->points().size()));
             for (const ContactSolution& g : grid.solutions) grid_pushes = grid_pushes || g.force != 0.0;
             s.joint = points_push && grid_pushes;
             return commit(s);
@@ -224,7 +228,7 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     }
     const double pad_force = pad_force_at(pad, pad != nullptr ? pad->x : 0.0);
     const bool points_push =
-        pad_force != 0.0 || std::any_of(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
+        pad_force != 0.0 || any_push(s.force);
     const bool grid_pushes = solve_grid(s, law, k, grid, pad, pad_force);
     // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
     // grid solved with the points' (and the pad's) forces already; the points and the pad, with
@@ -296,8 +300,7 @@ bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Gri
             grid.pads->trial(shift, std::span<const double>(*height).first(fingers), force, residual, size);
         else
             grid.pads->solve(shift, force, std::span<double>(s.height).first(fingers), residual, size);
-        pushes = std::any_of(s.pad_force.begin(), s.pad_force.begin() + static_cast<std::ptrdiff_t>(n),
-                             [](double f) { return f != 0.0; });
+        pushes = any_push(force);
     }
     for (std::size_t r = 0; r < grid.points.size(); ++r) {
         const std::size_t i = grid.points[r];
