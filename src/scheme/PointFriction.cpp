@@ -8,13 +8,10 @@
 #include <Eigen/Dense>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
 
 namespace fretbuzz {
 
 namespace {
-// Rows whose product is this small against their norms are orthogonal (distinct grid points).
-constexpr double kUncoupled = 1e-12;
 constexpr int kMaxNewton = 100;
 constexpr int kMaxHalvings = 40;
 // Newton's residual, relative to the velocities' size, that counts as converged once it stalls.
@@ -44,8 +41,7 @@ PointFriction::~PointFriction() = default;
 PointFriction::PointFriction(PointFriction&&) noexcept = default;
 PointFriction& PointFriction::operator=(PointFriction&&) noexcept = default;
 PointFriction::PointFriction(const PointFriction& other)
-    : weights_(other.weights_), gram_(other.gram_), coupled_(other.coupled_), grid_points_(other.grid_points_),
-      grid_rows_(other.grid_rows_), g_(other.g_), trial_(other.trial_), r_(other.r_), trial_r_(other.trial_r_),
+    : points_(other.points_), g_(other.g_), trial_(other.trial_), r_(other.r_), trial_r_(other.trial_r_),
       grid_slope_(other.grid_slope_), newton_(other.newton_ ? std::make_unique<Newton>(*other.newton_) : nullptr),
       iterations_(other.iterations_) {}
 PointFriction& PointFriction::operator=(const PointFriction& other) {
@@ -54,32 +50,10 @@ PointFriction& PointFriction::operator=(const PointFriction& other) {
 }
 
 PointFriction::PointFriction(const PointContact& points)
-    : weights_(points.size()),
-      gram_(points.size() * points.size()),
-      g_(points.size()),
-      trial_(points.size()),
-      r_(points.size()),
-      trial_r_(points.size()) {
+    : points_(&points), g_(points.size()), trial_(points.size()), r_(points.size()), trial_r_(points.size()) {
     const std::size_t count = points.size();
-    for (std::size_t p = 0; p < count; ++p) weights_[p] = points.weight(p);
-    for (std::size_t p = 0; p < count; ++p)
-        for (std::size_t q = 0; q < count; ++q) {
-            const std::span<const double> a = points.row(p), b = points.row(q);
-            const double product = kernels::dot(a.data(), b.data(), a.size());
-            gram_[p * count + q] = weights_[q] * product;
-            if (p != q) {
-                const double norms = std::sqrt(kernels::dot(a.data(), a.data(), a.size()) * kernels::dot(b.data(), b.data(), b.size()));
-                coupled_ = coupled_ || std::abs(product) > kUncoupled * norms;
-            }
-        }
-    if (points.grid_coupled() && count > 0) {
-        grid_points_ = points.row(0).size();  // (as many grid points as modes)
-        grid_rows_.resize(count * grid_points_);
-        for (std::size_t p = 0; p < count; ++p)
-            for (std::size_t i = 0; i < grid_points_; ++i) grid_rows_[p * grid_points_ + i] = points.grid_coupling(p, i);
-        grid_slope_.assign(grid_points_, 0.0);
-    }
-    if (coupled_ || grid_coupled()) newton_ = std::make_unique<Newton>(static_cast<Eigen::Index>(count));
+    if (grid_coupled() && count > 0) grid_slope_.assign(points.row(0).size(), 0.0);  // (as many grid points as modes)
+    if (points.coupled() || grid_coupled()) newton_ = std::make_unique<Newton>(static_cast<Eigen::Index>(count));
 }
 
 void PointFriction::solve_grid(const Step& step, const std::vector<double>& g) {
@@ -90,7 +64,7 @@ void PointFriction::solve_grid(const Step& step, const std::vector<double>& g) {
         const std::size_t i = grid.points[r];
         double shift = 0.0;
         for (std::size_t p = 0; p < size(); ++p)
-            if (step.normal[p] != 0.0) shift -= weights_[p] * coupling(p, i) * mu_f * std::abs(step.normal[p]) * g[p];
+            if (step.normal[p] != 0.0) shift -= weight(p) * coupling(p, i) * mu_f * std::abs(step.normal[p]) * g[p];
         const FrictionSolution s = step.law.solve(grid.v0[r] + step.half * shift, grid.normal[r], step.k, step.dt);
         grid.velocity[r] = s.velocity;
         grid.force[r] = s.force;
@@ -140,7 +114,7 @@ double PointFriction::objective(const Step& step, const std::vector<double>& g) 
         if (step.grid != nullptr)
             for (std::size_t r = 0; r < step.grid->points.size(); ++r)
                 push -= step.grid->step * coupling(p, step.grid->points[r]) * step.grid->force[r] / mu_f;
-        const double w = weights_[p] * std::abs(step.normal[p]);
+        const double w = weight(p) * std::abs(step.normal[p]);
         e += w * (-step.v_eps * std::sqrt((1.0 - g[p]) * (1.0 + g[p])) - step.v0[p] * g[p] + 0.5 * step.scale * push * g[p]);
     }
     if (step.grid == nullptr) return e;
@@ -151,7 +125,7 @@ double PointFriction::objective(const Step& step, const std::vector<double>& g) 
         const double gr = -grid.force[r] / (mu_f * normal);
         double push = normal * gr;
         for (std::size_t p = 0; p < count; ++p)
-            if (step.normal[p] != 0.0) push += weights_[p] * coupling(p, grid.points[r]) * std::abs(step.normal[p]) * g[p];
+            if (step.normal[p] != 0.0) push += weight(p) * coupling(p, grid.points[r]) * std::abs(step.normal[p]) * g[p];
         const double root = step.v_eps / std::hypot(grid.velocity[r], step.v_eps);  // sqrt(1 - g^2)
         e += grid.step * normal * (-step.v_eps * root - grid.v0[r] * gr + 0.5 * step.scale * push * gr);
     }
@@ -204,7 +178,7 @@ void PointFriction::newton(const Step& step) {
                             const std::size_t i = step.grid->points[r];
                             through += coupling(p, i) * coupling(q, i) * std::abs(step.grid->normal[r]) * grid_slope_[r];
                         }
-                        entry -= step.scale * step.scale * dx * weights_[q] * std::abs(step.normal[q]) * through;
+                        entry -= step.scale * step.scale * dx * weight(q) * std::abs(step.normal[q]) * through;
                     }
                 }
                 nt.jacobian(a, b) = entry;
@@ -217,7 +191,7 @@ void PointFriction::newton(const Step& step) {
         for (std::size_t p = 0; p < count; ++p) {
             const double dg = nt.step(static_cast<Eigen::Index>(p));
             correction = std::max(correction, std::abs(dg));
-            slope += weights_[p] * std::abs(step.normal[p]) * r_[p] * dg;
+            slope += weight(p) * std::abs(step.normal[p]) * r_[p] * dg;
             if (dg > 0.0) t = std::min(t, 0.99 * (1.0 - g_[p]) / dg);
             if (dg < 0.0) t = std::min(t, 0.99 * (-1.0 - g_[p]) / dg);
         }
@@ -287,7 +261,7 @@ double PointFriction::solve(const Step& step, std::span<double> force) {
         iterations_ = std::max(iterations_, s.iterations);
     }
     const bool with_grid = step.grid != nullptr && !step.grid->points.empty();
-    if (rubbing > 0 && ((rubbing > 1 && coupled_) || with_grid)) newton(step);
+    if (rubbing > 0 && ((rubbing > 1 && points_->coupled()) || with_grid)) newton(step);
     if (step.grid != nullptr) solve_grid(step, g_);  // the grid's forces for the points' answer
     for (std::size_t p = 0; p < count; ++p) force[p] = step.normal[p] == 0.0 ? 0.0 : -mu_f * std::abs(step.normal[p]) * g_[p];
     double work = 0.0;
@@ -301,7 +275,7 @@ double PointFriction::solve(const Step& step, std::span<double> force) {
             for (std::size_t r = 0; r < step.grid->points.size(); ++r)
                 v += step.half * step.grid->step * coupling(p, step.grid->points[r]) * step.grid->force[r];
         // c_p f_p (y^{n+1} - y^{n-1}) / 2: <= 0 (v has the sign of g at the root).
-        work += weights_[p] * force[p] * v * step.dt;
+        work += weight(p) * force[p] * v * step.dt;
     }
     if (step.grid != nullptr)
         for (std::size_t r = 0; r < step.grid->points.size(); ++r)

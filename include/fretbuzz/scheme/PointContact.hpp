@@ -96,6 +96,8 @@ public:
     std::span<const double> row(std::size_t p) const { return rows_[p]; }
     double height(std::size_t p) const { return heights_[p]; }
     double weight(std::size_t p) const { return points_[p].weight_m; }
+    // G_pq = c_q phi(x_p) . phi(x_q)
+    double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
     // Whether the points move one another within a step (see above).
     bool coupled() const { return coupled_; }
     // Raises every point by `offset` but none above the rest line (see Plan::set_obstacle_offset).
@@ -194,7 +196,6 @@ private:
                          bool may_fail = false) const;
     template <class Matrix>
     void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
-    double gram(std::size_t p, std::size_t q) const { return gram_[p * points_.size() + q]; }
 
     std::vector<PointObstacle> points_;
     std::vector<double> planned_heights_, heights_;

@@ -37,7 +37,7 @@ public:
     PointFriction& operator=(PointFriction&&) noexcept;
     ~PointFriction();
 
-    std::size_t size() const { return weights_.size(); }
+    std::size_t size() const { return points_ != nullptr ? points_->size() : 0; }
     // The grid's obstacle points rubbing in the same step (grid_coupled() only): each one's grid
     // index, free-step velocity v0_i and normal force; receives each one's f_i (N/m) and v_i.
     struct Grid {
@@ -46,7 +46,7 @@ public:
         std::span<double> force, velocity;
         double step = 0.0;  // dx
     };
-    bool grid_coupled() const { return !grid_rows_.empty(); }
+    bool grid_coupled() const { return points_ != nullptr && points_->grid_coupled(); }
     // Points with normal[p] != 0 rub: their forces (N/m) into force, 0 elsewhere; v0 as above.
     // Returns the work of the step (J, <= 0), the grid's included. Throws SolverError if
     // Newton's method fails.
@@ -64,14 +64,12 @@ private:
     void solve_grid(const Step& step, const std::vector<double>& g);
     double residual(const Step& step, const std::vector<double>& g, std::vector<double>& r);
     double objective(const Step& step, const std::vector<double>& g);
-    double gram(std::size_t p, std::size_t q) const { return gram_[p * weights_.size() + q]; }
-    double coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
+    // The points' widths c_p, G_pq and M_pi, as the normal solve has them.
+    double weight(std::size_t p) const { return points_->weight(p); }
+    double gram(std::size_t p, std::size_t q) const { return points_->gram(p, q); }
+    double coupling(std::size_t p, std::size_t i) const { return points_->grid_coupling(p, i); }
 
-    std::vector<double> weights_;
-    std::vector<double> gram_;  // G_pq, row by row
-    bool coupled_ = false;
-    std::size_t grid_points_ = 0;
-    std::vector<double> grid_rows_;  // M_pi, point by point (empty unless grid_coupled)
+    const PointContact* points_ = nullptr;  // the plan's (it outlives every stepper)
     std::vector<double> g_, trial_, r_, trial_r_;  // Newton's unknowns g_p = phi(v_p), residuals
     std::vector<double> grid_slope_;               // per rubbing grid point
     struct Newton;  // its matrix and factors (Eigen's), made once
