@@ -282,5 +282,73 @@ TEST(ExactFrets, AFingerOnExactCrownsIsTheSameOnTheScreenedPath) {
     EXPECT_LT(p.relative_l2, 1e-11);
 }
 
+// A plucker at its exact position (0.5313 m, its pad off the grid) pulling the string up while a
+// finger stops it at fret 5: plucker, finger, crowns and board in one solve (the plucker's pad
+// and the finger's height as unknowns beside the crowns'). The finger lands while the plucker
+// pulls; both act in the same steps.
+Case plucked_at_fret_5(std::size_t modes, bool lossless) {
+    Case c = fretted_bass(modes, 0.5e-3, 1e6, "1.2e-3", lossless);
+    std::fill(c.initial_displacement.begin(), c.initial_displacement.end(), 0.0);
+    std::fill(c.initial_velocity.begin(), c.initial_velocity.end(), 0.0);
+    PluckSpec p;
+    p.position_m = 0.5313;
+    p.direction = -1.0;  // away from the fretboard
+    p.speed = 1.0;
+    p.stiffness = 1e6;
+    p.release_displacement_m = 2e-3;
+    c.plucks.push_back(p);
+    return c;
+}
+
+TEST(ExactFrets, APluckerBesideAFingerIsExactAndKeepsTheBalance) {
+    for (const bool lossless : {true, false}) {
+        Case c = plucked_at_fret_5(110, lossless);
+        c.add_fret_finger(5, "fret");
+        if (lossless) c.fingers.back().loss = 0.0;
+        const PressRun r = press(c, 20000);
+        std::printf("plucker beside a finger at fret 5 (%s): %ld joint steps (%ld with the plucker pushing), balance %.2g\n",
+                    lossless ? "lossless" : "with losses", r.joint_steps, r.pressed_joint, r.worst);
+        EXPECT_TRUE(r.exact);
+        EXPECT_TRUE(r.gone);
+        EXPECT_GT(r.pressed_joint, 100);
+        EXPECT_LT(r.worst, lossless ? 1e-11 : 3e-13);
+    }
+}
+
+// A finger held 20 mm above the string never touches it: beside it the plucker acts as it does
+// alone, at any mode count. (With the plucker on its grid pad beside a finger, the pad's points
+// moved with the grid: the runs parted by 1e-3.)
+TEST(ExactFrets, AFingerThatNeverTouchesLeavesThePluckerAsItIsAlone) {
+    constexpr long kSteps = 12000;
+    for (std::size_t modes : {200u, 400u, 800u}) {
+        const Case alone = plucked_at_fret_5(modes, false);
+        Case beside = alone;
+        FingerSpec f;
+        f.position_m = fret_x(5) - 0.012;
+        f.initial_gap_m = 0.02;
+        beside.fingers.push_back(f);
+        const Plan plan_alone(alone, 1e-6), plan_beside(beside, 1e-6);
+        Stepper a(plan_alone, alone.initial_displacement, alone.initial_velocity);
+        Stepper b(plan_beside, beside.initial_displacement, beside.initial_velocity);
+        const double l2 = testing::step_and_compare(b, a, kSteps);
+        std::printf("plucker beside an untouched finger against the plucker alone, %zu modes: relative L2 %.2g\n", modes, l2);
+        EXPECT_TRUE(b.plucks().front().exact());
+        EXPECT_EQ(b.plucks().front().stage(), Pluck::Stage::gone);
+        EXPECT_EQ(b.fingers().front().contact_force(), 0.0);
+        EXPECT_LT(l2, 1e-10);
+    }
+}
+
+// The plucker beside the finger screened and straightforward: the same equations, rounded
+// differently.
+TEST(ExactFrets, APluckerBesideAFingerIsTheSameOnTheScreenedPath) {
+    Case c = plucked_at_fret_5(110, false);
+    c.add_fret_finger(5, "fret");
+    const testing::PathComparison p = testing::compare_paths(c, 10000);
+    std::printf("screened vs straightforward, plucker beside a finger: relative L2 %.3g\n", p.relative_l2);
+    EXPECT_GT(p.fast.joint_steps, 1000);
+    EXPECT_LT(p.relative_l2, 1e-11);
+}
+
 }  // namespace
 }  // namespace fretbuzz

@@ -253,6 +253,35 @@ TEST(Finger, AStoppedNotesPitchHardlyDependsOnTheModeCount) {
     EXPECT_LT(std::abs(cents(exact_110, exact_400)), 3.0);  // the truncation's: 1.9 cents at fret 5
 }
 
+// On a bare board (the frets taken away) the string leaves the board at the finger's bridge-side
+// edge: over one grid step (dx = 3.4 mm) the pitch rises by the stopped length's change, about 9
+// cents at fret 5. Within the step it rises in stairs: the pad's points and the board's are grid
+// points, so where the string leaves the board moves by whole grid steps (measured, by quarters of
+// dx: +0.00 +6.99 +1.93 +0.00 cents). A pad weighting its edge points by the part of their cells
+// within it gave +1.98 +3.95 +2.72 +0.27: the board's grid still sets the stairs. On a fretted
+// neck the exact crown, not the pad, sets the stopped length.
+TEST(Finger, OnABareBoardThePitchFollowsTheFingerOverAGridStep) {
+    Case c = small_model_bass(100000.0, 1.3);
+    c.point_obstacles.clear();  // the board alone
+    c.add_fret_finger(5, "fret");  // its pressing force; moved below
+    const double dx = c.grid_step(), length = c.string.length_m, width = c.fingers.back().width_m;
+    const double x0 = std::round(c.fingers.back().position_m / dx) * dx;
+    std::vector<double> f;
+    for (int quarter = 0; quarter <= 4; ++quarter) {
+        Case d = c;
+        d.fingers.back().position_m = x0 + 0.25 * quarter * dx;
+        const double edge = d.fingers.back().position_m + 0.5 * width;
+        f.push_back(fundamental(d, 0.3, c.modes.frequency_hz[0] * length / (length - edge)));
+    }
+    const double whole = cents(f.back(), f.front());
+    const double expected = 1200.0 * std::log2((length - x0 - 0.5 * width) / (length - x0 - 0.5 * width - dx));
+    std::printf("finger moved by quarters of dx on a bare board:");
+    for (std::size_t q = 1; q < f.size(); ++q) std::printf(" %+.2f", cents(f[q], f[q - 1]));
+    std::printf(" cents (over dx: %.2f, the stopped length's %.2f)\n", whole, expected);
+    EXPECT_NEAR(whole, expected, 0.1 * expected);
+    for (std::size_t q = 1; q < f.size(); ++q) EXPECT_GT(cents(f[q], f[q - 1]), -0.05) << "quarter " << q;  // never falls
+}
+
 TEST(Finger, TheOpenStringReturnsWhenTheFingerLifts) {
     Case c = small_model_bass(100000.0, 1.6);
     const double f_open = fundamental(c, 0.3, c.modes.frequency_hz[0]);

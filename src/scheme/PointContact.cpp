@@ -48,7 +48,7 @@ PointContact::PointContact(const ModalBasis& basis, std::vector<PointObstacle> p
     for (std::size_t p = 0; p < count; ++p)
         for (std::size_t q = 0; q < count; ++q)
             if (p != q && std::abs(gram(p, q)) > kUncoupled * std::sqrt(gram(p, p) * gram(q, q))) coupled_ = true;
-    if (grid_coupled && count > 0) {
+    if (grid_coupled) {
         // M_pi = sum_j S_ij phi_j(x_p): each point's row taken to the grid (one transform each, once).
         grid_points_ = n;
         grid_rows_.resize(count * n);

@@ -24,12 +24,12 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
-// Whether the case's plucker acts at its exact position: no other pad may touch the string on
-// the grid (no finger, no other plucker), so that its one scalar equation is the whole contact
-// solve of each step, or one more equation in the system of the exact points and the grid's
-// obstacle points (PointContact). Force gestures load the string explicitly and may be present.
+// Whether the case's plucker acts at its exact position: no other plucker may touch the string,
+// so that its one scalar equation is the whole contact solve of each step, or one more equation
+// in the system of the exact points, the grid's obstacle points and the fingers (PointContact).
+// Force gestures load the string explicitly and may be present.
 bool pluck_exact(const Plan& plan) {
-    return plan.plucks().size() == 1 && plan.fingers().empty();
+    return plan.plucks().size() == 1;
 }
 
 std::vector<Pluck> plucks_of(const Plan& plan) {
@@ -117,7 +117,7 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
         for (const ForceProfile& g : gestures_)
             gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
         at_points(shape, pluck_at_points_);
-        if (!plan.obstacle_points().empty()) {  // m_i = s . S_i: its coupling to the grid's obstacle points
+        if (!plan.obstacle_points().empty() || !plan.fingers().empty()) {  // m_i = s . S_i: its coupling to the grid's obstacle and pad points
             pluck_at_grid_.resize(q0.size());
             plan.basis().to_grid(shape, pluck_at_grid_);
         }
@@ -616,13 +616,13 @@ void Stepper::solve_contacts() {
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
     pluck_load_ = 0.0;
-    // The exact plucker beside awake obstacle points of the grid: one solve with them.
-    const bool pluck_with_grid = !active_.empty() && exact_pluck_acts();
+    // The exact plucker beside awake obstacle points of the grid or a finger: one solve with them.
+    const bool pluck_with_grid = (!active_.empty() || fingers_on()) && exact_pluck_acts();
     if (points_.awake == 0 && !pluck_with_grid) solve_exact_pluck();  // (else solved with the points)
-    // Exact points beside awake obstacle points of the grid or a finger's pad: all in one solve
-    // (see PointContact).
+    // Exact points (or the exact plucker) beside awake obstacle points of the grid or a finger's
+    // pad: all in one solve (see PointContact).
     const bool coupled_points = plan_.point_contact().grid_coupled() && points_.awake != 0;
-    const bool fingers_with_points = coupled_points && fingers_on();
+    const bool fingers_with_points = (coupled_points || pluck_with_grid) && fingers_on();
     const bool joint = pluck_with_grid || (coupled_points && !active_.empty()) || fingers_with_points;
     points_pushed_ = points_.awake != 0 && !joint && solve_points();
     if (active_.empty() && pad_points_ == 0) {

@@ -158,7 +158,7 @@ public:
     // The points, the pad and the grid's active obstacle points in one solve (no point need be
     // grid_coupled() where there are none awake).
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad& pad) const;
-    bool grid_coupled() const { return !grid_rows_.empty(); }
+    bool grid_coupled() const { return grid_points_ != 0; }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
     // sum_p c_p Psi(eta_p) at the current and the previous level.
