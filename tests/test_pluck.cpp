@@ -374,10 +374,10 @@ TEST(Pluck, AnExactPluckOntoABarrierIsTheSameOnTheScreenedPath) {
     EXPECT_LT(p.relative_l2, 1e-9);
 }
 
-// Two pluckers (each on its grid pad) pressing the string onto off-grid points: their pads and
-// the points would couple through the modes in one step, which no solve here takes together, so
-// the points join the grid beside them (Plan) and the balance stays round-off.
-TEST(Pluck, TwoPluckersPressingOntoPointsKeepTheBalance) {
+// Two pluckers pressing the string onto two exact points off the grid: pads and points move one
+// another through the modes and are solved as one system (each pad one more unknown). Lossless,
+// the balance is round-off; screened, the run is the straightforward one.
+Case two_pressing_onto_points() {
     Case c = testing::ideal_string(200, 1e4, "type = \"points\"\nx = [0.23, 0.2345]\nheight = -0.3e-3", 2e5);
     c.contact.stiffness = 1e9;
     for (const double x : {0.2013, 0.2513}) {
@@ -386,11 +386,112 @@ TEST(Pluck, TwoPluckersPressingOntoPointsKeepTheBalance) {
         p.stiffness = 1e6;
         c.plucks.push_back(p);
     }
+    return c;
+}
+
+TEST(Pluck, TwoPluckersPressingOntoPointsKeepTheBalance) {
+    const Case c = two_pressing_onto_points();
     const PluckRun r = play(c, 10000);
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    const Stepper s(plan, c.initial_displacement, c.initial_velocity);
     std::printf("two pluckers onto points: balance %.2e, %ld steps on the points, %ld played\n", r.worst, r.contact_steps,
                 r.played_steps);
+    EXPECT_TRUE(s.plucks()[0].exact());
+    EXPECT_TRUE(s.plucks()[1].exact());
+    EXPECT_EQ(plan.point_contact().size(), 2u);  // the points stay exact beside them
     EXPECT_GT(r.contact_steps, 100);
     EXPECT_GT(r.played_steps, 100);
+    EXPECT_LT(r.worst, 1e-12);
+}
+
+// Two pluckers pressing onto a flat barrier on the grid: screened (barrier points away from the
+// string asleep) against every point solved every step.
+TEST(Pluck, TwoPluckersOntoABarrierAreTheSameOnTheScreenedPath) {
+    Case c = pressed_onto_a_barrier();
+    PluckSpec second = c.plucks.front();
+    second.position_m = 0.2513;
+    c.plucks.push_back(second);
+    const testing::PathComparison p = testing::compare_paths(c, 10000);
+    std::printf("screened vs straightforward, two pluckers onto a flat barrier: relative L2 %.3g, %ld joint steps, points solved per step %.2f vs %.2f\n",
+                p.relative_l2, p.fast.joint_steps, p.fast.points_solved / 10000.0, p.plain.points_solved / 10000.0);
+    EXPECT_GT(p.fast.joint_steps, 100);
+    EXPECT_LT(p.fast.points_solved, p.plain.points_solved);
+    EXPECT_LT(p.relative_l2, 1e-9);
+}
+
+// Two pluckers pulling the string up at the same time, 5 cm apart (lossless, then with their
+// Hunt-Crossley loss and the string's damping): their pads move one another within every step
+// and are solved together. H - work + dissipated is constant to round-off.
+TEST(Pluck, TwoPluckersPullingTogetherKeepTheBalance) {
+    for (const bool lossy : {false, true}) {
+        Case c = ideal_pluck(200);
+        PluckSpec second = c.plucks.front();
+        second.position_m = 0.2513;
+        second.release_displacement_m = 1.5e-3;
+        c.plucks.push_back(second);
+        if (lossy) {
+            for (PluckSpec& p : c.plucks) p.loss = 5.0;
+            for (double& sigma : c.modes.sigma_per_s) sigma = 3.0;
+        }
+        const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+        Stepper s(plan, c.initial_displacement, c.initial_velocity);
+        double first = 0.0, scale = 0.0, worst = 0.0;
+        long both = 0;
+        for (long n = 1; n <= 20000; ++n) {
+            s.step();
+            const double value = s.energy() - s.work() + s.dissipated();
+            if (n == 1) first = value;
+            scale = std::max({scale, std::abs(s.energy()), std::abs(s.work())});
+            worst = std::max(worst, std::abs(value - first));
+            const auto pushing = [&](std::size_t j) {  // (contact_force() keeps its last value once gone)
+                return s.plucks()[j].stage() != Pluck::Stage::gone && s.plucks()[j].contact_force() != 0.0;
+            };
+            if (pushing(0) && pushing(1)) ++both;
+        }
+        std::printf("two pluckers pulling together (%s): %ld steps both pushing, balance %.2e\n", lossy ? "lossy" : "lossless",
+                    both, worst / scale);
+        EXPECT_TRUE(s.plucks()[0].exact() && s.plucks()[1].exact());
+        EXPECT_EQ(s.plucks()[0].stage(), Pluck::Stage::gone);
+        EXPECT_EQ(s.plucks()[1].stage(), Pluck::Stage::gone);
+        EXPECT_GT(both, 100);
+        EXPECT_LT(worst / scale, 1e-12);
+    }
+}
+
+// A second plucker that appears 5 cm from the string and never reaches it (it would take 0.1 s)
+// leaves the first as it is alone, at every mode count: both act at their exact positions.
+// (On their grid pads, beside another plucker, the run moved with the grid by about 1e-3.)
+TEST(Pluck, AFarSecondPluckerLeavesTheFirstAsItIsAlone) {
+    for (const std::size_t modes : {200u, 400u, 800u}) {
+        const Case alone = ideal_pluck(modes);
+        Case beside = alone;
+        PluckSpec far = alone.plucks.front();
+        far.position_m = 0.6;
+        far.gap_m = 0.05;
+        beside.plucks.push_back(far);
+        const double l2 = testing::relative_l2(testing::observed(beside, 0.7, 4000), testing::observed(alone, 0.7, 4000));
+        std::printf("%zu modes: u(0.7) beside a far second plucker against the first alone: relative L2 %.3g\n", modes, l2);
+        EXPECT_LT(l2, 1e-12);
+    }
+}
+
+// More pluckers than one solve takes at their exact positions (PointContact::kMaxPads) act on
+// their grid pads, every equation its own, and the points beside them join the grid: the
+// balance stays round-off.
+TEST(Pluck, MorePluckersThanTheExactSolveTakesActOnTheirGridPads) {
+    Case c = two_pressing_onto_points();
+    while (c.plucks.size() <= PointContact::kMaxPads) {
+        PluckSpec p = c.plucks.back();
+        p.position_m += 0.05;
+        c.plucks.push_back(p);
+    }
+    const PluckRun r = play(c, 10000);
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    const Stepper s(plan, c.initial_displacement, c.initial_velocity);
+    std::printf("%zu pluckers onto points: balance %.2e, %ld steps on the points\n", c.plucks.size(), r.worst, r.contact_steps);
+    EXPECT_FALSE(s.plucks().front().exact());
+    EXPECT_TRUE(plan.point_contact().empty());  // the points joined the grid
+    EXPECT_GT(r.contact_steps, 100);
     EXPECT_LT(r.worst, 1e-12);
 }
 

@@ -18,11 +18,12 @@ bool has_grid_obstacle(const Case& c) {
 bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
     const double dx = c.grid_step();
     const double x = (std::round(p.x_m / dx)) * dx;
-    // Two or more pluckers' pads would couple with off-grid points through the modes in the
-    // same step, and no solve takes them together: beside them the points join the grid, where
-    // every equation is its own. (A single plucker and the fingers join the points' own solve:
-    // the plucker as one more unknown, the fingers through their pads' grid points.)
-    const bool pads_on_grid = c.plucks.size() > 1;
+    // Pluckers' pads on the grid (more than PointContact takes at their exact positions) would
+    // couple with off-grid points through the modes in the same step, and no solve takes them
+    // together: beside them the points join the grid, where every equation is its own. (Exact
+    // pluckers and the fingers join the points' own solve: each plucker as one more unknown, the
+    // fingers through their pads' grid points.)
+    const bool pads_on_grid = c.plucks.size() > PointContact::kMaxPads;
     return pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 
@@ -79,9 +80,10 @@ void Plan::place_points(const Case& c) {
         point_contact_ = PointContact(basis_, std::move(points), has_grid_obstacle(c) || !c.fingers.empty());
         return;
     }
-    // A single plucker beside fingers is solved with their pads even with no point off the grid:
+    // Exact pluckers beside fingers are solved with their pads even with no point off the grid:
     // the solve's state needs room for the pads (a PointContact with no points).
-    if (c.plucks.size() == 1 && !c.fingers.empty()) point_contact_ = PointContact(basis_, {}, true);
+    if (!c.plucks.empty() && c.plucks.size() <= PointContact::kMaxPads && !c.fingers.empty())
+        point_contact_ = PointContact(basis_, {}, true);
     for (const PointObstacle& p : points) {
         const double index = std::clamp(std::round(p.x_m / basis_.grid_step()) - 1.0, 0.0, static_cast<double>(obstacle_.size() - 1));
         double& g = obstacle_[static_cast<std::size_t>(index)];

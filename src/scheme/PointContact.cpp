@@ -1,6 +1,7 @@
 #include "fretbuzz/scheme/PointContact.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -108,20 +109,30 @@ void PointContact::start(State& s, std::span<const double> q, std::span<const do
 }
 
 bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const {
-    return solve(s, predicted, law, k, nullptr);
+    return solve(s, predicted, law, k, std::span<Pad>());
 }
 
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad& pad) const {
-    return solve(s, predicted, law, k, &pad);
-}
-
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const {
-    solve_points(s, predicted, law, k, pad);
+bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
+                         std::span<Pad> pads) const {
+    solve_points(s, predicted, law, k, pads);
     return commit(s);
 }
 
-void PointContact::solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad,
-                                bool held) const {
+namespace {
+// s_a . s_b of pads a and b of one solve.
+double cross(std::span<const PointContact::Pad> pads, std::size_t a, std::size_t b) {
+    return a == b ? pads[a].self : pads[a].cross[b];
+}
+
+double pad_force_at(const PointContact::Pad& pad, double x) {
+    double force = 0.0, slope = 0.0;
+    pad.press->force_and_slope(x, force, slope);
+    return force;
+}
+}  // namespace
+
+void PointContact::solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
+                                std::span<Pad> pads, bool held) const {
     const std::size_t count = size();
     s.iterations = 0;
     s.prediction_size = 0.0;
@@ -150,22 +161,19 @@ void PointContact::solve_points(State& s, std::span<const double> predicted, con
     if (held) return;  // (the joint solve follows)
     const long touching = std::count_if(s.force.begin(), s.force.end(), [](double f) { return f != 0.0; });
     bool pressed = false;
-    if (pad != nullptr) {
-        double force = 0.0, slope = 0.0;
-        pad->press->force_and_slope(pad->x, force, slope);
-        pressed = force != 0.0;
-    }
-    // The pad moves every point it overlaps in mode space, and they move it.
-    if (pad != nullptr && s.awake > 0 && (pressed || touching > 0)) {  // (no point awake: the pad's own solution)
-        if (s.awake + 1 <= static_cast<std::size_t>(kSmall))
-            solve_coupled<SmallMatrix>(s, law, k, pad);
+    for (const Pad& pad : pads) pressed = pressed || pad_force_at(pad, pad.x) != 0.0;
+    // The pads move every point they overlap in mode space, and one another; the points move them.
+    // (A single pad with no point awake: its own solution.)
+    if (!pads.empty() && (s.awake > 0 || pads.size() > 1) && (pressed || touching > 0)) {
+        if (s.awake + pads.size() <= static_cast<std::size_t>(kSmall))
+            solve_coupled<SmallMatrix>(s, law, k, pads);
         else
-            solve_coupled<Eigen::MatrixXd>(s, law, k, pad);
+            solve_coupled<Eigen::MatrixXd>(s, law, k, pads);
     } else if (coupled_ && touching > 0 && count > 1) {
         if (s.awake <= static_cast<std::size_t>(kSmall))
-            solve_coupled<SmallMatrix>(s, law, k, nullptr);
+            solve_coupled<SmallMatrix>(s, law, k, {});
         else
-            solve_coupled<Eigen::MatrixXd>(s, law, k, nullptr);
+            solve_coupled<Eigen::MatrixXd>(s, law, k, {});
     }
 }
 
@@ -186,111 +194,103 @@ bool PointContact::commit(State& s) const {
     return any_push(s.force);
 }
 
-namespace {
-double pad_force_at(const PointContact::Pad* pad, double x) {
-    double force = 0.0, slope = 0.0;
-    if (pad != nullptr) pad->press->force_and_slope(x, force, slope);
-    return force;
-}
-}  // namespace
 
 bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const {
-    return solve(s, predicted, law, k, grid, nullptr);
+    return solve(s, predicted, law, k, grid, std::span<Pad>());
 }
 
 bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
-                         Pad& pad) const {
-    return solve(s, predicted, law, k, grid, &pad);
-}
-
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
-                         Pad* pad) const {
+                         std::span<Pad> pads) const {
     // A held note (the last step needed the joint solve): Newton at once, from the last step's
     // motion carried on (eta in contact at its last rate, the fingers' last height steps in
     // s.height), not from each side's own solution.
     const bool held = grid.pads != nullptr && s.joint;
-    solve_points(s, predicted, law, k, pad, held);
+    solve_points(s, predicted, law, k, pads, held);
+    const auto pads_press = [&] {
+        return std::any_of(pads.begin(), pads.end(), [](const Pad& pad) { return pad_force_at(pad, pad.x) != 0.0; });
+    };
     if (held) {
         grid.pads->guess(std::span<double>(s.height).first(grid.pads->heights()));
-        const bool solved = s.awake + 1 + grid.pads->heights() <= static_cast<std::size_t>(kSmall)
-                                ? solve_with_grid<SmallMatrix>(s, law, k, grid, pad, false, true)
-                                : solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad, false, true);
+        const bool solved = s.awake + pads.size() + grid.pads->heights() <= static_cast<std::size_t>(kSmall)
+                                ? solve_with_grid<SmallMatrix>(s, law, k, grid, pads, false, true)
+                                : solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pads, false, true);
         if (solved) {
             // Still joint where both sides push at the solution.
-            const bool points_push = pad_force_at(pad, pad != nullptr ? pad->x : 0.0) != 0.0 || any_push(s.force);
+            const bool points_push = pads_press() || any_push(s.force);
             bool grid_pushes = any_push(std::span<const double>(s.pad_force).first(grid.pads->points().size()));
             for (const ContactSolution& g : grid.solutions) grid_pushes = grid_pushes || g.force != 0.0;
             s.joint = points_push && grid_pushes;
             return commit(s);
         }
         // Not from that start (a note let go or struck anew): from each side's own solution.
-        solve_points(s, predicted, law, k, pad);
+        solve_points(s, predicted, law, k, pads);
     }
-    const double pad_force = pad_force_at(pad, pad != nullptr ? pad->x : 0.0);
-    const bool points_push =
-        pad_force != 0.0 || any_push(s.force);
-    const bool grid_pushes = solve_grid(s, law, k, grid, pad, pad_force);
+    std::array<double, kMaxPads> pad_force{};
+    for (std::size_t a = 0; a < pads.size(); ++a) pad_force[a] = pad_force_at(pads[a], pads[a].x);
+    const bool points_push = pads_press() || any_push(s.force);
+    const bool grid_pushes = solve_grid(s, law, k, grid, pads, pad_force);
     // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
     // grid solved with the points' (and the pad's) forces already; the points and the pad, with
     // no force of their own, need the grid's push to leave them apart.
     bool joint = points_push && grid_pushes;
     if (grid_pushes && !points_push) {
-        // The grid's (and the pads') push at u(x_p) and at u_s.
+        // The grid's (and the fingers' pads') push at u(x_p) and at each pad's u_s.
         for (std::size_t p = 0; p < size() && !joint; ++p) {
-            s.quotient[p] = s.increment[p] - grid_push(s, k, grid, p, pad);
+            s.quotient[p] = s.increment[p] - grid_push(s, k, grid, p, pads);
             joint = law.difference_quotient(s.eta_prev[p], s.quotient[p]) != 0.0;
         }
-        double pad_x = 0.0;
-        if (!joint && pad != nullptr) {
-            pad_x = pad->x + grid_push(s, k, grid, size(), pad);
-            joint = pad_force_at(pad, pad_x) != 0.0;
+        std::array<double, kMaxPads> pad_x{};
+        for (std::size_t a = 0; a < pads.size() && !joint; ++a) {
+            pad_x[a] = pads[a].x + grid_push(s, k, grid, size() + a, pads);
+            joint = pad_force_at(pads[a], pad_x[a]) != 0.0;
         }
         if (!joint) {
             for (std::size_t p = 0; p < size(); ++p) s.increment[p] = s.quotient[p];
-            if (pad != nullptr) pad->x = pad_x;
+            for (std::size_t a = 0; a < pads.size(); ++a) pads[a].x = pad_x[a];
         }
     }
     s.joint = joint;
     if (joint) {  // (from the evaluation just made: the points' own solutions, the fingers' own solves)
         const std::size_t heights = grid.pads != nullptr ? grid.pads->heights() : 0;
-        if (s.awake + 1 + heights <= static_cast<std::size_t>(kSmall))
-            solve_with_grid<SmallMatrix>(s, law, k, grid, pad, true);
+        if (s.awake + pads.size() + heights <= static_cast<std::size_t>(kSmall))
+            solve_with_grid<SmallMatrix>(s, law, k, grid, pads, true);
         else
-            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pad, true);
+            solve_with_grid<Eigen::MatrixXd>(s, law, k, grid, pads, true);
     }
     return commit(s);
 }
 
-double PointContact::grid_push(const State& s, double k, const Grid& grid, std::size_t p, const Pad* pad) const {
-    const auto coupling = [&](std::size_t i) { return p < size() ? grid_coupling(p, i) : pad->grid[i]; };
+double PointContact::grid_push(const State& s, double k, const Grid& grid, std::size_t p, std::span<const Pad> pads) const {
+    const auto coupling = [&](std::size_t i) { return p < size() ? grid_coupling(p, i) : pads[p - size()].grid[i]; };
     double shift = 0.0;
     for (std::size_t r = 0; r < grid.points.size(); ++r)
         if (grid.solutions[r].force != 0.0) shift += coupling(grid.points[r]) * grid.solutions[r].force;
     if (grid.pads != nullptr) {
-        const std::span<const std::size_t> pads = grid.pads->points();
-        for (std::size_t r = 0; r < pads.size(); ++r)
-            if (s.pad_force[r] != 0.0) shift += coupling(pads[r]) * s.pad_force[r];
+        const std::span<const std::size_t> fingers_points = grid.pads->points();
+        for (std::size_t r = 0; r < fingers_points.size(); ++r)
+            if (s.pad_force[r] != 0.0) shift += coupling(fingers_points[r]) * s.pad_force[r];
     }
     return k * grid.step * shift;
 }
 
-bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad,
-                              double pad_force, const std::vector<double>* height) const {
+bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<const Pad> pads,
+                              std::span<const double> pad_force, const std::vector<double>* height) const {
     bool pushes = false;
     s.pushing.clear();  // (within its reserved room)
     for (std::size_t p = 0; p < size(); ++p)
         if (s.force[p] != 0.0) s.pushing.push_back(p);
     if (grid.pads != nullptr) {
-        // The pads' predictions raised by the points' (and the pad's) forces; one trial of their solve.
-        const std::span<const std::size_t> pads = grid.pads->points();
-        for (std::size_t r = 0; r < pads.size(); ++r) {
-            const std::size_t i = pads[r];
+        // The fingers' pad predictions raised by the points' (and the pads') forces; one trial of their solve.
+        const std::span<const std::size_t> fingers_points = grid.pads->points();
+        for (std::size_t r = 0; r < fingers_points.size(); ++r) {
+            const std::size_t i = fingers_points[r];
             double shift = 0.0;
             for (std::size_t p : s.pushing) shift += points_[p].weight_m * grid_coupling(p, i) * s.force[p];
-            if (pad_force != 0.0) shift += pad->grid[i] * pad_force;
+            for (std::size_t a = 0; a < pads.size(); ++a)
+                if (pad_force[a] != 0.0) shift += pads[a].grid[i] * pad_force[a];
             s.pad_shift[r] = k * shift;
         }
-        const auto n = pads.size();
+        const auto n = fingers_points.size();
         const std::size_t fingers = grid.pads->heights();
         const auto shift = std::span<const double>(s.pad_shift).first(n);
         const auto force = std::span<double>(s.pad_force).first(n);
@@ -306,7 +306,8 @@ bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Gri
         const std::size_t i = grid.points[r];
         double b = grid.b[r];
         for (std::size_t p : s.pushing) b -= k * points_[p].weight_m * grid_coupling(p, i) * s.force[p];
-        if (pad_force != 0.0) b -= k * pad->grid[i] * pad_force;
+        for (std::size_t a = 0; a < pads.size(); ++a)
+            if (pad_force[a] != 0.0) b -= k * pads[a].grid[i] * pad_force[a];
         grid.solutions[r] = law.solve(grid.a[r], b, k);
         pushes = pushes || grid.solutions[r].force != 0.0;
     }
@@ -345,52 +346,56 @@ void PointContact::points_jacobian(State& s, const PenaltyContact& law, double k
 }
 
 template <class Matrix>
-void PointContact::pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const {
-    // The pad's row and column beside the points' Jacobian (points_jacobian's slopes):
-    // dR_p/dx = k h_p F', dR_x/dr_q = -k c_q h_q f_q', dR_x/dx = 1 - k (s . s) F'.
+void PointContact::pad_border(const State& s, double k, std::span<const Pad> pads, std::span<const double> pad_slope,
+                              Matrix& jacobian) const {
+    // Each pad's row and column beside the points' Jacobian (points_jacobian's slopes):
+    // dR_p/dx_a = k h^a_p F_a', dR_a/dr_q = -k c_q h^a_q f_q', dR_a/dx_b = delta_ab - k (s_a . s_b) F_b'.
     const std::vector<std::size_t>& awake = s.awake_list;
-    const auto e = static_cast<Eigen::Index>(awake.size());
-    for (std::size_t a = 0; a < awake.size(); ++a) {
-        const std::size_t p = awake[a];
-        const auto i = static_cast<Eigen::Index>(a);
-        jacobian(i, e) = k * pad.coupling[p] * pad_slope;
-        jacobian(e, i) = -k * points_[p].weight_m * pad.coupling[p] * s.slope[p];
+    const std::size_t count = awake.size();
+    for (std::size_t a = 0; a < pads.size(); ++a) {
+        const auto e = static_cast<Eigen::Index>(count + a);
+        for (std::size_t c = 0; c < count; ++c) {
+            const std::size_t p = awake[c];
+            const auto i = static_cast<Eigen::Index>(c);
+            jacobian(i, e) = k * pads[a].coupling[p] * pad_slope[a];
+            jacobian(e, i) = -k * points_[p].weight_m * pads[a].coupling[p] * s.slope[p];
+        }
+        for (std::size_t b = 0; b < pads.size(); ++b)
+            jacobian(e, static_cast<Eigen::Index>(count + b)) = (a == b ? 1.0 : 0.0) - k * cross(pads, a, b) * pad_slope[b];
     }
-    jacobian(e, e) = 1.0 - k * pad.self * pad_slope;
 }
 
 template <class Matrix>
-void PointContact::pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope,
-                                 Matrix& jacobian) const {
-    // The fingers' part of the Jacobian. Unknown c (a point, the pad) moves the pads' predictions
-    // along v (k c_q f_q' M_q. for a point, k F' m for the pad), their forces by dF_i/dw_i v_i
-    // (each pad point's own response: the heights are unknowns of their own), the rows by
-    // k dx M_p. (dF/dw v) (the pad's row: minus k dx m . (dF/dw v)), and finger f's row by
-    // its pull . v. Finger f's height moves its pad's forces by dF_i/ds, its row by its slope.
-    const std::span<const std::size_t> pads = grid.pads->points();
-    const std::size_t n = pads.size();
+void PointContact::pads_jacobian(State& s, double k, const Grid& grid, std::span<const Pad> pads,
+                                 std::span<const double> pad_slope, Matrix& jacobian) const {
+    // The fingers' part of the Jacobian. Unknown c (a point, a pad) moves the fingers' pad
+    // predictions along v (k c_q f_q' M_q. for a point, k F_a' m^a for pad a), their forces by
+    // dF_i/dw_i v_i (each pad point's own response: the heights are unknowns of their own), the
+    // rows by k dx M_p. (dF/dw v) (a pad's row: minus k dx m^a . (dF/dw v)), and finger f's row
+    // by its pull . v. Finger f's height moves its pad's forces by dF_i/ds, its row by its slope.
+    const std::span<const std::size_t> points = grid.pads->points();
+    const std::size_t n = points.size();
     const std::size_t fingers = grid.pads->heights();
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
-    const std::size_t columns = pad != nullptr ? count + 1 : count;  // (the fingers' come after)
+    const std::size_t columns = count + pads.size();  // (the fingers' come after)
     const std::span<double> response = std::span<double>(s.pad_response).first(n);
     const std::span<double> lift = std::span<double>(s.pad_lift).first(n);
     const std::span<double> pull = std::span<double>(s.pad_pull).first(n);
     grid.pads->slopes(response, lift, pull, std::span<double>(s.height_slope).first(fingers));
     const auto coupling = [&](std::size_t c, std::size_t r) {
-        return c == count ? pad->grid[pads[r]] : grid_coupling(awake[c], pads[r]);
+        return c >= count ? pads[c - count].grid[points[r]] : grid_coupling(awake[c], points[r]);
     };
     // Column c's change of the rows through pad points [from, to) moving by moved(r).
     const auto add_rows = [&](Eigen::Index column, std::size_t from, std::size_t to, auto&& moved) {
         for (std::size_t a = 0; a < columns; ++a) {
             double sum = 0.0;
             for (std::size_t r = from; r < to; ++r) sum += coupling(a, r) * moved(r);
-            jacobian(static_cast<Eigen::Index>(a), column) += (a == count ? -1.0 : 1.0) * k * grid.step * sum;
+            jacobian(static_cast<Eigen::Index>(a), column) += (a >= count ? -1.0 : 1.0) * k * grid.step * sum;
         }
     };
     for (std::size_t c = 0; c < columns; ++c) {
-        const bool pad_column = c == count;
-        const double scale = pad_column ? k * pad_slope : k * points_[awake[c]].weight_m * s.slope[awake[c]];
+        const double scale = c >= count ? k * pad_slope[c - count] : k * points_[awake[c]].weight_m * s.slope[awake[c]];
         if (scale == 0.0) continue;
         const auto column = static_cast<Eigen::Index>(c);
         add_rows(column, 0, n, [&](std::size_t r) { return response[r] * scale * coupling(c, r); });
@@ -408,55 +413,60 @@ void PointContact::pads_jacobian(State& s, double k, const Grid& grid, const Pad
 }
 
 template <class Matrix>
-bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated,
-                                   bool may_fail) const {
-    // Newton on the points' increments r_p (and the pad's x, and the fingers' height steps), the
-    // grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their response
-    // to a push), and the fingers' pad points too (GridPads: their forces join the grid's in R_p
-    // and R_x, each finger's equation is a row; pads_jacobian their part of J):
-    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k h_p F(x) - b_p,
-    //     R_x = x - w - k sum_q c_q h_q f_q - k (s . s) F(x) - k dx sum_i m_i f_i,
+bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<Pad> pads,
+                                   bool evaluated, bool may_fail) const {
+    // Newton on the points' increments r_p (and each pad's x_a, and the fingers' height steps),
+    // the grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their
+    // response to a push), and the fingers' pad points too (GridPads: their forces join the
+    // grid's in R_p and R_a, each finger's equation is a row; pads_jacobian their part of J):
+    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k sum_a h^a_p F_a(x_a) - b_p,
+    //     R_a = x_a - w_a - k sum_q c_q h^a_q f_q - k sum_b (s_a . s_b) F_b(x_b) - k dx sum_i m^a_i f_i,
     //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi w_i,
-    //     dR_p/dx = k h_p F' - k^2 dx F' sum_i M_pi m_i w_i,
-    //     dR_x/dr_q = -k c_q h_q f_q' + k^2 dx c_q f_q' sum_i m_i M_qi w_i,
-    //     dR_x/dx = 1 - k (s . s) F' + k^2 dx F' sum_i m_i^2 w_i.
-    // evaluated: s (and grid.solutions) hold the evaluation at s.increment, pad->x and s.height.
+    //     dR_p/dx_a = k h^a_p F_a' - k^2 dx F_a' sum_i M_pi m^a_i w_i,
+    //     dR_a/dr_q = -k c_q h^a_q f_q' + k^2 dx c_q f_q' sum_i m^a_i M_qi w_i,
+    //     dR_a/dx_b = delta_ab - k (s_a . s_b) F_b' + k^2 dx F_b' sum_i m^a_i m^b_i w_i.
+    // evaluated: s (and grid.solutions) hold the evaluation at s.increment, the pads' x and s.height.
     double scale = newton_scale(s);
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
-    const std::size_t last = count;  // the pad's row and column, where there is one
+    const std::size_t pad_count = pads.size();
     const std::size_t fingers = grid.pads != nullptr ? grid.pads->heights() : 0;
     for (std::size_t f = 0; f < fingers; ++f) s.height_end[f] = grid.pads->end(f);
-    const std::size_t first_height = pad != nullptr ? count + 1 : count;
+    const std::size_t first_height = count + pad_count;
     const auto m = static_cast<Eigen::Index>(first_height + fingers);
     Matrix jacobian(m, m);
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
     std::vector<double>& r = s.increment;
-    double x = pad != nullptr ? pad->x : 0.0, pad_force = 0.0, pad_slope = 0.0, pad_residual = 0.0;
-    if (pad != nullptr) scale = std::max({scale, std::abs(pad->predicted), std::abs(x)});
-    const auto residual_at = [&](const std::vector<double>& at, double at_x, const std::vector<double>& at_height,
-                                 bool solve) {
+    // Each pad's unknown x, its force F(x), dF/dx and residual; its trial x.
+    std::array<double, kMaxPads> x{}, pad_force{}, pad_slope{}, pad_residual{}, trial_x{};
+    for (std::size_t a = 0; a < pad_count; ++a) {
+        x[a] = pads[a].x;
+        scale = std::max({scale, std::abs(pads[a].predicted), std::abs(x[a])});
+    }
+    const auto residual_at = [&](const std::vector<double>& at, const std::array<double, kMaxPads>& at_x,
+                                 const std::vector<double>& at_height, bool solve) {
         for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
-        if (pad != nullptr) pad->press->force_and_slope(at_x, pad_force, pad_slope);
+        for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at_x[a], pad_force[a], pad_slope[a]);
         if (solve) {
             // (the grid reads the points' forces from s.force: the quotients, for this evaluation)
             std::swap(s.force, s.quotient);
-            solve_grid(s, law, k, grid, pad, pad_force, &at_height);
+            solve_grid(s, law, k, grid, pads, pad_force, &at_height);
             std::swap(s.force, s.quotient);
         }
         double largest = 0.0;
         for (std::size_t p : awake) {
             double push = 0.0;
             for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
-            s.residual[p] = at[p] + k * push + grid_push(s, k, grid, p, pad) - s.b[p];
-            if (pad != nullptr) s.residual[p] += k * pad->coupling[p] * pad_force;
+            for (std::size_t a = 0; a < pad_count; ++a) push += pads[a].coupling[p] * pad_force[a];
+            s.residual[p] = at[p] + k * push + grid_push(s, k, grid, p, pads) - s.b[p];
             largest = std::max(largest, std::abs(s.residual[p]));
         }
-        if (pad != nullptr) {
+        for (std::size_t a = 0; a < pad_count; ++a) {
             double push = 0.0;
-            for (std::size_t q : awake) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
-            pad_residual = at_x - pad->predicted - k * push - k * pad->self * pad_force - grid_push(s, k, grid, size(), pad);
-            largest = std::max(largest, std::abs(pad_residual));
+            for (std::size_t q : awake) push += points_[q].weight_m * pads[a].coupling[q] * s.quotient[q];
+            for (std::size_t b = 0; b < pad_count; ++b) push += cross(pads, a, b) * pad_force[b];
+            pad_residual[a] = at_x[a] - pads[a].predicted - k * push - grid_push(s, k, grid, size() + a, pads);
+            largest = std::max(largest, std::abs(pad_residual[a]));
         }
         // A finger's equation rounds relative to its own size (a stiff pad's slope times the
         // finger's height): measured against the points' scale, its floor at theirs.
@@ -477,8 +487,7 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
     const int iterations = may_fail ? 8 : kMaxNewton;
     for (; iteration < iterations && norm > tolerance; ++iteration) {
         points_jacobian(s, law, k, r, jacobian);
-        const auto e = static_cast<Eigen::Index>(last);
-        if (pad != nullptr) pad_border(s, k, *pad, pad_slope, jacobian);
+        pad_border(s, k, pads, pad_slope, jacobian);
         if (fingers > 0) {
             jacobian.bottomRows(static_cast<Eigen::Index>(fingers)).setZero();
             jacobian.rightCols(static_cast<Eigen::Index>(fingers)).setZero();
@@ -497,23 +506,25 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
                     jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) -=
                         kkw * points_[q].weight_m * s.slope[q] * grid_coupling(p, i) * grid_coupling(q, i);
                 }
-            if (pad != nullptr) {
-                const double m_i = pad->grid[i];
+            for (std::size_t pa = 0; pa < pad_count; ++pa) {
+                const double m_i = pads[pa].grid[i];
+                const auto e = static_cast<Eigen::Index>(count + pa);
                 for (std::size_t a = 0; a < count; ++a) {
                     const std::size_t p = awake[a];
                     const auto ia = static_cast<Eigen::Index>(a);
-                    jacobian(ia, e) -= kkw * pad_slope * grid_coupling(p, i) * m_i;
+                    jacobian(ia, e) -= kkw * pad_slope[pa] * grid_coupling(p, i) * m_i;
                     jacobian(e, ia) += kkw * points_[p].weight_m * s.slope[p] * m_i * grid_coupling(p, i);
                 }
-                jacobian(e, e) += kkw * pad_slope * m_i * m_i;
+                for (std::size_t pb = 0; pb < pad_count; ++pb)
+                    jacobian(e, static_cast<Eigen::Index>(count + pb)) += kkw * pad_slope[pb] * m_i * pads[pb].grid[i];
             }
         }
-        if (grid.pads != nullptr) pads_jacobian(s, k, grid, pad, pad_slope, jacobian);
+        if (grid.pads != nullptr) pads_jacobian(s, k, grid, pads, pad_slope, jacobian);
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
-        if (pad != nullptr) step(e) = -pad_residual;
+        for (std::size_t a = 0; a < pad_count; ++a) step(static_cast<Eigen::Index>(count + a)) = -pad_residual[a];
         for (std::size_t f = 0; f < fingers; ++f) step(static_cast<Eigen::Index>(first_height + f)) = -s.height_residual[f];
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
-        double t = 1.0, trial_x = 0.0, trial_norm = 0.0;
+        double t = 1.0, trial_norm = 0.0;
         bool decreased = false;
         // Backtracking is for the kink of [eta]_+ far from the solution; near it, a full Newton
         // step that does not lower the residual finds it at its round-off floor (a stiff pad's
@@ -521,7 +532,7 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
         const int halvings = norm <= 1e-9 * scale ? 1 : 40;
         for (int halving = 0; halving < halvings; ++halving, t *= 0.5) {
             for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
-            trial_x = pad != nullptr ? x + t * step(e) : 0.0;
+            for (std::size_t a = 0; a < pad_count; ++a) trial_x[a] = x[a] + t * step(static_cast<Eigen::Index>(count + a));
             for (std::size_t f = 0; f < fingers; ++f)
                 s.height_candidate[f] = s.height[f] + t * step(static_cast<Eigen::Index>(first_height + f));
             trial_norm = residual_at(candidate, trial_x, s.height_candidate, true);
@@ -552,49 +563,53 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
     // (a held note's start: taken only where Newton got to round-off, as it does from a good one)
     if (may_fail && !(norm <= tolerance || (stalled && converged(norm, step, stalled, scale)))) return false;
     if (!converged(norm, step, stalled, scale)) {
-        throw SolverError("point contact: the joint Newton solve of " + std::to_string(count) +
-                          (pad != nullptr ? " points, a pad" : " points") +
-                          " and the grid's obstacle points did not converge (residual " + std::to_string(norm) + " m)");
+        throw SolverError("point contact: the joint Newton solve of " + std::to_string(count) + " points, " +
+                          std::to_string(pad_count) + " pads and the grid's obstacle points did not converge (residual " +
+                          std::to_string(norm) + " m)");
     }
     s.iterations = std::max(s.iterations, iteration);
     for (std::size_t p : awake) s.force[p] = s.quotient[p];
-    if (pad != nullptr) pad->x = x;
+    for (std::size_t a = 0; a < pad_count; ++a) pads[a].x = x[a];
     return true;
 }
 
 template <class Matrix>
-void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const {
+void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, std::span<Pad> pads) const {
     double scale = newton_scale(s);
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
-    const std::size_t last = count;  // the pad's row and column, where there is one
-    const auto m = static_cast<Eigen::Index>(pad != nullptr ? count + 1 : count);
+    const std::size_t pad_count = pads.size();
+    const auto m = static_cast<Eigen::Index>(count + pad_count);
     Matrix jacobian(m, m);
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
-    // The pad's unknown x, its force F(x), dF/dx and residual beside the points'.
-    double x = pad != nullptr ? pad->x : 0.0, pad_force = 0.0, pad_slope = 0.0, pad_residual = 0.0;
-    // residual_p = r_p + k sum_q G_pq f_q(r_q) (+ k h_p F(x)) - b_p, at increments r (and x);
-    // returns the largest size of them.
-    const auto residual_at = [&](const std::vector<double>& r, double at) {
+    // Each pad's unknown x, its force F(x), dF/dx and residual beside the points'.
+    std::array<double, kMaxPads> x{}, pad_force{}, pad_slope{}, pad_residual{}, trial_x{};
+    for (std::size_t a = 0; a < pad_count; ++a) {
+        x[a] = pads[a].x;
+        scale = std::max({scale, std::abs(pads[a].predicted), std::abs(x[a])});
+    }
+    // residual_p = r_p + k sum_q G_pq f_q(r_q) + k sum_a h^a_p F_a(x_a) - b_p, at increments r (and
+    // the pads' x); returns the largest size of them.
+    const auto residual_at = [&](const std::vector<double>& r, const std::array<double, kMaxPads>& at) {
         double largest = 0.0;
         for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], r[q]);
-        if (pad != nullptr) pad->press->force_and_slope(at, pad_force, pad_slope);
+        for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at[a], pad_force[a], pad_slope[a]);
         for (std::size_t p : awake) {
             double push = 0.0;
             for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
+            for (std::size_t a = 0; a < pad_count; ++a) push += pads[a].coupling[p] * pad_force[a];
             s.residual[p] = r[p] + k * push - s.b[p];
-            if (pad != nullptr) s.residual[p] += k * pad->coupling[p] * pad_force;
             largest = std::max(largest, std::abs(s.residual[p]));
         }
-        if (pad != nullptr) {
+        for (std::size_t a = 0; a < pad_count; ++a) {
             double push = 0.0;
-            for (std::size_t q : awake) push += points_[q].weight_m * pad->coupling[q] * s.quotient[q];
-            pad_residual = at - pad->predicted - k * push - k * pad->self * pad_force;
-            largest = std::max(largest, std::abs(pad_residual));
+            for (std::size_t q : awake) push += points_[q].weight_m * pads[a].coupling[q] * s.quotient[q];
+            for (std::size_t b = 0; b < pad_count; ++b) push += cross(pads, a, b) * pad_force[b];
+            pad_residual[a] = at[a] - pads[a].predicted - k * push;
+            largest = std::max(largest, std::abs(pad_residual[a]));
         }
         return largest;
     };
-    if (pad != nullptr) scale = std::max({scale, std::abs(pad->predicted), std::abs(x)});
     const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * scale;
     std::vector<double>& r = s.increment;
     double norm = residual_at(r, x);
@@ -602,20 +617,18 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     int iteration = 0;
     bool stalled = false;
     for (; iteration < kMaxNewton && norm > tolerance; ++iteration) {
-        // the points' Jacobian, bordered by the pad's row and column
+        // the points' Jacobian, bordered by the pads' rows and columns
         points_jacobian(s, law, k, r, jacobian);
+        pad_border(s, k, pads, pad_slope, jacobian);
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
-        if (pad != nullptr) {
-            pad_border(s, k, *pad, pad_slope, jacobian);
-            step(static_cast<Eigen::Index>(last)) = -pad_residual;
-        }
+        for (std::size_t a = 0; a < pad_count; ++a) step(static_cast<Eigen::Index>(count + a)) = -pad_residual[a];
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
         // Backtracking on the residual: the kink of [eta]_+ at eta = 0 can overshoot.
         double t = 1.0;
         bool decreased = false;
         for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
             for (std::size_t a = 0; a < count; ++a) trial[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
-            const double trial_x = pad != nullptr ? x + t * step(static_cast<Eigen::Index>(last)) : 0.0;
+            for (std::size_t a = 0; a < pad_count; ++a) trial_x[a] = x[a] + t * step(static_cast<Eigen::Index>(count + a));
             const double trial_norm = residual_at(trial, trial_x);
             if (trial_norm < norm) {
                 r.swap(trial);
@@ -632,12 +645,11 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
         }
     }
     if (!converged(norm, step, stalled, scale))
-        throw SolverError("point contact: the coupled Newton solve of " + std::to_string(count) +
-                          (pad != nullptr ? " points and a pad" : " points") + " did not converge (residual " +
-                          std::to_string(norm) + " m)");
+        throw SolverError("point contact: the coupled Newton solve of " + std::to_string(count) + " points and " +
+                          std::to_string(pad_count) + " pads did not converge (residual " + std::to_string(norm) + " m)");
     s.iterations = std::max(s.iterations, iteration);
     for (std::size_t p = 0; p < size(); ++p) s.force[p] = s.quotient[p];
-    if (pad != nullptr) pad->x = x;
+    for (std::size_t a = 0; a < pad_count; ++a) pads[a].x = x[a];
 }
 
 double PointContact::potential(const State& s, const PenaltyContact& law, bool current) const {

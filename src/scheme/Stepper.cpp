@@ -24,20 +24,21 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
-// Whether the case's plucker acts at its exact position: no other plucker may touch the string,
-// so that its one scalar equation is the whole contact solve of each step, or one more equation
-// in the system of the exact points, the grid's obstacle points and the fingers (PointContact).
-// Force gestures load the string explicitly and may be present.
+// Whether the case's pluckers act at their exact positions: each one's scalar equation is the
+// whole contact solve of a step where it acts alone, else it is one more equation in the system
+// of the exact points, the other pluckers, the grid's obstacle points and the fingers
+// (PointContact, up to kMaxPads of them). Force gestures load the string explicitly.
 bool pluck_exact(const Plan& plan) {
-    return plan.plucks().size() == 1;
+    return plan.plucks().size() <= PointContact::kMaxPads;
 }
 
 std::vector<Pluck> plucks_of(const Plan& plan) {
     if (!pluck_exact(plan)) return parts_of<Pluck>(plan, plan.plucks());
-    const PluckSpec& spec = plan.plucks().front();
     std::vector<Pluck> plucks;
-    plucks.emplace_back(spec, pad_mean_shapes(plan.basis(), spec.position_m, spec.width_m), plan.contact(), plan.dt(),
-                        plan.force_to_displacement());
+    plucks.reserve(plan.plucks().size());
+    for (const PluckSpec& spec : plan.plucks())
+        plucks.emplace_back(spec, pad_mean_shapes(plan.basis(), spec.position_m, spec.width_m), plan.contact(), plan.dt(),
+                            plan.force_to_displacement());
     return plucks;
 }
 
@@ -112,15 +113,26 @@ Stepper::Stepper(const Plan& plan, std::span<const double> q0, std::span<const d
     };
     for (const ForceProfile& g : gestures_) at_points(g.shape(), gesture_at_points_);
     if (!parts_.plucks().empty() && parts_.plucks().front().exact()) {
-        exact_pluck_ = parts_.fingers().size();  // (no fingers: part 0)
-        const std::span<const double> shape = parts_.plucks().front().shape();
+        first_pluck_ = parts_.fingers().size();
+        exact_plucks_ = parts_.plucks().size();
+        const auto shape = [&](std::size_t j) { return parts_.plucks()[j].shape(); };
         for (const ForceProfile& g : gestures_)
-            gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape.data(), q0.size()));
-        at_points(shape, pluck_at_points_);
-        if (!plan.obstacle_points().empty() || !plan.fingers().empty()) {  // m_i = s . S_i: its coupling to the grid's obstacle and pad points
-            pluck_at_grid_.resize(q0.size());
-            plan.basis().to_grid(shape, pluck_at_grid_);
+            for (std::size_t j = 0; j < exact_plucks_; ++j)
+                gesture_at_pluck_.push_back(kernels::dot(g.shape().data(), shape(j).data(), q0.size()));
+        const std::size_t n = q0.size();
+        // m_i = s . S_i: each pad's coupling to the grid's obstacle and finger pad points
+        const bool beside_grid = !plan.obstacle_points().empty() || !plan.fingers().empty();
+        if (beside_grid) pluck_at_grid_.resize(exact_plucks_ * n);
+        for (std::size_t j = 0; j < exact_plucks_; ++j) {
+            at_points(shape(j), pluck_at_points_);
+            if (beside_grid) plan.basis().to_grid(shape(j), std::span<double>(pluck_at_grid_).subspan(j * n, n));
+            for (std::size_t b = 0; b < exact_plucks_; ++b)
+                pluck_cross_.push_back(kernels::dot(shape(j).data(), shape(b).data(), n));
         }
+        pluck_load_.assign(exact_plucks_, 0.0);
+        acting_plucks_.reserve(exact_plucks_);
+        pads_.reserve(exact_plucks_);
+        pad_cross_.reserve(exact_plucks_ * exact_plucks_);
     }
 }
 
@@ -188,54 +200,92 @@ void Stepper::restart() {
     }
     classify_exact_points();
     parts_.each_on([&](PlayedPart& part) { part.read_obstacle(plan_.obstacle()); });
-    if (exact_pluck_on()) {
+    for (std::size_t j = 0; j < exact_plucks_; ++j) {
+        if (!exact_pluck_on(j)) continue;
         double u_now = 0.0, u_before = 0.0;
-        kernels::dot_current_previous(exact_pluck().shape().data(), q_.data(), d_.data(), q_.size(), u_now, u_before);
-        start_exact_pluck(u_before, u_now);
+        kernels::dot_current_previous(exact_pluck(j).shape().data(), q_.data(), d_.data(), q_.size(), u_now, u_before);
+        start_exact_pluck(j, u_before, u_now);
     }
     classify_points(grid_, impulse_);
 }
 
-void Stepper::start_exact_pluck(double u_before, double u_now) {
-    exact_pluck().start(std::span<const double>(&u_before, 1), std::span<const double>(&u_now, 1));
+bool Stepper::any_exact_pluck_on() const {
+    for (std::size_t j = 0; j < exact_plucks_; ++j)
+        if (exact_pluck_on(j)) return true;
+    return false;
 }
 
-bool Stepper::exact_pluck_acts() {
-    if (!exact_pluck_on()) return false;
-    if (exact_pluck().left()) {
-        parts_.set_on(exact_pluck_, false);
-        return false;
+void Stepper::start_exact_pluck(std::size_t j, double u_before, double u_now) {
+    exact_pluck(j).start(std::span<const double>(&u_before, 1), std::span<const double>(&u_now, 1));
+}
+
+bool Stepper::exact_plucks_act() {
+    acting_plucks_.clear();  // (within its reserved room)
+    for (std::size_t j = 0; j < exact_plucks_; ++j) {
+        if (!exact_pluck_on(j)) continue;
+        if (exact_pluck(j).left()) {
+            parts_.set_on(first_pluck_ + j, false);
+            continue;
+        }
+        acting_plucks_.push_back(j);
     }
-    return true;
+    return !acting_plucks_.empty();
 }
 
-double Stepper::exact_pluck_prediction() const {
-    // w_s = s . (free q^{n+1}), shifted by the gestures' loads of this step (before the plucker's own).
+double Stepper::exact_pluck_prediction(std::size_t j) const {
+    // w_s = s . (free q^{n+1}), shifted by the gestures' loads of this step (before the pluckers' own).
     const ModalPropagator& prop = plan_.propagator();
-    const double* row = parts_.plucks().front().shape().data();
+    const double* row = parts_.plucks()[j].shape().data();
     double w = 0.0;
     kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), &row, 1, q_.size(), &w);
     if (loaded_)
         for (std::size_t g = 0; g < gestures_.size(); ++g)
-            w += plan_.force_to_displacement() * gesture_load_[g] * gesture_at_pluck_[g];
+            w += plan_.force_to_displacement() * gesture_load_[g] * gesture_at_pluck_[g * exact_plucks_ + j];
     return w;
 }
 
-void Stepper::take_pluck_force(double force) {
-    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, exact_pluck().max_iterations());
-    pluck_load_ = force;
+void Stepper::take_pluck_force(std::size_t j, double force) {
+    stats_.max_newton_iterations = std::max(stats_.max_newton_iterations, exact_pluck(j).max_iterations());
+    pluck_load_[j] = force;
     if (force != 0.0) {
         if (!loaded_) ++stats_.played_steps;  // (load_gestures counted a loaded step)
         loaded_ = true;
     }
 }
 
-void Stepper::solve_exact_pluck() {
-    if (!exact_pluck_acts()) return;
-    const double w = exact_pluck_prediction();
+void Stepper::solve_exact_pluck_alone() {
+    const std::size_t j = acting_plucks_.front();
+    const double w = exact_pluck_prediction(j);
     double force = 0.0;
-    psi_curr_ += exact_pluck().step(n_, std::span<const double>(&w, 1), std::span<double>(&force, 1));
-    take_pluck_force(force);
+    psi_curr_ += exact_pluck(j).step(n_, std::span<const double>(&w, 1), std::span<double>(&force, 1));
+    take_pluck_force(j, force);
+}
+
+std::span<PointContact::Pad> Stepper::exact_pads(bool with_grid) {
+    const std::size_t count = acting_plucks_.size();
+    const std::size_t points = plan_.point_contact().size(), n = q_.size();
+    pads_.clear();  // (within their reserved room)
+    pad_cross_.clear();
+    for (std::size_t a : acting_plucks_)
+        for (std::size_t b : acting_plucks_) pad_cross_.push_back(pluck_cross_[a * exact_plucks_ + b]);
+    for (std::size_t a = 0; a < count; ++a) {
+        const std::size_t j = acting_plucks_[a];
+        Pluck& pluck = exact_pluck(j);
+        pluck.prepare(n_);
+        const double w = exact_pluck_prediction(j);
+        const std::span<const double> grid =
+            with_grid ? std::span<const double>(pluck_at_grid_).subspan(j * n, n) : std::span<const double>();
+        pads_.push_back({&pluck, w, pluck.shape_square(), std::span<const double>(pad_cross_).subspan(a * count, count),
+                         std::span<const double>(pluck_at_points_).subspan(j * points, points), pluck.solve_alone(w), grid});
+    }
+    return pads_;
+}
+
+void Stepper::conclude_exact_pads() {
+    for (std::size_t a = 0; a < pads_.size(); ++a) {
+        const std::size_t j = acting_plucks_[a];
+        take_pluck_force(j, exact_pluck(j).conclude(n_, pads_[a].x));
+    }
 }
 
 bool Stepper::finger_on(std::size_t f) const {
@@ -434,7 +484,8 @@ void Stepper::step() {
         put_points_to_sleep();
     }
     if (points_pushed_) report_point_forces();
-    if (pluck_load_ != 0.0) report_force_at(plan_.plucks().front().position_m, pluck_load_);
+    for (std::size_t j = 0; j < exact_plucks_; ++j)
+        if (pluck_load_[j] != 0.0) report_force_at(plan_.plucks()[j].position_m, pluck_load_[j]);
     ++n_;
 }
 
@@ -443,7 +494,7 @@ long Stepper::free_flight(const FreeFlight& flight, std::size_t head, std::span<
     const long steps = flight.steps();
     // A finger may touch at any time: its pad points are solved every step (and awake exact points);
     // a gesture loads the string until its force has ended.
-    if (n_ == 0 || !screening_ || pad_points_ != 0 || exact_pluck_on() || points_.awake != 0 || !active_.empty() ||
+    if (n_ == 0 || !screening_ || pad_points_ != 0 || any_exact_pluck_on() || points_.awake != 0 || !active_.empty() ||
         psi_curr_ != 0.0 || psi_prev_ != 0.0 || gestures_act_from(n_))
         return 0;
     scheduler_.refresh_amplitudes(q_, d_);  // the head changes below: the tail is summed anew
@@ -524,7 +575,8 @@ void Stepper::first_step() {
     // q^1 is the exact free motion of each mode; contact acts from step 1 on.
     std::vector<double> u0(q_.size());
     AlignedVector q1(q_.size());
-    const double pad_before = exact_pluck_on() ? kernels::dot(exact_pluck().shape().data(), q_.data(), q_.size()) : 0.0;
+    std::vector<double> pad_before(exact_plucks_);  // each exact plucker's u_s at level 0
+    for (std::size_t j = 0; j < exact_plucks_; ++j) pad_before[j] = kernels::dot(exact_pluck(j).shape().data(), q_.data(), q_.size());
     plan_.propagator().first_step(q_, v0_, q1, d_);
     plan_.basis().to_grid(q_, u0);
     q_ = std::move(q1);
@@ -535,11 +587,14 @@ void Stepper::first_step() {
     plan_.point_contact().start(points_, q_, d_);
     classify_exact_points();
     // Each played part starts from the string under its pad at levels 0 and 1.
-    for (std::size_t k = 0; k < parts_.size(); ++k)
-        if (k == exact_pluck_)
-            start_exact_pluck(pad_before, kernels::dot(exact_pluck().shape().data(), q_.data(), q_.size()));
-        else
+    for (std::size_t k = 0; k < parts_.size(); ++k) {
+        if (is_exact_pluck(k)) {
+            const std::size_t j = k - first_pluck_;
+            start_exact_pluck(j, pad_before[j], kernels::dot(exact_pluck(j).shape().data(), q_.data(), q_.size()));
+        } else {
             start_part(parts_[k], u0, grid_);
+        }
+    }
     next_speed_refresh_ = 1 + kSpeedRefreshSteps;
     n_ = 1;
 }
@@ -615,16 +670,19 @@ void Stepper::solve_contacts() {
     stats_.points_solved += static_cast<double>(active_.size() + pad_points_ + points_.awake);
     loaded_ = false;
     if (!gestures_.empty()) load_gestures();
-    pluck_load_ = 0.0;
-    // The exact plucker beside awake obstacle points of the grid or a finger: one solve with them.
-    const bool pluck_with_grid = (!active_.empty() || fingers_on()) && exact_pluck_acts();
-    if (points_.awake == 0 && !pluck_with_grid) solve_exact_pluck();  // (else solved with the points)
-    // Exact points (or the exact plucker) beside awake obstacle points of the grid or a finger's
+    std::fill(pluck_load_.begin(), pluck_load_.end(), 0.0);
+    // The exact pluckers beside awake obstacle points of the grid or a finger: one solve with them.
+    const bool pluck_with_grid = exact_plucks_act() && (!active_.empty() || fingers_on());
+    // A single plucker with nothing beside it: its own scalar solve; several: solved together
+    // (their pads move one another), with the exact points where any is awake.
+    const bool pads_alone = points_.awake == 0 && !pluck_with_grid;
+    if (pads_alone && acting_plucks_.size() == 1) solve_exact_pluck_alone();
+    // Exact points (or the exact pluckers) beside awake obstacle points of the grid or a finger's
     // pad: all in one solve (see PointContact).
     const bool coupled_points = plan_.point_contact().grid_coupled() && points_.awake != 0;
     const bool fingers_with_points = (coupled_points || pluck_with_grid) && fingers_on();
     const bool joint = pluck_with_grid || (coupled_points && !active_.empty()) || fingers_with_points;
-    points_pushed_ = points_.awake != 0 && !joint && solve_points();
+    points_pushed_ = (points_.awake != 0 || (pads_alone && acting_plucks_.size() > 1)) && !joint && solve_points();
     if (active_.empty() && pad_points_ == 0) {
         if (points_pushed_) ++stats_.contact_steps;
         return;
@@ -765,7 +823,7 @@ void Stepper::solve_fingers(bool use_transform, bool with_points) {
         acted = acted || part.acted();
     };
     for (std::size_t k = 0; k < parts_.size(); ++k) {
-        if (!parts_.on(k) || k == exact_pluck_) continue;  // (the exact plucker has its own solve)
+        if (!parts_.on(k) || is_exact_pluck(k)) continue;  // (the exact pluckers have their own solve)
         if (parts_[k].left()) {
             // Its pad's points join this step's obstacle solve below: they need this step's
             // predicted heights (formed above for the active points only), loads included.
@@ -935,15 +993,11 @@ bool Stepper::solve_points() {
     const PointContact& points = plan_.point_contact();
     const double k = plan_.force_to_displacement();
     bool pushed = false;
-    if (exact_pluck_acts()) {
-        // The plucker at its exact position presses on u_s, which every point's row overlaps:
-        // one more unknown in the points' system.
-        Pluck& pluck = exact_pluck();
-        pluck.prepare(n_);
-        const double w = exact_pluck_prediction();
-        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w), {}};
-        pushed = points.solve(points_, point_predicted_, plan_.contact(), k, pad);
-        take_pluck_force(pluck.conclude(n_, pad.x));
+    if (!acting_plucks_.empty()) {
+        // Each plucker at its exact position presses on its u_s, which every point's row (and
+        // every other pad) overlaps: one more unknown each in the points' system.
+        pushed = points.solve(points_, point_predicted_, plan_.contact(), k, exact_pads(false));
+        conclude_exact_pads();
     } else {
         pushed = points.solve(points_, point_predicted_, plan_.contact(), k);
     }
@@ -960,12 +1014,8 @@ void Stepper::solve_points_with_grid(bool with_pluck, bool with_fingers) {
     if (with_fingers) grid.pads = &pads;
     const double k = plan_.force_to_displacement();
     if (with_pluck) {
-        Pluck& pluck = exact_pluck();
-        pluck.prepare(n_);
-        const double w = exact_pluck_prediction();
-        PointContact::Pad pad{&pluck, w, pluck.shape_square(), pluck_at_points_, pluck.solve_alone(w), pluck_at_grid_};
-        points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid, pad);
-        take_pluck_force(pluck.conclude(n_, pad.x));
+        points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid, exact_pads(true));
+        conclude_exact_pads();
     } else {
         points_pushed_ = points.solve(points_, point_predicted_, plan_.contact(), k, grid);
     }
@@ -1103,8 +1153,9 @@ void Stepper::apply_impulse() {
         for (std::size_t g = 0; g < gestures_.size(); ++g)
             if (gesture_load_[g] != 0.0)
                 kernels::axpy(k * gesture_load_[g], gestures_[g].shape().data(), impulse_.data(), impulse_.size());
-        if (pluck_load_ != 0.0)
-            kernels::axpy(k * pluck_load_, exact_pluck().shape().data(), impulse_.data(), impulse_.size());
+        for (std::size_t j = 0; j < exact_plucks_; ++j)
+            if (pluck_load_[j] != 0.0)
+                kernels::axpy(k * pluck_load_[j], exact_pluck(j).shape().data(), impulse_.data(), impulse_.size());
         return;
     }
     if (points_pushed_) {

@@ -29,9 +29,9 @@
 // whole pad, spread evenly over it (modal impulse (dt^2/mu) F s). The stages and the scalar
 // solve above then act on one entry of weight 1 (dx -> 1, K -> K_p) whose step factor is
 // (dt^2/mu) (s . s): u_s^{n+1} = w_s + (dt^2/mu) (s . s) F with w_s the free step's u_s. Where
-// obstacle points or fingers push in the same step the pad is one more unknown in their system
-// (PointContact, beside the fingers' heights); a second plucker's pad would couple with it and
-// no solve takes two pads together, so the stepper uses it for a single plucker.
+// obstacle points, fingers or other pluckers push in the same step the pad is one more unknown
+// in their system (PointContact, beside the fingers' heights): the stepper uses it for up to
+// PointContact::kMaxPads pluckers.
 #include <cstddef>
 #include <span>
 #include <vector>

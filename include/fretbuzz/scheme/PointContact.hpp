@@ -20,8 +20,8 @@
 //     r_i + k f_i(r_i) = b_i - k sum_p c_p M_pi f_p,
 // so Newton's method runs on the points' P unknowns alone, each grid equation solved inside it
 // (the grid's unknowns eliminated: a Schur complement, P x P, whatever the grid points in contact).
-// A pad (below) joins that system as one more unknown: it moves grid point i by k m_i F,
-// m_i = s . S_i, and grid point i moves it by k dx m_i f_i.
+// Pads (below) join that system, one more unknown each: pad a moves grid point i by k m^a_i F_a,
+// m^a_i = s_a . S_i, and grid point i moves it by k dx m^a_i f_i.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -131,19 +131,25 @@ public:
     // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
     // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const;
-    // A pad pressing on u_s in the same step: with its force F(x) the system gains one unknown,
-    //     r_p + k sum_q G_pq f_q + k h_p F(x) = b_p,   x - w - k sum_q c_q h_q f_q - k (s . s) F(x) = 0,
-    // h_p = phi(x_p) . s, w the free step's u_s; x holds the pad's solution alone on entry and
-    // the joint one on return.
+    // Pads pressing on their u_s in the same step (pluckers at their exact positions): with pad
+    // a's force F_a(x_a) the system gains one unknown per pad,
+    //     r_p + k sum_q G_pq f_q + k sum_a h^a_p F_a(x_a) = b_p,
+    //     x_a - w_a - k sum_q c_q h^a_q f_q - k sum_b (s_a . s_b) F_b(x_b) = 0,
+    // h^a_p = phi(x_p) . s_a, w_a the free step's u_s; x_a holds the pad's solution alone on entry
+    // and the joint one on return. Two pads always move one another (their shapes overlap in
+    // mode space), so where either presses they are solved together.
+    static constexpr std::size_t kMaxPads = 8;
     struct Pad {
         const PadPress* press = nullptr;
         double predicted = 0.0;            // w
         double self = 0.0;                 // s . s
+        std::span<const double> cross;     // s . s_b for every pad b of the solve (none needed for one pad)
         std::span<const double> coupling;  // h_p
         double x = 0.0;
         std::span<const double> grid;  // m_i = s . S_i at every grid point (with a Grid only)
     };
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad& pad) const;
+    // pads: at most kMaxPads.
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, std::span<Pad> pads) const;
     // The grid's active obstacle points in the same step (grid_coupled() only): each one's
     // eta^{n-1} (a) and free-step increment (b); `solutions` receives each one's solution with
     // the points' forces (the caller moves the grid's eta on).
@@ -155,9 +161,10 @@ public:
         GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
     bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
-    // The points, the pad and the grid's active obstacle points in one solve (no point need be
+    // The points, the pads and the grid's active obstacle points in one solve (no point need be
     // grid_coupled() where there are none awake).
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad& pad) const;
+    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
+               std::span<Pad> pads) const;
     bool grid_coupled() const { return grid_points_ != 0; }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
@@ -167,35 +174,35 @@ public:
     void add_impulse(const State& s, double k, std::span<double> impulse) const;
 
 private:
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad) const;
     // The points' own solve (alone, then together where they couple), eta not yet moved on.
     // held: Newton's start only (a joint solve follows), eta carried on where in contact.
-    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Pad* pad,
-                      bool held = false) const;
+    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
+                      std::span<Pad> pads, bool held = false) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
     // The grid's equations (and the pads') given the points' forces; returns whether any grid or
     // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
     // `height`: the fingers' heights to try (GridPads::trial); none: their own solves (GridPads::solve).
-    bool solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, const Pad* pad, double pad_force,
-                    const std::vector<double>* height = nullptr) const;
-    // k dx sum_i M_pi f_i over the grid's pushing points and the pads' (u at x_p: p < size(); the
-    // pad's u_s for p == size(), pad given).
-    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, const Pad* pad) const;
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid, Pad* pad) const;
+    bool solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<const Pad> pads,
+                    std::span<const double> pad_force, const std::vector<double>* height = nullptr) const;
+    // k dx sum_i M_pi f_i over the grid's pushing points and the fingers' pads (u at x_p: p < size();
+    // pad a's u_s for p == size() + a).
+    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, std::span<const Pad> pads) const;
     double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
     template <class Matrix>
     void points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
     template <class Matrix>
-    void pad_border(const State& s, double k, const Pad& pad, double pad_slope, Matrix& jacobian) const;
+    void pad_border(const State& s, double k, std::span<const Pad> pads, std::span<const double> pad_slope,
+                    Matrix& jacobian) const;
     template <class Matrix>
-    void pads_jacobian(State& s, double k, const Grid& grid, const Pad* pad, double pad_slope, Matrix& jacobian) const;
+    void pads_jacobian(State& s, double k, const Grid& grid, std::span<const Pad> pads, std::span<const double> pad_slope,
+                       Matrix& jacobian) const;
     template <class Matrix>
     // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
     // does not converge (else throws SolverError).
-    bool solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, Pad* pad, bool evaluated,
+    bool solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
                          bool may_fail = false) const;
     template <class Matrix>
-    void solve_coupled(State& s, const PenaltyContact& law, double k, Pad* pad) const;
+    void solve_coupled(State& s, const PenaltyContact& law, double k, std::span<Pad> pads) const;
 
     std::vector<PointObstacle> points_;
     std::vector<double> planned_heights_, heights_;

@@ -241,15 +241,24 @@ private:
     double gestures_at_point(std::size_t p) const;
     bool gestures_act_from(long n) const;
     void advance_loaded();  // advance_modes with the gestures' loads in impulse_, and their work
-    // The plucker at its exact position (where it is the case's only contact): its solve from
-    // the pad's mean free prediction, its force a load on the modes as a gesture's.
-    bool exact_pluck_on() const { return exact_pluck_ < parts_.size() && parts_.on(exact_pluck_); }
-    Pluck& exact_pluck() { return static_cast<Pluck&>(parts_[exact_pluck_]); }
-    void start_exact_pluck(double u_before, double u_now);
-    bool exact_pluck_acts();  // on the string now (off for good once it has left)
-    double exact_pluck_prediction() const;
-    void take_pluck_force(double force);
-    void solve_exact_pluck();  // alone (no exact points)
+    // The pluckers at their exact positions (every plucker of a case with at most
+    // PointContact::kMaxPads): each one's solve from its pad's mean free prediction, its force a
+    // load on the modes as a gesture's. Plucker j is part first_pluck_ + j.
+    bool exact_pluck_on(std::size_t j) const { return j < exact_plucks_ && parts_.on(first_pluck_ + j); }
+    bool any_exact_pluck_on() const;
+    bool is_exact_pluck(std::size_t part) const { return part >= first_pluck_ && part < first_pluck_ + exact_plucks_; }
+    Pluck& exact_pluck(std::size_t j) { return static_cast<Pluck&>(parts_[first_pluck_ + j]); }
+    void start_exact_pluck(std::size_t j, double u_before, double u_now);
+    // Gathers the exact pluckers on the string now into acting_plucks_ (off for good once one has
+    // left); whether there are any.
+    bool exact_plucks_act();
+    double exact_pluck_prediction(std::size_t j) const;
+    void take_pluck_force(std::size_t j, double force);
+    void solve_exact_pluck_alone();  // the one acting plucker, nothing beside it
+    // The acting pluckers as PointContact's pads, each prepared for this step (with_grid: their
+    // couplings to the grid points too); then each one's solution taken.
+    std::span<PointContact::Pad> exact_pads(bool with_grid);
+    void conclude_exact_pads();
     std::span<const std::pair<std::size_t, double>> rubbing_points();
     void claim_pad(const std::vector<std::size_t>& pad, const std::string& key);
     void retire(const PlayedPart& part);
@@ -279,11 +288,15 @@ private:
     std::vector<double> gesture_load_;       // f^n of each gesture in the step being taken
     std::vector<double> gesture_at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
     bool loaded_ = false;                    // a gesture or the exact plucker loads the step being taken
-    std::size_t exact_pluck_ = static_cast<std::size_t>(-1);  // its part, if the plucker acts at its exact position
-    double pluck_load_ = 0.0;                // the exact plucker's force on the string in this step (N)
-    std::vector<double> gesture_at_pluck_;   // s_g . s of each gesture and the exact plucker's pad
-    std::vector<double> pluck_at_points_;    // s . phi(x_p) of the exact plucker's pad and each exact point
-    std::vector<double> pluck_at_grid_;      // s . S_i of its pad and each grid point (beside an obstacle on the grid)
+    std::size_t first_pluck_ = 0, exact_plucks_ = 0;  // the exact pluckers' parts
+    std::vector<double> pluck_load_;         // each exact plucker's force on the string in this step (N)
+    std::vector<double> gesture_at_pluck_;   // s_g . s_j, gesture by gesture, plucker by plucker
+    std::vector<double> pluck_at_points_;    // s_j . phi(x_p), plucker by plucker, point by point
+    std::vector<double> pluck_at_grid_;      // s_j . S_i, plucker by plucker (beside an obstacle or a finger on the grid)
+    std::vector<double> pluck_cross_;        // s_j . s_b, plucker by plucker
+    std::vector<std::size_t> acting_plucks_; // scratch: the exact pluckers on the string in this step
+    std::vector<PointContact::Pad> pads_;    // scratch: them as PointContact's pads
+    std::vector<double> pad_cross_;          // scratch: their s_a . s_b, pad by pad
     std::vector<char> on_pad_;             // grid points under a finger: solved with it, never asleep
     std::size_t pad_points_ = 0;
     std::vector<double> pad_w_, pad_f_;    // scratch: predictions and forces at one pad
