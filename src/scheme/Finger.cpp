@@ -203,7 +203,6 @@ void Finger::set_residual(double s, double G, double slope) {
 }
 
 void Finger::trial(std::span<const double> predicted, std::span<double> force) {
-    const std::size_t count = pad_.size();
     double s = dz_ + (contact_force_ - press_) / m_;
     double slope = m_;
     double G = sweep(predicted, s, slope);
@@ -232,14 +231,18 @@ void Finger::trial(std::span<const double> predicted, std::span<double> force) {
     if (it == kMaxIterations) fail(spec_, "finger height", s);
     max_iterations_ = std::max(max_iterations_, it + 1);
     set_residual(s, G, slope);
-    for (std::size_t p = 0; p < count; ++p) force[p] = points_[p].obstacle_force - points_[p].push;
+    forces(force);
 }
 
 void Finger::trial_at(std::span<const double> predicted, double s, std::span<double> force) {
     double slope = m_;
     const double G = sweep(predicted, s, slope);
     set_residual(s, G, slope);
-    for (std::size_t p = 0; p < pad_.size(); ++p) force[p] = points_[p].obstacle_force - points_[p].push;
+    forces(force);
+}
+
+void Finger::forces(std::span<double> force) const {
+    for (std::size_t p = 0; p < points_.size(); ++p) force[p] = points_[p].obstacle_force - points_[p].push;
 }
 
 double Finger::commit() {

@@ -23,7 +23,7 @@ bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& option
     // together: beside them the points join the grid, where every equation is its own. (Exact
     // pluckers and the fingers join the points' own solve: each plucker as one more unknown, the
     // fingers through their pads' grid points.)
-    const bool pads_on_grid = c.plucks.size() > PointContact::kMaxPads;
+    const bool pads_on_grid = !plucks_exact(c.plucks.size());
     return pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
 }
 
@@ -82,7 +82,7 @@ void Plan::place_points(const Case& c) {
     }
     // Exact pluckers beside fingers are solved with their pads even with no point off the grid:
     // the solve's state needs room for the pads (a PointContact with no points).
-    if (!c.plucks.empty() && c.plucks.size() <= PointContact::kMaxPads && !c.fingers.empty())
+    if (!c.plucks.empty() && plucks_exact(c.plucks.size()) && !c.fingers.empty())
         point_contact_ = PointContact(basis_, {}, true);
     for (const PointObstacle& p : points) {
         const double index = std::clamp(std::round(p.x_m / basis_.grid_step()) - 1.0, 0.0, static_cast<double>(obstacle_.size() - 1));

@@ -227,7 +227,7 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
     }
     std::array<double, kMaxPads> pad_force{};
     for (std::size_t a = 0; a < pads.size(); ++a) pad_force[a] = pad_force_at(pads[a], pads[a].x);
-    const bool points_push = pads_press() || any_push(s.force);
+    const bool points_push = any_push(std::span<const double>(pad_force).first(pads.size())) || any_push(s.force);
     const bool grid_pushes = solve_grid(s, law, k, grid, pads, pad_force);
     // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
     // grid solved with the points' (and the pad's) forces already; the points and the pad, with

@@ -24,16 +24,12 @@ std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
     return parts;
 }
 
-// Whether the case's pluckers act at their exact positions: each one's scalar equation is the
-// whole contact solve of a step where it acts alone, else it is one more equation in the system
-// of the exact points, the other pluckers, the grid's obstacle points and the fingers
-// (PointContact, up to kMaxPads of them). Force gestures load the string explicitly.
-bool pluck_exact(const Plan& plan) {
-    return plan.plucks().size() <= PointContact::kMaxPads;
-}
-
+// At their exact positions (plucks_exact), each plucker's scalar equation is the whole contact
+// solve of a step where it acts alone, else it is one more equation in the system of the exact
+// points, the other pluckers, the grid's obstacle points and the fingers (PointContact). Force
+// gestures load the string explicitly.
 std::vector<Pluck> plucks_of(const Plan& plan) {
-    if (!pluck_exact(plan)) return parts_of<Pluck>(plan, plan.plucks());
+    if (!plucks_exact(plan.plucks().size())) return parts_of<Pluck>(plan, plan.plucks());
     std::vector<Pluck> plucks;
     plucks.reserve(plan.plucks().size());
     for (const PluckSpec& spec : plan.plucks())
@@ -961,6 +957,17 @@ void Stepper::retire(const PlayedPart& part) {
     pad_points_ -= pad.size();
 }
 
+std::size_t Stepper::awake_rows(std::size_t* which, const double** rows) const {
+    const PointContact& points = plan_.point_contact();
+    std::size_t m = 0;
+    for (std::size_t p = 0; p < points.size(); ++p)
+        if (points_.resting[p] == 0) {
+            which[m] = p;
+            rows[m++] = points.row(p).data();
+        }
+    return m;
+}
+
 void Stepper::predict_exact_points() {
     const ModalPropagator& prop = plan_.propagator();
     const PointContact& points = plan_.point_contact();
@@ -970,12 +977,7 @@ void Stepper::predict_exact_points() {
         std::array<const double*, kernels::kMaxPassRows> rows{};
         std::array<std::size_t, kernels::kMaxPassRows> which{};
         std::array<double, kernels::kMaxPassRows> values{};
-        std::size_t m = 0;
-        for (std::size_t p = 0; p < points.size(); ++p)
-            if (points_.resting[p] == 0) {
-                which[m] = p;
-                rows[m++] = points.row(p).data();
-            }
+        const std::size_t m = awake_rows(which.data(), rows.data());
         kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), rows.data(), m,
                                   q_.size(), values.data());
         for (std::size_t r = 0; r < m; ++r) point_predicted_[which[r]] = values[r];
@@ -1090,11 +1092,7 @@ void Stepper::advance_with_points() {
     std::array<double, kernels::kMaxPassRows> values;
     std::size_t count = 0;
     if (fused) {
-        for (std::size_t p = 0; p < points.size(); ++p)
-            if (points_.resting[p] == 0) {
-                which[count] = p;
-                predict_rows[count++] = points.row(p).data();
-            }
+        count = awake_rows(which.data(), predict_rows.data());
         // (and the fingers' pads, solved again at the next step)
         const std::size_t solved = active_.size() + pad_points_;
         const bool grid_fits = solved != 0 && count + solved <= kernels::kMaxPassRows &&

@@ -126,6 +126,8 @@ private:
     // Every pad point's solution at s (into points_); returns G(s), its slope into `slope`.
     double sweep(std::span<const double> predicted, double s, double& slope);
     void set_residual(double s, double G, double slope);
+    // The last sweep's force per unit length on the string at each pad point (finger and obstacle).
+    void forces(std::span<double> force) const;
     double pressing_force_at_step(long n) const;
 
     FingerSpec spec_;

@@ -212,6 +212,8 @@ private:
     // forces, and their forces reported at their nearest grid points (forces()).
     bool solve_points();
     void predict_exact_points();  // point_predicted_: the free step's u at each exact point
+    // The awake exact points (which) and their rows, in order, into room for kMaxPassRows; how many.
+    std::size_t awake_rows(std::size_t* which, const double** rows) const;
     // The exact points with the grid's active points (solve_a_, solve_b_ formed): into solutions_.
     void solve_points_with_grid(bool with_pluck, bool with_fingers);  // (and the exact plucker's pad, if with_pluck)
     void apply_point_impulse();
