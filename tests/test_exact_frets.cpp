@@ -137,11 +137,14 @@ TEST(ExactFrets, ScreenedPathEqualsTheStraightforwardOne) {
 // 0.531 m, between frets 16 and 17) onto frets 0.02 mm high: pad, crowns and board in contact
 // in the same steps, solved as one system (the pad's unknown beside the crowns' and the
 // board's equations inside them). Lossless, H - work is constant to round-off.
-struct PressRun {
-    double worst = 0.0;  // max |H - W - (H - W)_1| / max(|H|, |W|)
+// (played_run below: a run with pluckers or fingers, its ledger and counts.)
+struct PlayedRun {
+    double worst = 0.0;  // max |H - W + D - (H - W + D)_1| / max(|H|, |W|)
     long joint_steps = 0, contact_steps = 0, played_steps = 0;
-    long pressed_joint = 0;  // joint steps with the plucker pushing
-    bool exact = false, gone = false;
+    long pressed_joint = 0;  // joint steps with the (first) plucker pushing
+    bool exact = false, gone = false;  // the first plucker's
+    std::size_t exact_points = 0;
+    double finger_force = 0.0;  // on the first finger at the end, N
 };
 
 // H - W + D against its value after the first step, relative to the largest |H| or |W| so far.
@@ -161,23 +164,29 @@ private:
     double first_ = 0.0, scale_ = 0.0, drift_ = 0.0;
 };
 
-PressRun press(const Case& c, long steps) {
+PlayedRun played_run(const Case& c, long steps) {
     const Plan plan(c, 1.0 / c.run.sample_rate_hz);
     Stepper s(plan, c.initial_displacement, c.initial_velocity);
-    PressRun r;
+    PlayedRun r;
     Ledger ledger;
+    const bool plucked = !s.plucks().empty();
     for (long n = 1; n <= steps; ++n) {
         const long joint_before = s.statistics().joint_steps;
         s.step();
-        if (s.statistics().joint_steps > joint_before && s.plucks().front().contact_force() != 0.0) ++r.pressed_joint;
+        if (plucked && s.statistics().joint_steps > joint_before && s.plucks().front().contact_force() != 0.0)
+            ++r.pressed_joint;
         ledger.add(s);
     }
     r.worst = ledger.worst();
     r.joint_steps = s.statistics().joint_steps;
     r.contact_steps = s.statistics().contact_steps;
     r.played_steps = s.statistics().played_steps;
-    r.exact = s.plucks().front().exact();
-    r.gone = s.plucks().front().stage() == Pluck::Stage::gone;
+    r.exact_points = plan.point_contact().size();
+    if (plucked) {
+        r.exact = s.plucks().front().exact();
+        r.gone = s.plucks().front().stage() == Pluck::Stage::gone;
+    }
+    if (!s.fingers().empty()) r.finger_force = s.fingers().front().contact_force();
     return r;
 }
 
@@ -197,7 +206,7 @@ Case pressed_onto_the_frets(std::size_t modes) {
 }
 
 TEST(ExactFrets, APluckerPressingOntoCrownsAndBoardKeepsTheBalance) {
-    const PressRun r = press(pressed_onto_the_frets(110), 20000);
+    const PlayedRun r = played_run(pressed_onto_the_frets(110), 20000);
     std::printf("plucker onto crowns and board: %ld joint steps (%ld with the plucker pushing), %ld in contact, %ld played, balance %.2g\n",
                 r.joint_steps, r.pressed_joint, r.contact_steps, r.played_steps, r.worst);
     EXPECT_TRUE(r.exact);
@@ -227,33 +236,9 @@ Case stopped_at_fret_5(bool lossless, const std::string& fret_height = "1.2e-3")
     return c;
 }
 
-struct FingerRun {
-    double worst = 0.0;  // max |H - W + D - (H - W + D)_1| / max(|H|, |W|)
-    long joint_steps = 0, contact_steps = 0;
-    std::size_t exact_points = 0;
-    double finger_force = 0.0;  // on the finger at the end, N
-};
-
-FingerRun finger_run(const Case& c, long steps) {
-    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
-    Stepper s(plan, c.initial_displacement, c.initial_velocity);
-    FingerRun r;
-    Ledger ledger;
-    for (long n = 1; n <= steps; ++n) {
-        s.step();
-        ledger.add(s);
-    }
-    r.worst = ledger.worst();
-    r.joint_steps = s.statistics().joint_steps;
-    r.contact_steps = s.statistics().contact_steps;
-    r.exact_points = plan.point_contact().size();
-    r.finger_force = s.fingers().front().contact_force();
-    return r;
-}
-
 TEST(ExactFrets, AFingerPressingOntoExactCrownsKeepsTheBalance) {
     for (const bool lossless : {true, false}) {
-        const FingerRun r = finger_run(stopped_at_fret_5(lossless), 30000);
+        const PlayedRun r = played_run(stopped_at_fret_5(lossless), 30000);
         std::printf("finger onto exact crowns (%s): %ld joint steps of %ld in contact, %.2f N on the finger, balance %.2g\n",
                     lossless ? "lossless" : "with losses", r.joint_steps, r.contact_steps, r.finger_force, r.worst);
         EXPECT_EQ(r.exact_points, 20u);  // the crowns stay exact points beside the finger
@@ -314,7 +299,7 @@ void expect_exact_pluckers_beside_the_finger(std::size_t pluckers) {
         }
         c.add_fret_finger(5, "fret");
         if (lossless) c.fingers.back().loss = 0.0;
-        const PressRun r = press(c, 20000);
+        const PlayedRun r = played_run(c, 20000);
         std::printf("%zu plucker(s) beside a finger at fret 5 (%s): %ld joint steps (%ld with the first plucker pushing), balance %.2g\n",
                     pluckers, lossless ? "lossless" : "with losses", r.joint_steps, r.pressed_joint, r.worst);
         EXPECT_TRUE(r.exact);
