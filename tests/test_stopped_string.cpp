@@ -9,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -358,6 +359,24 @@ TEST_P(StandIn, ItsPartialsAreTheHeldStringsWithTheFretFingerAboveThePinnedPiece
             EXPECT_LT(cents(stopped.modes.frequency_hz[n], pinned.frequency_hz[n]), 6.0) << "fret " << fret << " partial " << n + 1;
         }
     }
+}
+
+TEST(StoppedString, ABareStringIsTakenAsFrettedInEqualTemperament) {
+    // The set-up bench shortens a string with no obstacle at all (its neck is StringNeck's):
+    // stopped at x_k = L (1 - 2^(-k/12)) it lies on fret k - 1 too, at x_(k-1), as the case's
+    // own fret k - 1 would have it; a fretless neck has no fret behind.
+    Case bare = load_case("bass-neck");
+    bare.obstacle_height_m.assign(bare.mode_count(), -std::numeric_limits<double>::infinity());
+    bare.point_obstacles.clear();
+    bare.fret_positions_m.clear();
+    const double length = bare.string.length_m;
+    for (const int fret : {1, 5, 12}) {
+        const HeldString::Finger f = stopping_finger(bare, fret_position(length, fret));
+        EXPECT_NEAR(f.behind_m, fret > 1 ? fret_position(length, fret - 1) : 0.0, 1e-12) << fret;
+        const FingerSpec spec = finger_behind_fret(fret_position(length, fret), fret_position(length, fret) - fret_position(length, fret - 1));
+        EXPECT_NEAR(f.pad_centre_m, spec.position_m, 1e-12) << fret;
+    }
+    EXPECT_EQ(stopping_finger(load_case("bass-fretless"), fret_position(length, 5)).behind_m, 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bass, StandIn, ::testing::Values("bass-neck", "bass-pop"));

@@ -53,12 +53,18 @@ HeldString::Finger stopping_finger(const Case& open, double stop_m) {
         for (double& x : frets) x = length - x;
     std::sort(frets.begin(), frets.end());
     const auto at = std::find_if(frets.begin(), frets.end(), [&](double x) { return std::abs(x - stop_m) <= 1.5 * open.grid_step(); });
-    if (at == frets.end()) {
-        const double spacing = stop_m - (length - (length - stop_m) * std::exp2(1.0 / 12.0));
-        return HeldString::Finger::of(finger_behind_fret(stop_m, std::min(spacing, stop_m)), kFretFingerForce, 0.0);
+    if (at != frets.end()) {
+        const double behind = at == frets.begin() ? 0.0 : *(at - 1);
+        return HeldString::Finger::of(finger_behind_fret(stop_m, stop_m - behind), kFretFingerForce, behind);
     }
-    const double behind = at == frets.begin() ? 0.0 : *(at - 1);
-    return HeldString::Finger::of(finger_behind_fret(stop_m, stop_m - behind), kFretFingerForce, behind);
+    // No fret there: the fret before one equal-tempered semitone lower (the nut, if that is
+    // within a millimetre of it), the string lying on it only where there is nothing to say
+    // otherwise (a string with no obstacle at all, as the set-up bench shortens its strings).
+    double before = length - (length - stop_m) * std::exp2(1.0 / 12.0);
+    if (before < 1e-3) before = 0.0;
+    const bool bare = std::none_of(open.obstacle_height_m.begin(), open.obstacle_height_m.end(), [](double g) { return std::isfinite(g); }) &&
+                      open.point_obstacles.empty();
+    return HeldString::Finger::of(finger_behind_fret(stop_m, stop_m - before), kFretFingerForce, bare ? before : 0.0);
 }
 
 Case stopped_string(const Case& open, double stop_m, std::size_t modes, const HeldString::Finger& finger) {

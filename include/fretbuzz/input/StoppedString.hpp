@@ -39,8 +39,9 @@ bool stops_at_far_end(const Case& c);
 // The finger that stops the string at x_stop (measured as x_stop is, from the end the
 // finger is on): where the open case has a fret there (fret k), `fret = k`'s finger
 // (finger_behind_fret) pressing with kFretFingerForce, the string on fret k - 1 too (k >= 2);
-// elsewhere the same finger behind the stop, one equal-tempered fret spacing before it taken
-// as the spacing, nothing held behind.
+// elsewhere the same finger behind the stop, the spacing that of equal temperament, and the
+// string on the fret a semitone lower only on a string with no obstacle at all (the set-up
+// bench's strings, fretted in equal temperament: StringNeck), not on a fretless neck.
 HeldString::Finger stopping_finger(const Case& open, double stop_m);
 // InputError if x_stop is not in [0, 3L/4] (fret 24) or modes is 0, or the finger does not fit
 // behind the stop (HeldString::sounding_partials). No initial motion unless x_stop = 0 (then
