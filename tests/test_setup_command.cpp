@@ -40,7 +40,8 @@ TEST(SetupCommand, AMapWritesItsFiles) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string csv = read_file(dir.path() / "map" / "buzz_map.csv");
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "string,fret,strength,buzz_fraction,buzz_dB,buzz_fret,touch_fraction,plucks,status,clearance_mm,audio,"
+              "string,fret,strength,verdict,buzz_fraction,buzz_fraction_low,buzz_fraction_high,buzz_dB,buzz_fret,"
+              "touch_fraction,plucks,clean_up_to,clean_up_to_value,unit,stiffness_sensitive,status,clearance_mm,audio,"
               "pluck_dB");
     // Every number in its shortest form that reads back exactly (never 0.00050000000000000001).
     std::istringstream rows(csv);
@@ -119,7 +120,8 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--frets 0-99999999999", {"--frets", "[0, 20]"}},
         {"--frets 21", {"--frets", "21"}},
         {"--strength -1e-3", {"--strength", "(0, 10] mm"}},
-        {"--strength loud", {"--strength", "soft, medium, hard, pop, slap"}},
+        {"--strength loud", {"--strength", "soft, medium, hard, pick, pop, slap"}},
+        {"--strength 11m/s", {"--strength", "(0, 10] m/s"}},
         {"--strings E,Q", {"string \"Q\"", "E, A, D, G"}},
         {"--relief 5", {"--relief", "[-2, 2] mm"}},
         {"--action12 E=0.01", {"--action12 E", "fret"}},
@@ -127,7 +129,7 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--fret-offset 25=0.1", {"--fret-offset", "[1, 20]"}},
         {"--fret-offset 5=3", {"--fret-offset 5", "[-1, 1] mm"}},
         {"--jobs 0", {"--jobs", "[1, 256]"}},
-        {"--ensemble 1000", {"--ensemble", "[1, 64]"}},
+        {"--ensemble 1000", {"--ensemble", "[1, 200]"}},
         {"--fs 10", {"--fs", "[50000, 2e7]"}},
         {"--compare " + (dir.path() / "nothing").string(), {"--compare", "buzz_map.csv"}},
     };

@@ -188,7 +188,16 @@ TEST(InstrumentFile, BadValuesAreRefusedNamingTheKeyAndItsRange) {
     expect_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"-0.7 mm\""), "string[0].nut", "(0, 5] mm");
     expect_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"27 mm\""), "string[0].action12", "(0, 10] mm");
     expect_refused(replaced(base, "pitch = \"E1\"", "pitch = \"H1\""), "string[0].pitch");
-    expect_refused(replaced(base, "soft = \"0.5 mm\"", "soft = \"5 mm\""), "attack.medium", "soft < medium < hard");
+    const std::string with_attack = base + "\n[attack]\n";
+    expect_refused(with_attack + "soft = \"5 mm\"\n", "attack.medium", "must grow: soft (5 mm) < medium");
+    // Attacks out of their ranges: a finger pulling away from the board, a slap faster than a hand.
+    expect_refused(with_attack + "angle = -20\n", "attack.angle", "[0, 90] degrees");
+    expect_refused(with_attack + "pick_angle = 120\n", "attack.pick_angle", "[0, 90] degrees");
+    expect_refused(with_attack + "slap = \"25 m/s\"\n", "attack.slap", "(0, 10] m/s");
+    expect_refused(with_attack + "thumb_mass = \"2 kg\"\n", "attack.thumb_mass", "(0, 200] g");
+    expect_refused(with_attack + "angle_spread = 60\n", "attack.angle_spread", "[0, 45] degrees");
+    expect_refused(with_attack + "style = \"banjo\"\n", "attack.style", "\"bass\" or \"guitar\"");
+    expect_refused(with_attack + "hard = \"11 mm\"\n", "attack.hard", "(0, 10] mm");
     expect_refused(replaced(base, "[[string]]\nname = \"A\"", "[[string]]\nname = \"E\""), "string[1].name");
     expect_refused(replaced(base, "set = \"daddario-exl170\"", "set = \"unknown\""), "strings.set");
     expect_refused(replaced(base, "board_end = \"600 mm\"", "board_end = \"600 mm\"\nboard_edn = 1"), "neck.board_edn");

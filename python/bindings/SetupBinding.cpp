@@ -46,11 +46,20 @@ py::dict verdict_dict(const NoteVerdict& v) {
     d["string"] = v.string_name;
     d["fret"] = v.fret;
     d["strength"] = v.strength;
+    d["verdict"] = v.verdict;
     d["buzz_fraction"] = v.buzz_fraction;
+    d["buzz_fraction_low"] = number(v.buzz_fraction_low);
+    d["buzz_fraction_high"] = number(v.buzz_fraction_high);
     d["buzz_dB"] = number(v.buzz_db);
     d["buzz_fret"] = fret_value(v.buzz_fret);
     d["touch_fraction"] = v.touch_fraction;
     d["plucks"] = v.plucks;
+    // inf: clean at every size searched, up to kCleanUpToCap times the attack
+    d["clean_up_to"] = std::isnan(v.clean_up_to) ? py::object(py::none()) : py::object(py::float_(v.clean_up_to));
+    d["clean_up_to_value"] =
+        std::isnan(v.clean_up_to_value) ? py::object(py::none()) : py::object(py::float_(v.clean_up_to_value));
+    d["unit"] = v.unit;
+    d["stiffness_sensitive"] = v.stiffness_sensitive;
     d["status"] = v.status;
     d["clearance_mm"] = number(v.clearance_m * 1e3);
     py::list plucks;
@@ -66,7 +75,9 @@ NoteVerdict verdict_from(py::handle row) {
     v.string_name = d["string"].cast<std::string>();
     v.fret = d["fret"].cast<std::size_t>();
     v.strength = d["strength"].cast<std::string>();
+    v.verdict = d.contains("verdict") ? d["verdict"].cast<std::string>() : "";
     v.buzz_fraction = d["buzz_fraction"].cast<double>();
+    if (d.contains("clean_up_to") && !d["clean_up_to"].is_none()) v.clean_up_to = d["clean_up_to"].cast<double>();
     v.buzz_db = d["buzz_dB"].is_none() ? NoteVerdict::nan : d["buzz_dB"].cast<double>();
     v.buzz_fret = fret_from(d["buzz_fret"]);
     v.touch_fraction = d.contains("touch_fraction") ? d["touch_fraction"].cast<double>() : 0.0;
@@ -170,10 +181,13 @@ py::dict settings(const Instrument& i) {
     d["grid_step_m"] = i.bench.grid_step_m;
     d["output_rate_hz"] = i.bench.output_rate_hz;
     d["observe_from_bridge_m"] = i.bench.observe_from_bridge_m;
-    d["buzz_band_hz"] = i.bench.buzz_band_hz;
+    d["listening_level_dB_SPL"] = i.bench.listening_level_db_spl;
     d["audible_dB"] = i.bench.audible_db;
+    d["fret_friction"] = i.bench.fret_friction;
+    d["attack_style"] = i.attack.style;
     d["ensemble"] = i.attack.ensemble;
     d["position_spread_m"] = i.attack.position_spread_m;
+    d["angle_spread_deg"] = i.attack.angle_spread_deg;
     d["strength_spread"] = i.attack.strength_spread;
     d["seed"] = i.attack.seed;
     d["stopped_modes"] = i.bench.pinned_stops ? "pinned" : "held";
@@ -185,7 +199,7 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
     Instrument i = instrument;
     if (!ensemble.is_none()) {
         const long n = ensemble.cast<long>();
-        if (n < 1 || n > 64) throw InputError(out_of_range_message("ensemble", static_cast<double>(n), "must be in [1, 64]"));
+        if (n < 1 || n > 200) throw InputError(out_of_range_message("ensemble", static_cast<double>(n), "must be in [1, 200]"));
         i.attack.ensemble = static_cast<std::size_t>(n);
     }
     if (!fs.is_none()) {

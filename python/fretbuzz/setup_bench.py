@@ -17,10 +17,15 @@ instrument file's key) and its allowed range, before anything runs. Lengths are 
 strings with a unit: "0.3 mm", "5/64 in"), frequencies in Hz, times in s.
 
 Tables (pandas DataFrames):
-- map: one row per note and attack: string, fret (0 = open), strength, buzz_fraction (the
-  share of the note's plucks that buzz audibly), buzz_dB (their median buzz level; NaN when
-  most touch nothing), buzz_fret (the fret they buzz against; "board" for the board or body;
-  None), touch_fraction, plucks, status ("ok", "frets out", "not played: ...", "failed: ..."),
+- map: one row per note and attack: string, fret (0 = open), strength, verdict ("clean",
+  "marginal", "buzzes"; "" when not played), buzz_fraction (the share of the note's plucks
+  heard to buzz) with its 90 % interval buzz_fraction_low and buzz_fraction_high, buzz_dB
+  (their median level above the masked threshold, 0 dB: just heard; NaN when most touch
+  nothing), buzz_fret (the fret they buzz against; "board" for the board or body; None),
+  touch_fraction, plucks, clean_up_to (how much harder than the attack the note stays clean,
+  a multiple of it; inf: at least 3 times), clean_up_to_value and its unit ("mm" or "m/s"),
+  stiffness_sensitive ("" unless asked; "no", or the stiffness factors 0.5 and 1.5 that
+  change the verdict), status ("ok", "frets out", "not played: ...", "failed: ..."),
   clearance_mm (the smallest gap between the note's string at rest and a fret past the stop),
   pluck_dB (each pluck's level), audio (the WAV's name when the map wrote WAVs).
 - geometry: one row per string and fret (frets 0 .. N, 0 being the nut end of the fret line):
@@ -86,7 +91,7 @@ def _records(table) -> List[dict]:
     """A map's rows as the library reads them (a DataFrame's NaN as None, its float frets as int)."""
     records = table.to_dict("records") if hasattr(table, "to_dict") else [dict(r) for r in table]
     for r in records:
-        for key in ("buzz_dB", "buzz_fret"):
+        for key in ("buzz_dB", "buzz_fret", "clean_up_to"):
             value = r.get(key)
             if isinstance(value, float) and value != value:
                 r[key] = None
@@ -95,8 +100,9 @@ def _records(table) -> List[dict]:
     return records
 
 
-MAP_COLUMNS = ("string", "fret", "strength", "buzz_fraction", "buzz_dB", "buzz_fret", "touch_fraction", "plucks",
-               "status", "clearance_mm", "pluck_dB", "audio")
+MAP_COLUMNS = ("string", "fret", "strength", "verdict", "buzz_fraction", "buzz_fraction_low", "buzz_fraction_high",
+               "buzz_dB", "buzz_fret", "touch_fraction", "plucks", "clean_up_to", "clean_up_to_value", "unit",
+               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio")
 
 
 class Bench:
@@ -286,15 +292,16 @@ class Bench:
     @staticmethod
     def compare(now, before):
         """How each note of map `now` changed from map `before` (DataFrames from map(), or
-        read from two buzz_map.csv files): the map's columns and change ("worse": more of its
-        plucks buzz, or as many 3 dB louder; "better"; "moved": as many, against another fret;
+        read from two buzz_map.csv files): the map's columns and change ("worse": a worse
+        verdict, more of its plucks buzz, a clean_up_to 10 % lower, or as many 3 dB louder;
+        "better"; "moved": as many, against another fret;
         "same"; "new": not in `before`), buzz_fraction_before, buzz_dB_before, buzz_fret_before."""
         out = _core._setup_compare(_records(now), _records(before))
         return _frame(out, MAP_COLUMNS + ("change", "buzz_fraction_before", "buzz_dB_before", "buzz_fret_before"))
 
     def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None) -> dict:
         """The bench's searches (docs/setup.md): 'lowest_action' (per string, the lowest gap over
-        fret 12 on a 0.05 mm grid at which no pluck of any note buzzes, and what the step
+        fret 12 on a 0.05 mm grid at which every note is clean, and what the step
         below does), 'proud_frets' (frets whose lowering by at most 0.1 mm clears the notes
         buzzing on them), 'relief' (the relief range over which the map is clean). strength:
         the attack (default the strongest of the Bench's); map: this Bench's map at that

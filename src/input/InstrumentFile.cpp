@@ -393,31 +393,85 @@ void read_scan(Reader& r, TomlSection& neck, Instrument& inst) {
                              std::to_string(inst.neck.fret_count) + " frets: a scan gives every fret of a string");
 }
 
+// The attack keys given in `s`, over what `a` holds (the style's defaults). With `every`, each
+// key must be there (a style's defaults file).
+void read_attack_keys(Reader& r, TomlSection& s, double shortest, AttackSettings& a, bool every) {
+    const Range where = mm(0.0, 0.5 * shortest * 1e3, true, true);
+    const Range pad = mm(0.0, 50.0);
+    const Range amplitude = mm(0.0, 10.0);
+    const Range degrees = {0.0, 90.0, false, false, "degrees", 1.0};
+    const auto length = [&](std::string_view key, const Range& range, double& value) {
+        if (every || s.has(key)) value = r.quantity(s, key, Quantity::length, range);
+    };
+    const auto number = [&](std::string_view key, const Range& range, double& value) {
+        if (every || s.has(key)) value = Reader::number_in(s, key, range);
+    };
+    length("position", where, a.finger.from_bridge_m);
+    length("finger_width", pad, a.finger.width_m);
+    number("angle", degrees, a.finger.angle_deg);
+    length("soft", amplitude, a.soft_m);
+    length("medium", amplitude, a.medium_m);
+    length("hard", amplitude, a.hard_m);
+    length("position_spread", mm(0.0, 50.0, false, false), a.position_spread_m);
+    number("angle_spread", {0.0, 45.0, false, false, "degrees", 1.0}, a.angle_spread_deg);
+    number("strength_spread", {0.0, 0.9, false, false, "", 1.0}, a.strength_spread);
+    length("pop", amplitude, a.pop_m);
+    length("pop_position", where, a.pop.from_bridge_m);
+    length("pop_width", pad, a.pop.width_m);
+    if (every || s.has("slap"))
+        a.slap_m_per_s = r.quantity(s, "slap", Quantity::velocity, {0.0, 10.0, true, false, "m/s", 1.0});
+    length("slap_position", where, a.slap.from_bridge_m);
+    length("slap_width", pad, a.slap.width_m);
+    if (every || s.has("thumb_mass"))
+        a.thumb_mass_kg = r.quantity(s, "thumb_mass", Quantity::mass, {0.0, 200.0, true, false, "g", 1e-3});
+    number("thumb_stiffness", {0.0, 1e8, true, false, "N/m", 1.0}, a.thumb_stiffness);
+    number("thumb_loss", {0.0, 1000.0, false, false, "s/m", 1.0}, a.thumb_loss);
+    length("pick", amplitude, a.pick_m);
+    length("pick_position", where, a.pick.from_bridge_m);
+    length("pick_width", pad, a.pick.width_m);
+    number("pick_angle", degrees, a.pick.angle_deg);
+    if (const auto n = s.optional_count("ensemble", 1, 200)) a.ensemble = *n;
+    if (const auto seed = s.optional_count("seed", 0, std::size_t{1} << 52)) a.seed = *seed;
+    if (!(a.soft_m < a.medium_m && a.medium_m < a.hard_m))
+        throw InputError(s.key_path("medium") + ": the finger plucks must grow: soft (" + number_text(a.soft_m * 1e3) +
+                         " mm) < medium (" + number_text(a.medium_m * 1e3) + " mm) < hard (" +
+                         number_text(a.hard_m * 1e3) + " mm)");
+}
+
+// The attacks: the style's defaults (cases/attacks/STYLE.toml: a bass's when the lowest
+// string sounds below 60 Hz or a scale reaches 0.75 m, else a guitar's), then the file's own
+// [attack] keys over them.
 void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
     AttackSettings& a = inst.attack;
-    if (!s) throw InputError("attack is missing (required: [attack] with position, soft, medium and hard)");
-    const Range where = mm(0.0, 0.5 * shortest * 1e3, true, true);
-    a.pluck_from_bridge_m = r.quantity(*s, "position", Quantity::length, where);
-    a.finger_width_m = r.optional_quantity(*s, "finger_width", Quantity::length, mm(0.0, 50.0)).value_or(0.01);
-    a.soft_m = r.quantity(*s, "soft", Quantity::length, mm(0.0, 10.0));
-    a.medium_m = r.quantity(*s, "medium", Quantity::length, mm(0.0, 10.0));
-    a.hard_m = r.quantity(*s, "hard", Quantity::length, mm(0.0, 10.0));
-    if (!(a.soft_m < a.medium_m && a.medium_m < a.hard_m))
-        throw InputError(s->key_path("medium") + ": the finger plucks must grow: soft < medium < hard");
-    a.pop_m = r.optional_quantity(*s, "pop", Quantity::length, mm(0.0, 10.0)).value_or(3e-3);
-    a.pop_from_bridge_m = r.optional_quantity(*s, "pop_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
-    a.pop_width_m = r.optional_quantity(*s, "pop_width", Quantity::length, mm(0.0, 50.0)).value_or(8e-3);
-    a.slap_m_per_s =
-        r.optional_quantity(*s, "slap", Quantity::velocity, {0.0, 10.0, true, false, "m/s", 1.0}).value_or(1.5);
-    a.slap_from_bridge_m = r.optional_quantity(*s, "slap_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
-    a.slap_width_m = r.optional_quantity(*s, "slap_width", Quantity::length, mm(0.0, 50.0)).value_or(0.015);
-    a.ensemble = s->optional_count("ensemble", 1, 64).value_or(5);
-    a.position_spread_m = r.optional_quantity(*s, "position_spread", Quantity::length, mm(0.0, 50.0, false, false))
-                              .value_or(0.01);
-    a.strength_spread = s->has("strength_spread") ? Reader::number_in(*s, "strength_spread", {0.0, 0.9, false, false, "", 1.0})
-                                                  : 0.15;
-    a.seed = s->optional_count("seed", 0, std::size_t{1} << 52).value_or(1);
-    s->finish();
+    double lowest = inst.strings.front().frequency_hz, longest = 0.0;
+    for (const InstrumentString& string : inst.strings) {
+        lowest = std::min(lowest, string.frequency_hz);
+        longest = std::max(longest, string.scale_length_m);
+    }
+    std::string style = lowest < 60.0 || longest >= 0.75 ? "bass" : "guitar";
+    if (s) {
+        if (auto given = s->optional_text("style")) {
+            if (*given != "bass" && *given != "guitar")
+                throw InputError(s->key_path("style") + " = \"" + *given + "\": must be \"bass\" or \"guitar\" (whose "
+                                 "default attacks, cases/attacks/)");
+            style = *given;
+        }
+    }
+    const std::string file = "attacks/" + style + ".toml";
+    const auto text = find_builtin_file(file);
+    if (!text) throw std::logic_error("the built-in " + file + " is missing");
+    const toml::table defaults = parse_toml_document(*text, file);
+    TomlSection d(defaults, "attack");
+    d.text("style");
+    read_attack_keys(r, d, shortest, a, true);
+    d.finish();
+    a.style = style;
+    a.slap.angle_deg = 90.0;
+    a.pop.angle_deg = -90.0;
+    if (s) {
+        read_attack_keys(r, *s, shortest, a, false);
+        s->finish();
+    }
 }
 
 void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
@@ -437,10 +491,14 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
         throw InputError(t.key_path("output_rate") + " must not exceed " + t.key_path("fs"));
     b.observe_from_bridge_m =
         r.optional_quantity(t, "observe", Quantity::length, mm(0.0, 0.5 * shortest * 1e3, true, true)).value_or(9e-3);
-    b.buzz_band_hz = r.optional_quantity(t, "buzz_band", Quantity::frequency,
-                                         {100.0, 0.5 * b.output_rate_hz, false, true, "Hz", 1.0})
-                         .value_or(2000.0);
-    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -30.0;
+    if (t.has("buzz_band"))
+        throw InputError(t.key_path("buzz_band") + ": the bench no longer judges buzz by a frequency band; it listens "
+                         "(simulation.listening_level, simulation.audible: docs/setup.md, \"What is heard\")");
+    b.listening_level_db_spl = t.has("listening_level")
+                                   ? Reader::number_in(t, "listening_level", {40.0, 120.0, false, false, "dB SPL", 1.0})
+                                   : 85.0;
+    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-40.0, 40.0, false, false, "dB", 1.0}) : 0.0;
+    b.fret_friction = t.has("fret_friction") ? Reader::number_in(t, "fret_friction", {0.0, 2.0, false, false, "", 1.0}) : 0.0;
     if (const auto stops = t.optional_text("stopped_modes")) {
         if (*stops != "held" && *stops != "pinned")
             throw InputError(t.key_path("stopped_modes") + " = \"" + *stops +
@@ -521,8 +579,12 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     read_attack(r, top.optional_section("attack"), shortest, inst);
     read_physics_tables(r, top, inst);
     read_simulation(r, top.optional_section("simulation"), shortest, inst);
-    if (inst.bench.observe_from_bridge_m >= inst.attack.pluck_from_bridge_m - 0.5 * inst.attack.finger_width_m)
-        throw InputError("simulation.observe must lie between the bridge and the plucking finger (attack.position)");
+    const AttackSettings& a = inst.attack;
+    for (const GestureSettings* g : {&a.finger, &a.pick, &a.pop, &a.slap})
+        if (inst.bench.observe_from_bridge_m >= g->from_bridge_m - 0.5 * g->width_m)
+            throw InputError("simulation.observe (" + number_text(inst.bench.observe_from_bridge_m * 1e3) +
+                             " mm from the bridge) must lie between the bridge and every attack's place (attack.position, "
+                             "pop_position, slap_position, pick_position, less half their widths)");
     top.finish();
     return inst;
 }

@@ -33,6 +33,7 @@ std::span<const Unit> units_of(Quantity kind) {
     static constexpr std::array rate{Unit{"1/s", 1.0}};
     static constexpr std::array diffusivity{Unit{"m^2/s", 1.0}};
     static constexpr std::array time{Unit{"s", 1.0}, Unit{"ms", 1e-3}};
+    static constexpr std::array mass{Unit{"kg", 1.0}, Unit{"g", 1e-3}};
     switch (kind) {
         case Quantity::length: return length;
         case Quantity::force: return force;
@@ -43,6 +44,7 @@ std::span<const Unit> units_of(Quantity kind) {
         case Quantity::rate: return rate;
         case Quantity::diffusivity: return diffusivity;
         case Quantity::time: return time;
+        case Quantity::mass: return mass;
     }
     return {};
 }
@@ -98,6 +100,7 @@ std::string example(Quantity kind) {
         case Quantity::rate: return "\"0.711 1/s\"";
         case Quantity::diffusivity: return "\"2.99e-4 m^2/s\"";
         case Quantity::time: return "\"0.3 s\" or \"300 ms\"";
+        case Quantity::mass: return "\"20 g\"";
     }
     return {};
 }

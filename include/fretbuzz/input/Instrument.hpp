@@ -79,20 +79,39 @@ struct NeckDescription {
     std::optional<double> body_depth_m;            // past the board: the body, this far below the open string at the board's end
 };
 
-// How the strings are played. Finger plucks (soft, medium, hard) and the pop release the
-// string displaced away from the board (amplitude at the pluck point, a rounded triangle the
-// width of the fingertip); the slap throws it toward the board (a raised-cosine velocity the
-// width of the thumb). Every note of one attack is played at the same distance from the bridge.
+// One way of playing the string (a gesture): where along it, over what width, in which direction.
+struct GestureSettings {
+    double from_bridge_m = 0.0;       // where, from the bridge
+    double width_m = 0.0;             // fingertip, plectrum or thumb
+    // Direction of the release from the board's plane toward the board, degrees: a finger
+    // pluck pulled along the board and let go slightly toward it (> 0); a pop pulled straight
+    // away from it (-90); a slap strikes straight toward it (90).
+    double angle_deg = 0.0;
+};
+
+// How the strings are played, and where those defaults come from (cases/attacks/STYLE.toml,
+// each value with its source; an instrument file's [attack] overrides any of them).
+//  - finger plucks (soft, medium, hard): the string pulled by a fingertip and released from
+//    rest, displaced by the amplitude along the gesture's direction (a rounded triangle the
+//    width of the fingertip);
+//  - a pick stroke: the same with a plectrum's narrow edge;
+//  - a pop: pulled straight away from the board by a finger hooked under the string;
+//  - a slap: the thumb, a mass, strikes the string toward the board at a speed and bounces off.
+// Each note is played as an ensemble of such gestures: each member's place, direction and
+// size uniform within +- the spreads around the attack's (member 0 is the attack itself).
 struct AttackSettings {
-    double pluck_from_bridge_m = 0.0;
-    double finger_width_m = 0.01;
-    double soft_m = 0.0, medium_m = 0.0, hard_m = 0.0;
-    double pop_m = 0.0, pop_from_bridge_m = 0.0, pop_width_m = 0.008;
-    double slap_m_per_s = 0.0, slap_from_bridge_m = 0.0, slap_width_m = 0.015;
-    // The ensemble of one note: plucks jittered around the attack (member 0 is the attack itself).
-    std::size_t ensemble = 5;
-    double position_spread_m = 0.01;   // pluck point uniform within +- this
-    double strength_spread = 0.15;     // amplitude factor uniform within 1 +- this
+    std::string style;                // "bass" or "guitar": whose defaults
+    GestureSettings finger, pick, pop, slap;
+    double soft_m = 0.0, medium_m = 0.0, hard_m = 0.0;  // finger plucks' amplitudes
+    double pick_m = 0.0, pop_m = 0.0;
+    double slap_m_per_s = 0.0;        // the thumb's speed toward the board
+    double thumb_mass_kg = 0.0, thumb_stiffness = 0.0, thumb_loss = 0.0;
+    double position_spread_m = 0.0;
+    double angle_spread_deg = 0.0;
+    double strength_spread = 0.0;     // relative
+    // Each note is played until its verdict is sure, at most this many plucks; the same
+    // instrument and seed give the same plucks on every machine.
+    std::size_t ensemble = 40;
     unsigned long long seed = 1;
 };
 
@@ -103,8 +122,11 @@ struct BenchSettings {
     double grid_step_m = 0.0;          // dx of every note's grid (fret tops are one grid point)
     double output_rate_hz = 48000.0;   // rows of the observed signal
     double observe_from_bridge_m = 0.0;  // where the signal is taken (a bridge pickup)
-    double buzz_band_hz = 2000.0;      // the buzz band's lower edge
-    double audible_db = -30.0;         // a pluck buzzes audibly when its buzz level is at least this (docs/setup.md)
+    // What is heard (analysis/Listener.hpp): the clean note's loudest frame played back at this
+    // level, and a pluck heard to buzz when its contacts rise this far above the masked threshold.
+    double listening_level_db_spl = 85.0;
+    double audible_db = 0.0;
+    double fret_friction = 0.0;        // Coulomb coefficient at the frets (the y polarisation's drag)
     double contact_stiffness = 1e13;   // K
     double contact_exponent = 1.5;     // alpha
     double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2
