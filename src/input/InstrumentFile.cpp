@@ -15,10 +15,12 @@
 
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/input/TextFile.hpp"
+#include "fretbuzz/model/TautString.hpp"
 
 namespace fretbuzz {
 
@@ -121,8 +123,6 @@ std::vector<double> read_scales(Reader& r, TomlSection& neck) {
     }
     return {r.checked(*n, neck.key_path("scale"), Quantity::length, scale)};
 }
-
-double fret_position(double scale, std::size_t n) { return scale * (1.0 - std::exp2(-static_cast<double>(n) / 12.0)); }
 
 ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double shortest_last_fret) {
     ReliefMeasure relief;
@@ -274,21 +274,24 @@ void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::s
     std::optional<double> set_mu;
     if (set != nullptr) {
         const StringSetEntry& e = set->strings[index];
-        set_mu = e.tension_n / std::pow(2.0 * set->scale_length_m * e.frequency_hz, 2);
+        set_mu = TautString::tuned_with_tension(set->scale_length_m, e.tension_n, e.frequency_hz).linear_density;
     }
     const int given = int(f.has_value()) + int(t.has_value()) + int(mu.has_value());
     if (given == 3)
         throw InputError(s.key_path("pitch") + ", tension and mu over-determine the string (f = sqrt(T / mu) / 2L): "
                                                "give two of them, or the pitch with a string set");
     if (given == 2) {
-        str.tension_n = t ? *t : *mu * std::pow(2.0 * length * *f, 2);
-        str.linear_density = mu ? *mu : *t / std::pow(2.0 * length * *f, 2);
-        str.frequency_hz = f ? *f : std::sqrt(*t / *mu) / (2.0 * length);
+        const TautString taut = !f   ? TautString{length, *t, *mu}
+                                : t ? TautString::tuned_with_tension(length, *t, *f)
+                                    : TautString::tuned_with_mass(length, *mu, *f);
+        str.tension_n = taut.tension_n;
+        str.linear_density = taut.linear_density;
+        str.frequency_hz = f ? *f : taut.fundamental_hz();
         str.tension_source = t ? "given" : "from the pitch and mu";
     } else if (f && set_mu) {
         str.frequency_hz = *f;
         str.linear_density = *set_mu;
-        str.tension_n = *set_mu * std::pow(2.0 * length * *f, 2);
+        str.tension_n = TautString::tuned_with_mass(length, *set_mu, *f).tension_n;
         str.tension_source = "string set " + set->name + " (" + set->source + ")";
     } else {
         throw InputError(s.key_path(f ? "tension" : "pitch") +
@@ -314,7 +317,7 @@ void read_stiffness(Reader& r, TomlSection& s, InstrumentString& str) {
     const double l = str.scale_length_m;
     if (s.has("B")) {
         const double b = Reader::number_in(s, "B", {0.0, 0.01, false, false, "", 1.0});
-        str.bending_stiffness = b * str.tension_n * l * l / (std::numbers::pi * std::numbers::pi);
+        str.bending_stiffness = TautString{l, str.tension_n, str.linear_density}.bending_stiffness_for(b);
     } else if (s.has("bending_stiffness")) {
         str.bending_stiffness =
             r.quantity(s, "bending_stiffness", Quantity::bending_stiffness, {0.0, 1.0, false, false, "N m^2", 1.0});

@@ -8,6 +8,7 @@
 #include "MillimetreText.hpp"
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/geometry/Fretboard.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 
@@ -108,7 +109,7 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
         profile_nut = -plane(0.0);
         profile_saddle = -plane(length_);
     } else {
-        for (std::size_t n = 0; n <= frets; ++n) x_[n] = length_ * (1.0 - std::exp2(-static_cast<double>(n) / 12.0));
+        for (std::size_t n = 0; n <= frets; ++n) x_[n] = fret_position(length_, n);
         const double last = x_[frets];
         if (!s.scan_m.empty()) {
             // Tops measured above the straightedge on fret 1 and the last fret; the plane
@@ -137,8 +138,7 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
                 for (std::size_t n = 1; n < frets; ++n) line_[n] -= curve.depth_at(x_[n], last);
             } else if (relief.form == ReliefMeasure::Form::gap) {
                 std::vector<double> x0(frets + 1);
-                for (std::size_t n = 0; n <= frets; ++n)
-                    x0[n] = instrument.strings[0].scale_length_m * (1.0 - std::exp2(-static_cast<double>(n) / 12.0));
+                for (std::size_t n = 0; n <= frets; ++n) x0[n] = fret_position(instrument.strings[0].scale_length_m, n);
                 const std::vector<double> c0 = crown(0, x0);
                 const std::size_t m = relief.at_fret;
                 const double crown_gap = c0[1] + (c0[frets] - c0[1]) * (x0[m] - x0[1]) / (x0[frets] - x0[1]) - c0[m];
