@@ -110,7 +110,7 @@ const NotePlayer::Reference* NotePlayer::reference(const Attack& attack, std::si
                                                    double share, std::size_t samples) {
     const double rate = played.run.sample_rate_hz / static_cast<double>(output_stride(played));
     const auto clean_of = [&](const Case& c, double z) {
-        Reference r{attack.gesture, member, z, free_motion_at(c, c.observation_points_m[0], 1.0 / rate, samples), {}};
+        Reference r{attack.gesture, member, z, free_motion_at(c, c.observation_points_m[0], 1.0 / rate, samples), {}, {}};
         r.clean = listener_->hear_clean(r.u);
         return r;
     };

@@ -65,7 +65,7 @@ def serve(study, sock: socket.socket, host: Optional[str] = None) -> None:
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(prog="fretbuzz studio", description="The set-up bench in a browser.")
     parser.add_argument("instrument", nargs="?", default="jazz-bass",
-                        help="a built-in instrument (jazz-bass, electric-guitar, bass-neck) or an instrument file")
+                        help="a built-in instrument (jazz-bass, electric-guitar, bass-5, bass-neck) or an instrument file")
     parser.add_argument("--port", type=_port, default=DEFAULT_PORT, help=f"port (default {DEFAULT_PORT}; 0: any free port)")
     parser.add_argument("--host", help="serve other computers on this address (default: this computer only, 127.0.0.1)")
     parser.add_argument("--study", help="the study folder: the notes' sounds and the reports (default: studio-INSTRUMENT)")
