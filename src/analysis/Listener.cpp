@@ -66,37 +66,45 @@ Listener::Listener(double rate_hz, std::size_t samples, double partial_spacing_h
     frame_ = 2 * static_cast<std::size_t>(std::ceil(0.5 * frame_s * rate_hz));
     if (frame_ > (std::size_t{1} << 22)) throw InputError("listener: the note's frame would exceed 4 M samples");
     hop_ = frame_ / 2;
-    // Frames from t = 0 (the note's onset is the first frame's start) until the last sample is covered.
-    frames_ = samples_ <= frame_ ? 1 : 1 + (samples_ - frame_ + hop_ - 1) / hop_;
+    // Whole frames from t = 0 (the note's onset is the first frame's start): the signal is cut
+    // where the run ends, and a frame over that cut would hear it as a click.
+    frames_ = samples_ <= frame_ ? 1 : 1 + (samples_ - frame_) / hop_;
     window_.resize(frame_);
     for (std::size_t i = 0; i < frame_; ++i)
         window_[i] = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(frame_)));
-    // Bands of one Bark each, from 20 Hz to 20 kHz or the Nyquist rate.
+    // Bands one Bark apart, from 20 Hz to 20 kHz or the Nyquist rate, overlapping as the ear's
+    // filters do: a bin at z Bark feeds the two bands whose centres (b + 1/2) lie either side
+    // of it, in proportion to its nearness (triangles that sum to one). A partial moving or a
+    // band edge crossing a partial then changes the bands' energies smoothly, and the cross
+    // terms of neighbouring partials, which cancel over a whole main lobe, nearly cancel.
     const double top = std::min(kHighestHz, 0.5 * rate_hz);
     const std::size_t bins = frame_ / 2 + 1;
     bin_band_.assign(bins, -1);
+    bin_share_.assign(bins, 0.0);
     bin_weight_.assign(bins, 0.0);
-    const int first_band = static_cast<int>(std::floor(bark(kLowestHz)));
-    const int last_band = static_cast<int>(std::floor(bark(top)));
-    const std::size_t count = static_cast<std::size_t>(last_band - first_band + 1);
-    std::vector<double> low(count, top), high(count, 0.0);
+    const double first_bark = bark(kLowestHz), last_bark = bark(top);
+    const std::size_t count = static_cast<std::size_t>(std::floor(last_bark - first_bark)) + 1;
     quiet_db_.assign(count, std::numeric_limits<double>::infinity());
     for (std::size_t k = 1; k < bins; ++k) {
         const double f = static_cast<double>(k) * rate_hz / static_cast<double>(frame_);
         if (f < kLowestHz || f > top) continue;
-        const auto b = static_cast<std::size_t>(std::min(static_cast<int>(std::floor(bark(f))), last_band) - first_band);
+        const double z = std::clamp(bark(f) - first_bark - 0.5, 0.0, static_cast<double>(count - 1));
+        const auto b = std::min(static_cast<std::size_t>(z), count - 1);
         bin_band_[k] = static_cast<int>(b);
+        bin_share_[k] = b + 1 < count ? z - static_cast<double>(b) : 0.0;  // the part that goes to band b + 1
         const double one_sided = 2 * k == frame_ ? 1.0 : 2.0;
         const double w = 2.0 * std::numbers::pi * f;
         bin_weight_[k] = one_sided * (settings.velocity ? w * w : 1.0);
-        low[b] = std::min(low[b], f);
-        high[b] = std::max(high[b], f);
-        quiet_db_[b] = std::min(quiet_db_[b], threshold_in_quiet_db(f));
+        const std::size_t nearest = z - static_cast<double>(b) < 0.5 ? b : std::min(b + 1, count - 1);
+        quiet_db_[nearest] = std::min(quiet_db_[nearest], threshold_in_quiet_db(f));
     }
     for (std::size_t b = 0; b < count; ++b) {
-        const double centre = high[b] >= low[b] ? std::sqrt(low[b] * high[b]) : 0.0;
-        band_hz_.push_back(centre);
-        band_bark_.push_back(centre > 0.0 ? bark(centre) : static_cast<double>(first_band) + static_cast<double>(b) + 0.5);
+        band_bark_.push_back(first_bark + static_cast<double>(b) + 0.5);
+        // The centre's frequency, by bisection on z(f) (increasing).
+        double low = kLowestHz, high = top;
+        for (int i = 0; i < 60; ++i) (bark(0.5 * (low + high)) < band_bark_.back() ? low : high) = 0.5 * (low + high);
+        band_hz_.push_back(0.5 * (low + high));
+        if (!std::isfinite(quiet_db_[b])) quiet_db_[b] = threshold_in_quiet_db(band_hz_.back());
     }
     spreading_.resize(count * count);
     for (std::size_t to = 0; to < count; ++to)
@@ -123,7 +131,10 @@ std::vector<double> Listener::band_energies(std::span<const double> signal) cons
         for (std::size_t k = 1; k < bin_band_.size(); ++k) {
             if (bin_band_[k] < 0) continue;
             const double re = out.get()[k][0], im = out.get()[k][1];
-            row[static_cast<std::size_t>(bin_band_[k])] += bin_weight_[k] * (re * re + im * im);
+            const double e = bin_weight_[k] * (re * re + im * im);
+            const auto b = static_cast<std::size_t>(bin_band_[k]);
+            row[b] += (1.0 - bin_share_[k]) * e;
+            if (bin_share_[k] > 0.0) row[b + 1] += bin_share_[k] * e;
         }
     }
     return energy;

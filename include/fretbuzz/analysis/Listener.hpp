@@ -4,10 +4,12 @@
 // touch (u_free), at the pickup, and weighs the energy the contacts add in each critical band
 // against the masking threshold that the clean note itself sets there.
 //
-//  - Spectra: Hann frames long enough to hold every partial of the note apart (4 bins between
-//    neighbouring partials, at least 40 ms: 97 ms for E1, 40 ms above G2), hop half a frame;
+//  - Spectra: Hann frames long enough to hold every partial of the note apart (5 bins between
+//    neighbouring partials, at least 40 ms: 121 ms for E1, 51 ms for G2), hop half a frame,
+//    whole frames only (the signal's end is where the run stops, not a sound);
 //    band energies in the critical bands of Zwicker & Terhardt (JASA 68(5), 1980: z(f) =
-//    13 atan(0.00076 f) + 3.5 atan((f / 7500)^2) Bark), one band per Bark up to 20 kHz. A
+//    13 atan(0.00076 f) + 3.5 atan((f / 7500)^2) Bark), one band per Bark up to 20 kHz,
+//    overlapping (triangles one Bark either side of each band's centre, summing to one). A
 //    magnetic pickup's voltage follows the string's velocity: each bin is weighted by
 //    (2 pi f)^2 (option `velocity`).
 //  - Masking threshold of each frame and band: the clean note's band energies spread across
@@ -40,7 +42,7 @@ struct ListeningSettings {
     double level_db_spl = 85.0;   // the clean note's loudest frame, as played back
     double integration_s = 0.2;   // the ear's temporal integration
     double shortest_frame_s = 0.04;
-    double bins_between_partials = 4.0;
+    double bins_between_partials = 5.0;
     bool velocity = true;         // a magnetic pickup (velocity); false: the displacement (an optical sensor)
 };
 
@@ -93,7 +95,8 @@ private:
     std::size_t samples_, frame_, hop_, frames_;
     ListeningSettings settings_;
     std::vector<double> window_, bin_weight_;
-    std::vector<int> bin_band_;          // band of each bin (-1: none)
+    std::vector<int> bin_band_;          // the lower of the two bands each bin feeds (-1: none)
+    std::vector<double> bin_share_;      // its share in the upper one
     std::vector<double> band_hz_, band_bark_, quiet_db_;  // centre, Bark, threshold in quiet (dB SPL)
     std::vector<double> spreading_;      // bands x bands, linear (maskee-major)
     std::unique_ptr<Plan> plan_;
