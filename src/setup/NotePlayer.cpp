@@ -164,7 +164,7 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
     std::unique_ptr<AudioWriter> audio;
     if (!options.wav.empty()) {
         audio = std::make_unique<AudioWriter>(std::vector<std::filesystem::path>{options.wav}, 48000.0,
-                                              AudioSignal::displacement, AudioFades{kFadeIn, kFadeOut});
+                                              AudioSignal::velocity, AudioFades{kFadeIn, kFadeOut});
         observers.push_back(audio.get());
     }
     try {

@@ -91,7 +91,9 @@ private:
 struct PluckOptions {
     bool keep_details = false;  // keep the signal and the contacts over time in the outcome
     Polarisations polarisations = Polarisations::z_only;
-    std::filesystem::path wav;  // where its sound goes (empty: none), faded in over 5 ms and out over 50 ms
+    // Where its sound goes (empty: none): the pickup's velocity (what a magnetic pickup sends, and
+    // what the listener hears), faded in over 5 ms and out over 50 ms.
+    std::filesystem::path wav;
 };
 
 // Plays the plucks of one note (string, fret) and judges each by ear: the listener planned
