@@ -48,7 +48,7 @@ void add_studio_command(CLI::App& app, Action& action) {
     CLI::App* cmd = app.add_subcommand(
         "studio", "Set-up bench in a browser: the buzz map, what-ifs, each note's sound and contacts, advice, a report");
     cmd->add_option("instrument", args->instrument,
-                    "A built-in instrument (jazz-bass, the default; electric-guitar, bass-neck) or an instrument file");
+                    "A built-in instrument (jazz-bass, the default; electric-guitar, bass-5, bass-neck) or an instrument file");
     cmd->add_option("--port", args->port, "Port on 127.0.0.1 (default 8035; 0: any free port)");
     cmd->add_option("--host", args->host,
                     "Serve other computers on this address (e.g. 0.0.0.0), behind a token printed in the address; "

@@ -109,7 +109,7 @@ auto with_python_names(F&& f) {
         for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
                  {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
                  {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
-                 {"--strength", "strengths"}})
+                 {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}})
             for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
                 message.replace(at, from.size(), to);
         throw InputError(message);
@@ -118,8 +118,18 @@ auto with_python_names(F&& f) {
 
 // The what-ifs as Python gives them; InputError messages name the Python argument.
 Instrument changed(const Instrument& instrument, const py::object& relief, const py::dict& action12,
-                   const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets) {
+                   const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets, const py::dict& tune,
+                   const py::object& string_set) {
     SetupChange change;
+    if (!string_set.is_none()) change.string_set = to_text(string_set, "string_set");
+    for (const auto& [key, value] : tune) {
+        const std::string string = to_text(key, "tune (a string's name)");
+        instrument.string_index(string);
+        const std::string name = "tune['" + string + "']";
+        change.pitch_hz.emplace_back(string, py::isinstance<py::str>(value)
+                                                 ? parse_quantity_or(value.cast<std::string>(), Quantity::frequency, "Hz", name)
+                                                 : to_number(value, name));
+    }
     if (!relief.is_none()) change.relief_m = millimetres(relief, "relief");
     const auto ends = [&](const py::dict& given, const std::string& name,
                           std::vector<std::pair<std::string, double>>& into) {
@@ -308,6 +318,7 @@ void bind_setup(py::module_& m) {
                                "the strings' names, in the file's order")
         .def_property_readonly("frets", [](const Instrument& i) { return i.neck.fret_count; })
         .def_property_readonly("settings", &settings, "how finely notes are simulated and how buzz is judged")
+        .def_readonly("warnings", &Instrument::warnings, "what reading it found doubtful (e.g. a mass implausible for a gauge)")
         .def("geometry", &geometry,
              "The neck under each string: a list of dicts (see fretbuzz.Bench.geometry). InputError if a string "
              "would lie on a fret.")
@@ -315,7 +326,9 @@ void bind_setup(py::module_& m) {
              py::arg("duration") = py::none(), "A copy with these simulation settings (InputError if out of range).")
         .def("with_changes", &changed, py::arg("relief") = py::none(), py::arg("action12") = py::dict(),
              py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
-             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}).")
+             py::arg("tune") = py::dict(), py::arg("string_set") = py::none(),
+             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}; tune {string: "
+             "note or Hz}; string_set: a named set's strings at the same pitches).")
         .def(py::pickle([](const Instrument& i) { return py::make_tuple(i.source_text, i.name); },
                         [](const py::tuple& t) {
                             return parse_instrument(t[0].cast<std::string>(), t[1].cast<std::string>(), DataSource::builtin());

@@ -15,10 +15,13 @@
 
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/input/TextFile.hpp"
+#include "fretbuzz/model/SteelWire.hpp"
+#include "fretbuzz/model/TautString.hpp"
 
 namespace fretbuzz {
 
@@ -27,7 +30,6 @@ namespace {
 constexpr std::string_view kInstrumentDir = "instruments/";
 constexpr std::string_view kSuffix = ".toml";
 constexpr std::string_view kSetsFile = "strings/sets.toml";
-constexpr double kSteelYoungModulus = 200e9;  // Pa: the cores of wound strings and plain strings
 constexpr std::size_t kMaxStrings = 12;
 constexpr std::size_t kMaxFrets = 24;  // a stopped string reaches 3 L / 4 at most (stopped_string)
 
@@ -128,9 +130,7 @@ std::vector<double> read_scales(Reader& r, TomlSection& neck) {
     return {r.checked(*n, neck.key_path("scale"), Quantity::length, scale)};
 }
 
-double fret_position(double scale, std::size_t n) { return scale * (1.0 - std::exp2(-static_cast<double>(n) / 12.0)); }
-
-ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double shortest_last_fret) {
+ReliefMeasure read_relief(Reader& r, TomlSection& s, std::size_t frets, double shortest_last_fret) {
     ReliefMeasure relief;
     const bool gap = s.has("gap"), curve = s.has("curve");
     if (gap && curve)
@@ -166,6 +166,49 @@ ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double sh
     return relief;
 }
 
+// Reads a table; when that fails while one of its keys is a likely misspelling of a key it
+// looked for in vain ("acton12" for "action12"), the misspelling is what is reported.
+template <class Read>
+auto read_with_key_check(TomlSection& s, Read read) -> decltype(read()) {
+    try {
+        return read();
+    } catch (const InputError&) {
+        s.refuse_misspelt_keys();
+        throw;
+    }
+}
+
+// One radius (a cylindrical board) or two: at the nut and at the last fret (a compound,
+// conical board whose radius grows linearly along the neck).
+void read_radius(TomlSection& s, NeckDescription& neck) {
+    const Range radius = mm(50.0, 5000.0, false, false);
+    const toml::node* n = s.node("radius");
+    if (n == nullptr) return;
+    if (const auto* array = n->as_array()) {
+        if (array->size() != 2)
+            throw InputError(s.key_path("radius") + " must be one radius or two (a compound board: at the nut and at "
+                                                     "the last fret), e.g. [\"10 in\", \"16 in\"]");
+        neck.radius_m = Reader::checked(*array->get(0), s.key_path("radius[0]"), Quantity::length, radius);
+        neck.radius_last_fret_m = Reader::checked(*array->get(1), s.key_path("radius[1]"), Quantity::length, radius);
+        return;
+    }
+    neck.radius_m = Reader::checked(*n, s.key_path("radius"), Quantity::length, radius);
+}
+
+// A capo, and the neck's stiffness under the strings' pull (geometry/NeckBeam.hpp).
+void read_capo_and_beam(Reader& r, TomlSection& s, NeckDescription& neck) {
+    if (s.has("capo")) {
+        if (neck.fret_count < 2)
+            throw InputError(s.key_path("capo") + ": a capo needs a neck of at least 2 frets (a fret to play above it)");
+        neck.capo = s.count("capo", 1, neck.fret_count - 1);
+    }
+    neck.beam.bending_stiffness_n_m2 =
+        r.optional_quantity(s, "stiffness", Quantity::bending_stiffness, {20.0, 20000.0, false, false, "N m^2", 1.0})
+            .value_or(neck.beam.bending_stiffness_n_m2);
+    neck.beam.pull_height_m =
+        r.optional_quantity(s, "pull_height", Quantity::length, mm(0.0, 50.0)).value_or(neck.beam.pull_height_m);
+}
+
 void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& inst, std::vector<double>& scales) {
     NeckDescription& neck = inst.neck;
     scales = read_scales(r, s);
@@ -195,11 +238,12 @@ void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& 
         }
     }
     if (auto relief = s.optional_section("relief"))
-        neck.relief = read_relief(r, *relief, neck.fret_count, last_fret);
+        neck.relief = read_with_key_check(*relief, [&] { return read_relief(r, *relief, neck.fret_count, last_fret); });
     if (neck.relief.form == ReliefMeasure::Form::gap && neck.fret_count < 3)
         throw InputError(s.key_path("relief.gap") + ": measuring relief needs at least 3 frets");
     neck.truss_rod_bow_m = 0.0;
-    neck.radius_m = r.optional_quantity(s, "radius", Quantity::length, mm(50.0, 5000.0, false, false));
+    read_radius(s, neck);
+    read_capo_and_beam(r, s, neck);
     const auto nut_width = r.optional_quantity(s, "nut_width", Quantity::length, mm(0.0, 120.0, false, false));
     const auto bridge = r.optional_quantity(s, "bridge_spacing", Quantity::length, mm(0.0, 200.0, false, false));
     if (neck.radius_m && string_count > 1 && (!nut_width || !bridge))
@@ -246,14 +290,6 @@ const std::vector<StringSet>& string_sets() {
     return sets;
 }
 
-const StringSet& find_set(const std::string& name, const std::string& key) {
-    const std::vector<StringSet>& sets = string_sets();
-    for (const StringSet& s : sets)
-        if (s.name == name) return s;
-    std::string names;
-    for (const StringSet& s : sets) names += (names.empty() ? "" : ", ") + s.name;
-    throw InputError(key + " = \"" + name + "\": no such string set (known: " + names + ")");
-}
 
 StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
     const bool gap = s.has("nut"), height = s.has("nut_height");
@@ -298,21 +334,24 @@ void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::s
     std::optional<double> set_mu;
     if (set != nullptr) {
         const StringSetEntry& e = set->strings[index];
-        set_mu = e.tension_n / std::pow(2.0 * set->scale_length_m * e.frequency_hz, 2);
+        set_mu = e.linear_density;
     }
     const int given = int(f.has_value()) + int(t.has_value()) + int(mu.has_value());
     if (given == 3)
         throw InputError(s.key_path("pitch") + ", tension and mu over-determine the string (f = sqrt(T / mu) / 2L): "
                                                "give two of them, or the pitch with a string set");
     if (given == 2) {
-        str.tension_n = t ? *t : *mu * std::pow(2.0 * length * *f, 2);
-        str.linear_density = mu ? *mu : *t / std::pow(2.0 * length * *f, 2);
-        str.frequency_hz = f ? *f : std::sqrt(*t / *mu) / (2.0 * length);
+        const TautString taut = !f   ? TautString{length, *t, *mu}
+                                : t ? TautString::tuned_with_tension(length, *t, *f)
+                                    : TautString::tuned_with_mass(length, *mu, *f);
+        str.tension_n = taut.tension_n;
+        str.linear_density = taut.linear_density;
+        str.frequency_hz = f ? *f : taut.fundamental_hz();
         str.tension_source = t ? "given" : "from the pitch and mu";
     } else if (f && set_mu) {
         str.frequency_hz = *f;
         str.linear_density = *set_mu;
-        str.tension_n = *set_mu * std::pow(2.0 * length * *f, 2);
+        str.tension_n = TautString::tuned_with_mass(length, *set_mu, *f).tension_n;
         str.tension_source = "string set " + set->name + " (" + set->source + ")";
     } else {
         throw InputError(s.key_path(f ? "tension" : "pitch") +
@@ -329,28 +368,32 @@ void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::s
                          " g/m, out of range: must be in " + density.text());
 }
 
-void read_stiffness(Reader& r, TomlSection& s, InstrumentString& str) {
+void read_stiffness(Reader& r, TomlSection& s, const StringSetEntry* from_set, InstrumentString& str) {
     const int given = int(s.has("B")) + int(s.has("bending_stiffness")) + int(s.has("core"));
+    if (given == 0 && from_set != nullptr) {
+        str.bending_stiffness = SteelWire{from_set->core_m}.bending_stiffness();  // the set's core
+        return;
+    }
     if (given != 1)
-        throw InputError(s.key_path("core") + (given == 0 ? " is missing (required: the steel core's diameter, or B, or "
-                                                            "bending_stiffness)"
+        throw InputError(s.key_path("core") + (given == 0 ? " is missing (required without a string set: the steel "
+                                                            "core's diameter, or B, or bending_stiffness)"
                                                           : ", B and bending_stiffness: give one of them"));
     const double l = str.scale_length_m;
     if (s.has("B")) {
         const double b = Reader::number_in(s, "B", {0.0, 0.01, false, false, "", 1.0});
-        str.bending_stiffness = b * str.tension_n * l * l / (std::numbers::pi * std::numbers::pi);
+        str.bending_stiffness = TautString{l, str.tension_n, str.linear_density}.bending_stiffness_for(b);
     } else if (s.has("bending_stiffness")) {
         str.bending_stiffness =
             r.quantity(s, "bending_stiffness", Quantity::bending_stiffness, {0.0, 1.0, false, false, "N m^2", 1.0});
     } else {
-        const double d = r.quantity(s, "core", Quantity::length, mm(0.0, 3.0));
+        const double d = r.quantity(s, "core", Quantity::length, mm(0.0, 5.0));
         if (str.gauge_m > 0.0 && d > str.gauge_m)
             throw InputError(s.key_path("core") + " is thicker than " + s.key_path("gauge"));
-        str.bending_stiffness = kSteelYoungModulus * std::numbers::pi * d * d * d * d / 64.0;
+        str.bending_stiffness = SteelWire{d}.bending_stiffness();
     }
 }
 
-InstrumentString read_string(Reader& r, TomlSection s, std::size_t index, double scale, const StringSet* set,
+InstrumentString read_string(Reader& r, TomlSection& s, std::size_t index, double scale, const StringSet* set,
                              std::size_t frets) {
     InstrumentString str;
     str.name = s.text("name");
@@ -359,10 +402,10 @@ InstrumentString read_string(Reader& r, TomlSection s, std::size_t index, double
         throw InputError(s.key_path("name") + " = \"" + str.name +
                          "\": give 1 to 16 letters or digits (e.g. \"E\", \"A\", \"e\")");
     str.scale_length_m = scale;
-    str.gauge_m = r.optional_quantity(s, "gauge", Quantity::length, mm(0.0, 3.0)).value_or(0.0);
+    str.gauge_m = r.optional_quantity(s, "gauge", Quantity::length, mm(0.0, 5.0)).value_or(0.0);
     if (str.gauge_m == 0.0 && set != nullptr) str.gauge_m = set->strings[index].gauge_m;
     read_string_physics(r, s, set, index, str);
-    read_stiffness(r, s, str);
+    read_stiffness(r, s, set != nullptr ? &set->strings[index] : nullptr, str);
     str.nut = read_nut(r, s, s.has("profile"));
     str.bridge = read_bridge_end(r, s, frets, s.has("profile"));
     if (s.has("profile")) {
@@ -491,6 +534,28 @@ void read_physics_tables(Reader& r, TomlSection& top, Instrument& inst) {
     }
 }
 
+// The pull the strings put on the neck as the file tunes them (the relief was measured under
+// it), and a warning for a string whose mass does not fit its gauge (NeckBeam.hpp,
+// SteelWire.hpp).
+void note_string_loads(const std::vector<TomlSection>& tables, Instrument& inst) {
+    double pull = 0.0;
+    for (const InstrumentString& str : inst.strings) pull += str.tension_n;
+    inst.neck.relief_pull_n = pull;
+    for (std::size_t k = 0; k < inst.strings.size(); ++k) {
+        const InstrumentString& str = inst.strings[k];
+        const SteelWire rod{str.gauge_m};
+        if (str.gauge_m <= 0.0 || rod.plausible_fill(str.linear_density)) continue;
+        std::ostringstream w;
+        w.precision(3);
+        w << tables[k].key_path("mu") << ": " << str.name << " weighs " << 1e3 * str.linear_density << " g/m ("
+          << str.tension_source << "), " << rod.fill(str.linear_density) << " times a steel rod of its gauge "
+          << 1e3 * str.gauge_m << " mm (strings weigh " << SteelWire::kPlausibleFillLow << " to "
+          << SteelWire::kPlausibleFillHigh << " times it): at " << str.frequency_hz << " Hz that is a tension of "
+          << str.tension_n << " N; check the unit weight, the tension and the gauge";
+        inst.warnings.push_back(w.str());
+    }
+}
+
 }  // namespace
 
 std::size_t Instrument::string_index(const std::string& wanted) const {
@@ -508,7 +573,7 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     if (top.has("obstacle") || top.has("excitation"))
         throw InputError(source_name + " is a case file (it has [obstacle] or [excitation]), not an instrument file: "
                                        "`fretbuzz setup` takes an instrument (docs/instrument-format.md), e.g. the "
-                                       "built-in jazz-bass, electric-guitar or bass-neck");
+                                       "built-in jazz-bass, electric-guitar, bass-5 or bass-neck");
     Reader r(data);
     Instrument inst;
     inst.source_text = std::string(text);
@@ -522,11 +587,11 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
                                               "must be in [1, " + std::to_string(kMaxStrings) + "]"));
     std::vector<double> scales;
     TomlSection neck = top.section("neck");
-    read_neck(r, neck, string_tables.size(), inst, scales);
+    read_with_key_check(neck, [&] { read_neck(r, neck, string_tables.size(), inst, scales); });
     const std::vector<double> scale_of = string_scales(scales, string_tables.size());
     const StringSet* set = nullptr;
     if (auto strings = top.optional_section("strings")) {
-        set = &find_set(strings->text("set"), strings->key_path("set"));
+        set = &builtin_string_set(strings->text("set"), strings->key_path("set"));
         if (set->strings.size() != string_tables.size())
             throw InputError(strings->key_path("set") + " = \"" + set->name + "\" has " +
                              std::to_string(set->strings.size()) + " strings; the instrument has " +
@@ -535,7 +600,8 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     }
     std::set<std::string> names;
     for (std::size_t k = 0; k < string_tables.size(); ++k) {
-        inst.strings.push_back(read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count));
+        inst.strings.push_back(read_with_key_check(
+            string_tables[k], [&] { return read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count); }));
         if (!names.insert(inst.strings.back().name).second)
             throw InputError(string_tables[k].key_path("name") + " = \"" + inst.strings.back().name +
                              "\": another string has that name; names must differ");
@@ -543,9 +609,12 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     read_scan(r, neck, inst);
     neck.finish();
     const double shortest = *std::min_element(scales.begin(), scales.end());
-    read_attack(r, top.optional_section("attack"), shortest, inst);
-    read_physics_tables(r, top, inst);
-    read_simulation(r, top.optional_section("simulation"), shortest, inst);
+    read_with_key_check(top, [&] {
+        read_attack(r, top.optional_section("attack"), shortest, inst);
+        read_physics_tables(r, top, inst);
+        read_simulation(r, top.optional_section("simulation"), shortest, inst);
+    });
+    note_string_loads(string_tables, inst);
     if (inst.bench.observe_from_bridge_m >= inst.attack.pluck_from_bridge_m - 0.5 * inst.attack.finger_width_m)
         throw InputError("simulation.observe must lie between the bridge and the plucking finger (attack.position)");
     top.finish();
@@ -594,6 +663,22 @@ Instrument load_instrument(const std::string& name_or_path) {
 
 std::vector<StringSet> builtin_string_sets() { return string_sets(); }
 
+const StringSet& builtin_string_set(const std::string& name, const std::string& key) {
+    const std::vector<StringSet>& sets = string_sets();
+    for (const StringSet& s : sets)
+        if (s.name == name) return s;
+    std::string names;
+    for (const StringSet& s : sets) names += (names.empty() ? "" : ", ") + s.name;
+    throw InputError(key + " = \"" + name + "\": no such string set (known: " + names + ")");
+}
+
+std::optional<std::string> builtin_instrument_text(std::string_view name) {
+    if (name.find('/') != std::string_view::npos) return std::nullopt;
+    if (auto text = find_builtin_file(std::string(kInstrumentDir) + std::string(name) + std::string(kSuffix)))
+        return std::string(*text);
+    return std::nullopt;
+}
+
 namespace {
 
 std::vector<StringSet> read_string_sets() {
@@ -611,13 +696,21 @@ std::vector<StringSet> read_string_sets() {
         set.source = s.text("source");
         set.scale_length_m = Reader::checked(*s.node("scale"), s.key_path("scale"), Quantity::length,
                                              {0.2, 1.5, false, false, "m", 1.0});
+        set.core_ratio = Reader::number_in(s, "core_ratio", {0.1, 0.9, false, false, "", 1.0});
         for (TomlSection e : s.sections("strings")) {
             StringSetEntry entry;
-            entry.gauge_m = Reader::checked(*e.node("gauge"), e.key_path("gauge"), Quantity::length, mm(0.0, 3.0));
+            entry.gauge_m = Reader::checked(*e.node("gauge"), e.key_path("gauge"), Quantity::length, mm(0.0, 5.0));
             entry.frequency_hz = Reader::checked(*e.node("pitch"), e.key_path("pitch"), Quantity::frequency,
                                                  {20.0, 2000.0, false, false, "Hz", 1.0});
             entry.tension_n = Reader::checked(*e.node("tension"), e.key_path("tension"), Quantity::force,
                                               {1.0, 1500.0, false, false, "N", 1.0});
+            if (const toml::node* uw = e.node("unit_weight"))
+                entry.unit_weight = Reader::checked(*uw, e.key_path("unit_weight"), Quantity::linear_density,
+                                                    {0.01, 100.0, false, false, "g/m", 1e-3});
+            entry.linear_density =
+                TautString::tuned_with_tension(set.scale_length_m, entry.tension_n, entry.frequency_hz).linear_density;
+            entry.plain = e.optional_flag("plain").value_or(false);
+            entry.core_m = entry.plain ? entry.gauge_m : set.core_ratio * entry.gauge_m;
             e.finish();
             set.strings.push_back(entry);
         }

@@ -98,7 +98,7 @@ def default_folder(name: str) -> str:
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(prog="fretbuzz studio", description="The set-up bench in a browser.")
     parser.add_argument("instrument", nargs="?", default="jazz-bass",
-                        help="a built-in instrument (jazz-bass, electric-guitar, bass-neck) or an instrument file")
+                        help="a built-in instrument (jazz-bass, electric-guitar, bass-5, bass-neck) or an instrument file")
     parser.add_argument("--port", type=_port, default=DEFAULT_PORT, help=f"port (default {DEFAULT_PORT}; 0: any free port)")
     parser.add_argument("--host", help="serve other computers on this address, behind a token printed in the address "
                                        "(default: this computer only, 127.0.0.1)")
