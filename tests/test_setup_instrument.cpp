@@ -24,6 +24,7 @@
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/setup/InstrumentGeometry.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
+#include "fretbuzz/setup/WhatIf.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -170,8 +171,8 @@ TEST(InstrumentFile, BadValuesAreRefusedNamingTheKeyAndItsRange) {
     expect_instrument_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = \"12 mm\""), "neck.fret_height", "(0, 5] mm");
     expect_instrument_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = 1.2"), "neck.fret_height", "unit");
     expect_instrument_refused(replaced(base, "frets = 20", "frets = 99"), "neck.frets", "[1, 24]");
-    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"-0.7 mm\""), "string[0].nut", "(0, 5] mm");
-    expect_instrument_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"27 mm\""), "string[0].action12", "(0, 10] mm");
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"-0.7 mm\""), "string[0].nut", "[0.01, 5] mm");
+    expect_instrument_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"27 mm\""), "string[0].action12", "[0.01, 10] mm");
     expect_instrument_refused(replaced(base, "pitch = \"E1\"", "pitch = \"H1\""), "string[0].pitch");
     const std::string with_attack = base + "\n[attack]\n";
     expect_instrument_refused(with_attack + "soft = \"5 mm\"\n", "attack.medium", "must grow: soft (5 mm) < medium");
@@ -195,6 +196,67 @@ TEST(InstrumentFile, BadValuesAreRefusedNamingTheKeyAndItsRange) {
         ADD_FAILURE() << "an open string lying on a fret was accepted";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("string[0]"), std::string::npos) << e.what();
+    }
+}
+
+// The name becomes the studio's folder, studio-NAME in the current folder: one plain path
+// component, whatever the file says.
+TEST(InstrumentFile, TheNameIsOnePlainPathComponent) {
+    const std::string base(*find_builtin_file("instruments/jazz-bass.toml"));
+    for (const char* bad : {"x/../../../../victim-home", "", "/", "..", ".", ".hidden", "a..b", "<script>", " lead",
+                            "a\\b", "tab\there", "caf\u00e9"}) {
+        SCOPED_TRACE(bad);
+        expect_instrument_refused(replaced(base, "name = \"jazz-bass\"", "name = \"" + std::string(bad) + "\""), "name = \"",
+                       "letters (a-z, A-Z), digits");
+    }
+    expect_instrument_refused(replaced(base, "name = \"jazz-bass\"", "name = \"" + std::string(65, 'a') + "\""), "name", "1 to 64");
+    for (const std::string& good : std::vector<std::string>{"jazz-bass", "My Bass 2.0", "fender_jb-1962", std::string(64, 'b')}) {
+        const Instrument i =
+            parse_instrument(replaced(base, "name = \"jazz-bass\"", "name = \"" + good + "\""), "t.toml", DataSource::builtin());
+        EXPECT_EQ(i.name, good);
+    }
+}
+
+// What an instrument file takes, a what-if takes (src/setup/WhatIf.cpp), and the other way
+// round; the messages show the value as written.
+TEST(InstrumentFile, RangesAreTheWhatIfsAndMessagesShowTheValueGiven) {
+    const std::string base(*find_builtin_file("instruments/jazz-bass.toml"));
+    expect_instrument_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"1e-320 mm\""), "string[0].action12",
+                   "[0.01, 10] mm");
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"0.001 mm\""), "string[0].nut", "[0.01, 5] mm");
+    const Instrument bass = parse_instrument(base, "t.toml", DataSource::builtin());
+    SetupChange tiny_action, tiny_nut, low_nut;
+    tiny_action.action12_m = {{"E", 1e-323}};
+    tiny_nut.nut_m = {{"E", 1e-6}};
+    low_nut.nut_m = {{"E", 1e-5}};
+    for (const auto& [change, key] : std::vector<std::pair<SetupChange, std::string>>{{tiny_action, "--action12 E"},
+                                                                                      {tiny_nut, "--nut E"}}) {
+        try {
+            apply_change(bass, change);
+            ADD_FAILURE() << key << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+        }
+    }
+    // The smallest value each takes is the same.
+    const Instrument low = parse_instrument(replaced(base, "nut = \"0.75 mm\"", "nut = \"0.01 mm\""), "t.toml",
+                                            DataSource::builtin());
+    EXPECT_NO_THROW(apply_change(bass, low_nut));
+    EXPECT_DOUBLE_EQ(low.strings[0].nut.value_m, 1e-5);
+    // An integer past 2^53 is shown as written, not as 0.
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = 9223372036854775807"), "string[0].nut = 9223372036854775807",
+                   "say its unit");
+    // Too few frets to measure relief is said as such, not as an empty range [2, 0].
+    const std::string curve =
+        R"(curve = [["178 mm", "0.41 mm"], ["319 mm", "0.595 mm"], ["431.5 mm", "0.517 mm"], ["520.5 mm", "0.228 mm"]])";
+    const std::string short_neck = replaced(replaced(base, "frets = 20", "frets = 1"), curve, "gap = \"0.3 mm\"");
+    try {
+        parse_instrument(short_neck, "t.toml", DataSource::builtin());
+        ADD_FAILURE() << "a one-fret neck with a relief gap was accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.find("[2, 0]"), std::string::npos) << what;
+        EXPECT_NE(what.find("at least 3 frets (neck.frets = 1)"), std::string::npos) << what;
     }
 }
 

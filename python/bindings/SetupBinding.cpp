@@ -35,12 +35,6 @@ py::object fret_value(int f) {
     return f == kBoard ? py::object(py::str("board")) : py::object(py::int_(f));
 }
 
-int fret_from(py::handle h) {
-    if (h.is_none()) return kNoFret;
-    if (py::isinstance<py::str>(h)) return h.cast<std::string>() == "board" ? kBoard : kNoFret;
-    return h.cast<int>();
-}
-
 py::dict verdict_dict(const NoteVerdict& v) {
     py::dict d;
     d["string"] = v.string_name;
@@ -69,26 +63,45 @@ py::dict verdict_dict(const NoteVerdict& v) {
     return d;
 }
 
-NoteVerdict verdict_from(py::handle row) {
+NoteVerdict verdict_from(py::handle row, std::size_t index) {
+    const std::string at = "map row " + std::to_string(index);
+    if (!py::isinstance<py::dict>(row)) throw py::type_error(at + ": expected a dict (a map's row), got " + type_name(row));
     const py::dict d = py::reinterpret_borrow<py::dict>(row);
+    const auto field = [&](const char* key) -> py::handle {
+        if (!d.contains(key)) throw InputError(at + ": no " + key);
+        return d[key];
+    };
+    const auto fraction = [&](const char* key) {
+        const double v = to_number(field(key), at + ": " + key);
+        if (!(v >= 0.0 && v <= 1.0)) throw InputError(out_of_range_message(at + ": " + key, v, "must be in [0, 1]"));
+        return v;
+    };
+    constexpr long long kMost = 1 << 20;
     NoteVerdict v;
-    v.string_name = d["string"].cast<std::string>();
-    v.fret = d["fret"].cast<std::size_t>();
-    v.strength = d["strength"].cast<std::string>();
-    v.verdict = d.contains("verdict") ? d["verdict"].cast<std::string>() : "";
-    v.buzz_fraction = d["buzz_fraction"].cast<double>();
-    if (d.contains("clean_up_to") && !d["clean_up_to"].is_none()) v.clean_up_to = d["clean_up_to"].cast<double>();
-    v.buzz_db = d["buzz_dB"].is_none() ? NoteVerdict::nan : d["buzz_dB"].cast<double>();
-    v.buzz_fret = fret_from(d["buzz_fret"]);
-    v.touch_fraction = d.contains("touch_fraction") ? d["touch_fraction"].cast<double>() : 0.0;
-    v.plucks = d.contains("plucks") ? d["plucks"].cast<std::size_t>() : 0;
-    v.status = d.contains("status") ? d["status"].cast<std::string>() : "ok";
+    v.string_name = to_text(field("string"), at + ": string");
+    v.fret = static_cast<std::size_t>(to_whole(field("fret"), at + ": fret", 0, kMost));
+    v.strength = to_text(field("strength"), at + ": strength");
+    v.verdict = d.contains("verdict") ? to_text(d["verdict"], at + ": verdict") : "";
+    v.buzz_fraction = fraction("buzz_fraction");
+    if (d.contains("clean_up_to") && !d["clean_up_to"].is_none())
+        v.clean_up_to = to_number(d["clean_up_to"], at + ": clean_up_to");
+    v.buzz_db = field("buzz_dB").is_none() ? NoteVerdict::nan : to_number(d["buzz_dB"], at + ": buzz_dB");
+    const py::handle buzz_fret = field("buzz_fret");
+    if (buzz_fret.is_none())
+        v.buzz_fret = kNoFret;
+    else if (py::isinstance<py::str>(buzz_fret) && buzz_fret.cast<std::string>() == "board")
+        v.buzz_fret = kBoard;
+    else
+        v.buzz_fret = static_cast<int>(to_whole(buzz_fret, at + ": buzz_fret (or \"board\", or None)", 0, kMost));
+    v.touch_fraction = d.contains("touch_fraction") ? fraction("touch_fraction") : 0.0;
+    v.plucks = d.contains("plucks") ? static_cast<std::size_t>(to_whole(d["plucks"], at + ": plucks", 0, kMost)) : 0;
+    v.status = d.contains("status") ? to_text(d["status"], at + ": status") : "ok";
     return v;
 }
 
 std::vector<NoteVerdict> verdicts_from(const py::iterable& rows) {
     std::vector<NoteVerdict> out;
-    for (py::handle row : rows) out.push_back(verdict_from(row));
+    for (py::handle row : rows) out.push_back(verdict_from(row, out.size()));
     return out;
 }
 
@@ -143,7 +156,8 @@ Instrument changed(const Instrument& instrument, const py::object& relief, const
     ends(saddle, "saddle", change.saddle_m);
     for (const auto& [key, value] : fret_offsets) {
         FretChange f;
-        f.fret = key.cast<std::size_t>();
+        // Out of range, the library's message names the frets there are.
+        f.fret = static_cast<std::size_t>(to_whole(key, "fret_offsets (a key: a fret's number)", 0, 1 << 20));
         const std::string name = "fret_offsets[" + std::to_string(f.fret) + "]";
         if (!(py::isinstance<py::str>(value) && value.cast<std::string>() == "level")) f.by_m = millimetres(value, name);
         change.frets.push_back(f);
@@ -208,17 +222,15 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
                          const py::object& duration) {
     Instrument i = instrument;
     if (!ensemble.is_none()) {
-        const long n = ensemble.cast<long>();
-        if (n < 1 || n > 200) throw InputError(out_of_range_message("ensemble", static_cast<double>(n), "must be in [1, 200]"));
-        i.attack.ensemble = static_cast<std::size_t>(n);
+        i.attack.ensemble = static_cast<std::size_t>(to_whole(ensemble, "ensemble (the most plucks per note)", 1, 200));
     }
     if (!fs.is_none()) {
-        const double v = to_number(fs, "fs");
+        const double v = to_number(fs, "fs (Hz, in [50000, 2e7])");
         if (!(v >= 5e4 && v <= 2e7)) throw InputError(out_of_range_message("fs (Hz)", v, "must be in [50000, 2e7]"));
         i.bench.sample_rate_hz = v;
     }
     if (!duration.is_none()) {
-        const double v = to_number(duration, "duration");
+        const double v = to_number(duration, "duration (s, in [0.01, 5])");
         if (!(v >= 0.01 && v <= 5.0)) throw InputError(out_of_range_message("duration (s)", v, "must be in [0.01, 5]"));
         i.bench.duration_s = v;
     }
@@ -265,11 +277,7 @@ py::dict record(const Instrument& instrument, const std::string& string, std::si
     const std::size_t s = instrument.string_index(string);
     const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
-    PluckOutcome o;
-    {
-        py::gil_scoped_release unlocked;
-        o = record_pluck(instrument, s, fret, attacks.front(), member, finger);
-    }
+    const PluckOutcome o = without_gil([&] { return record_pluck(instrument, s, fret, attacks.front(), member, finger); });
     if (!o.error.empty()) throw InputError(string + " fret " + std::to_string(fret) + " " + strength + ": " + o.error);
     py::dict d;
     d["touched"] = o.touched;
@@ -305,8 +313,7 @@ std::string advice(const Instrument& instrument, const py::iterable& map, const 
     for (const std::string& s : strings) request.strings.push_back(instrument.string_index(s));
     std::vector<NoteVerdict> verdicts = verdicts_from(map);
     for (NoteVerdict& v : verdicts) v.string = instrument.string_index(v.string_name);
-    py::gil_scoped_release unlocked;
-    return advice_json(advise(instrument, verdicts, request));
+    return without_gil([&] { return advice_json(advise(instrument, verdicts, request)); });
 }
 
 }  // namespace

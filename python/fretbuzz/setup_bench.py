@@ -60,8 +60,10 @@ def _names(values: Union[str, Iterable[str], None]) -> List[str]:
 def _frets(values: Union[int, Iterable[int], None]) -> List[int]:
     if values is None:
         return []
-    if isinstance(values, int):
-        return [values]
+    if isinstance(values, int) and not isinstance(values, bool):
+        values = [values]
+    elif isinstance(values, (str, bytes, bool)) or not hasattr(values, "__iter__"):
+        raise InputError(f"frets: {values!r} is not a fret or a list of frets (whole numbers, 0 for the open string)")
     frets = []
     for v in values:
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
@@ -287,8 +289,10 @@ class Bench:
         {"E": "D2"} for drop D) and string_set (a named set's strings at the same pitches): the
         neck bows with the strings' pull, the truss rod left as it was. InputError names the
         argument."""
+        # A relief of 0 is a change too; an empty {} is none.
         changes = {k: v for k, v in (("relief", relief), ("action12", action12), ("nut", nut), ("saddle", saddle),
-                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set)) if v}
+                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set))
+                   if v is not None and not (isinstance(v, (dict, str)) and not v)}
         instrument = self.instrument.with_changes(relief=relief, action12=action12 or {}, nut=nut or {},
                                                   saddle=saddle or {}, fret_offsets=fret_offsets or {}, tune=tune or {},
                                                   string_set=string_set)

@@ -55,6 +55,10 @@ constexpr Range mm(double low, double high, bool low_open = true, bool high_open
     return {low, high, low_open, high_open, "mm", 1e-3};
 }
 
+// A string's gap over a fret and its heights at the ends: the what-ifs' ranges
+// (src/setup/WhatIf.cpp), so that a value a file takes is one a what-if takes.
+constexpr Range string_end_mm(double high) { return mm(0.01, high, false, false); }
+
 class Reader {
 public:
     explicit Reader(const DataSource& data) : data_(data) {}
@@ -76,7 +80,9 @@ public:
         if (const auto* str = n.as_string()) {
             text = str->get();
         } else if (n.is_number()) {
-            const std::string shown = number_text(n.value<double>().value_or(0.0));
+            // As written: an integer past 2^53 has no exact double (toml++ then gives none).
+            const auto* integer = n.as_integer();
+            const std::string shown = integer ? std::to_string(integer->get()) : number_text(n.value<double>().value_or(0.0));
             throw InputError(path + " = " + shown + ": say its unit, e.g. \"" + shown + " " +
                              std::string(range.unit.empty() ? "" : range.unit) + "\" (units: " + unit_names(kind) + ")");
         } else {
@@ -132,6 +138,9 @@ ReliefMeasure read_relief(Reader& r, TomlSection& s, std::size_t frets, double s
     if (gap) {
         relief.form = ReliefMeasure::Form::gap;
         relief.gap_m = r.quantity(s, "gap", Quantity::length, mm(-2.0, 2.0, false, false));
+        if (frets < 3)
+            throw InputError(s.key_path("gap") + ": measuring relief needs at least 3 frets (neck.frets = " +
+                             std::to_string(frets) + ")");
         relief.at_fret = s.optional_count("fret", 2, frets - 1).value_or(std::min<std::size_t>(8, frets - 1));
     } else if (curve) {
         relief.form = ReliefMeasure::Form::curve;
@@ -250,6 +259,21 @@ void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& 
     neck.body_depth_m = r.optional_quantity(s, "body_depth", Quantity::length, mm(0.0, 50.0));
 }
 
+// The name becomes a folder's (the studio's studio-NAME, in the current folder): one path
+// component whatever the file says, plain enough to print in a page or a shell.
+void check_instrument_name(const std::string& name, const std::string& key) {
+    constexpr std::size_t kMaxName = 64;
+    const bool plain = std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
+               c == '.' || c == ' ';
+    });
+    if (!plain || name.empty() || name.size() > kMaxName || name.front() == '.' || name.front() == ' ' ||
+        name.find("..") != std::string::npos)
+        throw InputError(key + " = \"" + name + "\": must be 1 to " + std::to_string(kMaxName) +
+                         " letters (a-z, A-Z), digits, '-', '_', '.' or spaces, not starting with '.' or a space and "
+                         "without \"..\" (it names the studio's folder, studio-NAME)");
+}
+
 std::vector<double> string_scales(const std::vector<double>& scales, std::size_t count) {
     std::vector<double> each(count, scales.front());
     if (scales.size() == 2 && count > 1)
@@ -273,9 +297,9 @@ StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
     if (gap == height)
         throw InputError(gap ? s.key_path("nut") + " and " + s.key_path("nut_height") + " are both given: give one"
                              : s.key_path("nut") + " is missing (required: the gap between the open string and the top "
-                                                   "of fret 1, in (0, 5] mm; or nut_height)");
-    if (gap) return {StringEnd::Form::gap_over_fret, r.quantity(s, "nut", Quantity::length, mm(0.0, 5.0)), 1};
-    return {StringEnd::Form::height, r.quantity(s, "nut_height", Quantity::length, mm(0.0, 10.0)), 0};
+                                                   "of fret 1, in [0.01, 5] mm; or nut_height)");
+    if (gap) return {StringEnd::Form::gap_over_fret, r.quantity(s, "nut", Quantity::length, string_end_mm(5.0)), 1};
+    return {StringEnd::Form::height, r.quantity(s, "nut_height", Quantity::length, string_end_mm(10.0)), 0};
 }
 
 StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool profile) {
@@ -284,18 +308,18 @@ StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool pro
     if (given != 1)
         throw InputError(given == 0 ? s.key_path("action12") +
                                           " is missing (required: the gap between the open string and the top of "
-                                          "fret 12, in (0, 10] mm; or action with action_fret, or saddle_height)"
+                                          "fret 12, in [0.01, 10] mm; or action with action_fret, or saddle_height)"
                                     : s.key_path("action12") + ", action and saddle_height: give one of them");
     if (s.has("saddle_height"))
-        return {StringEnd::Form::height, r.quantity(s, "saddle_height", Quantity::length, mm(0.0, 30.0)), 0};
+        return {StringEnd::Form::height, r.quantity(s, "saddle_height", Quantity::length, string_end_mm(30.0)), 0};
     if (s.has("action12")) {
         if (frets < 12)
             throw InputError(s.key_path("action12") + ": the neck has " + std::to_string(frets) +
                              " frets; give action with action_fret in [2, " + std::to_string(frets) + "]");
-        return {StringEnd::Form::gap_over_fret, r.quantity(s, "action12", Quantity::length, mm(0.0, 10.0)), 12};
+        return {StringEnd::Form::gap_over_fret, r.quantity(s, "action12", Quantity::length, string_end_mm(10.0)), 12};
     }
     const std::size_t fret = s.count("action_fret", 2, frets);
-    return {StringEnd::Form::gap_over_fret, r.quantity(s, "action", Quantity::length, mm(0.0, 10.0)), fret};
+    return {StringEnd::Form::gap_over_fret, r.quantity(s, "action", Quantity::length, string_end_mm(10.0)), fret};
 }
 
 // The string's mass and tension from two of pitch, tension and mu (or the set's unit weight).
@@ -612,6 +636,7 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     Instrument inst;
     inst.source_text = std::string(text);
     inst.name = top.text("name");
+    check_instrument_name(inst.name, top.key_path("name"));
     inst.description = top.optional_text("description").value_or("");
     std::vector<TomlSection> string_tables = top.sections("string");
     if (string_tables.empty() || string_tables.size() > kMaxStrings)
