@@ -13,9 +13,6 @@ namespace {
 
 using std::numbers::pi;
 
-// Neighbours whose leakage is subtracted exactly; farther ones vary so little across a
-// mode's bins that the fit's straight background takes them.
-constexpr std::size_t kNeighbours = 6;
 // Starts for a second partial beside a single one: separations in bins (beats in the record).
 constexpr double kSplits[] = {0.5, 1.0, 2.0, 4.0};
 
@@ -72,7 +69,7 @@ void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectr
     }
     const auto bins_of = [&](std::size_t i) {
         std::vector<DampedPartial> others;
-        for (std::size_t j = i >= kNeighbours ? i - kNeighbours : 0; j < std::min(modes.size(), i + kNeighbours + 1); ++j)
+        for (std::size_t j = 0; j < modes.size(); ++j)
             if (j != i) others.insert(others.end(), modes[j].poles.begin(), modes[j].poles.end());
         return spectrum.bins_without(modes[i].first, modes[i].last, others);
     };

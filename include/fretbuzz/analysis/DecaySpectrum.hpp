@@ -28,7 +28,7 @@ struct SpectrumFit {
     std::vector<DampedPartial> partials;
     double angle_difference_sd = 0.0;  // of partials[1].angle - partials[0].angle (two partials)
     double residual = 0.0;             // sum of |X - model|^2 over the fitted bins
-    double noise_per_bin = 0.0;        // E|noise|^2 per bin, from that residual
+    double noise_per_bin = 0.0;        // E|noise|^2 per bin, from that residual (at least round-off's)
     std::size_t bins = 0;
     bool valid = false;  // converged, every partial decaying and inside the bins fitted
 };
@@ -59,6 +59,7 @@ private:
                       std::span<const DampedPartial> start, bool move_poles) const;
     std::span<const std::complex<double>> spectrum_;
     std::size_t length_;
+    double floor_per_bin_ = 0.0;  // the least noise per bin believed: the spectrum's round-off
 };
 
 }  // namespace fretbuzz
