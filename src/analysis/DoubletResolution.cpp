@@ -21,7 +21,7 @@ struct Mode {
     std::vector<DampedPartial> poles;  // the stronger first
     std::size_t first = 0, last = 0;   // bins fitted
     bool merged = false, fitted = false;
-    double noise_per_bin = 0.0;
+    double noise_per_bin = 0.0;  // of the last fit
 };
 
 DampedPartial damped(const EstimatedPartial& p, double rate_hz) {
@@ -51,8 +51,8 @@ std::optional<SpectrumFit> fitted(const DecaySpectrum& spectrum, const Mode& m, 
 
 }  // namespace
 
-void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectrum& spectrum, double rate_hz,
-                      const FrequencyLaw& law, const EstimationOptions& options) {
+std::size_t resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectrum& spectrum, double rate_hz,
+                             const FrequencyLaw& law, const EstimationOptions& options) {
     std::vector<Mode> modes;
     for (const EstimatedPartial& p : partials) {
         if (modes.empty() || modes.back().mode != p.mode) modes.push_back({p.mode, p.band, {}, 0, 0, false, false, 0.0});
@@ -67,21 +67,29 @@ void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectr
         m.first = static_cast<std::size_t>(std::max(1.0, std::floor((f - 0.5 * below) * bins_per_hz)));
         m.last = std::min(spectrum.last_bin(), static_cast<std::size_t>(std::ceil((f + 0.5 * above) * bins_per_hz)));
     }
+    // The mode's bins less every other fitted partial (a pole that no fit confirmed, such as
+    // a strongly damped one whose amplitude at the decay's start is huge, is not subtracted).
     const auto bins_of = [&](std::size_t i) {
         std::vector<DampedPartial> others;
         for (std::size_t j = 0; j < modes.size(); ++j)
-            if (j != i) others.insert(others.end(), modes[j].poles.begin(), modes[j].poles.end());
+            if (j != i && modes[j].fitted) others.insert(others.end(), modes[j].poles.begin(), modes[j].poles.end());
         return spectrum.bins_without(modes[i].first, modes[i].last, others);
     };
     const double q = options.min_quality_factor;
 
-    // 1. Every mode refined as ESPRIT found it, so that the leakage subtracted next is right.
-    for (std::size_t i = 0; i < modes.size(); ++i)
-        if (auto f = fitted(spectrum, modes[i], bins_of(i), modes[i].poles, q)) modes[i].poles = f->partials;
+    // 1. Every mode refined as ESPRIT found it, so that the leakage subtracted next is right:
+    //    twice, the second time beside fitted neighbours.
+    for (int pass = 0; pass < 2; ++pass)
+        for (std::size_t i = 0; i < modes.size(); ++i)
+            if (auto f = fitted(spectrum, modes[i], bins_of(i), modes[i].poles, q)) {
+                modes[i].poles = f->partials;
+                modes[i].fitted = true;
+            }
 
     // 2. One partial or two, resolved or merged.
     for (std::size_t i = 0; i < modes.size(); ++i) {
         Mode& m = modes[i];
+        if (!m.fitted) continue;
         const std::vector<std::complex<double>> bins = bins_of(i);
         const auto one = fitted(spectrum, m, bins, {m.poles.front()}, q);
         if (!one) continue;
@@ -124,18 +132,24 @@ void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectr
     // 3. The settled partials refitted once more beside their settled neighbours.
     for (std::size_t i = 0; i < modes.size(); ++i) {
         Mode& m = modes[i];
-        m.fitted = false;
+        if (!m.fitted) continue;
         if (auto f = fitted(spectrum, m, bins_of(i), m.poles, q)) {
             m.poles = f->partials;
             m.noise_per_bin = f->noise_per_bin;
-            m.fitted = true;
             sort_stronger_first(m.poles);
+        } else {
+            m.fitted = false;
         }
     }
 
     partials.clear();
     const double n = static_cast<double>(spectrum.length());
-    for (const Mode& m : modes)
+    std::size_t dropped = 0;
+    for (const Mode& m : modes) {
+        if (!m.fitted) {  // no fit confirms the pole: not a partial
+            dropped += m.poles.size();
+            continue;
+        }
         for (std::size_t k = 0; k < m.poles.size(); ++k) {
             const DampedPartial& d = m.poles[k];
             EstimatedPartial p;
@@ -151,10 +165,12 @@ void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectr
             p.merged = m.merged;
             // Energy over the record against the noise per sample (E|noise|^2 per bin / N).
             const double energy = 2.0 * std::norm(d.amplitude) * -std::expm1(-2.0 * d.decay * n) / -std::expm1(-2.0 * d.decay);
-            p.snr_db = m.fitted ? 10.0 * std::log10(energy * n / std::max(m.noise_per_bin, 1e-300)) : 0.0;
-            p.reliable = m.fitted && !m.merged && p.sigma_sd_per_s <= options.reliable_sigma_sd * p.sigma_per_s;
+            p.snr_db = 10.0 * std::log10(energy * n / std::max(m.noise_per_bin, 1e-300));
+            p.reliable = !m.merged && p.sigma_sd_per_s <= options.reliable_sigma_sd * p.sigma_per_s;
             partials.push_back(p);
         }
+    }
+    return dropped;
 }
 
 }  // namespace fretbuzz

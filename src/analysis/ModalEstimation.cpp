@@ -240,7 +240,10 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
                          number_text(result.band_low_hz) + ", " + number_text(result.band_high_hz) +
                          "] Hz (check --f0 and --band)");
     for (auto& [j, p] : found) result.partials.insert(result.partials.end(), p.begin(), p.end());
-    resolve_doublets(result.partials, DecaySpectrum(filter.spectrum(), filter.size()), rate_hz, law, o);
+    result.rejected_poles += resolve_doublets(result.partials, DecaySpectrum(filter.spectrum(), filter.size()), rate_hz, law, o);
+    if (result.partials.empty())
+        throw InputError("recording: no partial of f0 = " + number_text(law.f0_hz) + " Hz confirmed by the fit of the "
+                         "decay's spectrum (check --f0 and --band)");
     std::vector<std::size_t> modes;
     std::vector<double> frequencies;
     for (const EstimatedPartial& p : result.partials)

@@ -22,6 +22,7 @@
 //    then within 5 standard deviations, 15 % at 0.03, and its frequency far closer (the
 //    two deviations are equal in alpha and theta, so f's relative one is 1/(2Q) of sigma's;
 //    Yao & Pandit, IEEE Trans. Signal Process. 42(7), 1994). Merged partials never are.
+#include <cstddef>
 #include <vector>
 
 #include "fretbuzz/analysis/DecaySpectrum.hpp"
@@ -31,8 +32,10 @@
 namespace fretbuzz {
 
 // `partials` (by mode, then polarisation, as ESPRIT found them) are replaced by the settled
-// ones, with their standard deviations and flags.
-void resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectrum& spectrum, double rate_hz,
-                      const FrequencyLaw& law, const EstimationOptions& options);
+// ones, with their standard deviations and flags; a mode whose fit fails (it does not
+// converge, or leaves a partial growing, outside its bins or below the least Q) is dropped.
+// Returns the number of partials dropped.
+std::size_t resolve_doublets(std::vector<EstimatedPartial>& partials, const DecaySpectrum& spectrum, double rate_hz,
+                             const FrequencyLaw& law, const EstimationOptions& options);
 
 }  // namespace fretbuzz
