@@ -6,7 +6,9 @@
 // ESTER runs in each band, poles that cannot be partials are rejected (growing or
 // strongly damped, outside the band's kept range, too weak against the noise, off the
 // inharmonicity law) and the others get their mode number from that law, refitted after
-// every band so the bands follow the stretched partial series up.
+// every band so the bands follow the stretched partial series up. Each mode is then
+// settled on the whole decay's spectrum (DoubletResolution): one partial, a resolved
+// doublet or a merged one, with Cramer-Rao standard deviations and a reliability flag.
 #include <cstddef>
 #include <optional>
 #include <span>
