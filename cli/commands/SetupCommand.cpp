@@ -35,8 +35,8 @@ namespace {
 
 struct SetupArguments {
     std::string instrument, out;
-    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
-    std::vector<std::string> action12, nut, saddle, fret_offsets;
+    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration, string_set;
+    std::vector<std::string> action12, nut, saddle, fret_offsets, tune;
     bool finger = false, advice = false, quiet = false;
 };
 
@@ -98,6 +98,12 @@ SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) 
     ends(a.action12, "--action12", change.action12_m);
     ends(a.nut, "--nut", change.nut_m);
     ends(a.saddle, "--saddle", change.saddle_m);
+    if (!a.string_set.empty()) change.string_set = a.string_set;
+    for (const std::string& item : a.tune) {
+        const auto [name, value] = name_value(item, "--tune");
+        instrument.string_index(name);
+        change.pitch_hz.emplace_back(name, parse_quantity_or(value, Quantity::frequency, "Hz", "--tune " + name));
+    }
     for (const std::string& item : a.fret_offsets) {
         const auto [fret, value] = name_value(item, "--fret-offset");
         FretChange f;
@@ -111,6 +117,8 @@ SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) 
 
 std::vector<std::string> change_words(const SetupArguments& a) {
     std::vector<std::string> words;
+    if (!a.string_set.empty()) words.push_back("--set " + a.string_set);
+    for (const auto& v : a.tune) words.push_back("--tune " + v);
     if (!a.relief.empty()) words.push_back("--relief " + a.relief);
     for (const auto& v : a.action12) words.push_back("--action12 " + v);
     for (const auto& v : a.nut) words.push_back("--nut " + v);
@@ -159,8 +167,16 @@ std::string verdict_text(const NoteVerdict& v) {
 int setup_command(const SetupArguments& a) {
     stop_cleanly_on_signals();
     Instrument instrument = load_instrument(a.instrument);
+    for (const std::string& w : instrument.warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     apply_settings(a, instrument);
+    const Instrument as_found = instrument;
     instrument = apply_change(instrument, parse_change(a, instrument));
+    if (const auto pull = pull_change(as_found, instrument))
+        std::cerr << std::fixed << std::setprecision(1) << "fretbuzz: the strings pull " << pull->after_n << " N (" << pull->before_n
+                  << " N when the relief was set): the neck bows " << std::setprecision(3) << std::abs(pull->bow_m) * 1e3
+                  << " mm " << (pull->bow_m > 0.0 ? "more" : "less") << "; relief at fret " << pull->fret << ": "
+                  << pull->relief_before_m * 1e3 << " -> " << pull->relief_after_m * 1e3 << " mm\n"
+                  << std::defaultfloat;
     describe_geometry(instrument);  // every string clear of its frets, before anything runs
     MapRequest request;
     request.attacks = parse_attacks(a.strength, instrument.attack);
@@ -255,7 +271,7 @@ void add_setup_command(CLI::App& app, Action& action) {
     CLI::App* cmd = app.add_subcommand(
         "setup", "Set-up bench: the buzz map of every note of every string of an instrument, what-ifs and advice");
     cmd->add_option("instrument", args->instrument,
-                    "A built-in instrument (jazz-bass, electric-guitar, bass-neck) or an instrument file (.toml, see "
+                    "A built-in instrument (jazz-bass, electric-guitar, bass-5, bass-neck) or an instrument file (.toml, see "
                     "docs/instrument-format.md)")
         ->required();
     cmd->add_option("--out", args->out, "Output directory: buzz_map.html, buzz_map.csv, map.json, note-*.wav")->required();
@@ -272,6 +288,13 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--fret-offset", args->fret_offsets,
                     "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)")
         ->allow_extra_args(false);
+    cmd->add_option("--tune", args->tune,
+                    "What-if: STRING=PITCH retunes that string (a note or Hz, e.g. E=D2 for drop D; repeatable); the neck "
+                    "bows with the strings' pull")
+        ->allow_extra_args(false);
+    cmd->add_option("--set", args->string_set,
+                    "What-if: the strings replaced by a named set's at the same pitches (cases/strings/sets.toml); the "
+                    "neck bows with the strings' pull");
     cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");
     cmd->add_option("--compare", args->compare, "An earlier map's --out: mark the notes that changed");
     cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");

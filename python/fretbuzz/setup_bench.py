@@ -55,8 +55,10 @@ def _names(values: Union[str, Iterable[str], None]) -> List[str]:
 def _frets(values: Union[int, Iterable[int], None]) -> List[int]:
     if values is None:
         return []
-    if isinstance(values, int):
-        return [values]
+    if isinstance(values, int) and not isinstance(values, bool):
+        values = [values]
+    elif isinstance(values, (str, bytes, bool)) or not hasattr(values, "__iter__"):
+        raise InputError(f"frets: {values!r} is not a fret or a list of frets (whole numbers, 0 for the open string)")
     frets = []
     for v in values:
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
@@ -270,17 +272,24 @@ class Bench:
 
     def with_changes(self, *, relief: Optional[Millimetres] = None, action12: Optional[Dict[str, Millimetres]] = None,
                      nut: Optional[Dict[str, Millimetres]] = None, saddle: Optional[Dict[str, Millimetres]] = None,
-                     fret_offsets: Optional[Dict[int, Union[Millimetres, str]]] = None) -> "Bench":
+                     fret_offsets: Optional[Dict[int, Union[Millimetres, str]]] = None,
+                     tune: Optional[Dict[str, Union[float, str]]] = None, string_set: Optional[str] = None) -> "Bench":
         """A new Bench after set-up changes, each leaving the rest where it physically is:
         relief (the truss rod set for this relief gap, mm, nut and saddles staying put);
         action12 {string: mm} (the saddle set for this gap over fret 12); nut {string: mm} (the
         slot filed for this gap over fret 1); saddle {string: mm} (its height above the fret
         plane); fret_offsets {k: mm} (fret k raised, or lowered if negative, by that much) or
-        {k: "level"} (dressed down to its neighbours). InputError names the argument."""
+        {k: "level"} (dressed down to its neighbours); tune {string: note or Hz} (retuned, e.g.
+        {"E": "D2"} for drop D) and string_set (a named set's strings at the same pitches): the
+        neck bows with the strings' pull, the truss rod left as it was. InputError names the
+        argument."""
+        # A relief of 0 is a change too; an empty {} is none.
         changes = {k: v for k, v in (("relief", relief), ("action12", action12), ("nut", nut), ("saddle", saddle),
-                                     ("fret_offsets", fret_offsets)) if v}
+                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set))
+                   if v is not None and not (isinstance(v, (dict, str)) and not v)}
         instrument = self.instrument.with_changes(relief=relief, action12=action12 or {}, nut=nut or {},
-                                                  saddle=saddle or {}, fret_offsets=fret_offsets or {})
+                                                  saddle=saddle or {}, fret_offsets=fret_offsets or {}, tune=tune or {},
+                                                  string_set=string_set)
         return self._copy(instrument, changes)
 
     @staticmethod

@@ -58,17 +58,18 @@ std::optional<double> leading_number(std::string_view& s) {
     return v;
 }
 
-// "2.4", "5/64", "1 3/16" at the start of s (mixed numbers as luthiers write inches).
+// "2.4", "5/64", "4.5/64", "1 3/16" at the start of s (fractions and mixed numbers as
+// luthiers write inches: a half 64th is "4.5/64").
 std::optional<double> leading_value(std::string_view& s) {
     std::string_view rest = s;
     auto a = leading_number(rest);
     if (!a) return std::nullopt;
     double value = *a;
     std::string_view after = trim_blanks(rest);
-    if (!rest.empty() && rest.front() == '/') {  // a fraction a/b
+    if (!rest.empty() && rest.front() == '/') {  // a fraction a/b: b whole
         rest.remove_prefix(1);
         const auto b = leading_number(rest);
-        if (!b || !(*b > 0.0) || *a != std::floor(*a) || *b != std::floor(*b)) return std::nullopt;
+        if (!b || !(*b > 0.0) || *b != std::floor(*b)) return std::nullopt;
         value = *a / *b;
     } else if (*a == std::floor(*a) && *a >= 0.0 && !after.empty() && after.front() >= '0' && after.front() <= '9') {
         // A whole number then a fraction: "1 3/16".
@@ -89,7 +90,7 @@ std::optional<double> leading_value(std::string_view& s) {
 
 std::string example(Quantity kind) {
     switch (kind) {
-        case Quantity::length: return "\"2.4 mm\", \"5/64 in\", \"34 in\"";
+        case Quantity::length: return "\"2.4 mm\", \"0.094 in\", \"5/64 in\", \"4.5/64 in\", \"1 3/16 in\", '5/64\"'";
         case Quantity::force: return "\"191.6 N\" or \"43.1 lb\"";
         case Quantity::frequency: return "\"98 Hz\" or a note such as \"G2\"";
         case Quantity::linear_density: return "\"6.69 g/m\" or \"0.000374 lb/in\"";
@@ -123,6 +124,7 @@ double parse(std::string_view text, Quantity kind, std::optional<std::string_vie
     } else {
         for (const Unit& u : units_of(kind))
             if (u.name == unit) factor = u.factor;
+        if (kind == Quantity::length && unit == "\"") factor = kInch;  // the inch mark: 5/64"
         if (factor == 0.0) return refuse("unknown unit \"" + std::string(unit) + "\"");
     }
     const double si = *value * factor;

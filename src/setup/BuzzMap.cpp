@@ -79,9 +79,18 @@ std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& r
     if (strings.empty())
         for (std::size_t s = 0; s < instrument.strings.size(); ++s) strings.push_back(s);
     const std::size_t last = instrument.neck.fret_count;
+    // A capo stops every string at its fret: the notes below it are not played, the capo's
+    // own fret is the open string.
+    const std::size_t capo = instrument.neck.capo;
     std::vector<std::size_t> frets = request.frets;
     if (frets.empty())
-        for (std::size_t k = 0; k <= last; ++k) frets.push_back(k);
+        for (std::size_t k = capo; k <= last; ++k) frets.push_back(k);
+    for (std::size_t k : frets)
+        if (k < capo)
+            throw InputError(out_of_range_message("--frets", static_cast<double>(k),
+                                                  "fret " + std::to_string(k) + " lies below the capo (neck.capo = " +
+                                                      std::to_string(capo) + "): frets are " + std::to_string(capo) +
+                                                      " (the capo) to " + std::to_string(last)));
     for (std::size_t s : strings)
         if (s >= instrument.strings.size())
             throw InputError(out_of_range_message("--strings (string number)", static_cast<double>(s + 1),

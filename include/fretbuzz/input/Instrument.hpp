@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbuzz/geometry/NeckBeam.hpp"
+
 namespace fretbuzz {
 
 // The neck's relief (its bow under the strings' pull, set by the truss rod), as measured.
@@ -71,7 +73,14 @@ struct NeckDescription {
     std::map<std::size_t, double> fret_offset_m;   // individual frets: + proud of the fret line, - low
     ReliefMeasure relief;
     double truss_rod_bow_m = 0.0;                  // a bow added to the relief (what-ifs of the truss rod)
-    std::optional<double> radius_m;                // fretboard radius (cylindrical)
+    // The neck as a beam under the strings' pull (geometry/NeckBeam.hpp), and the pull the
+    // relief was measured under (the file's own strings; none: the relief does not follow the
+    // pull). Strings pulling more or less than that bow the neck by the difference.
+    NeckBeam beam;
+    std::optional<double> relief_pull_n;
+    std::optional<double> radius_m;                // fretboard radius at the nut (cylindrical unless the next is given)
+    std::optional<double> radius_last_fret_m;      // compound (conical) board: the radius at the last fret
+    std::size_t capo = 0;                          // a capo on this fret (0: none): the notes below it are not played
     double nut_width_m = 0.0;                      // centre to centre of the outer strings at the nut
     double bridge_spacing_m = 0.0;                 // the same at the bridge
     std::optional<std::size_t> perpendicular_fret;  // multiscale: the fret square to the neck
@@ -122,6 +131,7 @@ struct Instrument {
     std::vector<InstrumentString> strings;  // in the file's order (low to high)
     AttackSettings attack;
     BenchSettings bench;
+    std::vector<std::string> warnings;  // what reading it found doubtful but not wrong (e.g. a mass implausible for a gauge)
 
     // The index of the string called `name`; InputError listing the names if none is.
     std::size_t string_index(const std::string& name) const;
