@@ -231,7 +231,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                         const std::vector<AttackJudgement> again = other.judge(request.attacks);
                         for (std::size_t a = 0; a < attacks; ++a)
                             if (!verdicts[a].verdict.empty() && again[a].verdict != verdicts[a].verdict)
-                                changed[a] += (changed[a].empty() ? "" : ",") + kStiffnessNames[k];
+                                changed[a] += std::string(changed[a].empty() ? "" : ",") + kStiffnessNames[k];
                         simulated += other.plucks_simulated();
                         clear += other.plucks_clear();
                     }
