@@ -21,7 +21,9 @@ namespace {
 
 constexpr double kQuietest = -std::numeric_limits<double>::infinity();
 
-std::string shortest_factor(double f) { return f == 0.5 ? "0.5" : "1.5"; }
+// The stiffness check's factors of each string's bending stiffness, and how the column names them.
+constexpr std::array kStiffness{0.5, 1.5};
+constexpr std::array<const char*, 2> kStiffnessNames{"0.5", "1.5"};
 
 }  // namespace
 
@@ -121,7 +123,6 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
     const std::vector<MapNote> notes = map_notes(instrument, request);
     const auto start = std::chrono::steady_clock::now();
     if (!request.audio_dir.empty()) std::filesystem::create_directories(request.audio_dir);
-    constexpr std::array kStiffness{0.5, 1.5};
     // Per string: the instrument as it is, then (stiffness check) with the stiffness scaled.
     std::vector<std::vector<Instrument>> variants(instrument.strings.size());
     std::vector<std::vector<std::unique_ptr<NoteMaker>>> makers(instrument.strings.size());
@@ -230,7 +231,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                         const std::vector<AttackJudgement> again = other.judge(request.attacks);
                         for (std::size_t a = 0; a < attacks; ++a)
                             if (!verdicts[a].verdict.empty() && again[a].verdict != verdicts[a].verdict)
-                                changed[a] += (changed[a].empty() ? "" : ",") + shortest_factor(kStiffness[k]);
+                                changed[a] += std::string(changed[a].empty() ? "" : ",") + kStiffnessNames[k];
                         simulated += other.plucks_simulated();
                         clear += other.plucks_clear();
                     }
