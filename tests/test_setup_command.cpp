@@ -110,7 +110,7 @@ TEST(SetupCommand, TheFretDressIsWritten) {
     while (std::getline(csv, line)) {
         ++rows;
         double mm = 0.0, thou = 0.0;
-        ASSERT_EQ(std::sscanf(line.c_str(), "%*zu,%lf,%lf", &mm, &thou), 2) << line;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%*d,%lf,%lf", &mm, &thou), 2) << line;
         EXPECT_NEAR(thou, mm / 25.4 * 1e3, 1e-3) << line;  // the same depth in thousandths of an inch
         EXPECT_GE(mm, 0.0);
         EXPECT_LE(mm, 0.3 + 1e-9);  // the default depth

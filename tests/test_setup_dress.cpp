@@ -1,9 +1,9 @@
 // The virtual fret dress finds real faults and invents none: a neck with three frets raised
 // by 0.05 to 0.1 mm is dressed at those frets, by no more than 1.2 times what they were
 // raised, and every note then passes; a level neck that plays clean needs nothing; a
-// fall-away only takes off the frets past where it starts, along a line. The instrument is
+// fall-away takes the frets past where it starts off along a line. The instrument is
 // the jazz bass simulated coarsely (SetupTestSupport.hpp), its G string plucked 0.7 mm
-// straight from the board: the level neck plays it clean.
+// straight from the board: the level neck plays it clean up to fret 15.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,10 +25,12 @@ Attack pulled(const Instrument& instrument, const std::string& label) {
     return a;
 }
 
+// The G string's notes up to fret 15 (above, the level neck is marginal at this attack).
 DressRequest g_string(const Instrument& instrument) {
     DressRequest r;
     r.play.attack = pulled(instrument, "0.7mm");
     r.play.strings = {3};
+    for (std::size_t k = 0; k <= 15; ++k) r.play.frets.push_back(k);
     return r;
 }
 
@@ -36,6 +38,7 @@ std::vector<NoteVerdict> map_of(const Instrument& instrument, const DressRequest
     MapRequest m;
     m.attacks = {r.play.attack};
     m.strings = r.play.strings;
+    m.frets = r.play.frets;
     return play_map(instrument, m).notes;
 }
 
@@ -52,7 +55,7 @@ TEST(SetupDress, ALevelNeckThatPlaysCleanNeedsNothing) {
 }
 
 TEST(SetupDress, ThreeRaisedFretsAreDressedAtThoseFrets) {
-    const std::map<std::size_t, double> raised{{5, 0.06e-3}, {9, 0.1e-3}, {14, 0.05e-3}};
+    const std::map<std::size_t, double> raised{{9, 0.08e-3}, {12, 0.1e-3}, {15, 0.05e-3}};
     SetupChange raise;
     for (const auto& [fret, by] : raised) raise.frets.push_back({fret, by});
     const Instrument bass = apply_change(testing::quick_bass(40, 0.1), raise);
@@ -83,15 +86,17 @@ TEST(SetupDress, ThreeRaisedFretsAreDressedAtThoseFrets) {
 TEST(SetupDress, AFallAwayIsAStraightLine) {
     const Instrument bass = testing::quick_bass(20, 0.1);
     DressRequest request = g_string(bass);
-    request.play.attack = pulled(bass, "1mm");
-    request.fall_away_from = 14;
+    request.play.attack = pulled(bass, "0.8mm");
+    request.play.frets.clear();  // every note: the upper ones buzz against the frets past 16
+    request.play.tolerate.marginal = true;
+    request.fall_away_from = 16;
     const DressResult d = dress_frets(bass, map_of(bass, request), request);
     std::cout << dress_text(d);
-    ASSERT_EQ(d.fall_away_from, 14u) << dress_text(d);
+    ASSERT_EQ(d.fall_away_from, 16u) << dress_text(d);
     ASSERT_GT(d.fall_away_m, 0.0);
     const StringNeck neck(bass, 3);
-    for (std::size_t f = 15; f <= 20; ++f) {
-        const double line = d.fall_away_m * (neck.fret_x(f) - neck.fret_x(14)) / (neck.fret_x(20) - neck.fret_x(14));
+    for (std::size_t f = 17; f <= 20; ++f) {
+        const double line = d.fall_away_m * (neck.fret_x(f) - neck.fret_x(16)) / (neck.fret_x(20) - neck.fret_x(16));
         EXPECT_GE(d.remove_m[f], line - 1e-12) << "fret " << f;
     }
     EXPECT_THROW(

@@ -320,7 +320,7 @@ action_fret = 12
 
 // --frets 0-12: the advice answers for those notes alone, and names no note above fret 12.
 TEST(SetupAdvice, TheAdviceAnswersForTheFretsAsked) {
-    const Instrument bass = quick_bass(20);
+    const Instrument bass = quick_bass(40);
     AdviceRequest request;
     request.attack = straight(bass, "1mm").front();
     request.strings = {3};
@@ -348,7 +348,7 @@ TEST(SetupAdvice, TheAdviceAnswersForTheFretsAsked) {
 
 // The lowest action is given as the saddle's move from today, in the instrument file's units.
 TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
-    const Instrument bass = quick_bass(20);
+    const Instrument bass = quick_bass(40);
     AdviceRequest request;
     request.attack = straight(bass, "1mm").front();
     const ActionAdvice a = lowest_clean_action(bass, 3, request);

@@ -183,7 +183,7 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
 std::string dress_csv(const DressResult& d) {
     std::ostringstream out;
     out << "fret,remove_mm,remove_thou\n";
-    out.precision(4);
+    out.precision(6);
     for (std::size_t f = 1; f < d.remove_m.size(); ++f)
         out << f << "," << std::fixed << d.remove_m[f] * 1e3 << "," << d.remove_m[f] / kInch * 1e3 << std::defaultfloat
             << "\n";
