@@ -196,6 +196,9 @@ TEST(SetupCommand, BadInstrumentFilesAreRefusedNamingTheKey) {
         {edit("action12 = \"2.7 mm\"", "action12 = \"2.7 furlongs\""), {"string[0].action12", "units"}},
         {edit("scale = \"863 mm\"", "scale = 863"), {"neck.scale", "unit"}},
         {edit("frets = 20", "frets = 20\nfret_offsets = { 30 = \"0.1 mm\" }"), {"neck.fret_offsets.30", "frets 1 to 20"}},
+        // Attacks a hand cannot play: a finger pluck pulled away from the board, a slap at 25 m/s.
+        {edit("[simulation]", "[attack]\nangle = -15\n\n[simulation]"), {"attack.angle", "[0, 90] degrees"}},
+        {edit("[simulation]", "[attack]\nslap = \"25 m/s\"\n\n[simulation]"), {"attack.slap", "(0, 10] m/s"}},
     };
     for (const auto& [path, says] : cases) {
         const auto r = run_cli("setup " + path + " --out " + out);

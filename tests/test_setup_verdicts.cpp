@@ -8,7 +8,8 @@
 //  - more relief never lowers a low fret's clean_up_to on a straight neck;
 //  - a note that buzzes in 14 % of plucks is never called clean (ten seeds), and the rule
 //    behind it holds over a thousand synthetic ensembles;
-//  - the stiffness check names the notes whose verdict turns on the string's bending stiffness.
+//  - the stiffness check names the notes whose verdict turns on the string's bending stiffness;
+//  - the default slap (the thumb as a mass, bass-slap's finger model) makes the upper frets clank.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -219,6 +220,25 @@ TEST(SetupVerdicts, TheStiffnessCheckNamesTheNotesWhoseVerdictTurnsOnIt) {
         if (v.fret == 20) {
             EXPECT_EQ(v.stiffness_sensitive, "no");  // nothing past it to touch, whatever the stiffness
         }
+    }
+}
+
+TEST(SetupVerdicts, TheDefaultSlapMakesTheUpperFretsClank) {
+    const Instrument bass = testing::quick_bass(1, 0.05);
+    const Attack slap = parse_attacks("slap", bass.attack).front();
+    EXPECT_EQ(slap.gesture, Gesture::slap);
+    for (const std::size_t fret : {0u, 5u}) {
+        const NoteMaker maker(bass, 0);
+        NotePlayer player(maker, fret, false, listening_settings(bass.bench));
+        PluckOptions details;
+        details.keep_details = true;
+        const PluckOutcome o = player.play(slap, slap.size, 0, ensemble(bass.attack, 0, fret, 1).front(), details);
+        ASSERT_TRUE(o.error.empty()) << o.error;
+        EXPECT_TRUE(o.touched) << "fret " << fret;
+        EXPECT_GE(o.buzz_fret, 17) << "fret " << fret;  // the frets under the thumb's end of the board
+        EXPECT_GT(o.buzz_db, 0.0) << "fret " << fret;   // heard
+        std::cout << "slap at fret " << fret << ": against fret " << o.buzz_fret << ", peak " << o.peak_force_n << " N, "
+                  << o.buzz_db << " dB\n";
     }
 }
 

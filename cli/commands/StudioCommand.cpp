@@ -60,7 +60,7 @@ void add_studio_command(CLI::App& app, Action& action) {
                     "Remove all but the newest N finished maps of the study folder before starting");
     cmd->add_option("--study", args->study, "Study folder: the notes' sounds and the reports (default: studio-INSTRUMENT)");
     cmd->add_option("--strength", args->strength, "Attacks of the first map (default: medium; soft, hard, pop, slap, or mm)");
-    cmd->add_option("--ensemble", args->ensemble, "Plucks per note (default: the instrument's)");
+    cmd->add_option("--ensemble", args->ensemble, "The most plucks per note (default: the instrument's, 40)");
     cmd->add_option("--fs", args->fs, "Sampling rate in Hz (default: the instrument's)");
     cmd->add_option("--duration", args->duration, "Seconds per note (default: the instrument's)");
     cmd->add_option("--jobs", args->jobs, "Threads (default: every core)");
