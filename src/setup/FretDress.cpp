@@ -69,6 +69,7 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
         room[f] = std::max(0.0, std::min(request.max_depth_m, crown - min_crown));
     }
     std::set<std::string> unresolved;
+    std::map<std::size_t, std::string> stuck;  // frets that cannot go low enough
     const auto fails_against = [&](const NoteVerdict& v, auto&& which) { return !trials.passes(v) && which(v.buzz_fret); };
     // The notes answered for on the dressed neck, the failing ones played there (the fret they buzz against matters).
     const auto now_failing = [&](const std::vector<double>& remove) {
@@ -128,7 +129,10 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
                 unresolved.insert(failure_text(v) + ": no fret work clears it");
         }
         bool progress = false;
-        for (const auto& [fret, failing] : against) {
+        // Ascending, so that a note a lowered fret hands to the next fret is dealt with this round.
+        for (auto group = against.begin(); group != against.end(); ++group) {
+            const std::size_t fret = group->first;
+            const std::vector<MapNote>& failing = group->second;
             const long most = steps_of(room[fret] - d.remove_m[fret]);
             const auto on_this = [f = static_cast<int>(fret)](int buzz_fret) { return buzz_fret == f; };
             const auto with = [&](long i) {
@@ -149,20 +153,35 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
                 return true;
             });
             const long depth = most < 1 ? 1 : lowest_holding(1, most, holds, std::min(guess, most));
-            if (depth > most) {
+            if (depth > most) {  // said once per fret, with the notes of the last round that tried it
                 std::ostringstream why;
                 why << "fret " << fret << ": taking " << mm_text(room[fret]) << " off (the most allowed) does not stop";
                 for (const MapNote& n : failing) why << " " << instrument.strings[n.string].name << " " << n.fret;
                 why << " buzzing against it";
-                unresolved.insert(why.str());
+                stuck[fret] = why.str();
                 continue;
             }
+            stuck.erase(fret);
             d.remove_m[fret] += static_cast<double>(depth) * kDressStep;
             progress = true;
+            // The notes stopped on it and next to it start lower now: one that fails against a
+            // fret further up joins that fret's group.
+            std::vector<MapNote> moved;
+            for (std::size_t s : strings)
+                for (std::size_t k : {fret - 1, fret})
+                    if (std::find(frets.begin(), frets.end(), k) != frets.end()) moved.push_back({s, k});
+            for (const NoteVerdict& v : trials.play_all(lowered(instrument, d.remove_m), moved, false))
+                if (!trials.passes(v) && v.buzz_fret > static_cast<int>(fret)) {
+                    std::vector<MapNote>& later = against[static_cast<std::size_t>(v.buzz_fret)];
+                    if (std::none_of(later.begin(), later.end(),
+                                     [&](const MapNote& n) { return n.string == v.string && n.fret == v.fret; }))
+                        later.push_back({v.string, v.fret});
+                }
         }
         if (!progress) break;
     }
 
+    for (const auto& [fret, why] : stuck) unresolved.insert(why);
     d.dressed = lowered(instrument, d.remove_m);
     MapRequest after;
     after.notes = notes;
