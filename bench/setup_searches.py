@@ -5,7 +5,7 @@ Each repetition runs every variant once, in turn, so that the load of a shared m
 on all of them alike. A variant is `label=program args...`, a `fretbuzz setup` command with
 --advice and/or --dress; --out is added. The table gives, per variant, the medians over the
 repetitions of the search's own wall time (advice.json's and dress.json's wall_seconds: the
-map before them is not counted), the probes it played, the whole command's wall and CPU time
+map before them is not counted) and CPU time (cpu_seconds, all threads, where the build gives it), the probes it played, the whole command's wall and CPU time
 (CPU: user + system of the child; on a shared machine wall time also counts the waits for a
 core), and the ratio of the advice's median to the first variant's. E.g. the Jazz Bass's
 advice at one attack against the build before:
@@ -36,6 +36,8 @@ def run_once(command, out_dir):
             found = json.loads(path.read_text())
             row[name] = found["wall_seconds"]
             row[f"{name} probes"] = found["maps_played"]
+            if "cpu_seconds" in found:
+                row[f"{name} CPU"] = found["cpu_seconds"]
     return row
 
 
@@ -52,7 +54,7 @@ def main():
                 rows[label].append(run_once(command, Path(scratch) / f"{rep}-{v}"))
                 print(f"rep {rep + 1} {label}: {rows[label][-1]}", file=sys.stderr, flush=True)
     load = os.getloadavg()[0]
-    keys = ("advice", "advice probes", "dress", "dress probes", "wall", "cpu")
+    keys = ("advice", "advice CPU", "advice probes", "dress", "dress CPU", "dress probes", "wall", "cpu")
     print(f"medians of {args.reps} (load average at the end {load:.1f})\n")
     print("| variant | " + " | ".join(k if "probes" in k else f"{k} (s)" for k in keys) + " | advice / first |")
     print("|---|" + "---|" * (len(keys) + 1))

@@ -463,6 +463,10 @@ void bind_setup(py::module_& m) {
     m.def("_setup_dress", &dress, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
           py::arg("frets"), py::arg("tolerate"), py::arg("depth"), py::arg("crown"), py::arg("fall_away"),
           py::arg("finger"), py::arg("jobs"));
+    m.def("_setup_tolerance", [](const Instrument& instrument, const std::string& text) {
+              return text.empty() ? std::string() : parse_tolerance(text, instrument.neck.fret_count, "tolerate").text();
+          },
+          py::arg("instrument"), py::arg("text"), "What the advice tolerates, in words; InputError for a bad value.");
     m.def("_compressed_audio", &compressed_audio, py::arg("wav"), py::arg("out"),
           "Writes the sound of a WAV file as Ogg Vorbis (a report's embedded sounds: a tenth of the size).");
 }

@@ -325,6 +325,7 @@ class Bench:
         given): it places the searches."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
+            _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
             map = self.map(strings=strings, frets=frets, strengths=attack)
         return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), _frets(frets),
                                               tolerate, self.finger, self.jobs))
@@ -342,6 +343,7 @@ class Bench:
         tolerate and map as advise()."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
+            _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
             map = self.map(strings=strings, frets=frets, strengths=attack)
         out = _core._setup_dress(self.instrument, _records(map), attack, _names(strings), _frets(frets), tolerate,
                                  depth, crown, fall_away, self.finger, self.jobs)

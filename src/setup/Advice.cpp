@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -363,6 +364,7 @@ ReliefAdvice best_relief(const Instrument& instrument, const std::vector<NoteVer
 
 Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map, const AdviceRequest& request) {
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu = std::clock();
     Advice advice;
     advice.attack = request.attack;
     advice.units = instrument.units;
@@ -379,6 +381,7 @@ Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map,
     advice.proud = proud_search(instrument, map, request, trials);
     advice.relief = relief_search(instrument, request, forecast, trials);
     advice.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    advice.cpu_seconds = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
     return advice;
 }
 
@@ -439,7 +442,8 @@ std::string advice_json(const Advice& a) {
                       {"predicted_clean_to_mm", number(r.predicted_to_m)},
                       {"searched_mm", Json::array({r.searched_from_m * 1e3, r.searched_to_m * 1e3})}}},
                 {"maps_played", a.maps},
-                {"wall_seconds", a.wall_seconds}}
+                {"wall_seconds", a.wall_seconds},
+                {"cpu_seconds", a.cpu_seconds}}
         .dump(1);
 }
 

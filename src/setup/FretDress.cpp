@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -49,6 +50,7 @@ void check_dress_request(const Instrument& instrument, const DressRequest& r) {
 DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerdict>& before, const DressRequest& request) {
     check_dress_request(instrument, request);
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu = std::clock();
     const std::size_t last = instrument.neck.fret_count;
     DressResult d;
     d.units = instrument.units;
@@ -196,6 +198,7 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
         if (!trials.passes(v) && unresolved.empty()) unresolved.insert(failure_text(v) + " after the dress");
     d.unresolved.assign(unresolved.begin(), unresolved.end());
     d.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    d.cpu_seconds = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
     return d;
 }
 
@@ -228,7 +231,8 @@ std::string dress_json(const DressResult& d) {
                 {"clean", d.clean},
                 {"unresolved", d.unresolved},
                 {"maps_played", d.maps},
-                {"wall_seconds", d.wall_seconds}}
+                {"wall_seconds", d.wall_seconds},
+                {"cpu_seconds", d.cpu_seconds}}
         .dump(1);
 }
 

@@ -115,6 +115,7 @@ struct Advice {
     ReliefAdvice relief;
     std::size_t maps = 0;  // probes played for it
     double wall_seconds = 0.0;
+    double cpu_seconds = 0.0;  // the process's, all threads
 };
 
 // Whether every note of `strings` (all if empty) the advice answers for passes at the

@@ -56,6 +56,7 @@ struct DressResult {
     std::string attack;
     std::size_t maps = 0;  // probes played
     double wall_seconds = 0.0;
+    double cpu_seconds = 0.0;  // the process's, all threads
 };
 
 // `before`: the instrument's map at the attack (clean_up_to helps place the searches).
