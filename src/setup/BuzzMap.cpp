@@ -102,6 +102,16 @@ std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& r
                                                   "fret " + std::to_string(k) + " does not exist: frets are 0 (open) to " +
                                                       std::to_string(last)));
     if (request.attacks.empty()) throw InputError("--strength: give at least one attack");
+    if (!request.notes.empty()) {
+        for (const MapNote& n : request.notes)
+            if (n.string >= instrument.strings.size() || n.fret < capo || n.fret > last)
+                throw InputError(out_of_range_message("note (string " + std::to_string(n.string + 1) + ", fret)",
+                                                      static_cast<double>(n.fret),
+                                                      "must be a fret from " + std::to_string(capo) + " to " +
+                                                          std::to_string(last) + " of one of the " +
+                                                          std::to_string(instrument.strings.size()) + " strings"));
+        return request.notes;
+    }
     std::vector<MapNote> notes;
     for (std::size_t s : strings)
         for (std::size_t k : frets) notes.push_back({s, k});
@@ -206,6 +216,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                 JudgeOptions options;
                 options.finger = request.finger;
                 options.clean_up_to = request.clean_up_to;
+                options.sound_s = request.sound_s;
                 if (!request.audio_dir.empty())
                     for (const Attack& a : request.attacks)
                         options.wavs.push_back(request.audio_dir /
