@@ -5,7 +5,7 @@
 namespace fretbuzz {
 
 ExactPluckers::ExactPluckers(const Plan& plan, const PlayedParts& parts, const ForceGestures& gestures) : plan_(&plan) {
-    if (parts.plucks().empty() || !parts.plucks().front().exact()) return;
+    if (parts.plucks().empty()) return;
     first_ = parts.fingers().size();
     count_ = parts.plucks().size();
     const std::size_t n = plan.mode_count();

@@ -7,7 +7,7 @@ namespace fretbuzz {
 
 ExactPoints::ExactPoints(const Plan& plan)
     : contact_(&plan.point_contact()),
-      state_(plan.point_contact().make_state()),
+      state_(plan.point_contact().make_state(plan.plucks().size())),
       predicted_(plan.point_contact().size(), 0.0),
       forecast_(plan.point_contact().size(), 0.0) {}
 

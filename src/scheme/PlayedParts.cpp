@@ -8,34 +8,31 @@
 namespace fretbuzz {
 
 namespace {
-// The plan's played parts of one kind (its specs, in order), built on its grid and obstacle.
-template <class Part, class Spec>
-std::vector<Part> parts_of(const Plan& plan, const std::vector<Spec>& specs) {
-    std::vector<Part> parts;
-    parts.reserve(specs.size());
-    for (const Spec& spec : specs)
-        parts.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
-                           plan.force_to_displacement());
-    return parts;
+// The plan's fingers (its specs, in order), on its grid and obstacle.
+std::vector<Finger> fingers_of(const Plan& plan) {
+    std::vector<Finger> fingers;
+    fingers.reserve(plan.fingers().size());
+    for (const FingerSpec& spec : plan.fingers())
+        fingers.emplace_back(spec, plan.basis().grid_step(), plan.obstacle(), plan.contact(), plan.dt(),
+                             plan.force_to_displacement());
+    return fingers;
 }
 
-// At their exact positions (plucks_exact), each plucker's scalar equation is the whole contact
-// solve of a step where it acts alone, else it is one more equation in the system of the exact
-// points, the other pluckers, the grid's obstacle points and the fingers (PointContact). Force
-// gestures load the string explicitly.
+// At its exact position, each plucker's scalar equation is the whole contact solve of a step
+// where it acts alone, else it is one more equation in the system of the exact points, the other
+// pluckers, the grid's obstacle points and the fingers (PointContact).
 std::vector<Pluck> plucks_of(const Plan& plan) {
-    if (!plucks_exact(plan.plucks().size())) return parts_of<Pluck>(plan, plan.plucks());
     std::vector<Pluck> plucks;
     plucks.reserve(plan.plucks().size());
     for (const PluckSpec& spec : plan.plucks())
-        plucks.emplace_back(spec, pad_mean_shapes(plan.basis(), spec.position_m, spec.width_m), plan.contact(), plan.dt(),
+        plucks.emplace_back(spec, pad_mean_shapes(plan.basis(), spec.position_m, spec.width_m), plan.dt(),
                             plan.force_to_displacement());
     return plucks;
 }
 }  // namespace
 
 PlayedParts::PlayedParts(const Plan& plan)
-    : fingers_(parts_of<Finger>(plan, plan.fingers())), plucks_(plucks_of(plan)), on_pad_(plan.mode_count(), 0) {
+    : fingers_(fingers_of(plan)), plucks_(plucks_of(plan)), on_pad_(plan.mode_count(), 0) {
     link();
     on_.assign(parts_.size(), 1);
     std::size_t k = 0;  // the parts are in the specs' order

@@ -1,5 +1,5 @@
 #pragma once
-// The pluckers acting at their exact positions (Pluck, plucks_exact), each pressing on its pad's
+// The pluckers, each at its exact position (Pluck) pressing on its pad's
 // mean displacement u_s = s . q. Alone on the string, a plucker's step is its own scalar solve;
 // beside other pluckers, exact points, the grid's obstacle points or a finger, each is one more
 // unknown of PointContact's solve (a PointContact::Pad), with its couplings s . phi(x_p),

@@ -18,8 +18,8 @@ namespace fretbuzz {
 
 class PlayedParts {
 public:
-    // The plan's fingers and pluckers (at their exact positions where plucks_exact), their pads
-    // claimed (InputError if two overlap).
+    // The plan's fingers and pluckers (at their exact positions), their pads claimed
+    // (InputError if two overlap).
     explicit PlayedParts(const Plan& plan);
     PlayedParts(const PlayedParts& other);
     PlayedParts(PlayedParts&& other) noexcept = default;  // (the parts stay where they are)
