@@ -448,7 +448,7 @@ void ContactSet::report_force_at(double x, double force) {
     forces_.emplace_back(static_cast<std::size_t>(index), force / dx);
 }
 
-void ContactSet::report_forces() {
+void ContactSet::report_off_grid() {
     const auto report = [this](double x, double force) { report_force_at(x, force); };
     if (points_.pushed()) points_.each_force(report);
     pluckers_.each_force(*plan_, report);

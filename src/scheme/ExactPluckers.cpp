@@ -47,7 +47,7 @@ void ExactPluckers::restart(PlayedParts& parts, const ModalState& modes) const {
     }
 }
 
-bool ExactPluckers::act(PlayedParts& parts) {
+bool ExactPluckers::gather(PlayedParts& parts) {
     acting_.clear();  // (within its reserved room)
     for (std::size_t j = 0; j < count_; ++j) {
         if (!on(parts, j)) continue;
@@ -59,8 +59,6 @@ bool ExactPluckers::act(PlayedParts& parts) {
     }
     return !acting_.empty();
 }
-
-void ExactPluckers::clear_loads() { std::fill(load_.begin(), load_.end(), 0.0); }
 
 double ExactPluckers::prediction(const PlayedParts& parts, std::size_t j, const ModalState& modes,
                                  const ForceGestures& gestures, bool loaded) const {

@@ -52,53 +52,9 @@ void GridContact::gather_equations(std::span<const double> g, std::span<const do
     }
 }
 
-template <ContactForceLaw Law>
-void GridContact::solve(const Law& law, double k, std::span<const double> g_span, std::span<const double> predicted,
-                        bool solved, std::vector<std::pair<std::size_t, double>>& forces, StepRecord& record) {
-    // Raw pointers and local sums: the forces' emplace_back would otherwise make the compiler
-    // reload every member at every point (503 points at the flat obstacle's onset).
-    double* eta_prev = eta_prev_.data();
-    double* eta_curr = eta_curr_.data();
-    const double* grid = predicted.data();
-    const double* g = g_span.data();
-    double psi = psi_curr_;
-    int most_iterations = record.stats.max_newton_iterations;
-    bool touched = record.touched_obstacle;
-    const auto take = [&](std::size_t i, double a, const ContactSolution& s) {
-        const double eta_next = a + s.increment;
-        eta_prev[i] = eta_curr[i];
-        eta_curr[i] = eta_next;
-        psi += law.potential(eta_next, s.root);  // sqrt(eta_next) as the solve left it
-        most_iterations = std::max(most_iterations, s.iterations);
-        if (s.force != 0.0) {
-            forces.emplace_back(i, s.force);
-            touched = true;
-        }
-    };
-    // Two loops: the batch's has no call to the solve in it (the compiler keeps more in registers).
-    const std::size_t count = active_.size();
-    const std::size_t* active = active_.data();
-    if (solved) {
-        const ContactSolution* solutions = solutions_.data();
-        for (std::size_t p = 0; p < count; ++p) take(active[p], eta_prev[active[p]], solutions[p]);
-    } else {
-        for (std::size_t p = 0; p < count; ++p) {
-            const std::size_t i = active[p];
-            const double a = eta_prev[i];
-            take(i, a, law.solve(a, g[i] - grid[i] - a, k));
-        }
-    }
-    psi_curr_ = psi;
-    record.stats.max_newton_iterations = most_iterations;
-    record.touched_obstacle = touched;
-    if (touched) ++record.stats.contact_steps;
-}
-
 // The laws the scheme plans with.
 template void GridContact::classify(const PenaltyContact&, std::span<const std::size_t>, std::span<const double>,
                                     std::span<const double>, std::span<const double>, std::span<const char>,
                                     ContactScheduler*);
-template void GridContact::solve(const PenaltyContact&, double, std::span<const double>, std::span<const double>, bool,
-                                 std::vector<std::pair<std::size_t, double>>&, StepRecord&);
 
 }  // namespace fretbuzz

@@ -45,12 +45,6 @@ void ModalState::predict_at(const double* const* rows, std::size_t m, double* ou
     kernels::predict_dot_rows(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), rows, m, q_.size(), out);
 }
 
-double ModalState::advance(kernels::StepKernel kernel, const kernels::StepPass& pass) {
-    const ModalPropagator& prop = *propagator_;
-    return kernel(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(), pass,
-                  q_.data(), d_.data(), q_.size());
-}
-
 void ModalState::step_modes(std::size_t first, std::size_t count) {
     const ModalPropagator& prop = *propagator_;
     kernels::advance(prop.decay().data() + first, prop.beta().data() + first, nullptr, nullptr, q_.data() + first,

@@ -32,11 +32,7 @@ bool Screening::sleeps_on_low_modes(std::size_t i, std::size_t head, double tail
     return scheduler_.sleep(i, low - tail - plan_->screened_height(i));
 }
 
-void Screening::wake_due(const ModalState& modes, GridContact& grid, ExactPoints& points, std::span<double> field) {
-    if (!on_) return;
-    due_.clear();
-    scheduler_.pop_due(due_);
-    if (due_.empty()) return;
+void Screening::wake(const ModalState& modes, GridContact& grid, ExactPoints& points, std::span<double> field) {
     const std::vector<double>& g = plan_->obstacle();
     const std::size_t n = modes.size();
     const bool use_transform = due_.size() > plan_->transform_threshold();

@@ -5,7 +5,7 @@
 // with modes of its own, linked to each string's bridge end, would join here: its ModalState, a
 // link per string as one more unknown of that string's joint contact solve (PointContact's pads
 // are where such an unknown goes), the strings' solves taken together where a link couples them,
-// and the bridge's energy in the one balance.
+// and one balance: the strings' terms, the bridge's energy and damping, the links' energy.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -30,11 +30,6 @@ public:
     void step() {
         for (VibratingString& s : strings_) s.step();
     }
-    // The assembly's balance terms: the sums of its strings' (J).
-    double energy() const;
-    double dissipated() const;
-    double work() const;
-
 private:
     std::vector<VibratingString> strings_;
 };

@@ -58,7 +58,9 @@ public:
     // After the pass: the screening told of the pushes (the motion is a new free motion), points
     // apart put to sleep; the forces reported.
     void tell_screening(Screening& screening, const ModalState& modes, long next, bool loaded);
-    void report_forces();
+    void report_forces() {
+        if (points_.pushed() || pluckers_.size() != 0) report_off_grid();  // (most steps: nothing off the grid)
+    }
     void forget_forces() {
         forces_.clear();
         forecast_.count = 0;
@@ -100,6 +102,7 @@ private:
     void points_impulse();
     // A force (N) at x off the grid, reported as a force per length at the nearest grid point.
     void report_force_at(double x, double force);
+    void report_off_grid();
 
     const Plan* plan_;
     PlayedParts parts_;

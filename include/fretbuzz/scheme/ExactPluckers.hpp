@@ -5,6 +5,7 @@
 // unknown of PointContact's solve (a PointContact::Pad), with its couplings s . phi(x_p),
 // s . S_i and s_a . s_b formed once here. Their forces load the modes explicitly, as a gesture's.
 // Plucker j is played part first() + j.
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -33,9 +34,11 @@ public:
     void restart(PlayedParts& parts, const ModalState& modes) const;
 
     // The step's acting pluckers (those gone are off for good); whether there are any.
-    bool act(PlayedParts& parts);
+    bool act(PlayedParts& parts) { return count_ != 0 && gather(parts); }
     std::size_t acting() const { return acting_.size(); }
-    void clear_loads();
+    void clear_loads() {
+        if (count_ != 0) std::fill(load_.begin(), load_.end(), 0.0);
+    }
     // The one acting plucker with nothing beside it: its own solve; returns the Psi it adds.
     double solve_alone(PlayedParts& parts, const ModalState& modes, const ForceGestures& gestures, long n,
                        StepRecord& record);
@@ -59,6 +62,7 @@ private:
     double prediction(const PlayedParts& parts, std::size_t j, const ModalState& modes, const ForceGestures& gestures,
                       bool loaded) const;
     void take_force(PlayedParts& parts, std::size_t j, double force, StepRecord& record);
+    bool gather(PlayedParts& parts);
 
     const Plan* plan_;
     std::size_t first_ = 0, count_ = 0;

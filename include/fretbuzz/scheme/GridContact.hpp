@@ -4,6 +4,7 @@
 // awake (`active`), from eta^{n-1} and eta^n kept at each; and the contact energy's sums of Psi
 // over every obstacle point of the grid, those under a played part's pad included (their part
 // solves them and hands their Psi here).
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <utility>
@@ -65,5 +66,48 @@ private:
     std::vector<ContactSolution> solutions_;
     double psi_curr_ = 0.0, psi_prev_ = 0.0;  // sum_i Psi(eta_i^n), sum_i Psi(eta_i^{n-1})
 };
+
+// (In the header: the step's loop, inlined where the contact set calls it.)
+template <ContactForceLaw Law>
+inline void GridContact::solve(const Law& law, double k, std::span<const double> g_span, std::span<const double> predicted,
+                               bool solved, std::vector<std::pair<std::size_t, double>>& forces, StepRecord& record) {
+    // Raw pointers and local sums: the forces' emplace_back would otherwise make the compiler
+    // reload every member at every point (503 points at the flat obstacle's onset).
+    double* eta_prev = eta_prev_.data();
+    double* eta_curr = eta_curr_.data();
+    const double* grid = predicted.data();
+    const double* g = g_span.data();
+    double psi = psi_curr_;
+    int most_iterations = record.stats.max_newton_iterations;
+    bool touched = record.touched_obstacle;
+    const auto take = [&](std::size_t i, double a, const ContactSolution& s) {
+        const double eta_next = a + s.increment;
+        eta_prev[i] = eta_curr[i];
+        eta_curr[i] = eta_next;
+        psi += law.potential(eta_next, s.root);  // sqrt(eta_next) as the solve left it
+        most_iterations = std::max(most_iterations, s.iterations);
+        if (s.force != 0.0) {
+            forces.emplace_back(i, s.force);
+            touched = true;
+        }
+    };
+    // Two loops: the batch's has no call to the solve in it (the compiler keeps more in registers).
+    const std::size_t count = active_.size();
+    const std::size_t* active = active_.data();
+    if (solved) {
+        const ContactSolution* solutions = solutions_.data();
+        for (std::size_t p = 0; p < count; ++p) take(active[p], eta_prev[active[p]], solutions[p]);
+    } else {
+        for (std::size_t p = 0; p < count; ++p) {
+            const std::size_t i = active[p];
+            const double a = eta_prev[i];
+            take(i, a, law.solve(a, g[i] - grid[i] - a, k));
+        }
+    }
+    psi_curr_ = psi;
+    record.stats.max_newton_iterations = most_iterations;
+    record.touched_obstacle = touched;
+    if (touched) ++record.stats.contact_steps;
+}
 
 }  // namespace fretbuzz

@@ -46,7 +46,11 @@ public:
     void predict_at(const double* const* rows, std::size_t m, double* out) const;
     // One step: the plan's kernel on `pass`; returns the kernel's sum of the damping terms
     // (unscaled; 0 when lossless).
-    double advance(kernels::StepKernel kernel, const kernels::StepPass& pass);
+    double advance(kernels::StepKernel kernel, const kernels::StepPass& pass) {
+        const ModalPropagator& prop = *propagator_;
+        return kernel(prop.decay().data(), prop.beta().data(), prop.lossless() ? nullptr : prop.loss().data(), pass,
+                      q_.data(), d_.data(), q_.size());
+    }
     // Free flight: modes [first, first + count) one free step (no impulse).
     void step_modes(std::size_t first, std::size_t count);
     // The discrete modal energy times 2 dt^2 / mu (ModalPropagator::scaled_modal_energy).

@@ -35,7 +35,12 @@ public:
 
     // The sleeping points due in the coming step looked at: back to their solves, or asleep again.
     // field: scratch of the grid's size (u^n by one transform where many are due).
-    void wake_due(const ModalState& modes, GridContact& grid, ExactPoints& points, std::span<double> field);
+    void wake_due(const ModalState& modes, GridContact& grid, ExactPoints& points, std::span<double> field) {
+        if (!on_) return;
+        due_.clear();
+        scheduler_.pop_due(due_);
+        if (!due_.empty()) wake(modes, grid, points, field);
+    }
     // Flies the first `head` modes over up to `steps` steps while no sleeping point can touch,
     // sampling the probes' rows into u (and v: velocities, if not null) at every step; stops at
     // a point that might touch (made due at once). Returns the steps flown.
@@ -45,6 +50,7 @@ public:
 private:
     // u_i >= (first `head` modes of u_i) - tail: a lower bound on the gap, cheap to get.
     bool sleeps_on_low_modes(std::size_t i, std::size_t head, double tail, const ModalState& modes);
+    void wake(const ModalState& modes, GridContact& grid, ExactPoints& points, std::span<double> field);  // due_
 
     const Plan* plan_;
     ContactScheduler scheduler_;

@@ -109,15 +109,15 @@ public:
     void audit_every(long steps) { string().ledger().audit_every(steps); }
 
     // Energy terms of the interval (t_{n-1}, t_n), defined for n >= 1 (joules).
-    double energy() const { return assembly_.energy(); }  // H^{n-1/2}: string, obstacle contact and fingers
+    double energy() const { return string().energy(); }  // H^{n-1/2}: string, obstacle contact and fingers
     double contact_energy() const { return string().contacts().energy(); }  // dx (Psi(eta^n) + Psi(eta^{n-1})) / 2
     // Losses since H^{1/2}: modal damping plus the fingers' contact losses (and with two
     // polarisations the y modes' damping and the friction).
-    double dissipated() const { return assembly_.dissipated(); }
+    double dissipated() const { return string().dissipated(); }
     double damping_dissipated() const { return string().ledger().damping(); }
     double finger_energy() const { return played_parts().energy(); }  // kinetic and contact energy of the fingers
     double finger_loss() const { return played_parts().loss(); }      // their contact losses so far (>= 0)
-    double work() const { return assembly_.work(); }  // work of the external forces (pressing forces, gestures) so far
+    double work() const { return string().work(); }  // work of the external forces (pressing forces, gestures) so far
     const std::vector<Finger>& fingers() const { return played_parts().fingers(); }
     // Whether fingers, gestures or pluckers act (the balance then counts their work).
     bool played() const { return string().played(); }

@@ -93,4 +93,64 @@ private:
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a string stays copyable)
 };
 
+// The balance's terms, read at every audited step, and the step's phases, here so that step()
+// runs them without a call each.
+inline double VibratingString::energy() const {
+    const double h = modal_energy() + contacts_.energy() + (y_ ? y_->energy() : 0.0);
+    return played() ? h + contacts_.parts().energy() : h;
+}
+
+inline double VibratingString::dissipated() const {
+    const double played_loss = contacts_.parts().loss();
+    if (!y_) return ledger_.damping() + played_loss;
+    return ledger_.damping() + played_loss + (y_->damping_dissipated() + y_->friction_dissipated());
+}
+
+inline double VibratingString::work() const {
+    const double e = gestures_.add_work(contacts_.parts().work());
+    return y_ ? e + y_->work() : e;
+}
+
+inline void VibratingString::begin_step() {
+    screening_.wake_due(modes_, contacts_.grid(), contacts_.points(), contacts_.field_scratch());
+    record_.loaded = false;
+    if (!gestures_.empty() && gestures_.load(n_)) record_.mark_loaded();
+}
+
+inline void VibratingString::solve_contacts() { contacts_.solve(modes_, gestures_, n_, record_); }
+
+inline void VibratingString::end_step() {
+    contacts_.form_impulse(gestures_, record_.loaded);
+    advance();
+    // Friction from this step's normal forces (the grid's and the exact points').
+    if (y_) y_->step(n_, contacts_.rubbing_points(), contacts_.point_forces());
+    if (screening_.on()) contacts_.tell_screening(screening_, modes_, n_ + 1, record_.loaded);
+    contacts_.report_forces();
+    ++n_;
+}
+
+inline void VibratingString::advance() {
+    const bool loaded = record_.loaded;
+    if (loaded) gestures_.begin_step(modes_);
+    kernels::StepPass pass;
+    contacts_.fill_pass(pass, loaded);
+    run_pass(pass);
+    contacts_.keep_forecasts(n_ + 1);
+    if (loaded) gestures_.end_step(modes_);
+}
+
+inline void VibratingString::run_pass(kernels::StepPass& pass) {
+    const bool audited = ledger_.audited(n_ + 1);
+    double energy = 0.0;
+    if (plan_->options().fused_step) {
+        if (pickups_.row() != nullptr) {
+            pass.observe_row = pickups_.row();
+            pass.observed = pickups_.observed();
+        }
+        if (audited) pass.energy = &energy;
+    }
+    ledger_.add_damping(modes_.advance(plan_->step_kernel(), pass));
+    if (pass.energy != nullptr) ledger_.keep_modal_energy(n_ + 1, energy);
+}
+
 }  // namespace fretbuzz
