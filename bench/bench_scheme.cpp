@@ -57,7 +57,7 @@ struct BenchCase {
 
 const BenchCase kCases[] = {{"bass-pop", 4e6, 1.0}, {"flat-obstacle", 1e4, 4.0}};
 // The open pop against the fretted pop over the same 0.3 s (the fretted run has no
-// stretch free of contact: about 45 s per simulated second).
+// stretch free of contact: it is stepped whole).
 const BenchCase kPlayed[] = {{"bass-pop", 4e6, 0.3}, {"bass-fret5-pop", 4e6, 0.3}};
 
 Case prepared(const BenchCase& b) {

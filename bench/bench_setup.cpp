@@ -10,8 +10,9 @@
 //         on one thread, for the side-by-side with the earlier `fretbuzz setup bass-neck`.
 //   build/bench/fretbuzz_bench_setup --convergence [--instrument NAME] [--attacks medium,hard]
 //       the map at several sampling rates and durations against the finest (4 MHz, 0.5 s):
-//       how many notes change their verdict (buzzing or not), the mean change of the share
-//       of plucks that buzz and of the median level. Prints Markdown tables.
+//       how many notes change their verdict (clean, marginal, buzzes), the mean change of the
+//       share of plucks that buzz, of clean_up_to (relative) and of the median level. Prints
+//       Markdown tables.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -146,27 +147,33 @@ int convergence(const std::string& name, const std::string& attacks, unsigned jo
         std::fprintf(stderr, "fs %g, %g s: %.1f s\n", s.fs, s.duration, walls.back());
     }
     const BuzzMapResult& ref = maps.front();
-    std::printf("\n%s, %s: each map against the first (4 MHz, 0.5 s); %zu notes, %zu plucks each\n\n", name.c_str(),
-                attacks.c_str(), ref.notes.size(), ref.notes.size() * base.attack.ensemble);
-    std::printf("| fs | duration | grid step | notes whose verdict (buzzing or not) changes | mean change of buzz_fraction | "
-                "mean change of buzz_dB (notes with a level in both) | notes buzzing | wall (s) |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf("\n%s, %s: each map against the first (4 MHz, 0.5 s); %zu notes\n\n", name.c_str(), attacks.c_str(),
+                ref.notes.size());
+    std::printf("| fs | duration | grid step | verdicts changed (clean, marginal, buzzes) | mean change of buzz_fraction | "
+                "median change of clean_up_to | mean change of buzz_dB (notes with a level in both) | buzzing / marginal | "
+                "wall (s) |\n|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t k = 0; k < maps.size(); ++k) {
-        std::size_t flips = 0, both = 0, buzzing = 0;
+        std::size_t flips = 0, both = 0, buzzing = 0, marginal = 0;
         double dfraction = 0.0, ddb = 0.0;
+        std::vector<double> dup;
         for (std::size_t i = 0; i < ref.notes.size(); ++i) {
             const NoteVerdict &a = maps[k].notes[i], &b = ref.notes[i];
-            flips += (a.buzz_fraction > 0) != (b.buzz_fraction > 0);
-            buzzing += a.buzz_fraction > 0;
+            flips += a.verdict != b.verdict;
+            buzzing += a.verdict == "buzzes";
+            marginal += a.verdict == "marginal";
             dfraction += std::abs(a.buzz_fraction - b.buzz_fraction);
+            if (std::isfinite(a.clean_up_to) && std::isfinite(b.clean_up_to) && b.clean_up_to > 0.0)
+                dup.push_back(std::abs(a.clean_up_to / b.clean_up_to - 1.0));
             if (std::isfinite(a.buzz_db) && std::isfinite(b.buzz_db)) {
                 ++both;
                 ddb += std::abs(a.buzz_db - b.buzz_db);
             }
         }
         const double n = static_cast<double>(ref.notes.size());
-        std::printf("| %g MHz | %g s | %g mm | %zu | %.3f | %.2f dB (%zu) | %zu | %.1f |\n", settings[k].fs / 1e6,
-                    settings[k].duration, settings[k].grid_step * 1e3, flips, dfraction / n, both ? ddb / static_cast<double>(both) : 0.0, both,
-                    buzzing, walls[k]);
+        std::printf("| %g MHz | %g s | %g mm | %zu | %.3f | %.1f %% | %.2f dB (%zu) | %zu / %zu | %.1f |\n",
+                    settings[k].fs / 1e6, settings[k].duration, settings[k].grid_step * 1e3, flips, dfraction / n,
+                    dup.empty() ? 0.0 : 100.0 * median(dup), both ? ddb / static_cast<double>(both) : 0.0, both, buzzing,
+                    marginal, walls[k]);
     }
     return 0;
 }

@@ -1,6 +1,7 @@
 #include "PythonScript.hpp"
 
-#include <spawn.h>
+#include <fcntl.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -50,6 +51,22 @@ private:
     std::string path_;
 };
 
+// The interpreter is given this loader and the script's path: it reads the script and
+// removes its file at once (nothing stays in the temporary folder, whatever becomes of
+// either process later), then runs it as __main__ under the file's name. `-c` would put the
+// current folder first on the module path: the scripts import only the package and the
+// interpreter's own modules.
+constexpr std::string_view kLoader =
+    "import os, sys\n"
+    "path = sys.argv.pop(1)\n"
+    "with open(path, encoding='utf-8') as f:\n"
+    "    source = f.read()\n"
+    "os.unlink(path)\n"
+    "sys.argv[0] = path\n"
+    "if sys.path and sys.path[0] == '':\n"
+    "    del sys.path[0]\n"
+    "exec(compile(source, path, 'exec'), {'__name__': '__main__', '__file__': path, '__builtins__': __builtins__})\n";
+
 // While the interpreter runs, Ctrl-C is its to handle (the terminal sends SIGINT to both:
 // this process ignores it and reports the script's own exit, 130 with its message), and a
 // SIGTERM sent to this process alone is passed on to it.
@@ -81,35 +98,63 @@ private:
     struct sigaction int_ {}, term_ {};
 };
 
+// fork and exec, with the child bound to this process: the kernel sends it SIGTERM when this
+// process ends, however it ends (SIGKILL included), so no server or plot outlives the
+// command. Returns the child's pid; throws if the interpreter cannot be started.
+pid_t start_child(const std::string& python, std::vector<char*>& argv) {
+    int report[2];
+    if (::pipe2(report, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start ") + python + ": " + std::strerror(errno));
+    struct sigaction defaults {};
+    defaults.sa_handler = SIG_DFL;
+    sigemptyset(&defaults.sa_mask);
+    const pid_t parent = ::getpid();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        // The child: only async-signal-safe calls until exec.
+        ::close(report[0]);
+        ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+        if (::getppid() != parent) ::_exit(127);  // this process ended before the line above
+        // The interpreter starts with the default actions for SIGINT and SIGTERM.
+        ::sigaction(SIGINT, &defaults, nullptr);
+        ::sigaction(SIGTERM, &defaults, nullptr);
+        ::execve(python.c_str(), argv.data(), environ);
+        const int error = errno;
+        [[maybe_unused]] const ssize_t n = ::write(report[1], &error, sizeof error);
+        ::_exit(127);
+    }
+    const int fork_error = errno;
+    ::close(report[1]);
+    if (pid < 0) {
+        ::close(report[0]);
+        throw std::runtime_error("cannot start " + python + ": " + std::strerror(fork_error));
+    }
+    int error = 0;
+    ssize_t n = 0;
+    do n = ::read(report[0], &error, sizeof error);
+    while (n < 0 && errno == EINTR);
+    ::close(report[0]);
+    if (n == static_cast<ssize_t>(sizeof error)) {
+        ::waitpid(pid, nullptr, 0);
+        throw std::runtime_error("cannot run " + python + " (" + std::strerror(error) +
+                                 "); install python3-matplotlib python3-numpy python3-h5py or set FRETBUZZ_PYTHON");
+    }
+    return pid;
+}
+
 }  // namespace
 
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments) {
-    const TemporaryScript file(script);
+    const TemporaryScript file(script);  // the loader removes it; this, should the interpreter not get that far
     const std::string python = interpreter();
-    std::vector<std::string> words{python, file.path()};
+    std::vector<std::string> words{python, "-c", std::string(kLoader), file.path()};
     words.insert(words.end(), arguments.begin(), arguments.end());
     std::vector<char*> argv;
     for (std::string& w : words) argv.push_back(w.data());
     argv.push_back(nullptr);
-    pid_t pid = 0;
-    // The interpreter starts with the default actions for SIGINT and SIGTERM, whatever this
-    // process does with them.
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    sigset_t defaults;
-    sigemptyset(&defaults);
-    sigaddset(&defaults, SIGINT);
-    sigaddset(&defaults, SIGTERM);
-    posix_spawnattr_setsigdefault(&attributes, &defaults);
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
     const SignalsToChild signals;
     // No shell in between: directory names reach the script verbatim.
-    const int error = ::posix_spawn(&pid, python.c_str(), nullptr, &attributes, argv.data(), environ);
-    posix_spawnattr_destroy(&attributes);
+    const pid_t pid = start_child(python, argv);
     child_pid = pid;
-    if (error != 0)
-        throw std::runtime_error("cannot run " + python + " (" + std::strerror(error) +
-                                 "); install python3-matplotlib python3-numpy python3-h5py or set FRETBUZZ_PYTHON");
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0) {
         if (errno != EINTR) throw std::runtime_error("waiting for " + python + " failed");

@@ -241,8 +241,8 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
         EngineOptions options;
         options.host_rate_hz = rate;
         options.gain_per_m = 300.0;
-        // At most 4x oversampling: six voices must keep up with the host (measured by
-        // bench/bench_realtime.cpp: 6 guitar voices 2.2x real time at 4x, 0.7x at 8x on one core).
+        // At most 4x oversampling: six voices must keep up with the host on one core (the six
+        // guitar voices of bench/bench_realtime.cpp; docs/performance.md, real time).
         options.max_oversampling = 4;
         for (int k = 0; k < kFrets; ++k) {
             const Case c = k == 0 ? open : stopped_string(open, fret_position(open.string.length_m, k), open.mode_count());

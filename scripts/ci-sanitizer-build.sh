@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 build=${FRETBUZZ_SANITIZER_BUILD:-build-sanitizers}
 sanitize=${FRETBUZZ_SANITIZE:-address,undefined}
 if [ "$sanitize" = address,undefined ]; then
-  # Line tables only: the sanitizers' reports still name file and line, and the build is 7 % shorter.
+  # Line tables only: the sanitizers' reports still name file and line, and the build is shorter.
   flags="-O1 -gline-tables-only -fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
   fuzz=ON
 else

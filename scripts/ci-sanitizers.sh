@@ -15,7 +15,7 @@ filter=${FRETBUZZ_SANITIZER_FILTER:-"-LongRun.*:Convergence*:PaperObservations.*
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # Six shards, two at a time (one per core; the tests are independent: ctest runs them two at a
-# time too): with only two, one shard ran 70 % longer than the other.
+# time too): with only two, one shard ran far longer than the other.
 shards=6
 export build filter shards
 status=0

@@ -310,7 +310,7 @@ TEST(ContactScheduling, TransformThresholdFollowsThePlannedCost) {
 
 // The arrays the kernels sweep at every step start on a cache line (scheme/CacheAligned.hpp):
 // with malloc's 16-byte alignment a step's vector loads straddled two lines or not as the
-// heap's layout fell, which moved the bass pop's speed by 10-15 % between builds.
+// heap's layout fell, which moved the bass pop's speed between builds.
 TEST(ContactScheduling, TheArraysTheKernelsSweepStartOnACacheLine) {
     const Case c = load_case("bass-pop");
     const Plan plan(c, 1.0 / c.run.sample_rate_hz);

@@ -155,5 +155,18 @@ TEST(RecordingReader, ChunksLibsndfileReadsAreCheckedFirst) {
               std::string::npos);
 }
 
+// An AIFF's rate is an 80-bit float; libsndfile gives an int, 0x4000000 for any past 2^258.
+TEST(RecordingReader, AnAiffWhoseRateIsInfiniteIsReportedAsInfinite) {
+    const std::string inf80("\x7f\xff\x80\x00\x00\x00\x00\x00\x00\x00", 10);
+    const std::string body = "AIFF" + chunk("COMM", u16(1, true) + u32(200, true) + u16(16, true) + inf80, true) +
+                             chunk("SSND", u32(0, true) + u32(0, true) + pcm(true), true);
+    try {
+        decode_recording("FORM" + u32(static_cast<std::uint32_t>(body.size()), true) + body, "inf.aiff");
+        ADD_FAILURE() << "an infinite rate was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("inf.aiff: sample rate inf Hz"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace fretbuzz

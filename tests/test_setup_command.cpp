@@ -40,7 +40,8 @@ TEST(SetupCommand, AMapWritesItsFiles) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string csv = read_file(dir.path() / "map" / "buzz_map.csv");
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "string,fret,strength,buzz_fraction,buzz_dB,buzz_fret,touch_fraction,plucks,status,clearance_mm,audio,"
+              "string,fret,strength,verdict,buzz_fraction,buzz_fraction_low,buzz_fraction_high,buzz_dB,buzz_fret,"
+              "touch_fraction,plucks,clean_up_to,clean_up_to_value,unit,stiffness_sensitive,status,clearance_mm,audio,"
               "pluck_dB");
     // Every number in its shortest form that reads back exactly (never 0.00050000000000000001).
     std::istringstream rows(csv);
@@ -119,7 +120,8 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--frets 0-99999999999", {"--frets", "[0, 20]"}},
         {"--frets 21", {"--frets", "21"}},
         {"--strength -1e-3", {"--strength", "(0, 10] mm"}},
-        {"--strength loud", {"--strength", "soft, medium, hard, pop, slap"}},
+        {"--strength loud", {"--strength", "soft, medium, hard, pick, pop, slap"}},
+        {"--strength 11m/s", {"--strength", "(0, 10] m/s"}},
         {"--strings E,Q", {"string \"Q\"", "E, A, D, G"}},
         {"--relief 5", {"--relief", "[-2, 2] mm"}},
         {"--action12 E=0.01", {"--action12 E", "fret"}},
@@ -127,7 +129,7 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--fret-offset 25=0.1", {"--fret-offset", "[1, 20]"}},
         {"--fret-offset 5=3", {"--fret-offset 5", "[-1, 1] mm"}},
         {"--jobs 0", {"--jobs", "[1, 256]"}},
-        {"--ensemble 1000", {"--ensemble", "[1, 64]"}},
+        {"--ensemble 1000", {"--ensemble", "[1, 200]"}},
         {"--fs 10", {"--fs", "[50000, 2e7]"}},
         {"--compare " + (dir.path() / "nothing").string(), {"--compare", "buzz_map.csv"}},
     };
@@ -160,6 +162,9 @@ TEST(SetupCommand, BadInstrumentFilesAreRefusedNamingTheKey) {
         {edit("action12 = \"2.7 mm\"", "action12 = \"2.7 furlongs\""), {"string[0].action12", "units"}},
         {edit("scale = \"863 mm\"", "scale = 863"), {"neck.scale", "unit"}},
         {edit("frets = 20", "frets = 20\nfret_offsets = { 30 = \"0.1 mm\" }"), {"neck.fret_offsets.30", "frets 1 to 20"}},
+        // Attacks a hand cannot play: a finger pluck pulled away from the board, a slap at 25 m/s.
+        {edit("[simulation]", "[attack]\nangle = -15\n\n[simulation]"), {"attack.angle", "[0, 90] degrees"}},
+        {edit("[simulation]", "[attack]\nslap = \"25 m/s\"\n\n[simulation]"), {"attack.slap", "(0, 10] m/s"}},
     };
     for (const auto& [path, says] : cases) {
         const auto r = run_cli("setup " + path + " --out " + out);

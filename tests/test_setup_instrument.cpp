@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "SetupTestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
@@ -23,6 +24,7 @@
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/setup/InstrumentGeometry.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
+#include "fretbuzz/setup/WhatIf.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -59,7 +61,7 @@ TEST(InstrumentFile, BuiltInsLoadWithTheirStrings) {
     EXPECT_EQ(bass.strings[0].name, "E");
     EXPECT_NEAR(bass.strings[0].frequency_hz, 41.2034, 1e-3);
     // The set's unit weight at its own scale and pitch gives back the published tension there.
-    const StringSet exl170 = builtin_string_sets().at(1);
+    const StringSet exl170 = builtin_string_set("daddario-exl170", "test");
     EXPECT_NEAR(bass.strings[0].tension_n * std::pow(0.8636 / 0.863, 2), exl170.strings[0].tension_n, 1e-9);
     // The G string is the paper's measured one, its tension and mass as given.
     EXPECT_DOUBLE_EQ(bass.strings[3].tension_n, 191.6);
@@ -136,6 +138,7 @@ TEST(StringNeck, TheRadiusCrownsTheOuterStrings) {
     g.neck.fret_offset_m.clear();
     for (auto& s : g.strings) s.bridge = {StringEnd::Form::gap_over_fret, 2e-3, 12};
     g.strings.resize(5);  // an odd count: the third string runs down the middle
+    g.neck.relief_pull_n.reset();  // (and one string fewer pulling does not bow this neck)
     const double radius = *g.neck.radius_m;
     const StringNeck middle(g, 2), outer(g, 0);
     const std::size_t n = 10;
@@ -159,40 +162,32 @@ TEST(StringNeck, MultiscaleFretsFallOnEachStringsScale) {
     EXPECT_NEAR(g.fret_x(12), 0.863 / 2.0, 1e-15);
 }
 
-void expect_refused(const std::string& text, const std::string& key, const std::string& range = "") {
-    try {
-        parse_instrument(text, "test.toml", DataSource::builtin());
-        ADD_FAILURE() << "accepted: " << key;
-    } catch (const InputError& e) {
-        const std::string what = e.what();
-        EXPECT_NE(what.find(key), std::string::npos) << what;
-        if (!range.empty()) {
-            EXPECT_NE(what.find(range), std::string::npos) << what;
-        }
-    }
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-    const auto at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-    return text;
-}
+using testing::expect_instrument_refused;
+using testing::replaced;
 
 TEST(InstrumentFile, BadValuesAreRefusedNamingTheKeyAndItsRange) {
     const std::string base(*find_builtin_file("instruments/jazz-bass.toml"));
     EXPECT_NO_THROW(parse_instrument(base, "test.toml", DataSource::builtin()));
-    expect_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = \"12 mm\""), "neck.fret_height", "(0, 5] mm");
-    expect_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = 1.2"), "neck.fret_height", "unit");
-    expect_refused(replaced(base, "frets = 20", "frets = 99"), "neck.frets", "[1, 24]");
-    expect_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"-0.7 mm\""), "string[0].nut", "(0, 5] mm");
-    expect_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"27 mm\""), "string[0].action12", "(0, 10] mm");
-    expect_refused(replaced(base, "pitch = \"E1\"", "pitch = \"H1\""), "string[0].pitch");
-    expect_refused(replaced(base, "soft = \"0.5 mm\"", "soft = \"5 mm\""), "attack.medium", "soft < medium < hard");
-    expect_refused(replaced(base, "[[string]]\nname = \"A\"", "[[string]]\nname = \"E\""), "string[1].name");
-    expect_refused(replaced(base, "set = \"daddario-exl170\"", "set = \"unknown\""), "strings.set");
-    expect_refused(replaced(base, "board_end = \"600 mm\"", "board_end = \"600 mm\"\nboard_edn = 1"), "neck.board_edn");
-    expect_refused(replaced(base, "[neck]", "[obstacle]\ntype = \"none\"\n[neck]"), "case file");
+    expect_instrument_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = \"12 mm\""), "neck.fret_height", "(0, 5] mm");
+    expect_instrument_refused(replaced(base, "fret_height = \"1.2 mm\"", "fret_height = 1.2"), "neck.fret_height", "unit");
+    expect_instrument_refused(replaced(base, "frets = 20", "frets = 99"), "neck.frets", "[1, 24]");
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"-0.7 mm\""), "string[0].nut", "[0.01, 5] mm");
+    expect_instrument_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"27 mm\""), "string[0].action12", "[0.01, 10] mm");
+    expect_instrument_refused(replaced(base, "pitch = \"E1\"", "pitch = \"H1\""), "string[0].pitch");
+    const std::string with_attack = base + "\n[attack]\n";
+    expect_instrument_refused(with_attack + "soft = \"5 mm\"\n", "attack.medium", "must grow: soft (5 mm) < medium");
+    // Attacks out of their ranges: a finger pulling away from the board, a slap faster than a hand.
+    expect_instrument_refused(with_attack + "angle = -20\n", "attack.angle", "[0, 90] degrees");
+    expect_instrument_refused(with_attack + "pick_angle = 120\n", "attack.pick_angle", "[0, 90] degrees");
+    expect_instrument_refused(with_attack + "slap = \"25 m/s\"\n", "attack.slap", "(0, 10] m/s");
+    expect_instrument_refused(with_attack + "thumb_mass = \"2 kg\"\n", "attack.thumb_mass", "(0, 200] g");
+    expect_instrument_refused(with_attack + "angle_spread = 60\n", "attack.angle_spread", "[0, 45] degrees");
+    expect_instrument_refused(with_attack + "style = \"banjo\"\n", "attack.style", "\"bass\" or \"guitar\"");
+    expect_instrument_refused(with_attack + "hard = \"11 mm\"\n", "attack.hard", "(0, 10] mm");
+    expect_instrument_refused(replaced(base, "[[string]]\nname = \"A\"", "[[string]]\nname = \"E\""), "string[1].name");
+    expect_instrument_refused(replaced(base, "set = \"daddario-exl170\"", "set = \"unknown\""), "strings.set");
+    expect_instrument_refused(replaced(base, "board_end = \"600 mm\"", "board_end = \"600 mm\"\nboard_edn = 1"), "neck.board_edn");
+    expect_instrument_refused(replaced(base, "[neck]", "[obstacle]\ntype = \"none\"\n[neck]"), "case file");
     // A relief so deep that the open E string would lie on a fret.
     Instrument bass = parse_instrument(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"0.2 mm\""), "t.toml",
                                        DataSource::builtin());
@@ -201,6 +196,67 @@ TEST(InstrumentFile, BadValuesAreRefusedNamingTheKeyAndItsRange) {
         ADD_FAILURE() << "an open string lying on a fret was accepted";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("string[0]"), std::string::npos) << e.what();
+    }
+}
+
+// The name becomes the studio's folder, studio-NAME in the current folder: one plain path
+// component, whatever the file says.
+TEST(InstrumentFile, TheNameIsOnePlainPathComponent) {
+    const std::string base(*find_builtin_file("instruments/jazz-bass.toml"));
+    for (const char* bad : {"x/../../../../victim-home", "", "/", "..", ".", ".hidden", "a..b", "<script>", " lead",
+                            "a\\b", "tab\there", "caf\u00e9"}) {
+        SCOPED_TRACE(bad);
+        expect_instrument_refused(replaced(base, "name = \"jazz-bass\"", "name = \"" + std::string(bad) + "\""), "name = \"",
+                       "letters (a-z, A-Z), digits");
+    }
+    expect_instrument_refused(replaced(base, "name = \"jazz-bass\"", "name = \"" + std::string(65, 'a') + "\""), "name", "1 to 64");
+    for (const std::string& good : std::vector<std::string>{"jazz-bass", "My Bass 2.0", "fender_jb-1962", std::string(64, 'b')}) {
+        const Instrument i =
+            parse_instrument(replaced(base, "name = \"jazz-bass\"", "name = \"" + good + "\""), "t.toml", DataSource::builtin());
+        EXPECT_EQ(i.name, good);
+    }
+}
+
+// What an instrument file takes, a what-if takes (src/setup/WhatIf.cpp), and the other way
+// round; the messages show the value as written.
+TEST(InstrumentFile, RangesAreTheWhatIfsAndMessagesShowTheValueGiven) {
+    const std::string base(*find_builtin_file("instruments/jazz-bass.toml"));
+    expect_instrument_refused(replaced(base, "action12 = \"2.7 mm\"", "action12 = \"1e-320 mm\""), "string[0].action12",
+                   "[0.01, 10] mm");
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"0.001 mm\""), "string[0].nut", "[0.01, 5] mm");
+    const Instrument bass = parse_instrument(base, "t.toml", DataSource::builtin());
+    SetupChange tiny_action, tiny_nut, low_nut;
+    tiny_action.action12_m = {{"E", 1e-323}};
+    tiny_nut.nut_m = {{"E", 1e-6}};
+    low_nut.nut_m = {{"E", 1e-5}};
+    for (const auto& [change, key] : std::vector<std::pair<SetupChange, std::string>>{{tiny_action, "--action12 E"},
+                                                                                      {tiny_nut, "--nut E"}}) {
+        try {
+            apply_change(bass, change);
+            ADD_FAILURE() << key << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+        }
+    }
+    // The smallest value each takes is the same.
+    const Instrument low = parse_instrument(replaced(base, "nut = \"0.75 mm\"", "nut = \"0.01 mm\""), "t.toml",
+                                            DataSource::builtin());
+    EXPECT_NO_THROW(apply_change(bass, low_nut));
+    EXPECT_DOUBLE_EQ(low.strings[0].nut.value_m, 1e-5);
+    // An integer past 2^53 is shown as written, not as 0.
+    expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = 9223372036854775807"), "string[0].nut = 9223372036854775807",
+                   "say its unit");
+    // Too few frets to measure relief is said as such, not as an empty range [2, 0].
+    const std::string curve =
+        R"(curve = [["178 mm", "0.41 mm"], ["319 mm", "0.595 mm"], ["431.5 mm", "0.517 mm"], ["520.5 mm", "0.228 mm"]])";
+    const std::string short_neck = replaced(replaced(base, "frets = 20", "frets = 1"), curve, "gap = \"0.3 mm\"");
+    try {
+        parse_instrument(short_neck, "t.toml", DataSource::builtin());
+        ADD_FAILURE() << "a one-fret neck with a relief gap was accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.find("[2, 0]"), std::string::npos) << what;
+        EXPECT_NE(what.find("at least 3 frets (neck.frets = 1)"), std::string::npos) << what;
     }
 }
 

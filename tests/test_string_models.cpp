@@ -48,6 +48,19 @@ TEST(StringModels, WaveSpeedAndHarmonicsOfTheBass) {
     EXPECT_NEAR(kBass.inharmonicity_for(kBass.bending_stiffness_for(kBassB)), kBassB, 1e-18);
 }
 
+TEST(StringModels, TuningTheBassGivesItsTensionOrItsMass) {
+    // f = c / (2 L) = 169.23286 / 1.726 = 98.049166 Hz; tuned there, either way, it is the bass.
+    const double f = kBass.fundamental_hz();
+    EXPECT_NEAR(f, 98.049166, 1e-6);
+    const TautString by_mass = TautString::tuned_with_mass(0.863, 6.69e-3, f);
+    EXPECT_NEAR(by_mass.tension_n, 191.6, 1e-10);
+    const TautString by_tension = TautString::tuned_with_tension(0.863, 191.6, f);
+    EXPECT_NEAR(by_tension.linear_density, 6.69e-3, 1e-16);
+    // An octave up takes four times the tension (or a quarter of the mass).
+    EXPECT_NEAR(TautString::tuned_with_mass(0.863, 6.69e-3, 2.0 * f).tension_n, 4.0 * 191.6, 1e-9);
+    EXPECT_NEAR(TautString::tuned_with_tension(0.863, 191.6, 2.0 * f).linear_density, 6.69e-3 / 4.0, 1e-16);
+}
+
 TEST(StringModels, InharmonicityRaisesModeTenBy0175Percent) {
     // nu_10 = nu_0,10 (1 + B 10^2 / 2) = 980.49166 * (1 + 1.75e-3) = 982.20752 Hz
     const FrequencyModel model(kBass, kBassB, {}, StiffnessFormula::first_order);

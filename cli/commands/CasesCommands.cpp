@@ -1,11 +1,15 @@
-// `fretbuzz cases` lists the built-in cases; `fretbuzz show CASE` prints one's file;
+// `fretbuzz cases` lists the built-in cases; `fretbuzz show NAME` prints a built-in case's
+// or instrument's file;
 // `fretbuzz export CASE DIR` writes it with its data files.
 #include <iostream>
 #include <memory>
 #include <utility>
 
 #include "../Commands.hpp"
+#include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseExport.hpp"
+#include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/InstrumentFile.hpp"
 
 namespace fretbuzz::cli {
 
@@ -18,12 +22,26 @@ void add_cases_commands(CLI::App& app, Action& action) {
         };
     });
     auto name = std::make_shared<std::string>();
-    CLI::App* show = app.add_subcommand("show", "Print a built-in case file, to copy and edit");
-    show->add_option("case", *name, "Built-in case name")->required();
-    show->callback([name, &action] {
-        action = [name] {
-            std::cout << builtin_case_text(*name);
-            return 0;
+    auto instrument_only = std::make_shared<bool>(false);
+    CLI::App* show = app.add_subcommand("show", "Print a built-in case or instrument file, to copy and edit");
+    show->add_option("name", *name, "A built-in case (fretbuzz cases) or instrument (jazz-bass, electric-guitar, ...)")
+        ->required();
+    show->add_flag("--instrument", *instrument_only, "The instrument of that name (bass-neck is also a case)");
+    show->callback([name, instrument_only, &action] {
+        action = [name, instrument_only] {
+            if (!*instrument_only && is_builtin_case(*name)) {
+                std::cout << builtin_case_text(*name);
+                return 0;
+            }
+            if (const auto text = builtin_instrument_text(*name)) {
+                std::cout << *text;
+                return 0;
+            }
+            std::string case_names, instruments;
+            for (const auto& info : builtin_cases()) case_names += (case_names.empty() ? "" : ", ") + info.name;
+            for (const auto& info : builtin_instruments()) instruments += (instruments.empty() ? "" : ", ") + info.name;
+            throw InputError("show " + *name + ": no built-in " + (*instrument_only ? "instrument" : "case or instrument") +
+                             " of that name (cases: " + case_names + "; instruments: " + instruments + ")");
         };
     });
     auto exported = std::make_shared<std::pair<std::string, std::string>>();

@@ -35,9 +35,9 @@ namespace {
 
 struct SetupArguments {
     std::string instrument, out;
-    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
-    std::vector<std::string> action12, nut, saddle, fret_offsets;
-    bool finger = false, advice = false, quiet = false;
+    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration, string_set;
+    std::vector<std::string> action12, nut, saddle, fret_offsets, tune;
+    bool finger = false, advice = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
 };
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -98,6 +98,12 @@ SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) 
     ends(a.action12, "--action12", change.action12_m);
     ends(a.nut, "--nut", change.nut_m);
     ends(a.saddle, "--saddle", change.saddle_m);
+    if (!a.string_set.empty()) change.string_set = a.string_set;
+    for (const std::string& item : a.tune) {
+        const auto [name, value] = name_value(item, "--tune");
+        instrument.string_index(name);
+        change.pitch_hz.emplace_back(name, parse_quantity_or(value, Quantity::frequency, "Hz", "--tune " + name));
+    }
     for (const std::string& item : a.fret_offsets) {
         const auto [fret, value] = name_value(item, "--fret-offset");
         FretChange f;
@@ -111,6 +117,8 @@ SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) 
 
 std::vector<std::string> change_words(const SetupArguments& a) {
     std::vector<std::string> words;
+    if (!a.string_set.empty()) words.push_back("--set " + a.string_set);
+    for (const auto& v : a.tune) words.push_back("--tune " + v);
     if (!a.relief.empty()) words.push_back("--relief " + a.relief);
     for (const auto& v : a.action12) words.push_back("--action12 " + v);
     for (const auto& v : a.nut) words.push_back("--nut " + v);
@@ -121,7 +129,7 @@ std::vector<std::string> change_words(const SetupArguments& a) {
 
 void apply_settings(const SetupArguments& a, Instrument& instrument) {
     if (!a.ensemble.empty())
-        instrument.attack.ensemble = whole_number(a.ensemble, "--ensemble", 1, 64, "the plucks per note");
+        instrument.attack.ensemble = whole_number(a.ensemble, "--ensemble", 1, 200, "the most plucks per note");
     if (!a.fs.empty()) {
         const double fs = parse_quantity_or(a.fs, Quantity::frequency, "Hz", "--fs");
         if (!(fs >= 5e4 && fs <= 2e7)) throw InputError(out_of_range_message("--fs (Hz)", fs, "must be in [50000, 2e7]"));
@@ -143,28 +151,44 @@ std::string clock(double seconds) {
 
 std::string verdict_text(const NoteVerdict& v) {
     if (v.status != "ok") return v.status + (v.buzz_fret > 0 ? " against fret " + std::to_string(v.buzz_fret) : "");
-    if (v.touch_fraction == 0.0) return "clean";
-    char text[96];
-    std::snprintf(text, sizeof text, "%zu/%zu plucks buzz", static_cast<std::size_t>(v.buzz_fraction * static_cast<double>(v.plucks) + 0.5),
-                  v.plucks);
+    char text[128];
+    std::snprintf(text, sizeof text, "%s, %zu/%zu plucks buzz", v.verdict.c_str(),
+                  static_cast<std::size_t>(v.buzz_fraction * static_cast<double>(v.plucks) + 0.5), v.plucks);
     std::string out = text;
     if (std::isfinite(v.buzz_db)) {
-        std::snprintf(text, sizeof text, ", median %.1f dB", v.buzz_db);
+        std::snprintf(text, sizeof text, ", median %+.0f dB over the masked threshold", v.buzz_db);
         out += text;
     }
-    if (v.buzz_fret > 0) out += " (fret " + std::to_string(v.buzz_fret) + ")";
+    if (v.buzz_fret > 0 && v.buzz_fraction > 0.0) out += " (fret " + std::to_string(v.buzz_fret) + ")";
+    if (std::isinf(v.clean_up_to)) {
+        std::snprintf(text, sizeof text, "; clean up to at least %gx", kCleanUpToCap);
+        out += text;
+    } else if (std::isfinite(v.clean_up_to)) {
+        std::snprintf(text, sizeof text, "; clean up to %.2fx (%.3g %s)", v.clean_up_to, v.clean_up_to_value, v.unit.c_str());
+        out += text;
+    }
     return out;
 }
 
 int setup_command(const SetupArguments& a) {
     stop_cleanly_on_signals();
     Instrument instrument = load_instrument(a.instrument);
+    for (const std::string& w : instrument.warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     apply_settings(a, instrument);
+    const Instrument as_found = instrument;
     instrument = apply_change(instrument, parse_change(a, instrument));
+    if (const auto pull = pull_change(as_found, instrument))
+        std::cerr << std::fixed << std::setprecision(1) << "fretbuzz: the strings pull " << pull->after_n << " N (" << pull->before_n
+                  << " N when the relief was set): the neck bows " << std::setprecision(3) << std::abs(pull->bow_m) * 1e3
+                  << " mm " << (pull->bow_m > 0.0 ? "more" : "less") << "; relief at fret " << pull->fret << ": "
+                  << pull->relief_before_m * 1e3 << " -> " << pull->relief_after_m * 1e3 << " mm\n"
+                  << std::defaultfloat;
     describe_geometry(instrument);  // every string clear of its frets, before anything runs
     MapRequest request;
     request.attacks = parse_attacks(a.strength, instrument.attack);
     request.finger = a.finger;
+    request.stiffness_check = a.stiffness_check;
+    request.clean_up_to = !a.no_clean_up_to;
     if (!a.jobs.empty()) request.jobs = static_cast<unsigned>(whole_number(a.jobs, "--jobs", 1, 256, "the thread count"));
     if (!a.strings.empty())
         for (const std::string& name : split(a.strings, ',')) request.strings.push_back(instrument.string_index(name));
@@ -239,9 +263,12 @@ int setup_command(const SetupArguments& a) {
                      "`python3 -m fretbuzz.setup_report "
                   << a.out << "`\n";
     out.commit();
-    std::size_t buzzing = 0;
-    for (const NoteVerdict& v : map.notes) buzzing += v.buzz_fraction > 0.0;
-    std::cerr << "fretbuzz: " << map.notes.size() << " notes (" << buzzing << " buzz audibly in some plucks; "
+    std::size_t buzzing = 0, marginal = 0;
+    for (const NoteVerdict& v : map.notes) {
+        buzzing += v.verdict == "buzzes";
+        marginal += v.verdict == "marginal";
+    }
+    std::cerr << "fretbuzz: " << map.notes.size() << " notes (" << buzzing << " buzz, " << marginal << " marginal; "
               << map.plucks_simulated << " plucks simulated, " << map.plucks_clear << " clear of every fret) on "
               << map.jobs << " threads in " << std::fixed << std::setprecision(1) << map.wall_seconds << " s; map in "
               << a.out << "/buzz_map.html and buzz_map.csv\n";
@@ -255,12 +282,13 @@ void add_setup_command(CLI::App& app, Action& action) {
     CLI::App* cmd = app.add_subcommand(
         "setup", "Set-up bench: the buzz map of every note of every string of an instrument, what-ifs and advice");
     cmd->add_option("instrument", args->instrument,
-                    "A built-in instrument (jazz-bass, electric-guitar, bass-neck) or an instrument file (.toml, see "
+                    "A built-in instrument (jazz-bass, electric-guitar, bass-5, bass-neck) or an instrument file (.toml, see "
                     "docs/instrument-format.md)")
         ->required();
     cmd->add_option("--out", args->out, "Output directory: buzz_map.html, buzz_map.csv, map.json, note-*.wav")->required();
     cmd->add_option("--strength", args->strength,
-                    "Attacks: soft,medium,hard (finger plucks, the default), pop, slap, or a pluck's amplitude in mm");
+                    "Attacks: soft,medium,hard (finger plucks, the default), pick, pop, slap, a finger pluck's amplitude "
+                    "(1.2mm) or a slap's speed (3m/s)");
     cmd->add_option("--relief", args->relief, "What-if: the truss rod set for this relief (mm, the luthier's gap)");
     cmd->add_option("--action12", args->action12, "What-if: STRING=MM, that string's gap over fret 12 (repeatable)")
         ->allow_extra_args(false);
@@ -272,6 +300,13 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--fret-offset", args->fret_offsets,
                     "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)")
         ->allow_extra_args(false);
+    cmd->add_option("--tune", args->tune,
+                    "What-if: STRING=PITCH retunes that string (a note or Hz, e.g. E=D2 for drop D; repeatable); the neck "
+                    "bows with the strings' pull")
+        ->allow_extra_args(false);
+    cmd->add_option("--set", args->string_set,
+                    "What-if: the strings replaced by a named set's at the same pitches (cases/strings/sets.toml); the "
+                    "neck bows with the strings' pull");
     cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");
     cmd->add_option("--compare", args->compare, "An earlier map's --out: mark the notes that changed");
     cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");
@@ -280,7 +315,11 @@ void add_setup_command(CLI::App& app, Action& action) {
                   "Also search the lowest clean action per string, the proud frets and the clean relief range, at the "
                   "last attack of --strength");
     cmd->add_option("--jobs", args->jobs, "Threads (default: every core)");
-    cmd->add_option("--ensemble", args->ensemble, "Plucks per note (default: the instrument's, 5)");
+    cmd->add_option("--ensemble", args->ensemble,
+                    "The most plucks per note (default: the instrument's, 40; each note stops once its verdict is sure)");
+    cmd->add_flag("--stiffness-check", args->stiffness_check,
+                  "Also replay every note with each string's bending stiffness x 0.5 and x 1.5 (stiffness_sensitive)");
+    cmd->add_flag("--no-clean-up-to", args->no_clean_up_to, "Skip the search of how hard each note can be played");
     cmd->add_option("--fs", args->fs, "Sampling rate (default: the instrument's)");
     cmd->add_option("--duration", args->duration, "Seconds per note (default: the instrument's)");
     cmd->add_flag("--quiet", args->quiet, "No progress lines");

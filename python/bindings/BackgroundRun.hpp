@@ -5,7 +5,18 @@
 // looks for Ctrl-C every 0.2 s and asks whether to stop. Anything the callback raises, and
 // Ctrl-C, sets the stop flag (the work stops after what is under way), waits for the thread
 // and propagates; an exception of the work itself is rethrown once it has ended.
+//
+// Called on a thread other than the main one, the call may meet the interpreter's end (Ctrl-C
+// on the main thread, the program exiting while a daemon thread maps): taking the lock back
+// then ends this thread by unwinding it (pthread_exit). That unwinding must not start inside
+// a destructor (gil_scoped_release's would std::terminate) nor leave the work's thread
+// running on this stack: the lock is taken back by plain calls, and the unwinding stops the
+// work and waits for it before going on.
 #include <pybind11/pybind11.h>
+
+#ifdef __GLIBCXX__
+#include <cxxabi.h>
+#endif
 
 #include <atomic>
 #include <chrono>
@@ -14,9 +25,27 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 namespace fretbuzz::python {
+
+// f() (C++ only, no Python) with the interpreter's lock released, taken back by a plain call
+// (see above: at the interpreter's end this thread unwinds from there, not from a destructor).
+template <class F>
+auto without_gil(F&& f) {
+    std::optional<decltype(f())> result;
+    std::exception_ptr failure;
+    PyThreadState* unlocked = PyEval_SaveThread();
+    try {
+        result.emplace(f());
+    } catch (...) {
+        failure = std::current_exception();
+    }
+    PyEval_RestoreThread(unlocked);
+    if (failure) std::rethrow_exception(failure);
+    return std::move(*result);
+}
 
 template <class Report>
 class BackgroundRun {
@@ -50,24 +79,30 @@ public:
             while (true) {
                 std::deque<Report> batch;
                 bool done = false;
+                PyThreadState* unlocked = PyEval_SaveThread();
                 {
-                    py::gil_scoped_release unlocked;
                     std::unique_lock lock(mutex_);
                     wake_.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished || !reports_.empty(); });
                     batch.swap(reports_);
                     done = finished;
                 }
+                PyEval_RestoreThread(unlocked);  // at the interpreter's end, unwinds this thread from here
                 for (const Report& r : batch) deliver(r);
                 if (done) break;
                 if (PyErr_CheckSignals() != 0) throw py::error_already_set();
                 if (should_stop && should_stop()) stop_ = true;
             }
+#ifdef __GLIBCXX__
+        } catch (abi::__forced_unwind&) {  // the thread is ending, without the interpreter's lock
+            stop_ = true;
+            runner.join();
+            throw;
+#endif
         } catch (...) {
             stop_ = true;
-            {
-                py::gil_scoped_release unlocked;
-                runner.join();
-            }
+            PyThreadState* unlocked = PyEval_SaveThread();
+            runner.join();
+            PyEval_RestoreThread(unlocked);
             throw;
         }
         runner.join();

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbuzz/Error.hpp"
+
 namespace fretbuzz::python {
 
 inline pybind11::array_t<double> to_numpy(const std::vector<double>& v) {
@@ -42,6 +44,21 @@ inline double to_number(pybind11::handle value, const std::string& name) {
         if (positive < 0) throw py::error_already_set();
         return positive ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
     }
+}
+
+// A whole number (int, NumPy integer; not a bool, not a float) in [low, high]: TypeError
+// for another kind, fretbuzz's InputError for one out of range, each naming the field, its
+// range and the value given (a Python int of any size, printed as given).
+inline long long to_whole(pybind11::handle value, const std::string& name, long long low, long long high) {
+    namespace py = pybind11;
+    const std::string range = "a whole number in [" + std::to_string(low) + ", " + std::to_string(high) + "]";
+    if (!py::isinstance(value, py::module_::import("numbers").attr("Integral")) || py::isinstance<py::bool_>(value))
+        throw py::type_error(name + ": expected " + range + ", got " + type_name(value) + " " +
+                             py::repr(value).cast<std::string>());
+    const py::int_ n(py::reinterpret_borrow<py::object>(value));
+    if (!(py::int_(low) <= n && n <= py::int_(high)))
+        throw InputError(name + " = " + py::repr(n).cast<std::string>() + " is out of range: must be " + range);
+    return n.cast<long long>();
 }
 
 inline std::string to_text(pybind11::handle value, const std::string& name) {

@@ -35,22 +35,25 @@ py::object fret_value(int f) {
     return f == kBoard ? py::object(py::str("board")) : py::object(py::int_(f));
 }
 
-int fret_from(py::handle h) {
-    if (h.is_none()) return kNoFret;
-    if (py::isinstance<py::str>(h)) return h.cast<std::string>() == "board" ? kBoard : kNoFret;
-    return h.cast<int>();
-}
-
 py::dict verdict_dict(const NoteVerdict& v) {
     py::dict d;
     d["string"] = v.string_name;
     d["fret"] = v.fret;
     d["strength"] = v.strength;
+    d["verdict"] = v.verdict;
     d["buzz_fraction"] = v.buzz_fraction;
+    d["buzz_fraction_low"] = number(v.buzz_fraction_low);
+    d["buzz_fraction_high"] = number(v.buzz_fraction_high);
     d["buzz_dB"] = number(v.buzz_db);
     d["buzz_fret"] = fret_value(v.buzz_fret);
     d["touch_fraction"] = v.touch_fraction;
     d["plucks"] = v.plucks;
+    // inf: clean at every size searched, up to kCleanUpToCap times the attack
+    d["clean_up_to"] = std::isnan(v.clean_up_to) ? py::object(py::none()) : py::object(py::float_(v.clean_up_to));
+    d["clean_up_to_value"] =
+        std::isnan(v.clean_up_to_value) ? py::object(py::none()) : py::object(py::float_(v.clean_up_to_value));
+    d["unit"] = v.unit;
+    d["stiffness_sensitive"] = v.stiffness_sensitive;
     d["status"] = v.status;
     d["clearance_mm"] = number(v.clearance_m * 1e3);
     py::list plucks;
@@ -60,24 +63,45 @@ py::dict verdict_dict(const NoteVerdict& v) {
     return d;
 }
 
-NoteVerdict verdict_from(py::handle row) {
+NoteVerdict verdict_from(py::handle row, std::size_t index) {
+    const std::string at = "map row " + std::to_string(index);
+    if (!py::isinstance<py::dict>(row)) throw py::type_error(at + ": expected a dict (a map's row), got " + type_name(row));
     const py::dict d = py::reinterpret_borrow<py::dict>(row);
+    const auto field = [&](const char* key) -> py::handle {
+        if (!d.contains(key)) throw InputError(at + ": no " + key);
+        return d[key];
+    };
+    const auto fraction = [&](const char* key) {
+        const double v = to_number(field(key), at + ": " + key);
+        if (!(v >= 0.0 && v <= 1.0)) throw InputError(out_of_range_message(at + ": " + key, v, "must be in [0, 1]"));
+        return v;
+    };
+    constexpr long long kMost = 1 << 20;
     NoteVerdict v;
-    v.string_name = d["string"].cast<std::string>();
-    v.fret = d["fret"].cast<std::size_t>();
-    v.strength = d["strength"].cast<std::string>();
-    v.buzz_fraction = d["buzz_fraction"].cast<double>();
-    v.buzz_db = d["buzz_dB"].is_none() ? NoteVerdict::nan : d["buzz_dB"].cast<double>();
-    v.buzz_fret = fret_from(d["buzz_fret"]);
-    v.touch_fraction = d.contains("touch_fraction") ? d["touch_fraction"].cast<double>() : 0.0;
-    v.plucks = d.contains("plucks") ? d["plucks"].cast<std::size_t>() : 0;
-    v.status = d.contains("status") ? d["status"].cast<std::string>() : "ok";
+    v.string_name = to_text(field("string"), at + ": string");
+    v.fret = static_cast<std::size_t>(to_whole(field("fret"), at + ": fret", 0, kMost));
+    v.strength = to_text(field("strength"), at + ": strength");
+    v.verdict = d.contains("verdict") ? to_text(d["verdict"], at + ": verdict") : "";
+    v.buzz_fraction = fraction("buzz_fraction");
+    if (d.contains("clean_up_to") && !d["clean_up_to"].is_none())
+        v.clean_up_to = to_number(d["clean_up_to"], at + ": clean_up_to");
+    v.buzz_db = field("buzz_dB").is_none() ? NoteVerdict::nan : to_number(d["buzz_dB"], at + ": buzz_dB");
+    const py::handle buzz_fret = field("buzz_fret");
+    if (buzz_fret.is_none())
+        v.buzz_fret = kNoFret;
+    else if (py::isinstance<py::str>(buzz_fret) && buzz_fret.cast<std::string>() == "board")
+        v.buzz_fret = kBoard;
+    else
+        v.buzz_fret = static_cast<int>(to_whole(buzz_fret, at + ": buzz_fret (or \"board\", or None)", 0, kMost));
+    v.touch_fraction = d.contains("touch_fraction") ? fraction("touch_fraction") : 0.0;
+    v.plucks = d.contains("plucks") ? static_cast<std::size_t>(to_whole(d["plucks"], at + ": plucks", 0, kMost)) : 0;
+    v.status = d.contains("status") ? to_text(d["status"], at + ": status") : "ok";
     return v;
 }
 
 std::vector<NoteVerdict> verdicts_from(const py::iterable& rows) {
     std::vector<NoteVerdict> out;
-    for (py::handle row : rows) out.push_back(verdict_from(row));
+    for (py::handle row : rows) out.push_back(verdict_from(row, out.size()));
     return out;
 }
 
@@ -97,7 +121,7 @@ auto with_python_names(F&& f) {
         for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
                  {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
                  {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
-                 {"--strength", "strengths"}})
+                 {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}})
             for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
                 message.replace(at, from.size(), to);
         throw InputError(message);
@@ -106,8 +130,18 @@ auto with_python_names(F&& f) {
 
 // The what-ifs as Python gives them; InputError messages name the Python argument.
 Instrument changed(const Instrument& instrument, const py::object& relief, const py::dict& action12,
-                   const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets) {
+                   const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets, const py::dict& tune,
+                   const py::object& string_set) {
     SetupChange change;
+    if (!string_set.is_none()) change.string_set = to_text(string_set, "string_set");
+    for (const auto& [key, value] : tune) {
+        const std::string string = to_text(key, "tune (a string's name)");
+        instrument.string_index(string);
+        const std::string name = "tune['" + string + "']";
+        change.pitch_hz.emplace_back(string, py::isinstance<py::str>(value)
+                                                 ? parse_quantity_or(value.cast<std::string>(), Quantity::frequency, "Hz", name)
+                                                 : to_number(value, name));
+    }
     if (!relief.is_none()) change.relief_m = millimetres(relief, "relief");
     const auto ends = [&](const py::dict& given, const std::string& name,
                           std::vector<std::pair<std::string, double>>& into) {
@@ -122,7 +156,8 @@ Instrument changed(const Instrument& instrument, const py::object& relief, const
     ends(saddle, "saddle", change.saddle_m);
     for (const auto& [key, value] : fret_offsets) {
         FretChange f;
-        f.fret = key.cast<std::size_t>();
+        // Out of range, the library's message names the frets there are.
+        f.fret = static_cast<std::size_t>(to_whole(key, "fret_offsets (a key: a fret's number)", 0, 1 << 20));
         const std::string name = "fret_offsets[" + std::to_string(f.fret) + "]";
         if (!(py::isinstance<py::str>(value) && value.cast<std::string>() == "level")) f.by_m = millimetres(value, name);
         change.frets.push_back(f);
@@ -170,10 +205,13 @@ py::dict settings(const Instrument& i) {
     d["grid_step_m"] = i.bench.grid_step_m;
     d["output_rate_hz"] = i.bench.output_rate_hz;
     d["observe_from_bridge_m"] = i.bench.observe_from_bridge_m;
-    d["buzz_band_hz"] = i.bench.buzz_band_hz;
+    d["listening_level_dB_SPL"] = i.bench.listening_level_db_spl;
     d["audible_dB"] = i.bench.audible_db;
+    d["fret_friction"] = i.bench.fret_friction;
+    d["attack_style"] = i.attack.style;
     d["ensemble"] = i.attack.ensemble;
     d["position_spread_m"] = i.attack.position_spread_m;
+    d["angle_spread_deg"] = i.attack.angle_spread_deg;
     d["strength_spread"] = i.attack.strength_spread;
     d["seed"] = i.attack.seed;
     d["stopped_modes"] = i.bench.pinned_stops ? "pinned" : "held";
@@ -184,17 +222,15 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
                          const py::object& duration) {
     Instrument i = instrument;
     if (!ensemble.is_none()) {
-        const long n = ensemble.cast<long>();
-        if (n < 1 || n > 64) throw InputError(out_of_range_message("ensemble", static_cast<double>(n), "must be in [1, 64]"));
-        i.attack.ensemble = static_cast<std::size_t>(n);
+        i.attack.ensemble = static_cast<std::size_t>(to_whole(ensemble, "ensemble (the most plucks per note)", 1, 200));
     }
     if (!fs.is_none()) {
-        const double v = to_number(fs, "fs");
+        const double v = to_number(fs, "fs (Hz, in [50000, 2e7])");
         if (!(v >= 5e4 && v <= 2e7)) throw InputError(out_of_range_message("fs (Hz)", v, "must be in [50000, 2e7]"));
         i.bench.sample_rate_hz = v;
     }
     if (!duration.is_none()) {
-        const double v = to_number(duration, "duration");
+        const double v = to_number(duration, "duration (s, in [0.01, 5])");
         if (!(v >= 0.01 && v <= 5.0)) throw InputError(out_of_range_message("duration (s)", v, "must be in [0.01, 5]"));
         i.bench.duration_s = v;
     }
@@ -241,11 +277,7 @@ py::dict record(const Instrument& instrument, const std::string& string, std::si
     const std::size_t s = instrument.string_index(string);
     const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
-    PluckOutcome o;
-    {
-        py::gil_scoped_release unlocked;
-        o = record_pluck(instrument, s, fret, attacks.front(), member, finger);
-    }
+    const PluckOutcome o = without_gil([&] { return record_pluck(instrument, s, fret, attacks.front(), member, finger); });
     if (!o.error.empty()) throw InputError(string + " fret " + std::to_string(fret) + " " + strength + ": " + o.error);
     py::dict d;
     d["touched"] = o.touched;
@@ -281,8 +313,7 @@ std::string advice(const Instrument& instrument, const py::iterable& map, const 
     for (const std::string& s : strings) request.strings.push_back(instrument.string_index(s));
     std::vector<NoteVerdict> verdicts = verdicts_from(map);
     for (NoteVerdict& v : verdicts) v.string = instrument.string_index(v.string_name);
-    py::gil_scoped_release unlocked;
-    return advice_json(advise(instrument, verdicts, request));
+    return without_gil([&] { return advice_json(advise(instrument, verdicts, request)); });
 }
 
 }  // namespace
@@ -302,6 +333,7 @@ void bind_setup(py::module_& m) {
                                "the strings' names, in the file's order")
         .def_property_readonly("frets", [](const Instrument& i) { return i.neck.fret_count; })
         .def_property_readonly("settings", &settings, "how finely notes are simulated and how buzz is judged")
+        .def_readonly("warnings", &Instrument::warnings, "what reading it found doubtful (e.g. a mass implausible for a gauge)")
         .def("geometry", &geometry,
              "The neck under each string: a list of dicts (see fretbuzz.Bench.geometry). InputError if a string "
              "would lie on a fret.")
@@ -309,7 +341,9 @@ void bind_setup(py::module_& m) {
              py::arg("duration") = py::none(), "A copy with these simulation settings (InputError if out of range).")
         .def("with_changes", &changed, py::arg("relief") = py::none(), py::arg("action12") = py::dict(),
              py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
-             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}).")
+             py::arg("tune") = py::dict(), py::arg("string_set") = py::none(),
+             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}; tune {string: "
+             "note or Hz}; string_set: a named set's strings at the same pitches).")
         .def(py::pickle([](const Instrument& i) { return py::make_tuple(i.source_text, i.name); },
                         [](const py::tuple& t) {
                             return parse_instrument(t[0].cast<std::string>(), t[1].cast<std::string>(), DataSource::builtin());

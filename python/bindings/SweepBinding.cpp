@@ -137,8 +137,7 @@ void bind_sweep(py::module_& m) {
         .def(
             "run_row",
             [](const PySweepSpec& s, std::size_t index, const std::string& audio_dir) {
-                py::gil_scoped_release unlocked;
-                return row_to_json(run_sweep_point(s.spec, index, audio_dir));
+                return without_gil([&] { return row_to_json(run_sweep_point(s.spec, index, audio_dir)); });
             },
             py::arg("index"), py::arg("audio_dir") = "",
             "Runs one run (and its obstacle-free reference); its row as one line of JSON.")

@@ -17,10 +17,15 @@ instrument file's key) and its allowed range, before anything runs. Lengths are 
 strings with a unit: "0.3 mm", "5/64 in"), frequencies in Hz, times in s.
 
 Tables (pandas DataFrames):
-- map: one row per note and attack: string, fret (0 = open), strength, buzz_fraction (the
-  share of the note's plucks that buzz audibly), buzz_dB (their median buzz level; NaN when
-  most touch nothing), buzz_fret (the fret they buzz against; "board" for the board or body;
-  None), touch_fraction, plucks, status ("ok", "frets out", "not played: ...", "failed: ..."),
+- map: one row per note and attack: string, fret (0 = open), strength, verdict ("clean",
+  "marginal", "buzzes"; "" when not played), buzz_fraction (the share of the note's plucks
+  heard to buzz) with its 90 % interval buzz_fraction_low and buzz_fraction_high, buzz_dB
+  (their median level above the masked threshold, 0 dB: just heard; NaN when most touch
+  nothing), buzz_fret (the fret they buzz against; "board" for the board or body; None),
+  touch_fraction, plucks, clean_up_to (how much harder than the attack the note stays clean,
+  a multiple of it; inf: at least 3 times), clean_up_to_value and its unit ("mm" or "m/s"),
+  stiffness_sensitive ("" unless asked; "no", or the stiffness factors 0.5 and 1.5 that
+  change the verdict), status ("ok", "frets out", "not played: ...", "failed: ..."),
   clearance_mm (the smallest gap between the note's string at rest and a fret past the stop),
   pluck_dB (each pluck's level), audio (the WAV's name when the map wrote WAVs).
 - geometry: one row per string and fret (frets 0 .. N, 0 being the nut end of the fret line):
@@ -55,8 +60,10 @@ def _names(values: Union[str, Iterable[str], None]) -> List[str]:
 def _frets(values: Union[int, Iterable[int], None]) -> List[int]:
     if values is None:
         return []
-    if isinstance(values, int):
-        return [values]
+    if isinstance(values, int) and not isinstance(values, bool):
+        values = [values]
+    elif isinstance(values, (str, bytes, bool)) or not hasattr(values, "__iter__"):
+        raise InputError(f"frets: {values!r} is not a fret or a list of frets (whole numbers, 0 for the open string)")
     frets = []
     for v in values:
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
@@ -86,7 +93,7 @@ def _records(table) -> List[dict]:
     """A map's rows as the library reads them (a DataFrame's NaN as None, its float frets as int)."""
     records = table.to_dict("records") if hasattr(table, "to_dict") else [dict(r) for r in table]
     for r in records:
-        for key in ("buzz_dB", "buzz_fret"):
+        for key in ("buzz_dB", "buzz_fret", "clean_up_to"):
             value = r.get(key)
             if isinstance(value, float) and value != value:
                 r[key] = None
@@ -95,8 +102,9 @@ def _records(table) -> List[dict]:
     return records
 
 
-MAP_COLUMNS = ("string", "fret", "strength", "buzz_fraction", "buzz_dB", "buzz_fret", "touch_fraction", "plucks",
-               "status", "clearance_mm", "pluck_dB", "audio")
+MAP_COLUMNS = ("string", "fret", "strength", "verdict", "buzz_fraction", "buzz_fraction_low", "buzz_fraction_high",
+               "buzz_dB", "buzz_fret", "touch_fraction", "plucks", "clean_up_to", "clean_up_to_value", "unit",
+               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio")
 
 
 class Bench:
@@ -270,31 +278,39 @@ class Bench:
 
     def with_changes(self, *, relief: Optional[Millimetres] = None, action12: Optional[Dict[str, Millimetres]] = None,
                      nut: Optional[Dict[str, Millimetres]] = None, saddle: Optional[Dict[str, Millimetres]] = None,
-                     fret_offsets: Optional[Dict[int, Union[Millimetres, str]]] = None) -> "Bench":
+                     fret_offsets: Optional[Dict[int, Union[Millimetres, str]]] = None,
+                     tune: Optional[Dict[str, Union[float, str]]] = None, string_set: Optional[str] = None) -> "Bench":
         """A new Bench after set-up changes, each leaving the rest where it physically is:
         relief (the truss rod set for this relief gap, mm, nut and saddles staying put);
         action12 {string: mm} (the saddle set for this gap over fret 12); nut {string: mm} (the
         slot filed for this gap over fret 1); saddle {string: mm} (its height above the fret
         plane); fret_offsets {k: mm} (fret k raised, or lowered if negative, by that much) or
-        {k: "level"} (dressed down to its neighbours). InputError names the argument."""
+        {k: "level"} (dressed down to its neighbours); tune {string: note or Hz} (retuned, e.g.
+        {"E": "D2"} for drop D) and string_set (a named set's strings at the same pitches): the
+        neck bows with the strings' pull, the truss rod left as it was. InputError names the
+        argument."""
+        # A relief of 0 is a change too; an empty {} is none.
         changes = {k: v for k, v in (("relief", relief), ("action12", action12), ("nut", nut), ("saddle", saddle),
-                                     ("fret_offsets", fret_offsets)) if v}
+                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set))
+                   if v is not None and not (isinstance(v, (dict, str)) and not v)}
         instrument = self.instrument.with_changes(relief=relief, action12=action12 or {}, nut=nut or {},
-                                                  saddle=saddle or {}, fret_offsets=fret_offsets or {})
+                                                  saddle=saddle or {}, fret_offsets=fret_offsets or {}, tune=tune or {},
+                                                  string_set=string_set)
         return self._copy(instrument, changes)
 
     @staticmethod
     def compare(now, before):
         """How each note of map `now` changed from map `before` (DataFrames from map(), or
-        read from two buzz_map.csv files): the map's columns and change ("worse": more of its
-        plucks buzz, or as many 3 dB louder; "better"; "moved": as many, against another fret;
+        read from two buzz_map.csv files): the map's columns and change ("worse": a worse
+        verdict, more of its plucks buzz, a clean_up_to 10 % lower, or as many 3 dB louder;
+        "better"; "moved": as many, against another fret;
         "same"; "new": not in `before`), buzz_fraction_before, buzz_dB_before, buzz_fret_before."""
         out = _core._setup_compare(_records(now), _records(before))
         return _frame(out, MAP_COLUMNS + ("change", "buzz_fraction_before", "buzz_dB_before", "buzz_fret_before"))
 
     def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None) -> dict:
         """The bench's searches (docs/setup.md): 'lowest_action' (per string, the lowest gap over
-        fret 12 on a 0.05 mm grid at which no pluck of any note buzzes, and what the step
+        fret 12 on a 0.05 mm grid at which every note is clean, and what the step
         below does), 'proud_frets' (frets whose lowering by at most 0.1 mm clears the notes
         buzzing on them), 'relief' (the relief range over which the map is clean). strength:
         the attack (default the strongest of the Bench's); map: this Bench's map at that

@@ -18,24 +18,51 @@ import os
 import sys
 from typing import Dict, List, Optional
 
-__all__ = ["render", "side_view", "note_colour", "main"]
+__all__ = ["render", "side_view", "note_colour", "clean_up_to_text", "main"]
 
-# A note is drawn green when none of its plucks buzzes audibly, red when all do.
-_GREEN, _RED = (46, 160, 67), (208, 52, 44)
+# Viridis (matplotlib's perceptually uniform map, readable by colour-blind eyes and in grey):
+# the colour of a cell is how much harder than the attack the note can be played and stay
+# clean, from a quarter of it (dark) to three times it or more (yellow).
+_VIRIDIS = ((68, 1, 84), (59, 82, 139), (33, 145, 140), (94, 201, 98), (253, 231, 37))
+_LOWEST_UP_TO, _HIGHEST_UP_TO = 0.25, 3.0
+
+
+def _viridis(t: float) -> str:
+    t = min(max(t, 0.0), 1.0) * (len(_VIRIDIS) - 1)
+    k = min(int(t), len(_VIRIDIS) - 2)
+    f = t - k
+    r, g, b = (round(a + (c - a) * f) for a, c in zip(_VIRIDIS[k], _VIRIDIS[k + 1]))
+    return f"rgb({r}, {g}, {b})"
+
+
+def clean_up_to_text(note: dict) -> str:
+    """How much harder than the attack the note stays clean: "1.4x", "3x+" (at least), "0" when
+    it frets out, "" when unknown."""
+    if note["status"] == "frets out":
+        return "0"
+    up_to = note.get("clean_up_to")
+    if up_to is None or (isinstance(up_to, float) and math.isnan(up_to)):
+        return ""
+    if note.get("clean_up_to_at_least") or (isinstance(up_to, float) and math.isinf(up_to)):
+        return f"{_HIGHEST_UP_TO:g}x+"
+    return f"{up_to:.2g}x" if up_to < 1 else f"{up_to:.1f}x"
 
 
 def note_colour(note: dict) -> str:
-    """The colour of a note's cell: grey when it was not played, green to red with the share
-    of its plucks that buzz audibly (pale green when nothing was even touched)."""
+    """The colour of a note's cell: grey when it was not played, dark purple when it frets out,
+    else viridis by clean_up_to (log scale: a quarter of the attack dark, three times it yellow);
+    a note judged without clean_up_to by its verdict."""
     if note["status"] == "frets out":
-        return "rgb(120, 20, 20)"
+        return "rgb(40, 0, 50)"
     if note["status"] != "ok":
         return "rgb(170, 170, 170)"
-    if note["touch_fraction"] == 0:
-        return "rgb(196, 232, 196)"
-    f = float(note["buzz_fraction"])
-    r, g, b = (round(a + (c - a) * f) for a, c in zip(_GREEN, _RED))
-    return f"rgb({r}, {g}, {b})"
+    up_to = note.get("clean_up_to")
+    if up_to is None or (isinstance(up_to, float) and math.isnan(up_to)):
+        up_to = {"clean": _HIGHEST_UP_TO, "marginal": 1.0}.get(note.get("verdict"), _LOWEST_UP_TO)
+    if note.get("clean_up_to_at_least"):
+        up_to = _HIGHEST_UP_TO
+    t = math.log(max(float(up_to), _LOWEST_UP_TO) / _LOWEST_UP_TO) / math.log(_HIGHEST_UP_TO / _LOWEST_UP_TO)
+    return _viridis(t)
 
 
 def side_view(strings: List[dict], width: float = 900.0, height: float = 150.0) -> List[dict]:
@@ -84,15 +111,17 @@ def _cells(doc: dict, notes: List[dict], changes: Dict[tuple, str]) -> List[dict
                 if n is None:
                     cells.append(None)
                     continue
-                level = "" if n["buzz_dB"] is None else f"{n['buzz_dB']:.1f} dB"
+                level = "" if n["buzz_dB"] is None else f"{n['buzz_dB']:+.0f} dB over the masked threshold"
+                up_to = clean_up_to_text(n)
                 title = (f"{s['name']} fret {k}, {attack}: {n['status']}" if n["status"] != "ok" else
-                         f"{s['name']} fret {k}, {attack}: {round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']} plucks "
-                         f"buzz audibly" + (f", median {level}" if level else "") +
+                         f"{s['name']} fret {k}, {attack}: {n['verdict']}, {round(n['buzz_fraction'] * n['plucks'])}/"
+                         f"{n['plucks']} plucks buzz" + (f", median {level}" if level else "") +
                          (f", against fret {n['buzz_fret']}" if n["buzz_fret"] not in (None, "") else "") +
+                         (f"; clean up to {up_to} this attack" if up_to else "") +
                          (f", clearance {n['clearance_mm']:.2f} mm" if n["clearance_mm"] is not None else ""))
                 change = changes.get((s["name"], k, attack), "")
                 cells.append({"colour": note_colour(n), "title": title + (f" ({change})" if change else ""),
-                              "mark": "" if n["buzz_fret"] in (None, "") else n["buzz_fret"], "audio": n["audio"],
+                              "mark": up_to + ("?" if n.get("verdict") == "marginal" else ""), "audio": n["audio"],
                               "change": change})
             rows.append({"string": s["name"], "attack": attack, "cells": cells})
     return rows

@@ -56,7 +56,7 @@ class MapTest(unittest.TestCase):
         seen = []
         table = quick_bench().map(strings="G", frets=[18, 19, 20], strengths="soft,hard",
                                   progress=lambda note, done, total: seen.append((note["fret"], done, total)))
-        self.assertEqual(list(table.columns[:6]), ["string", "fret", "strength", "buzz_fraction", "buzz_dB", "buzz_fret"])
+        self.assertEqual(list(table.columns[:5]), ["string", "fret", "strength", "verdict", "buzz_fraction"])
         self.assertEqual(len(table), 6)
         self.assertEqual([d for _, d, _ in seen], list(range(1, 7)))
         self.assertEqual({t for _, _, t in seen}, {6})

@@ -153,7 +153,7 @@ class StudioInTheBrowserTest(unittest.TestCase):
             self.assertRegex(cell["text"], "[\u25b2\u25bc\u2194]")  # the change in text, not only the outline
         counts = re.search(r"Against map 1: (\d+) worse .*, (\d+) better .*, (\d+) against another fret", second.text)
         self.assertEqual(sum(int(c) for c in counts.groups()), len(changed))
-        self.assertNotEqual({k: c["kind"] for k, c in now.items()}, {k: c["kind"] for k, c in cells.items()})
+        self.assertNotEqual({k: c["text"] for k, c in now.items()}, {k: c["text"] for k, c in cells.items()})
         before = self.cells("details.before")
         self.assertEqual({k.replace("before-", "note-"): c["kind"] for k, c in before.items()},
                          {k: c["kind"] for k, c in cells.items()})
@@ -163,11 +163,11 @@ class StudioInTheBrowserTest(unittest.TestCase):
         self.shoot(self.css("#map-panel")[0], "what-if")
         self.shoot(self.css("#neck-panel")[0], "neck")
 
-        # A note: its sound and its contacts. The one with the most plucks buzzing.
-        def share(cell):  # "3/5" -> 0.6
-            k, n = re.match(r"(\d+)/(\d+)", cell["text"]).groups()
-            return int(k) / int(n)
-        buzzing = sorted((k for k, c in now.items() if c["kind"] in ("buzz", "some")), key=lambda k: -share(now[k]))
+        # A note: its sound and its contacts. The one that stays clean up to the weakest attack.
+        def up_to(cell):  # "0.45x" -> 0.45, "3x+" -> 3
+            return float(re.search(r"([0-9.]+)x", cell["text"]).group(1))
+        buzzing = sorted((k for k, c in now.items() if c["kind"] in ("buzzes", "marginal") and re.search(r"[0-9.]+x", c["text"])),
+                         key=lambda k: up_to(now[k]))
         self.assertTrue(buzzing)
         self.css(f'[id="{buzzing[0]}"]')[0].click()
         self.wait(lambda d: self.css("#note-now audio"), "the note")

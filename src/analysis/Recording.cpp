@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -258,7 +259,9 @@ Recording decode_recording(std::string_view bytes, const std::string& name, std:
     if (channel < 1 || channel > channels)
         throw InputError("--channel " + std::to_string(channel) + ": must be in 1.." + std::to_string(channels) +
                          " (" + name + " has " + std::to_string(channels) + " channel(s))");
-    const double rate = info.samplerate;
+    // libsndfile reads an AIFF rate past 2^258 (inf among them) as 0x4000000 Hz.
+    const bool huge = (info.format & SF_FORMAT_TYPEMASK) == SF_FORMAT_AIFF && info.samplerate == 0x4000000;
+    const double rate = huge ? HUGE_VAL : info.samplerate;
     if (!(rate >= 1.0 && rate <= limits.max_rate_hz))
         throw InputError(what + ": sample rate " + number_text(rate) + " Hz: must be in [1, " + number_text(limits.max_rate_hz) +
                          "] Hz (resample it, e.g. `sox in.wav -r 96000 out.wav`)");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 
 namespace fretbuzz {
@@ -40,7 +41,7 @@ double NeckRelief::depth_at(double x, double last_fret_m) const {
 }
 
 double Fretboard::fret_position(std::size_t n) const {
-    return scale_length_m * (1.0 - std::exp2(-static_cast<double>(n) / 12.0));
+    return fretbuzz::fret_position(scale_length_m, n);
 }
 
 double Fretboard::fret_line_height(double x) const {

@@ -1,5 +1,7 @@
 #include "fretbuzz/geometry/InitialShape.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -35,6 +37,63 @@ std::vector<double> rounded_triangle_shape(const Grid& grid, double position, do
         if (std::abs(x - position) < 0.5 * width) u[i] = rounded(x);
         u[i] *= scale;
     }
+    return u;
+}
+
+namespace {
+
+// The upper concave hull of points sorted by x (Andrew's monotone chain, upper half).
+std::vector<std::array<double, 2>> upper_hull(const std::vector<std::array<double, 2>>& points) {
+    std::vector<std::array<double, 2>> hull;
+    for (const auto& p : points) {
+        while (hull.size() >= 2) {
+            const auto& a = hull[hull.size() - 2];
+            const auto& b = hull.back();
+            // Drop b when it lies on or below the segment a-p.
+            if ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) >= 0.0)
+                hull.pop_back();
+            else
+                break;
+        }
+        hull.push_back(p);
+    }
+    return hull;
+}
+
+}  // namespace
+
+std::vector<double> taut_over_obstacle(const Grid& grid, std::vector<double> u, const std::vector<double>& obstacle,
+                                       double position, double width) {
+    constexpr double kAbove = 1e-12;  // m: round-off never puts the string into what it rests on
+    const auto side = [&](std::size_t first, std::size_t last, double end_x) {  // grid points [first, last)
+        if (first >= last) return;
+        bool in_the_way = false;
+        for (std::size_t i = first; i < last; ++i) in_the_way |= std::isfinite(obstacle[i]) && u[i] < obstacle[i] + kAbove;
+        if (!in_the_way) return;
+        // The string's end and the corner's edge, and the obstacle's points between them.
+        const std::size_t edge = end_x < grid.x(first) ? last - 1 : first;
+        std::vector<std::array<double, 2>> points{{end_x, 0.0}};
+        for (std::size_t i = first; i < last; ++i)
+            if (std::isfinite(obstacle[i])) points.push_back({grid.x(i), obstacle[i] + kAbove});
+        points.push_back({grid.x(edge), u[edge]});
+        std::sort(points.begin(), points.end());
+        const std::vector<std::array<double, 2>> hull = upper_hull(points);
+        for (std::size_t i = first; i < last; ++i) {
+            const double x = grid.x(i);
+            const auto right = std::lower_bound(hull.begin(), hull.end(), std::array<double, 2>{x, -1e300});
+            if (right == hull.begin() || right == hull.end()) continue;
+            const auto left = right - 1;
+            const double t = ((*right)[0] - (*left)[0]) > 0.0 ? (x - (*left)[0]) / ((*right)[0] - (*left)[0]) : 0.0;
+            u[i] = std::max(u[i], (*left)[1] + t * ((*right)[1] - (*left)[1]));
+        }
+    };
+    std::size_t corner_start = 0, corner_end = grid.points;
+    for (std::size_t i = 0; i < grid.points; ++i) {
+        if (grid.x(i) < position - 0.5 * width) corner_start = i + 1;
+        if (grid.x(i) > position + 0.5 * width && corner_end == grid.points) corner_end = i;
+    }
+    side(0, corner_start, 0.0);
+    side(corner_end, grid.points, grid.length_m);
     return u;
 }
 

@@ -15,10 +15,13 @@
 
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/input/TextFile.hpp"
+#include "fretbuzz/model/SteelWire.hpp"
+#include "fretbuzz/model/TautString.hpp"
 
 namespace fretbuzz {
 
@@ -27,7 +30,6 @@ namespace {
 constexpr std::string_view kInstrumentDir = "instruments/";
 constexpr std::string_view kSuffix = ".toml";
 constexpr std::string_view kSetsFile = "strings/sets.toml";
-constexpr double kSteelYoungModulus = 200e9;  // Pa: the cores of wound strings and plain strings
 constexpr std::size_t kMaxStrings = 12;
 constexpr std::size_t kMaxFrets = 24;  // a stopped string reaches 3 L / 4 at most (stopped_string)
 
@@ -53,6 +55,10 @@ constexpr Range mm(double low, double high, bool low_open = true, bool high_open
     return {low, high, low_open, high_open, "mm", 1e-3};
 }
 
+// A string's gap over a fret and its heights at the ends: the what-ifs' ranges
+// (src/setup/WhatIf.cpp), so that a value a file takes is one a what-if takes.
+constexpr Range string_end_mm(double high) { return mm(0.01, high, false, false); }
+
 class Reader {
 public:
     explicit Reader(const DataSource& data) : data_(data) {}
@@ -74,7 +80,9 @@ public:
         if (const auto* str = n.as_string()) {
             text = str->get();
         } else if (n.is_number()) {
-            const std::string shown = number_text(n.value<double>().value_or(0.0));
+            // As written: an integer past 2^53 has no exact double (toml++ then gives none).
+            const auto* integer = n.as_integer();
+            const std::string shown = integer ? std::to_string(integer->get()) : number_text(n.value<double>().value_or(0.0));
             throw InputError(path + " = " + shown + ": say its unit, e.g. \"" + shown + " " +
                              std::string(range.unit.empty() ? "" : range.unit) + "\" (units: " + unit_names(kind) + ")");
         } else {
@@ -122,9 +130,7 @@ std::vector<double> read_scales(Reader& r, TomlSection& neck) {
     return {r.checked(*n, neck.key_path("scale"), Quantity::length, scale)};
 }
 
-double fret_position(double scale, std::size_t n) { return scale * (1.0 - std::exp2(-static_cast<double>(n) / 12.0)); }
-
-ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double shortest_last_fret) {
+ReliefMeasure read_relief(Reader& r, TomlSection& s, std::size_t frets, double shortest_last_fret) {
     ReliefMeasure relief;
     const bool gap = s.has("gap"), curve = s.has("curve");
     if (gap && curve)
@@ -132,6 +138,9 @@ ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double sh
     if (gap) {
         relief.form = ReliefMeasure::Form::gap;
         relief.gap_m = r.quantity(s, "gap", Quantity::length, mm(-2.0, 2.0, false, false));
+        if (frets < 3)
+            throw InputError(s.key_path("gap") + ": measuring relief needs at least 3 frets (neck.frets = " +
+                             std::to_string(frets) + ")");
         relief.at_fret = s.optional_count("fret", 2, frets - 1).value_or(std::min<std::size_t>(8, frets - 1));
     } else if (curve) {
         relief.form = ReliefMeasure::Form::curve;
@@ -155,6 +164,49 @@ ReliefMeasure read_relief(Reader& r, TomlSection s, std::size_t frets, double sh
     }
     s.finish();
     return relief;
+}
+
+// Reads a table; when that fails while one of its keys is a likely misspelling of a key it
+// looked for in vain ("acton12" for "action12"), the misspelling is what is reported.
+template <class Read>
+auto read_with_key_check(TomlSection& s, Read read) -> decltype(read()) {
+    try {
+        return read();
+    } catch (const InputError&) {
+        s.refuse_misspelt_keys();
+        throw;
+    }
+}
+
+// One radius (a cylindrical board) or two: at the nut and at the last fret (a compound,
+// conical board whose radius grows linearly along the neck).
+void read_radius(TomlSection& s, NeckDescription& neck) {
+    const Range radius = mm(50.0, 5000.0, false, false);
+    const toml::node* n = s.node("radius");
+    if (n == nullptr) return;
+    if (const auto* array = n->as_array()) {
+        if (array->size() != 2)
+            throw InputError(s.key_path("radius") + " must be one radius or two (a compound board: at the nut and at "
+                                                     "the last fret), e.g. [\"10 in\", \"16 in\"]");
+        neck.radius_m = Reader::checked(*array->get(0), s.key_path("radius[0]"), Quantity::length, radius);
+        neck.radius_last_fret_m = Reader::checked(*array->get(1), s.key_path("radius[1]"), Quantity::length, radius);
+        return;
+    }
+    neck.radius_m = Reader::checked(*n, s.key_path("radius"), Quantity::length, radius);
+}
+
+// A capo, and the neck's stiffness under the strings' pull (geometry/NeckBeam.hpp).
+void read_capo_and_beam(Reader& r, TomlSection& s, NeckDescription& neck) {
+    if (s.has("capo")) {
+        if (neck.fret_count < 2)
+            throw InputError(s.key_path("capo") + ": a capo needs a neck of at least 2 frets (a fret to play above it)");
+        neck.capo = s.count("capo", 1, neck.fret_count - 1);
+    }
+    neck.beam.bending_stiffness_n_m2 =
+        r.optional_quantity(s, "stiffness", Quantity::bending_stiffness, {20.0, 20000.0, false, false, "N m^2", 1.0})
+            .value_or(neck.beam.bending_stiffness_n_m2);
+    neck.beam.pull_height_m =
+        r.optional_quantity(s, "pull_height", Quantity::length, mm(0.0, 50.0)).value_or(neck.beam.pull_height_m);
 }
 
 void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& inst, std::vector<double>& scales) {
@@ -186,11 +238,12 @@ void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& 
         }
     }
     if (auto relief = s.optional_section("relief"))
-        neck.relief = read_relief(r, *relief, neck.fret_count, last_fret);
+        neck.relief = read_with_key_check(*relief, [&] { return read_relief(r, *relief, neck.fret_count, last_fret); });
     if (neck.relief.form == ReliefMeasure::Form::gap && neck.fret_count < 3)
         throw InputError(s.key_path("relief.gap") + ": measuring relief needs at least 3 frets");
     neck.truss_rod_bow_m = 0.0;
-    neck.radius_m = r.optional_quantity(s, "radius", Quantity::length, mm(50.0, 5000.0, false, false));
+    read_radius(s, neck);
+    read_capo_and_beam(r, s, neck);
     const auto nut_width = r.optional_quantity(s, "nut_width", Quantity::length, mm(0.0, 120.0, false, false));
     const auto bridge = r.optional_quantity(s, "bridge_spacing", Quantity::length, mm(0.0, 200.0, false, false));
     if (neck.radius_m && string_count > 1 && (!nut_width || !bridge))
@@ -204,6 +257,21 @@ void read_neck(Reader& r, TomlSection& s, std::size_t string_count, Instrument& 
                                            {last_fret * 1e3, shortest * 1e3, false, true, "mm", 1e-3})
                            .value_or(std::min(last_fret + 5e-3, 0.5 * (last_fret + shortest)));
     neck.body_depth_m = r.optional_quantity(s, "body_depth", Quantity::length, mm(0.0, 50.0));
+}
+
+// The name becomes a folder's (the studio's studio-NAME, in the current folder): one path
+// component whatever the file says, plain enough to print in a page or a shell.
+void check_instrument_name(const std::string& name, const std::string& key) {
+    constexpr std::size_t kMaxName = 64;
+    const bool plain = std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
+               c == '.' || c == ' ';
+    });
+    if (!plain || name.empty() || name.size() > kMaxName || name.front() == '.' || name.front() == ' ' ||
+        name.find("..") != std::string::npos)
+        throw InputError(key + " = \"" + name + "\": must be 1 to " + std::to_string(kMaxName) +
+                         " letters (a-z, A-Z), digits, '-', '_', '.' or spaces, not starting with '.' or a space and "
+                         "without \"..\" (it names the studio's folder, studio-NAME)");
 }
 
 std::vector<double> string_scales(const std::vector<double>& scales, std::size_t count) {
@@ -222,14 +290,6 @@ const std::vector<StringSet>& string_sets() {
     return sets;
 }
 
-const StringSet& find_set(const std::string& name, const std::string& key) {
-    const std::vector<StringSet>& sets = string_sets();
-    for (const StringSet& s : sets)
-        if (s.name == name) return s;
-    std::string names;
-    for (const StringSet& s : sets) names += (names.empty() ? "" : ", ") + s.name;
-    throw InputError(key + " = \"" + name + "\": no such string set (known: " + names + ")");
-}
 
 StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
     const bool gap = s.has("nut"), height = s.has("nut_height");
@@ -237,9 +297,9 @@ StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
     if (gap == height)
         throw InputError(gap ? s.key_path("nut") + " and " + s.key_path("nut_height") + " are both given: give one"
                              : s.key_path("nut") + " is missing (required: the gap between the open string and the top "
-                                                   "of fret 1, in (0, 5] mm; or nut_height)");
-    if (gap) return {StringEnd::Form::gap_over_fret, r.quantity(s, "nut", Quantity::length, mm(0.0, 5.0)), 1};
-    return {StringEnd::Form::height, r.quantity(s, "nut_height", Quantity::length, mm(0.0, 10.0)), 0};
+                                                   "of fret 1, in [0.01, 5] mm; or nut_height)");
+    if (gap) return {StringEnd::Form::gap_over_fret, r.quantity(s, "nut", Quantity::length, string_end_mm(5.0)), 1};
+    return {StringEnd::Form::height, r.quantity(s, "nut_height", Quantity::length, string_end_mm(10.0)), 0};
 }
 
 StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool profile) {
@@ -248,18 +308,18 @@ StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool pro
     if (given != 1)
         throw InputError(given == 0 ? s.key_path("action12") +
                                           " is missing (required: the gap between the open string and the top of "
-                                          "fret 12, in (0, 10] mm; or action with action_fret, or saddle_height)"
+                                          "fret 12, in [0.01, 10] mm; or action with action_fret, or saddle_height)"
                                     : s.key_path("action12") + ", action and saddle_height: give one of them");
     if (s.has("saddle_height"))
-        return {StringEnd::Form::height, r.quantity(s, "saddle_height", Quantity::length, mm(0.0, 30.0)), 0};
+        return {StringEnd::Form::height, r.quantity(s, "saddle_height", Quantity::length, string_end_mm(30.0)), 0};
     if (s.has("action12")) {
         if (frets < 12)
             throw InputError(s.key_path("action12") + ": the neck has " + std::to_string(frets) +
                              " frets; give action with action_fret in [2, " + std::to_string(frets) + "]");
-        return {StringEnd::Form::gap_over_fret, r.quantity(s, "action12", Quantity::length, mm(0.0, 10.0)), 12};
+        return {StringEnd::Form::gap_over_fret, r.quantity(s, "action12", Quantity::length, string_end_mm(10.0)), 12};
     }
     const std::size_t fret = s.count("action_fret", 2, frets);
-    return {StringEnd::Form::gap_over_fret, r.quantity(s, "action", Quantity::length, mm(0.0, 10.0)), fret};
+    return {StringEnd::Form::gap_over_fret, r.quantity(s, "action", Quantity::length, string_end_mm(10.0)), fret};
 }
 
 // The string's mass and tension from two of pitch, tension and mu (or the set's unit weight).
@@ -274,21 +334,24 @@ void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::s
     std::optional<double> set_mu;
     if (set != nullptr) {
         const StringSetEntry& e = set->strings[index];
-        set_mu = e.tension_n / std::pow(2.0 * set->scale_length_m * e.frequency_hz, 2);
+        set_mu = e.linear_density;
     }
     const int given = int(f.has_value()) + int(t.has_value()) + int(mu.has_value());
     if (given == 3)
         throw InputError(s.key_path("pitch") + ", tension and mu over-determine the string (f = sqrt(T / mu) / 2L): "
                                                "give two of them, or the pitch with a string set");
     if (given == 2) {
-        str.tension_n = t ? *t : *mu * std::pow(2.0 * length * *f, 2);
-        str.linear_density = mu ? *mu : *t / std::pow(2.0 * length * *f, 2);
-        str.frequency_hz = f ? *f : std::sqrt(*t / *mu) / (2.0 * length);
+        const TautString taut = !f   ? TautString{length, *t, *mu}
+                                : t ? TautString::tuned_with_tension(length, *t, *f)
+                                    : TautString::tuned_with_mass(length, *mu, *f);
+        str.tension_n = taut.tension_n;
+        str.linear_density = taut.linear_density;
+        str.frequency_hz = f ? *f : taut.fundamental_hz();
         str.tension_source = t ? "given" : "from the pitch and mu";
     } else if (f && set_mu) {
         str.frequency_hz = *f;
         str.linear_density = *set_mu;
-        str.tension_n = *set_mu * std::pow(2.0 * length * *f, 2);
+        str.tension_n = TautString::tuned_with_mass(length, *set_mu, *f).tension_n;
         str.tension_source = "string set " + set->name + " (" + set->source + ")";
     } else {
         throw InputError(s.key_path(f ? "tension" : "pitch") +
@@ -305,28 +368,32 @@ void read_string_physics(Reader& r, TomlSection& s, const StringSet* set, std::s
                          " g/m, out of range: must be in " + density.text());
 }
 
-void read_stiffness(Reader& r, TomlSection& s, InstrumentString& str) {
+void read_stiffness(Reader& r, TomlSection& s, const StringSetEntry* from_set, InstrumentString& str) {
     const int given = int(s.has("B")) + int(s.has("bending_stiffness")) + int(s.has("core"));
+    if (given == 0 && from_set != nullptr) {
+        str.bending_stiffness = SteelWire{from_set->core_m}.bending_stiffness();  // the set's core
+        return;
+    }
     if (given != 1)
-        throw InputError(s.key_path("core") + (given == 0 ? " is missing (required: the steel core's diameter, or B, or "
-                                                            "bending_stiffness)"
+        throw InputError(s.key_path("core") + (given == 0 ? " is missing (required without a string set: the steel "
+                                                            "core's diameter, or B, or bending_stiffness)"
                                                           : ", B and bending_stiffness: give one of them"));
     const double l = str.scale_length_m;
     if (s.has("B")) {
         const double b = Reader::number_in(s, "B", {0.0, 0.01, false, false, "", 1.0});
-        str.bending_stiffness = b * str.tension_n * l * l / (std::numbers::pi * std::numbers::pi);
+        str.bending_stiffness = TautString{l, str.tension_n, str.linear_density}.bending_stiffness_for(b);
     } else if (s.has("bending_stiffness")) {
         str.bending_stiffness =
             r.quantity(s, "bending_stiffness", Quantity::bending_stiffness, {0.0, 1.0, false, false, "N m^2", 1.0});
     } else {
-        const double d = r.quantity(s, "core", Quantity::length, mm(0.0, 3.0));
+        const double d = r.quantity(s, "core", Quantity::length, mm(0.0, 5.0));
         if (str.gauge_m > 0.0 && d > str.gauge_m)
             throw InputError(s.key_path("core") + " is thicker than " + s.key_path("gauge"));
-        str.bending_stiffness = kSteelYoungModulus * std::numbers::pi * d * d * d * d / 64.0;
+        str.bending_stiffness = SteelWire{d}.bending_stiffness();
     }
 }
 
-InstrumentString read_string(Reader& r, TomlSection s, std::size_t index, double scale, const StringSet* set,
+InstrumentString read_string(Reader& r, TomlSection& s, std::size_t index, double scale, const StringSet* set,
                              std::size_t frets) {
     InstrumentString str;
     str.name = s.text("name");
@@ -335,10 +402,10 @@ InstrumentString read_string(Reader& r, TomlSection s, std::size_t index, double
         throw InputError(s.key_path("name") + " = \"" + str.name +
                          "\": give 1 to 16 letters or digits (e.g. \"E\", \"A\", \"e\")");
     str.scale_length_m = scale;
-    str.gauge_m = r.optional_quantity(s, "gauge", Quantity::length, mm(0.0, 3.0)).value_or(0.0);
+    str.gauge_m = r.optional_quantity(s, "gauge", Quantity::length, mm(0.0, 5.0)).value_or(0.0);
     if (str.gauge_m == 0.0 && set != nullptr) str.gauge_m = set->strings[index].gauge_m;
     read_string_physics(r, s, set, index, str);
-    read_stiffness(r, s, str);
+    read_stiffness(r, s, set != nullptr ? &set->strings[index] : nullptr, str);
     str.nut = read_nut(r, s, s.has("profile"));
     str.bridge = read_bridge_end(r, s, frets, s.has("profile"));
     if (s.has("profile")) {
@@ -393,31 +460,85 @@ void read_scan(Reader& r, TomlSection& neck, Instrument& inst) {
                              std::to_string(inst.neck.fret_count) + " frets: a scan gives every fret of a string");
 }
 
+// The attack keys given in `s`, over what `a` holds (the style's defaults). With `every`, each
+// key must be there (a style's defaults file).
+void read_attack_keys(Reader& r, TomlSection& s, double shortest, AttackSettings& a, bool every) {
+    const Range where = mm(0.0, 0.5 * shortest * 1e3, true, true);
+    const Range pad = mm(0.0, 50.0);
+    const Range amplitude = mm(0.0, 10.0);
+    const Range degrees = {0.0, 90.0, false, false, "degrees", 1.0};
+    const auto length = [&](std::string_view key, const Range& range, double& value) {
+        if (every || s.has(key)) value = r.quantity(s, key, Quantity::length, range);
+    };
+    const auto number = [&](std::string_view key, const Range& range, double& value) {
+        if (every || s.has(key)) value = Reader::number_in(s, key, range);
+    };
+    length("position", where, a.finger.from_bridge_m);
+    length("finger_width", pad, a.finger.width_m);
+    number("angle", degrees, a.finger.angle_deg);
+    length("soft", amplitude, a.soft_m);
+    length("medium", amplitude, a.medium_m);
+    length("hard", amplitude, a.hard_m);
+    length("position_spread", mm(0.0, 50.0, false, false), a.position_spread_m);
+    number("angle_spread", {0.0, 45.0, false, false, "degrees", 1.0}, a.angle_spread_deg);
+    number("strength_spread", {0.0, 0.9, false, false, "", 1.0}, a.strength_spread);
+    length("pop", amplitude, a.pop_m);
+    length("pop_position", where, a.pop.from_bridge_m);
+    length("pop_width", pad, a.pop.width_m);
+    if (every || s.has("slap"))
+        a.slap_m_per_s = r.quantity(s, "slap", Quantity::velocity, {0.0, 10.0, true, false, "m/s", 1.0});
+    length("slap_position", where, a.slap.from_bridge_m);
+    length("slap_width", pad, a.slap.width_m);
+    if (every || s.has("thumb_mass"))
+        a.thumb_mass_kg = r.quantity(s, "thumb_mass", Quantity::mass, {0.0, 200.0, true, false, "g", 1e-3});
+    number("thumb_stiffness", {0.0, 1e8, true, false, "N/m", 1.0}, a.thumb_stiffness);
+    number("thumb_loss", {0.0, 1000.0, false, false, "s/m", 1.0}, a.thumb_loss);
+    length("pick", amplitude, a.pick_m);
+    length("pick_position", where, a.pick.from_bridge_m);
+    length("pick_width", pad, a.pick.width_m);
+    number("pick_angle", degrees, a.pick.angle_deg);
+    if (const auto n = s.optional_count("ensemble", 1, 200)) a.ensemble = *n;
+    if (const auto seed = s.optional_count("seed", 0, std::size_t{1} << 52)) a.seed = *seed;
+    if (!(a.soft_m < a.medium_m && a.medium_m < a.hard_m))
+        throw InputError(s.key_path("medium") + ": the finger plucks must grow: soft (" + number_text(a.soft_m * 1e3) +
+                         " mm) < medium (" + number_text(a.medium_m * 1e3) + " mm) < hard (" +
+                         number_text(a.hard_m * 1e3) + " mm)");
+}
+
+// The attacks: the style's defaults (cases/attacks/STYLE.toml: a bass's when the lowest
+// string sounds below 60 Hz or a scale reaches 0.75 m, else a guitar's), then the file's own
+// [attack] keys over them.
 void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
     AttackSettings& a = inst.attack;
-    if (!s) throw InputError("attack is missing (required: [attack] with position, soft, medium and hard)");
-    const Range where = mm(0.0, 0.5 * shortest * 1e3, true, true);
-    a.pluck_from_bridge_m = r.quantity(*s, "position", Quantity::length, where);
-    a.finger_width_m = r.optional_quantity(*s, "finger_width", Quantity::length, mm(0.0, 50.0)).value_or(0.01);
-    a.soft_m = r.quantity(*s, "soft", Quantity::length, mm(0.0, 10.0));
-    a.medium_m = r.quantity(*s, "medium", Quantity::length, mm(0.0, 10.0));
-    a.hard_m = r.quantity(*s, "hard", Quantity::length, mm(0.0, 10.0));
-    if (!(a.soft_m < a.medium_m && a.medium_m < a.hard_m))
-        throw InputError(s->key_path("medium") + ": the finger plucks must grow: soft < medium < hard");
-    a.pop_m = r.optional_quantity(*s, "pop", Quantity::length, mm(0.0, 10.0)).value_or(3e-3);
-    a.pop_from_bridge_m = r.optional_quantity(*s, "pop_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
-    a.pop_width_m = r.optional_quantity(*s, "pop_width", Quantity::length, mm(0.0, 50.0)).value_or(8e-3);
-    a.slap_m_per_s =
-        r.optional_quantity(*s, "slap", Quantity::velocity, {0.0, 10.0, true, false, "m/s", 1.0}).value_or(1.5);
-    a.slap_from_bridge_m = r.optional_quantity(*s, "slap_position", Quantity::length, where).value_or(a.pluck_from_bridge_m);
-    a.slap_width_m = r.optional_quantity(*s, "slap_width", Quantity::length, mm(0.0, 50.0)).value_or(0.015);
-    a.ensemble = s->optional_count("ensemble", 1, 64).value_or(5);
-    a.position_spread_m = r.optional_quantity(*s, "position_spread", Quantity::length, mm(0.0, 50.0, false, false))
-                              .value_or(0.01);
-    a.strength_spread = s->has("strength_spread") ? Reader::number_in(*s, "strength_spread", {0.0, 0.9, false, false, "", 1.0})
-                                                  : 0.15;
-    a.seed = s->optional_count("seed", 0, std::size_t{1} << 52).value_or(1);
-    s->finish();
+    double lowest = inst.strings.front().frequency_hz, longest = 0.0;
+    for (const InstrumentString& string : inst.strings) {
+        lowest = std::min(lowest, string.frequency_hz);
+        longest = std::max(longest, string.scale_length_m);
+    }
+    std::string style = lowest < 60.0 || longest >= 0.75 ? "bass" : "guitar";
+    if (s) {
+        if (auto given = s->optional_text("style")) {
+            if (*given != "bass" && *given != "guitar")
+                throw InputError(s->key_path("style") + " = \"" + *given + "\": must be \"bass\" or \"guitar\" (whose "
+                                 "default attacks, cases/attacks/)");
+            style = *given;
+        }
+    }
+    const std::string file = "attacks/" + style + ".toml";
+    const auto text = find_builtin_file(file);
+    if (!text) throw std::logic_error("the built-in " + file + " is missing");
+    const toml::table defaults = parse_toml_document(*text, file);
+    TomlSection d(defaults, "attack");
+    d.text("style");
+    read_attack_keys(r, d, shortest, a, true);
+    d.finish();
+    a.style = style;
+    a.slap.angle_deg = 90.0;
+    a.pop.angle_deg = -90.0;
+    if (s) {
+        read_attack_keys(r, *s, shortest, a, false);
+        s->finish();
+    }
 }
 
 void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
@@ -437,10 +558,14 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
         throw InputError(t.key_path("output_rate") + " must not exceed " + t.key_path("fs"));
     b.observe_from_bridge_m =
         r.optional_quantity(t, "observe", Quantity::length, mm(0.0, 0.5 * shortest * 1e3, true, true)).value_or(9e-3);
-    b.buzz_band_hz = r.optional_quantity(t, "buzz_band", Quantity::frequency,
-                                         {100.0, 0.5 * b.output_rate_hz, false, true, "Hz", 1.0})
-                         .value_or(2000.0);
-    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-80.0, 20.0, false, false, "dB", 1.0}) : -30.0;
+    if (t.has("buzz_band"))
+        throw InputError(t.key_path("buzz_band") + ": the bench no longer judges buzz by a frequency band; it listens "
+                         "(simulation.listening_level, simulation.audible: docs/setup.md, \"What is heard\")");
+    b.listening_level_db_spl = t.has("listening_level")
+                                   ? Reader::number_in(t, "listening_level", {40.0, 120.0, false, false, "dB SPL", 1.0})
+                                   : 85.0;
+    b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-40.0, 40.0, false, false, "dB", 1.0}) : 0.0;
+    b.fret_friction = t.has("fret_friction") ? Reader::number_in(t, "fret_friction", {0.0, 2.0, false, false, "", 1.0}) : 0.0;
     if (const auto stops = t.optional_text("stopped_modes")) {
         if (*stops != "held" && *stops != "pinned")
             throw InputError(t.key_path("stopped_modes") + " = \"" + *stops +
@@ -467,6 +592,28 @@ void read_physics_tables(Reader& r, TomlSection& top, Instrument& inst) {
     }
 }
 
+// The pull the strings put on the neck as the file tunes them (the relief was measured under
+// it), and a warning for a string whose mass does not fit its gauge (NeckBeam.hpp,
+// SteelWire.hpp).
+void note_string_loads(const std::vector<TomlSection>& tables, Instrument& inst) {
+    double pull = 0.0;
+    for (const InstrumentString& str : inst.strings) pull += str.tension_n;
+    inst.neck.relief_pull_n = pull;
+    for (std::size_t k = 0; k < inst.strings.size(); ++k) {
+        const InstrumentString& str = inst.strings[k];
+        const SteelWire rod{str.gauge_m};
+        if (str.gauge_m <= 0.0 || rod.plausible_fill(str.linear_density)) continue;
+        std::ostringstream w;
+        w.precision(3);
+        w << tables[k].key_path("mu") << ": " << str.name << " weighs " << 1e3 * str.linear_density << " g/m ("
+          << str.tension_source << "), " << rod.fill(str.linear_density) << " times a steel rod of its gauge "
+          << 1e3 * str.gauge_m << " mm (strings weigh " << SteelWire::kPlausibleFillLow << " to "
+          << SteelWire::kPlausibleFillHigh << " times it): at " << str.frequency_hz << " Hz that is a tension of "
+          << str.tension_n << " N; check the unit weight, the tension and the gauge";
+        inst.warnings.push_back(w.str());
+    }
+}
+
 }  // namespace
 
 std::size_t Instrument::string_index(const std::string& wanted) const {
@@ -484,11 +631,12 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     if (top.has("obstacle") || top.has("excitation"))
         throw InputError(source_name + " is a case file (it has [obstacle] or [excitation]), not an instrument file: "
                                        "`fretbuzz setup` takes an instrument (docs/instrument-format.md), e.g. the "
-                                       "built-in jazz-bass, electric-guitar or bass-neck");
+                                       "built-in jazz-bass, electric-guitar, bass-5 or bass-neck");
     Reader r(data);
     Instrument inst;
     inst.source_text = std::string(text);
     inst.name = top.text("name");
+    check_instrument_name(inst.name, top.key_path("name"));
     inst.description = top.optional_text("description").value_or("");
     std::vector<TomlSection> string_tables = top.sections("string");
     if (string_tables.empty() || string_tables.size() > kMaxStrings)
@@ -497,11 +645,11 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
                                               "must be in [1, " + std::to_string(kMaxStrings) + "]"));
     std::vector<double> scales;
     TomlSection neck = top.section("neck");
-    read_neck(r, neck, string_tables.size(), inst, scales);
+    read_with_key_check(neck, [&] { read_neck(r, neck, string_tables.size(), inst, scales); });
     const std::vector<double> scale_of = string_scales(scales, string_tables.size());
     const StringSet* set = nullptr;
     if (auto strings = top.optional_section("strings")) {
-        set = &find_set(strings->text("set"), strings->key_path("set"));
+        set = &builtin_string_set(strings->text("set"), strings->key_path("set"));
         if (set->strings.size() != string_tables.size())
             throw InputError(strings->key_path("set") + " = \"" + set->name + "\" has " +
                              std::to_string(set->strings.size()) + " strings; the instrument has " +
@@ -510,7 +658,8 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     }
     std::set<std::string> names;
     for (std::size_t k = 0; k < string_tables.size(); ++k) {
-        inst.strings.push_back(read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count));
+        inst.strings.push_back(read_with_key_check(
+            string_tables[k], [&] { return read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count); }));
         if (!names.insert(inst.strings.back().name).second)
             throw InputError(string_tables[k].key_path("name") + " = \"" + inst.strings.back().name +
                              "\": another string has that name; names must differ");
@@ -518,11 +667,18 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
     read_scan(r, neck, inst);
     neck.finish();
     const double shortest = *std::min_element(scales.begin(), scales.end());
-    read_attack(r, top.optional_section("attack"), shortest, inst);
-    read_physics_tables(r, top, inst);
-    read_simulation(r, top.optional_section("simulation"), shortest, inst);
-    if (inst.bench.observe_from_bridge_m >= inst.attack.pluck_from_bridge_m - 0.5 * inst.attack.finger_width_m)
-        throw InputError("simulation.observe must lie between the bridge and the plucking finger (attack.position)");
+    read_with_key_check(top, [&] {
+        read_attack(r, top.optional_section("attack"), shortest, inst);
+        read_physics_tables(r, top, inst);
+        read_simulation(r, top.optional_section("simulation"), shortest, inst);
+    });
+    note_string_loads(string_tables, inst);
+    const AttackSettings& a = inst.attack;
+    for (const GestureSettings* g : {&a.finger, &a.pick, &a.pop, &a.slap})
+        if (inst.bench.observe_from_bridge_m >= g->from_bridge_m - 0.5 * g->width_m)
+            throw InputError("simulation.observe (" + number_text(inst.bench.observe_from_bridge_m * 1e3) +
+                             " mm from the bridge) must lie between the bridge and every attack's place (attack.position, "
+                             "pop_position, slap_position, pick_position, less half their widths)");
     top.finish();
     return inst;
 }
@@ -569,6 +725,22 @@ Instrument load_instrument(const std::string& name_or_path) {
 
 std::vector<StringSet> builtin_string_sets() { return string_sets(); }
 
+const StringSet& builtin_string_set(const std::string& name, const std::string& key) {
+    const std::vector<StringSet>& sets = string_sets();
+    for (const StringSet& s : sets)
+        if (s.name == name) return s;
+    std::string names;
+    for (const StringSet& s : sets) names += (names.empty() ? "" : ", ") + s.name;
+    throw InputError(key + " = \"" + name + "\": no such string set (known: " + names + ")");
+}
+
+std::optional<std::string> builtin_instrument_text(std::string_view name) {
+    if (name.find('/') != std::string_view::npos) return std::nullopt;
+    if (auto text = find_builtin_file(std::string(kInstrumentDir) + std::string(name) + std::string(kSuffix)))
+        return std::string(*text);
+    return std::nullopt;
+}
+
 namespace {
 
 std::vector<StringSet> read_string_sets() {
@@ -586,13 +758,21 @@ std::vector<StringSet> read_string_sets() {
         set.source = s.text("source");
         set.scale_length_m = Reader::checked(*s.node("scale"), s.key_path("scale"), Quantity::length,
                                              {0.2, 1.5, false, false, "m", 1.0});
+        set.core_ratio = Reader::number_in(s, "core_ratio", {0.1, 0.9, false, false, "", 1.0});
         for (TomlSection e : s.sections("strings")) {
             StringSetEntry entry;
-            entry.gauge_m = Reader::checked(*e.node("gauge"), e.key_path("gauge"), Quantity::length, mm(0.0, 3.0));
+            entry.gauge_m = Reader::checked(*e.node("gauge"), e.key_path("gauge"), Quantity::length, mm(0.0, 5.0));
             entry.frequency_hz = Reader::checked(*e.node("pitch"), e.key_path("pitch"), Quantity::frequency,
                                                  {20.0, 2000.0, false, false, "Hz", 1.0});
             entry.tension_n = Reader::checked(*e.node("tension"), e.key_path("tension"), Quantity::force,
                                               {1.0, 1500.0, false, false, "N", 1.0});
+            if (const toml::node* uw = e.node("unit_weight"))
+                entry.unit_weight = Reader::checked(*uw, e.key_path("unit_weight"), Quantity::linear_density,
+                                                    {0.01, 100.0, false, false, "g/m", 1e-3});
+            entry.linear_density =
+                TautString::tuned_with_tension(set.scale_length_m, entry.tension_n, entry.frequency_hz).linear_density;
+            entry.plain = e.optional_flag("plain").value_or(false);
+            entry.core_m = entry.plain ? entry.gauge_m : set.core_ratio * entry.gauge_m;
             e.finish();
             set.strings.push_back(entry);
         }

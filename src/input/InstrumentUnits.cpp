@@ -33,6 +33,7 @@ std::span<const Unit> units_of(Quantity kind) {
     static constexpr std::array rate{Unit{"1/s", 1.0}};
     static constexpr std::array diffusivity{Unit{"m^2/s", 1.0}};
     static constexpr std::array time{Unit{"s", 1.0}, Unit{"ms", 1e-3}};
+    static constexpr std::array mass{Unit{"kg", 1.0}, Unit{"g", 1e-3}};
     switch (kind) {
         case Quantity::length: return length;
         case Quantity::force: return force;
@@ -43,6 +44,7 @@ std::span<const Unit> units_of(Quantity kind) {
         case Quantity::rate: return rate;
         case Quantity::diffusivity: return diffusivity;
         case Quantity::time: return time;
+        case Quantity::mass: return mass;
     }
     return {};
 }
@@ -58,17 +60,18 @@ std::optional<double> leading_number(std::string_view& s) {
     return v;
 }
 
-// "2.4", "5/64", "1 3/16" at the start of s (mixed numbers as luthiers write inches).
+// "2.4", "5/64", "4.5/64", "1 3/16" at the start of s (fractions and mixed numbers as
+// luthiers write inches: a half 64th is "4.5/64").
 std::optional<double> leading_value(std::string_view& s) {
     std::string_view rest = s;
     auto a = leading_number(rest);
     if (!a) return std::nullopt;
     double value = *a;
     std::string_view after = trim_blanks(rest);
-    if (!rest.empty() && rest.front() == '/') {  // a fraction a/b
+    if (!rest.empty() && rest.front() == '/') {  // a fraction a/b: b whole
         rest.remove_prefix(1);
         const auto b = leading_number(rest);
-        if (!b || !(*b > 0.0) || *a != std::floor(*a) || *b != std::floor(*b)) return std::nullopt;
+        if (!b || !(*b > 0.0) || *b != std::floor(*b)) return std::nullopt;
         value = *a / *b;
     } else if (*a == std::floor(*a) && *a >= 0.0 && !after.empty() && after.front() >= '0' && after.front() <= '9') {
         // A whole number then a fraction: "1 3/16".
@@ -89,7 +92,7 @@ std::optional<double> leading_value(std::string_view& s) {
 
 std::string example(Quantity kind) {
     switch (kind) {
-        case Quantity::length: return "\"2.4 mm\", \"5/64 in\", \"34 in\"";
+        case Quantity::length: return "\"2.4 mm\", \"0.094 in\", \"5/64 in\", \"4.5/64 in\", \"1 3/16 in\", '5/64\"'";
         case Quantity::force: return "\"191.6 N\" or \"43.1 lb\"";
         case Quantity::frequency: return "\"98 Hz\" or a note such as \"G2\"";
         case Quantity::linear_density: return "\"6.69 g/m\" or \"0.000374 lb/in\"";
@@ -98,6 +101,7 @@ std::string example(Quantity kind) {
         case Quantity::rate: return "\"0.711 1/s\"";
         case Quantity::diffusivity: return "\"2.99e-4 m^2/s\"";
         case Quantity::time: return "\"0.3 s\" or \"300 ms\"";
+        case Quantity::mass: return "\"20 g\"";
     }
     return {};
 }
@@ -123,6 +127,7 @@ double parse(std::string_view text, Quantity kind, std::optional<std::string_vie
     } else {
         for (const Unit& u : units_of(kind))
             if (u.name == unit) factor = u.factor;
+        if (kind == Quantity::length && unit == "\"") factor = kInch;  // the inch mark: 5/64"
         if (factor == 0.0) return refuse("unknown unit \"" + std::string(unit) + "\"");
     }
     const double si = *value * factor;

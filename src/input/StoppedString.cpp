@@ -14,8 +14,6 @@ constexpr double kFarBelow = 5e-3;  // m
 Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes);
 }  // namespace
 
-double fret_position(double length_m, int fret) { return length_m * (1.0 - std::exp2(-fret / 12.0)); }
-
 namespace {
 // The same string seen from its other end (x -> L - x): phi_j(L - x) = (-1)^(j+1) phi_j(x).
 Case mirrored(const Case& c) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -74,13 +75,36 @@ void check_toml_shape(std::string_view text, const std::string& source) {
 
 }  // namespace
 
+namespace {
+// A line whose value is a number followed by a unit or a fraction, unquoted (action = 5/64"):
+// the syntax error it causes is a unit's, and the message says how a value with a unit is written.
+std::string unquoted_unit_hint(std::string_view text, std::size_t line) {
+    std::size_t start = 0;
+    for (std::size_t l = 1; l < line && start != std::string_view::npos; ++l) {
+        start = text.find('\n', start);
+        if (start != std::string_view::npos) ++start;
+    }
+    if (start == std::string_view::npos) return {};
+    const std::string_view row = text.substr(start, text.find('\n', start) - start);
+    const std::size_t eq = row.find('=');
+    if (eq == std::string_view::npos) return {};
+    const std::string_view value = trim_blanks(row.substr(eq + 1, row.find('#', eq) - eq - 1));
+    if (value.empty() || !(std::isdigit(static_cast<unsigned char>(value.front())) || value.front() == '.')) return {};
+    if (value.find_first_of("/\"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ") == std::string_view::npos)
+        return {};
+    return "; a value with a unit is a quoted string, e.g. action = \"5/64 in\" (lengths are written \"2.4 mm\", "
+           "\"0.094 in\", \"5/64 in\", \"4.5/64 in\", \"1 3/16 in\" or '5/64\"')";
+}
+}  // namespace
+
 toml::table parse_toml_document(std::string_view text, const std::string& source) {
     check_toml_shape(text, source);
     try {
         return toml::parse(text, source);
     } catch (const toml::parse_error& e) {
         std::ostringstream msg;
-        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+        msg << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description()
+            << unquoted_unit_hint(text, e.source().begin.line);
         throw InputError(msg.str());
     }
 }
@@ -97,6 +121,7 @@ thread_local std::set<std::string>* key_log = nullptr;
 }  // namespace
 
 void TomlSection::log_lookup(std::string_view key) const {
+    asked_.emplace(key);
     if (key_log == nullptr) return;
     std::string path = key_path(key);
     // obstacle[1].type and obstacle.type are the same key of the schema.
@@ -308,10 +333,45 @@ std::vector<TomlSection> TomlSection::sections(std::string_view key) {
     return result;
 }
 
+namespace {
+// Two keys close enough that one is likely a typo of the other: one edit apart, or two
+// when both are long (so that "nut" is not taken for "mu").
+bool close_keys(std::string_view a, std::string_view b) {
+    const std::size_t d = edit_distance(a, b);
+    return d <= 1 || (d == 2 && std::min(a.size(), b.size()) >= 6);
+}
+}  // namespace
+
+std::optional<std::string> TomlSection::nearest_asked(std::string_view key, bool absent_only) const {
+    std::optional<std::string> best;
+    std::size_t best_distance = 0;
+    for (const std::string& asked : asked_) {
+        if (asked == key || (absent_only && table_->contains(asked)) || !close_keys(key, asked)) continue;
+        const std::size_t d = edit_distance(key, asked);
+        if (!best || d < best_distance) {
+            best = asked;
+            best_distance = d;
+        }
+    }
+    return best;
+}
+
+void TomlSection::refuse_misspelt_keys() const {
+    for (const auto& [key, value] : *table_) {
+        if (asked_.contains(key.str())) continue;
+        if (const auto meant = nearest_asked(key.str(), true))
+            throw InputError("unknown key " + key_path(key.str()) + ": did you mean " + key_path(*meant) +
+                             "? (see `fretbuzz show` for the keys)");
+    }
+}
+
 void TomlSection::finish() const {
     for (const auto& [key, value] : *table_) {
-        if (!used_.contains(key.str()))
-            throw InputError("unknown key " + key_path(key.str()) + " (check its spelling; see `fretbuzz show` for the keys)");
+        if (used_.contains(key.str())) continue;
+        const auto meant = nearest_asked(key.str(), false);
+        throw InputError("unknown key " + key_path(key.str()) +
+                         (meant ? ": did you mean " + key_path(*meant) + "?" : " (check its spelling)") +
+                         " (see `fretbuzz show` for the keys)");
     }
 }
 

@@ -66,10 +66,16 @@ public:
     // The raw node, for values with several accepted forms (e.g. a number or "native").
     const toml::node* node(std::string_view key);
 
-    // Throws InputError naming the first key that was never read.
+    // Throws InputError naming the first key that was never read, and the key it likely
+    // misspells among those looked up.
     void finish() const;
+    // For a reader that failed part-way (a required key missing): throws InputError naming a
+    // key of the table that was never looked up and is likely a misspelling of one that was
+    // looked up and is absent ("acton12" for "action12"); nothing when there is none.
+    void refuse_misspelt_keys() const;
 
 private:
+    std::optional<std::string> nearest_asked(std::string_view key, bool absent_only) const;
     void log_lookup(std::string_view key) const;
     const toml::node& required(std::string_view key);
     double to_number(const toml::node& node, std::string_view key) const;
@@ -77,6 +83,7 @@ private:
     const toml::table* table_;
     std::string path_;
     std::set<std::string, std::less<>> used_;
+    mutable std::set<std::string, std::less<>> asked_;  // every key looked up, present or not
 };
 
 }  // namespace fretbuzz

@@ -26,9 +26,8 @@ constexpr double kBandEdge = 0.45;
 constexpr double kFlightBand = 0.6;
 // A flight over one host sample costs a few passes over every mode (the energy after it, the
 // speed bound and its tail, the jump of the modes it leaves out) and saves M - 1 steps of the
-// modes it leaves out. Measured (fretbuzz_bench_realtime): at M = 2 it makes 6 guitar voices
-// 1.45x slower than stepping every mode; at M = 4 the sitar 10 % faster and the guitar 3 %
-// slower; at M = 8 the guitar 15 % and the fretted bass 50 % faster.
+// modes it leaves out: at M = 2 the passes cost more than the steps saved; from M = 4 on it
+// pays (fretbuzz_bench_realtime; the figures are in docs/performance.md).
 constexpr int kMinimumFlightFactor = 4;
 // Relative allowance on the energy guard: far above the round-off of the balance.
 constexpr double kGuardTolerance = 1e-6;

@@ -73,8 +73,8 @@ void Resampler::process(std::span<const double> frames, std::vector<double>& out
 
 namespace {
 // One measurement per pair of rates in a process (as FFTW's plans): the runs of a sweep, of the
-// Python module or of a benchmark share it. At 4 MHz in, it costs tens of millions of
-// instructions (about 10 ms): the response to an impulse 2 x 256 output frames long.
+// Python module or of a benchmark share it. At 4 MHz in it is a noticeable part of a short
+// run: the response to an impulse 2 x 256 output frames long.
 struct Measured {
     std::vector<double> impulse;
     long centre, reach;
@@ -108,7 +108,7 @@ void Resampler::measure_response() const {
     // output around it is the filter sampled at the output rate. 1024 output frames either
     // side is several times the very-high-quality filter's reach at any ratio; 256 is enough
     // where the filter is short (downsampling: about 150 frames) and costs a quarter (at
-    // 4 MHz in, the longer probe was 170 000 input samples, tens of ms of every run).
+    // 4 MHz in, the longer probe is 170 000 input samples, run at the start of every run).
     const long period = std::max(1L, input_period_);
     for (const double frames : {256.0, 1024.0}) {
         Resampler probe(input_rate_, output_rate_, 1);

@@ -27,12 +27,13 @@ std::string why_text(const NoteVerdict& v) {
     if (v.status != "ok")
         out << v.status << (v.buzz_fret > 0 ? " against fret " + std::to_string(v.buzz_fret) : "");
     else
-        out << std::lround(v.buzz_fraction * static_cast<double>(v.plucks)) << "/" << v.plucks << " plucks buzz"
-            << (v.buzz_fret > 0 ? " against fret " + std::to_string(v.buzz_fret) : "");
+        out << v.verdict << ", " << std::lround(v.buzz_fraction * static_cast<double>(v.plucks)) << "/" << v.plucks
+            << " plucks buzz" << (v.buzz_fret > 0 ? " against fret " + std::to_string(v.buzz_fret) : "");
     return out.str();
 }
 
-bool buzzes(const NoteVerdict& v) { return v.buzz_fraction > 0.0 || v.status == "frets out"; }
+// Not clean: buzzing, marginal (its plucks cannot show it clean) or fretting out.
+bool buzzes(const NoteVerdict& v) { return v.status == "frets out" || (!v.verdict.empty() && v.verdict != "clean"); }
 
 MapRequest probe_request(const AdviceRequest& request, std::vector<std::size_t> strings) {
     MapRequest r;
@@ -40,6 +41,7 @@ MapRequest probe_request(const AdviceRequest& request, std::vector<std::size_t> 
     r.attacks = {request.attack};
     r.finger = request.finger;
     r.jobs = request.jobs;
+    r.clean_up_to = false;  // a probe asks only whether the map is clean
     return r;
 }
 

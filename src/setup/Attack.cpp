@@ -26,13 +26,20 @@ double jitter(std::uint64_t seed, std::uint64_t a, std::uint64_t b, std::uint64_
 
 }  // namespace
 
-bool Attack::same_shape(const Attack& other) const {
-    return kind == other.kind && from_bridge_m == other.from_bridge_m && width_m == other.width_m;
+const char* gesture_name(Gesture gesture) {
+    switch (gesture) {
+        case Gesture::finger: return "finger";
+        case Gesture::pick: return "pick";
+        case Gesture::pop: return "pop";
+        case Gesture::slap: return "slap";
+    }
+    return "";
 }
 
 std::vector<Attack> parse_attacks(const std::string& list, const AttackSettings& s, const std::string& option) {
-    const std::string allowed = "soft, medium, hard, pop, slap or a finger pluck's amplitude in (0, 10] mm, "
-                                "separated by commas (e.g. soft,medium,hard)";
+    const std::string allowed = "soft, medium, hard, pick, pop, slap, a finger pluck's amplitude in (0, 10] mm "
+                                "(e.g. 1.2mm) or a slap's speed in (0, 10] m/s (e.g. 3m/s), separated by commas "
+                                "(e.g. soft,medium,hard)";
     std::vector<Attack> attacks;
     std::size_t start = 0;
     while (start <= list.size()) {
@@ -41,23 +48,37 @@ std::vector<Attack> parse_attacks(const std::string& list, const AttackSettings&
         start = comma == std::string::npos ? list.size() + 1 : comma + 1;
         Attack a;
         a.label = word;
-        a.from_bridge_m = s.pluck_from_bridge_m;
-        a.width_m = s.finger_width_m;
+        a.where = s.finger;
         if (word == "soft") {
-            a.amplitude_m = s.soft_m;
+            a.size = s.soft_m;
         } else if (word == "medium") {
-            a.amplitude_m = s.medium_m;
+            a.size = s.medium_m;
         } else if (word == "hard") {
-            a.amplitude_m = s.hard_m;
+            a.size = s.hard_m;
+        } else if (word == "pick") {
+            a.gesture = Gesture::pick;
+            a.size = s.pick_m;
+            a.where = s.pick;
         } else if (word == "pop") {
-            a.amplitude_m = s.pop_m;
-            a.from_bridge_m = s.pop_from_bridge_m;
-            a.width_m = s.pop_width_m;
+            a.gesture = Gesture::pop;
+            a.size = s.pop_m;
+            a.where = s.pop;
         } else if (word == "slap") {
-            a.kind = AttackKind::slap;
-            a.velocity = s.slap_m_per_s;
-            a.from_bridge_m = s.slap_from_bridge_m;
-            a.width_m = s.slap_width_m;
+            a.gesture = Gesture::slap;
+            a.size = s.slap_m_per_s;
+            a.where = s.slap;
+        } else if (word.ends_with("m/s")) {
+            double speed = 0.0;
+            try {
+                speed = parse_quantity(word.substr(0, word.size() - 3) + " m/s", Quantity::velocity, option);
+            } catch (const InputError&) {
+                throw InputError(option + " " + list + ": \"" + word + "\" is not an attack; give " + allowed);
+            }
+            if (!(speed > 0.0 && speed <= 10.0))
+                throw InputError(option + " " + list + ": \"" + word + "\" is out of range; give " + allowed);
+            a.gesture = Gesture::slap;
+            a.size = speed;
+            a.where = s.slap;
         } else {
             double amplitude = 0.0;
             try {
@@ -67,7 +88,7 @@ std::vector<Attack> parse_attacks(const std::string& list, const AttackSettings&
             }
             if (!(amplitude > 0.0 && amplitude <= 10e-3))
                 throw InputError(option + " " + list + ": \"" + word + "\" is out of range; give " + allowed);
-            a.amplitude_m = amplitude;
+            a.size = amplitude;
         }
         for (const Attack& other : attacks)
             if (other.label == a.label) throw InputError(option + " " + list + ": \"" + word + "\" is listed twice");
@@ -77,11 +98,12 @@ std::vector<Attack> parse_attacks(const std::string& list, const AttackSettings&
     return attacks;
 }
 
-std::vector<PluckVariation> ensemble(const AttackSettings& s, std::size_t string, std::size_t fret) {
-    std::vector<PluckVariation> members(s.ensemble);
+std::vector<PluckVariation> ensemble(const AttackSettings& s, std::size_t string, std::size_t fret, std::size_t count) {
+    std::vector<PluckVariation> members(count);
     for (std::size_t m = 1; m < members.size(); ++m) {
         members[m].shift_m = s.position_spread_m * jitter(s.seed, 1, string, fret, m);
         members[m].scale = 1.0 + s.strength_spread * jitter(s.seed, 2, string, fret, m);
+        members[m].turn_deg = s.angle_spread_deg * jitter(s.seed, 3, string, fret, m);
     }
     return members;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/model/TautString.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
@@ -17,8 +18,7 @@ std::vector<StringGeometry> describe_geometry(const Instrument& instrument) {
     // A fanned neck: every string's perpendicular fret lies on one line square to the neck.
     std::vector<double> square(count, 0.0);
     const std::size_t p = neck.perpendicular_fret.value_or(0);
-    for (std::size_t s = 0; s < count; ++s)
-        square[s] = instrument.strings[s].scale_length_m * (1.0 - std::exp2(-static_cast<double>(p) / 12.0));
+    for (std::size_t s = 0; s < count; ++s) square[s] = fret_position(instrument.strings[s].scale_length_m, p);
     const double farthest = *std::max_element(square.begin(), square.end());
     for (std::size_t s = 0; s < count; ++s) {
         const InstrumentString& str = instrument.strings[s];

@@ -16,9 +16,18 @@ namespace fretbuzz {
 namespace {
 
 constexpr std::uintmax_t kMaxMapBytes = 64u << 20;
-const std::vector<std::string> kColumns = {"string", "fret",  "strength",     "buzz_fraction", "buzz_dB",
-                                           "buzz_fret", "touch_fraction", "plucks", "status", "clearance_mm",
-                                           "audio",  "pluck_dB"};
+const std::vector<std::string> kColumns = {
+    "string",      "fret",          "strength",          "verdict",   "buzz_fraction",    "buzz_fraction_low",
+    "buzz_fraction_high", "buzz_dB", "buzz_fret",        "touch_fraction", "plucks",      "clean_up_to",
+    "clean_up_to_value", "unit",    "stiffness_sensitive", "status",  "clearance_mm",     "audio",
+    "pluck_dB"};
+
+// clean < marginal < buzzes: how a change of verdict reads.
+int verdict_rank(const std::string& verdict) {
+    if (verdict == "clean") return 0;
+    if (verdict == "marginal") return 1;
+    return verdict == "buzzes" ? 2 : -1;
+}
 
 std::string fret_text(int fret) {
     if (fret == kNoFret) return "";
@@ -93,10 +102,13 @@ void write_buzz_map_csv(const std::filesystem::path& path, std::span<const NoteV
             if (k > 0) plucks += ';';
             plucks += shortest_text(v.pluck_db[k]);
         }
-        out << cell(v.string_name) << "," << v.fret << "," << cell(v.strength) << "," << shortest_text(v.buzz_fraction)
-            << "," << shortest_text(v.buzz_db) << "," << fret_text(v.buzz_fret) << ","
-            << shortest_text(v.touch_fraction) << "," << v.plucks << "," << cell(v.status) << ","
-            << shortest_text(v.clearance_m * 1e3) << "," << cell(v.audio) << "," << plucks << "\n";
+        out << cell(v.string_name) << "," << v.fret << "," << cell(v.strength) << "," << v.verdict << ","
+            << shortest_text(v.buzz_fraction) << "," << shortest_text(v.buzz_fraction_low) << ","
+            << shortest_text(v.buzz_fraction_high) << "," << shortest_text(v.buzz_db) << "," << fret_text(v.buzz_fret)
+            << "," << shortest_text(v.touch_fraction) << "," << v.plucks << "," << shortest_text(v.clean_up_to) << ","
+            << shortest_text(v.clean_up_to_value) << "," << v.unit << "," << cell(v.stiffness_sensitive) << ","
+            << cell(v.status) << "," << shortest_text(v.clearance_m * 1e3) << "," << cell(v.audio) << "," << plucks
+            << "\n";
     }
     out.close();
     if (!out) throw std::runtime_error("cannot write " + path.string());
@@ -128,14 +140,22 @@ std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, co
             if (!(fret >= 0 && fret <= 100 && fret == std::floor(fret))) throw std::invalid_argument(c[1]);
             v.fret = static_cast<std::size_t>(fret);
             v.strength = c[2];
-            v.buzz_fraction = number_of(c[3]);
-            v.buzz_db = number_of(c[4]);
-            v.buzz_fret = fret_of(c[5]);
-            v.touch_fraction = number_of(c[6]);
-            v.plucks = static_cast<std::size_t>(std::max(0.0, number_of(c[7])));
-            v.status = c[8];
-            v.clearance_m = number_of(c[9]) * 1e-3;
-            v.audio = c[10];
+            v.verdict = c[3];
+            if (!v.verdict.empty() && verdict_rank(v.verdict) < 0) throw std::invalid_argument(c[3]);
+            v.buzz_fraction = number_of(c[4]);
+            v.buzz_fraction_low = number_of(c[5]);
+            v.buzz_fraction_high = number_of(c[6]);
+            v.buzz_db = number_of(c[7]);
+            v.buzz_fret = fret_of(c[8]);
+            v.touch_fraction = number_of(c[9]);
+            v.plucks = static_cast<std::size_t>(std::max(0.0, number_of(c[10])));
+            v.clean_up_to = number_of(c[11]);
+            v.clean_up_to_value = number_of(c[12]);
+            v.unit = c[13];
+            v.stiffness_sensitive = c[14];
+            v.status = c[15];
+            v.clearance_m = number_of(c[16]) * 1e-3;
+            v.audio = c[17];
             notes.push_back(std::move(v));
         } catch (const std::invalid_argument&) {
             throw InputError(where + ": buzz_map.csv line " + std::to_string(row) + " is not a row of a buzz map");
@@ -153,11 +173,17 @@ std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span
         const auto found = earlier.find({v.string_name, v.fret, v.strength});
         if (found != earlier.end()) {
             c.before = *found->second;
+            const int rank = verdict_rank(v.verdict) - verdict_rank(c.before.verdict);
             const double df = v.buzz_fraction - c.before.buzz_fraction;
             const double a = std::isnan(v.buzz_db) ? -1e9 : v.buzz_db;
             const double b = std::isnan(c.before.buzz_db) ? -1e9 : c.before.buzz_db;
-            if (std::abs(df) > 1e-9)
+            const double up_to = v.clean_up_to / c.before.clean_up_to;  // NaN or inf/inf: no change read from it
+            if (rank != 0)
+                c.change = rank > 0 ? "worse" : "better";
+            else if (std::abs(df) > 1e-9)
                 c.change = df > 0 ? "worse" : "better";
+            else if (std::isfinite(up_to) && std::abs(std::log(up_to)) > std::log(kChangeCleanUpTo))
+                c.change = up_to < 1.0 ? "worse" : "better";
             else if (v.buzz_fraction > 0 && std::abs(a - b) >= kChangeDb)
                 c.change = a > b ? "worse" : "better";
             else if (v.buzz_fraction > 0 && v.buzz_fret != c.before.buzz_fret)
@@ -172,13 +198,15 @@ std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span
 
 void write_comparison_csv(const std::filesystem::path& path, std::span<const NoteChange> changes) {
     std::ofstream out(path, std::ios::binary);
-    out << "string,fret,strength,change,buzz_fraction_before,buzz_fraction,buzz_dB_before,buzz_dB,buzz_fret_before,"
-           "buzz_fret\n";
+    out << "string,fret,strength,change,verdict_before,verdict,buzz_fraction_before,buzz_fraction,buzz_dB_before,"
+           "buzz_dB,buzz_fret_before,buzz_fret,clean_up_to_before,clean_up_to\n";
     for (const NoteChange& c : changes)
         out << cell(c.now.string_name) << "," << c.now.fret << "," << cell(c.now.strength) << "," << c.change << ","
+            << c.before.verdict << "," << c.now.verdict << ","
             << (c.change == "new" ? "" : shortest_text(c.before.buzz_fraction)) << "," << shortest_text(c.now.buzz_fraction)
             << "," << shortest_text(c.before.buzz_db) << "," << shortest_text(c.now.buzz_db) << ","
-            << fret_text(c.before.buzz_fret) << "," << fret_text(c.now.buzz_fret) << "\n";
+            << fret_text(c.before.buzz_fret) << "," << fret_text(c.now.buzz_fret) << ","
+            << shortest_text(c.before.clean_up_to) << "," << shortest_text(c.now.clean_up_to) << "\n";
     out.close();
     if (!out) throw std::runtime_error("cannot write " + path.string());
 }

@@ -30,11 +30,22 @@ Json fret(int f) {
 Json verdict(const NoteVerdict& v) {
     Json plucks = Json::array();
     for (double db : v.pluck_db) plucks.push_back(number(db));
+    // clean_up_to is infinite when no search size made the note buzz: "at least" kCleanUpToCap.
+    const bool unbounded = std::isinf(v.clean_up_to);
     return Json{{"string", v.string_name},     {"fret", v.fret},
                 {"strength", v.strength},      {"status", v.status},
-                {"buzz_fraction", v.buzz_fraction}, {"buzz_dB", number(v.buzz_db)},
+                {"verdict", v.verdict},
+                {"buzz_fraction", v.buzz_fraction},
+                {"buzz_fraction_low", number(v.buzz_fraction_low)},
+                {"buzz_fraction_high", number(v.buzz_fraction_high)},
+                {"buzz_dB", number(v.buzz_db)},
                 {"buzz_fret", fret(v.buzz_fret)},   {"touch_fraction", v.touch_fraction},
                 {"plucks", v.plucks},          {"pluck_dB", plucks},
+                {"clean_up_to", unbounded ? Json(kCleanUpToCap) : number(v.clean_up_to)},
+                {"clean_up_to_at_least", unbounded},
+                {"clean_up_to_value", number(v.clean_up_to_value)},
+                {"unit", v.unit},
+                {"stiffness_sensitive", v.stiffness_sensitive},
                 {"clearance_mm", number(v.clearance_m * 1e3)}, {"audio", v.audio}};
 }
 
@@ -69,11 +80,12 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
     Json attacks = Json::array();
     for (const Attack& a : d.attacks)
         attacks.push_back(Json{{"label", a.label},
-                               {"kind", a.kind == AttackKind::slap ? "slap" : "pluck"},
-                               {"amplitude_m", a.amplitude_m},
-                               {"velocity_m_per_s", a.velocity},
-                               {"from_bridge_m", a.from_bridge_m},
-                               {"width_m", a.width_m}});
+                               {"gesture", gesture_name(a.gesture)},
+                               {"size", a.shown_size()},
+                               {"unit", a.unit()},
+                               {"angle_deg", a.where.angle_deg},
+                               {"from_bridge_m", a.where.from_bridge_m},
+                               {"width_m", a.where.width_m}});
     const BenchSettings& b = instrument.bench;
     const AttackSettings& s = instrument.attack;
     Json notes = Json::array();
@@ -98,10 +110,13 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
                    {"grid_step_m", b.grid_step_m},
                    {"output_rate_hz", b.output_rate_hz},
                    {"observe_from_bridge_m", b.observe_from_bridge_m},
-                   {"buzz_band_hz", b.buzz_band_hz},
+                   {"listening_level_dB_SPL", b.listening_level_db_spl},
                    {"audible_dB", b.audible_db},
+                   {"fret_friction", b.fret_friction},
+                   {"attack_style", s.style},
                    {"ensemble", s.ensemble},
                    {"position_spread_m", s.position_spread_m},
+                   {"angle_spread_deg", s.angle_spread_deg},
                    {"strength_spread", s.strength_spread},
                    {"seed", s.seed}}},
              {"attacks", attacks},

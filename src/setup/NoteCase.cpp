@@ -69,7 +69,11 @@ NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
       pinned_(instrument.bench.pinned_stops),
       bending_stiffness_(instrument.strings.at(string).bending_stiffness),
       eta0_(instrument.bench.damping_eta0),
-      eta2_(instrument.bench.damping_eta2) {
+      eta2_(instrument.bench.damping_eta2),
+      fret_friction_(instrument.bench.fret_friction),
+      thumb_mass_(instrument.attack.thumb_mass_kg),
+      thumb_stiffness_(instrument.attack.thumb_stiffness),
+      thumb_loss_(instrument.attack.thumb_loss) {
     const InstrumentString& s = instrument.strings.at(string);
     const BenchSettings& b = instrument.bench;
     const double length = s.scale_length_m;
@@ -102,35 +106,65 @@ ModeTable NoteMaker::string_modes(double length, std::size_t modes) const {
 }
 
 double NoteMaker::pluck_position(double sounding, const Attack& attack, const PluckVariation& pluck) const {
-    return sounding - (attack.from_bridge_m + pluck.shift_m);
+    return sounding - (attack.where.from_bridge_m + pluck.shift_m);
 }
+
+double NoteMaker::fundamental_hz(std::size_t fret) const { return stopped(fret).modes.frequency_hz.front(); }
 
 std::optional<std::string> NoteMaker::unplayable(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
                                                  bool finger) const {
     const double sounding = neck_.length() - neck_.fret_x(fret);
     const double x = pluck_position(sounding, attack, pluck);
-    if (finger && attack.kind == AttackKind::slap)
+    if (finger && attack.strike())
         return std::string("the finger model plays plucks and pops; slap the stand-in (no --finger)");
-    if (!(x - 0.5 * attack.width_m > 0.0 && x + 0.5 * attack.width_m < sounding))
-        return "the pluck (" + std::to_string(1e3 * (attack.from_bridge_m + pluck.shift_m)) +
+    if (!(x - 0.5 * attack.where.width_m > 0.0 && x + 0.5 * attack.where.width_m < sounding))
+        return "the pluck (" + std::to_string(1e3 * (attack.where.from_bridge_m + pluck.shift_m)) +
                " mm from the bridge) falls behind fret " + std::to_string(fret);
     if (sounding - observe_from_bridge_m_ <= 0.0) return std::string("the pickup lies behind the fret");
     return std::nullopt;
 }
 
-void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluck) const {
+double z_share(const Attack& attack, const PluckVariation& pluck) {
+    const double angle = std::clamp(attack.where.angle_deg + pluck.turn_deg, -90.0, 90.0);
+    return -attack.size * pluck.scale * std::sin(angle * std::numbers::pi / 180.0);
+}
+
+void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluck, Polarisations polarisations) const {
     const std::size_t n = c.mode_count();
     const Grid grid{c.string.length_m, n};
     const ModalBasis basis(c.string.length_m, n);
     const double x = pluck_position(c.string.length_m, attack, pluck);  // from the bridge, on either model
     c.initial_displacement.assign(n, 0.0);
     c.initial_velocity.assign(n, 0.0);
-    if (attack.kind == AttackKind::slap)
-        basis.to_modes(raised_cosine_velocity(grid, x, attack.width_m, -attack.velocity * pluck.scale),
-                       c.initial_velocity);
-    else
-        basis.to_modes(rounded_triangle_shape(grid, x, attack.width_m, attack.amplitude_m * pluck.scale),
+    c.fingers.clear();
+    if (attack.strike()) {
+        // The thumb: a lumped mass just off the string, moving toward the board (z only).
+        FingerSpec thumb;
+        thumb.key = "the thumb";
+        thumb.position_m = x;
+        thumb.width_m = attack.where.width_m;
+        thumb.mass_kg = thumb_mass_;
+        thumb.stiffness = thumb_stiffness_;
+        thumb.loss = thumb_loss_;
+        thumb.initial_gap_m = 1e-4;
+        thumb.initial_velocity = -z_share(attack, pluck);
+        c.fingers.push_back(thumb);
+        return;
+    }
+    // Pulled toward the board, the string lies taut over the frets it meets before it is let go.
+    const std::vector<double> along_z = rounded_triangle_shape(grid, x, attack.where.width_m, z_share(attack, pluck));
+    const std::vector<double> held = taut_over_obstacle(grid, along_z, c.obstacle_height_m, x, attack.where.width_m);
+    if (polarisations == Polarisations::both && held == along_z) {
+        // The whole release along its direction; the run splits it between z and y.
+        const double angle = std::clamp(attack.where.angle_deg + pluck.turn_deg, -90.0, 90.0);
+        c.polarisation.count = 2;
+        c.polarisation.angle_deg = 90.0 + angle;
+        c.polarisation.friction = fret_friction_;
+        basis.to_modes(rounded_triangle_shape(grid, x, attack.where.width_m, attack.size * pluck.scale),
                        c.initial_displacement);
+        return;
+    }
+    basis.to_modes(held, c.initial_displacement);
 }
 
 const Case& NoteMaker::stopped(std::size_t fret) const {
@@ -176,9 +210,10 @@ const Case& NoteMaker::stopped(std::size_t fret) const {
     return *stopped_[fret];
 }
 
-Case NoteMaker::stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const {
+Case NoteMaker::stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
+                         Polarisations polarisations) const {
     Case c = stopped(fret);
-    excite(c, attack, pluck);
+    excite(c, attack, pluck, polarisations);
     return c;
 }
 
@@ -220,15 +255,15 @@ Case NoteMaker::fingered(std::size_t fret, const Attack& attack, const PluckVari
     // The pick: the force whose static deflection at the pluck point is the amplitude on the
     // sounding length, F = A T L' / (a (L' - a)), ramped over whole periods, then let go.
     const double a = x - stop;
-    const double amplitude = attack.amplitude_m * pluck.scale;
-    const double force = amplitude * c.string.tension_n * sounding / (a * (sounding - a));
+    const double amplitude = z_share(attack, pluck);
+    const double force = std::abs(amplitude) * c.string.tension_n * sounding / (a * (sounding - a));
     const double wave_speed = std::sqrt(c.string.tension_n / c.string.linear_density);
     const double end = settle + kPullPeriods * 2.0 * sounding / wave_speed;
     ForceSpec pick;
     pick.key = "the pick";
     pick.position_m = x;
-    pick.width_m = attack.width_m;
-    pick.direction = -1.0;  // away from the board
+    pick.width_m = attack.where.width_m;
+    pick.direction = amplitude < 0.0 ? 1.0 : -1.0;  // toward the board, or away from it (a pop)
     pick.force_profile = {{0.0, 0.0}, {settle, 0.0}, {end, force}, {end + kRelease, 0.0}};
     c.forces = {pick};
     c.run.duration_s = open_.run.duration_s + end + kRelease;
@@ -249,7 +284,8 @@ std::vector<std::size_t> NoteMaker::fret_numbers(std::size_t fret) const {
     return numbers;
 }
 
-bool never_touches(const Case& c) {
+double touch_free_scale(const Case& c) {
+    if (!c.fingers.empty() || !c.forces.empty() || !c.plucks.empty()) return 0.0;
     const std::size_t n = c.mode_count();
     std::vector<double> amplitude(n);
     double total = 0.0;
@@ -257,32 +293,35 @@ bool never_touches(const Case& c) {
         const double omega = 2.0 * std::numbers::pi * c.modes.frequency_hz[j];
         const double sigma = c.modes.sigma_per_s[j];
         const double w = std::sqrt(std::max(omega * omega - sigma * sigma, 0.0));
-        if (!(w > 0.0)) return false;  // not an underdamped mode: no bound here
+        if (!(w > 0.0)) return 0.0;  // not an underdamped mode: no bound here
         const double q0 = c.initial_displacement[j], v0 = c.initial_velocity[j];
         amplitude[j] = std::hypot(q0, (sigma * q0 + v0) / w);
         total += amplitude[j];
     }
     const double s = c.contact_orientation();
     const double norm = std::sqrt(2.0 / c.string.length_m);
-    // A cheap first look: |phi_j| <= sqrt(2/L) everywhere.
     double nearest = std::numeric_limits<double>::infinity();
     for (double g : c.obstacle_height_m)
         if (std::isfinite(g)) nearest = std::min(nearest, -s * g);
-    if (!(nearest > 0.0)) return false;
-    if (norm * total < nearest) return true;
+    if (!(nearest > 0.0)) return 0.0;
+    if (!(total > 0.0)) return std::numeric_limits<double>::infinity();
+    // A cheap first look (|phi_j| <= sqrt(2/L) everywhere), then point by point where it is not enough.
+    double scale = std::numeric_limits<double>::infinity();
     const double step = std::numbers::pi / static_cast<double>(n + 1);
     for (std::size_t i = 0; i < n; ++i) {
         const double g = c.obstacle_height_m[i];
         if (!std::isfinite(g)) continue;
         const double clearance = -s * g;
-        if (norm * total < clearance) continue;
+        if (clearance / (norm * total) >= scale) continue;
         double bound = 0.0;
         for (std::size_t j = 0; j < n; ++j)
             bound += amplitude[j] * std::abs(std::sin(static_cast<double>((j + 1) * (i + 1)) * step));
-        if (norm * bound >= clearance) return false;
+        if (bound > 0.0) scale = std::min(scale, clearance / (norm * bound));
     }
-    return true;
+    return scale;
 }
+
+bool never_touches(const Case& c) { return touch_free_scale(c) > 1.0; }
 
 std::vector<double> free_motion_at(const Case& c, double x, double interval_s, std::size_t samples) {
     const std::size_t n = c.mode_count();

@@ -19,20 +19,11 @@ namespace {
 constexpr double kFadeIn = 0.005;   // s: a plucked string starts displaced
 constexpr double kFadeOut = 0.05;   // s: a note cut at the end of the run must not click
 
-double attack_size(const Attack& a) { return a.kind == AttackKind::slap ? a.velocity : a.amplitude_m; }
-
-double level_db(std::vector<double> u, const std::vector<double>& free, double rate, double band) {
-    const std::size_t n = std::min(u.size(), free.size());
-    u.resize(n);
-    for (std::size_t i = 0; i < n; ++i) u[i] -= free[i];
-    const std::span<const double> reference(free.data(), n);
-    return buzz_level_db(high_frequency_energy(u, rate, band), high_frequency_energy(reference, rate, band));
-}
-
 }  // namespace
 
-NoteContacts::NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, double bin_s)
-    : fret_x_(std::move(fret_x)), fret_number_(std::move(fret_number)), bin_s_(bin_s) {}
+NoteContacts::NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted,
+                           double bin_s)
+    : fret_x_(std::move(fret_x)), fret_number_(std::move(fret_number)), fretted_(fretted), bin_s_(bin_s) {}
 
 void NoteContacts::begin(const RunLayout& layout) {
     const Case& c = *layout.source;
@@ -54,7 +45,7 @@ void NoteContacts::begin(const RunLayout& layout) {
             }
     }
     // The hand's contacts (finger pads, force pads, the stopping fret and all before it) are the fretting.
-    const std::size_t first = first_buzz_point(c);
+    const std::size_t first = fretted_ ? first_buzz_point(c) : 0;
     for (std::size_t i = 0; i < std::min(first, n); ++i) fret_of_point_[i] = kNoFret;
     const auto mark = [&](double centre, double width) {
         for (std::size_t i : pad_points(centre, width, dx_, n)) fret_of_point_[i] = kNoFret;
@@ -101,79 +92,122 @@ int NoteContacts::main_fret() const {
     return static_cast<int>(std::max_element(impulse_.begin(), impulse_.end()) - impulse_.begin());
 }
 
-std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, std::span<const Attack> attacks,
-                                      const PluckVariation& pluck, const PluckRequest& request,
-                                      std::span<const std::filesystem::path> wav_paths) {
-    std::vector<PluckOutcome> outcomes(attacks.size());
-    struct Reference {
-        const Attack* attack;
-        std::vector<double> u;
+NotePlayer::NotePlayer(const NoteMaker& maker, std::size_t fret, bool finger, const ListeningSettings& listening)
+    : maker_(maker), fret_(fret), finger_(finger), listening_(listening) {}
+
+double NotePlayer::touch_free_size(const Attack& attack, const PluckVariation& pluck) const {
+    if (finger_ || attack.strike()) return 0.0;
+    // The free motion is linear in the size: the bound of a pluck small enough to touch
+    // nothing at release (a micrometre) scales to every size.
+    constexpr double kSmall = 1e-6;
+    Attack small = attack;
+    small.size = kSmall;
+    if (z_share(small, pluck) == 0.0) return std::numeric_limits<double>::infinity();
+    return touch_free_scale(maker_.stand_in(fret_, small, pluck)) * kSmall;
+}
+
+const NotePlayer::Reference* NotePlayer::reference(const Attack& attack, std::size_t member, const Case& played,
+                                                   double share, std::size_t samples) {
+    const double rate = played.run.sample_rate_hz / static_cast<double>(output_stride(played));
+    const auto clean_of = [&](const Case& c, double z) {
+        Reference r{attack.gesture, member, z, free_motion_at(c, c.observation_points_m[0], 1.0 / rate, samples), {}, {}};
+        r.clean = listener_->hear_clean(r.u);
+        return r;
     };
-    std::vector<Reference> references;
-    for (std::size_t k = 0; k < attacks.size(); ++k) {
-        const Attack& attack = attacks[k];
-        PluckOutcome& o = outcomes[k];
-        if (auto why = maker.unplayable(fret, attack, pluck, request.finger)) {
-            o.error = "not played: " + *why;
-            continue;
-        }
-        const Case c = request.finger ? maker.fingered(fret, attack, pluck) : maker.stand_in(fret, attack, pluck);
-        const bool wav = k < wav_paths.size() && !wav_paths[k].empty();
-        if (!wav && !request.keep_details && !request.finger && never_touches(c)) continue;
-        NoteContacts contacts(maker.fret_positions(fret, request.finger), maker.fret_numbers(fret));
-        std::vector<RunObserver*> observers{&contacts};
-        std::unique_ptr<AudioWriter> audio;
-        if (wav) {
-            audio = std::make_unique<AudioWriter>(std::vector<std::filesystem::path>{wav_paths[k]}, 48000.0,
-                                                  AudioSignal::displacement, AudioFades{kFadeIn, kFadeOut});
-            observers.push_back(audio.get());
-        }
-        try {
-            simulate(c, observers);
-        } catch (const SolverError& e) {
-            o.error = std::string("failed: ") + e.what();
-            continue;
-        }
-        o.simulated = true;
-        o.touched = contacts.touched();
-        o.buzz_fret = contacts.main_fret();
-        o.first_contact_s = contacts.first_contact_s();
-        o.peak_force_n = contacts.peak_force_n();
-        if (request.keep_details) {
-            o.signal = contacts.signal();
-            o.signal_rate_hz = contacts.output_rate_hz();
-            o.contacts = contacts.stretches();
-            if (audio) {
-                o.audio = audio->samples(0);
-                o.audio_rate_hz = audio->rate_hz();
-            }
-        }
-        if (!o.touched) continue;
-        const double rate = contacts.output_rate_hz();
-        if (request.finger) {
-            // The same note with nothing to buzz against past the stopping fret.
-            Case free = c;
-            for (std::size_t i = first_buzz_point(c); i < free.obstacle_height_m.size(); ++i)
-                free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
-            NoteContacts quiet(maker.fret_positions(fret, true), maker.fret_numbers(fret));
-            std::vector<RunObserver*> one{&quiet};
-            simulate(free, one);
-            o.buzz_db = level_db(contacts.signal(), quiet.signal(), rate, request.band_hz);
-            continue;
-        }
-        auto shared = std::find_if(references.begin(), references.end(),
-                                   [&](const Reference& r) { return r.attack->same_shape(attack); });
-        if (shared == references.end()) {
-            references.push_back({&attack, free_motion_at(c, c.observation_points_m[0], 1.0 / rate,
-                                                          contacts.signal().size())});
-            shared = references.end() - 1;
-        }
-        std::vector<double> free = shared->u;
-        const double ratio = attack_size(attack) / attack_size(*shared->attack);
-        for (double& v : free) v *= ratio;
-        o.buzz_db = level_db(contacts.signal(), free, rate, request.band_hz);
+    // Linear plucks: the closed form of the member's shape, kept for its other sizes. A pluck
+    // that rests on a fret when let go (taut_over_obstacle) has a shape of its own.
+    Reference* kept = nullptr;
+    for (Reference& r : references_)
+        if (r.gesture == attack.gesture && r.member == member) kept = &r;
+    if (!kept) {
+        constexpr double kSmall = 1e-6;  // m: too small to meet any fret
+        Attack small = attack;
+        small.size = kSmall;
+        const PluckVariation& variation = members_at_.at(member);
+        const Case unit = maker_.stand_in(fret_, small, variation);
+        references_.push_back(clean_of(unit, z_share(small, variation)));
+        references_.back().shape = unit.initial_displacement;
+        kept = &references_.back();
     }
-    return outcomes;
+    const double ratio = share / kept->z_share;
+    double largest = 0.0, apart = 0.0;
+    for (std::size_t j = 0; j < played.initial_displacement.size(); ++j) {
+        largest = std::max(largest, std::abs(played.initial_displacement[j]));
+        apart = std::max(apart, std::abs(played.initial_displacement[j] - ratio * kept->shape[j]));
+    }
+    if (apart <= 1e-9 * largest) return kept;
+    scratch_ = clean_of(played, share);
+    return &scratch_;
+}
+
+PluckOutcome NotePlayer::play(const Attack& attack, double size, std::size_t member, const PluckVariation& pluck,
+                              const PluckOptions& options) {
+    Attack sized = attack;
+    sized.size = size;
+    PluckOutcome o;
+    o.size = size;
+    if (auto why = maker_.unplayable(fret_, sized, pluck, finger_)) {
+        o.error = "not played: " + *why;
+        return o;
+    }
+    const Case c = finger_ ? maker_.fingered(fret_, sized, pluck) : maker_.stand_in(fret_, sized, pluck, options.polarisations);
+    if (options.wav.empty() && !options.keep_details && !finger_ && never_touches(c)) return o;
+    return judge(c, sized, member, pluck, options);
+}
+
+PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t member, const PluckVariation& pluck,
+                               const PluckOptions& options) {
+    PluckOutcome o;
+    o.size = attack.size;
+    NoteContacts contacts(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_);
+    std::vector<RunObserver*> observers{&contacts};
+    std::unique_ptr<AudioWriter> audio;
+    if (!options.wav.empty()) {
+        audio = std::make_unique<AudioWriter>(std::vector<std::filesystem::path>{options.wav}, 48000.0,
+                                              AudioSignal::velocity, AudioFades{kFadeIn, kFadeOut});
+        observers.push_back(audio.get());
+    }
+    try {
+        simulate(c, observers);
+    } catch (const SolverError& e) {
+        o.error = std::string("failed: ") + e.what();
+        return o;
+    }
+    o.simulated = true;
+    o.touched = contacts.touched();
+    o.buzz_fret = contacts.main_fret();
+    o.first_contact_s = contacts.first_contact_s();
+    o.peak_force_n = contacts.peak_force_n();
+    if (options.keep_details) {
+        o.signal = contacts.signal();
+        o.signal_rate_hz = contacts.output_rate_hz();
+        o.contacts = contacts.stretches();
+        if (audio) {
+            o.audio = audio->samples(0);
+            o.audio_rate_hz = audio->rate_hz();
+        }
+    }
+    if (!listener_)
+        listener_.emplace(contacts.output_rate_hz(), contacts.signal().size(), maker_.fundamental_hz(fret_), listening_);
+    if (!o.touched) return o;
+    if (finger_ || attack.strike() || options.polarisations == Polarisations::both) {
+        // Not linear (a finger, a thumb) or in two polarisations: the same note with nothing to buzz against past the stop.
+        Case free = c;
+        for (std::size_t i = finger_ ? first_buzz_point(c) : 0; i < free.obstacle_height_m.size(); ++i)
+            free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
+        NoteContacts quiet(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_);
+        std::vector<RunObserver*> one{&quiet};
+        simulate(free, one);
+        o.buzz_db = listener_->added_level(contacts.signal(), quiet.signal()).level_db;
+        return o;
+    }
+    const double share = z_share(attack, pluck);
+    if (members_at_.size() <= member) members_at_.resize(member + 1);
+    members_at_[member] = pluck;
+    const Reference* r = reference(attack, member, c, share, contacts.signal().size());
+    const double ratio = share / r->z_share;
+    o.buzz_db = listener_->added_level(contacts.signal(), r->clean, ratio * ratio).level_db;
+    return o;
 }
 
 PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
@@ -184,25 +218,24 @@ PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std:
     if (fret > instrument.neck.fret_count)
         throw InputError(out_of_range_message("fret", static_cast<double>(fret),
                                               "must be in [0, " + std::to_string(instrument.neck.fret_count) + "]"));
-    const std::vector<PluckVariation> members = ensemble(instrument.attack, string, fret);
-    if (member >= members.size())
+    if (member >= instrument.attack.ensemble)
         throw InputError(out_of_range_message("member", static_cast<double>(member),
-                                              "must be in [0, " + std::to_string(members.size() - 1) + "]"));
+                                              "must be in [0, " + std::to_string(instrument.attack.ensemble - 1) + "]"));
+    const std::vector<PluckVariation> members = ensemble(instrument.attack, string, fret, member + 1);
     const NoteMaker maker(instrument, string);
-    PluckRequest request;
-    request.finger = finger;
-    request.band_hz = instrument.bench.buzz_band_hz;
-    request.keep_details = true;
+    NotePlayer player(maker, fret, finger, listening_settings(instrument.bench));
     // The audio goes through the note's own WAV writer, into a folder of its own.
     std::random_device random;
     const std::filesystem::path folder =
         std::filesystem::temp_directory_path() / ("fretbuzz-note-" + std::to_string(random()) + std::to_string(random()));
     std::filesystem::create_directory(folder);
-    const std::vector<std::filesystem::path> wav{folder / "note.wav"};
-    const Attack attacks[] = {attack};
-    std::vector<PluckOutcome> outcome;
+    PluckOptions options;
+    options.keep_details = true;
+    options.polarisations = Polarisations::both;
+    options.wav = folder / "note.wav";
+    PluckOutcome outcome;
     try {
-        outcome = play_plucks(maker, fret, attacks, members[member], request, wav);
+        outcome = player.play(attack, attack.size, member, members[member], options);
     } catch (...) {
         std::error_code ec;
         std::filesystem::remove_all(folder, ec);
@@ -210,7 +243,13 @@ PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std:
     }
     std::error_code ec;
     std::filesystem::remove_all(folder, ec);
-    return std::move(outcome.front());
+    return outcome;
+}
+
+ListeningSettings listening_settings(const BenchSettings& bench) {
+    ListeningSettings s;
+    s.level_db_spl = bench.listening_level_db_spl;
+    return s;
 }
 
 }  // namespace fretbuzz

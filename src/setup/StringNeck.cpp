@@ -8,6 +8,7 @@
 #include "MillimetreText.hpp"
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/geometry/Fretboard.hpp"
 #include "fretbuzz/geometry/SimpleObstacles.hpp"
 
@@ -34,11 +35,14 @@ double gap_per_bow(const std::vector<double>& x, std::size_t m) {
 // The fretboard radius as one string sees it: the string runs from y_nut to y_bridge off the
 // neck's centre line over a cylinder of radius R, so the fret tops under it drop by
 // R - sqrt(R^2 - y^2); relative to the fret plane (the chord from the nut end to the last
-// fret) that leaves a crown of depth about (dy/dx)^2 / (2 R) x (x_N - x).
-double radius_crown(double x, double last, double length, double radius, double y_nut, double y_bridge) {
+// fret) that leaves a crown of depth about (dy/dx)^2 / (2 R) x (x_N - x). A compound board is
+// a cone: its radius grows linearly from R at the nut to R_N at the last fret.
+double radius_crown(double x, double last, double length, double radius, double radius_last, double y_nut,
+                    double y_bridge) {
     const auto drop = [&](double at) {
         const double y = y_nut + (y_bridge - y_nut) * at / length;
-        return radius - std::sqrt(radius * radius - y * y);
+        const double r = radius + (radius_last - radius) * at / last;
+        return r - std::sqrt(r * r - y * y);
     };
     const double chord = drop(0.0) + (drop(last) - drop(0.0)) * x / last;
     return chord - drop(x);
@@ -53,6 +57,18 @@ double interpolate(const std::vector<double>& xs, const std::vector<double>& zs,
 }
 
 }  // namespace
+
+double strings_pull(const Instrument& instrument) {
+    double pull = 0.0;
+    for (const InstrumentString& s : instrument.strings) pull += s.tension_n;
+    return pull;
+}
+
+double pull_bow(const Instrument& instrument, double span_m) {
+    const NeckDescription& neck = instrument.neck;
+    if (!neck.relief_pull_n) return 0.0;
+    return neck.beam.bow_per_newton(span_m) * (strings_pull(instrument) - *neck.relief_pull_n);
+}
 
 double relief_gap_per_bow(const StringNeck& neck, std::size_t at_fret) {
     std::vector<double> x;
@@ -108,7 +124,7 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
         profile_nut = -plane(0.0);
         profile_saddle = -plane(length_);
     } else {
-        for (std::size_t n = 0; n <= frets; ++n) x_[n] = length_ * (1.0 - std::exp2(-static_cast<double>(n) / 12.0));
+        for (std::size_t n = 0; n <= frets; ++n) x_[n] = fret_position(length_, n);
         const double last = x_[frets];
         if (!s.scan_m.empty()) {
             // Tops measured above the straightedge on fret 1 and the last fret; the plane
@@ -125,8 +141,9 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
                 const double place =
                     static_cast<double>(which) / static_cast<double>(instrument.strings.size() - 1) - 0.5;
                 const double l = instrument.strings[which].scale_length_m;
+                const double at_nut = *neck.radius_m, at_last = neck.radius_last_fret_m.value_or(at_nut);
                 for (std::size_t n = 0; n < xs.size(); ++n)
-                    c[n] = radius_crown(xs[n], xs.back(), l, *neck.radius_m, place * neck.nut_width_m,
+                    c[n] = radius_crown(xs[n], xs.back(), l, at_nut, at_last, place * neck.nut_width_m,
                                         place * neck.bridge_spacing_m);
                 return c;
             };
@@ -137,8 +154,7 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
                 for (std::size_t n = 1; n < frets; ++n) line_[n] -= curve.depth_at(x_[n], last);
             } else if (relief.form == ReliefMeasure::Form::gap) {
                 std::vector<double> x0(frets + 1);
-                for (std::size_t n = 0; n <= frets; ++n)
-                    x0[n] = instrument.strings[0].scale_length_m * (1.0 - std::exp2(-static_cast<double>(n) / 12.0));
+                for (std::size_t n = 0; n <= frets; ++n) x0[n] = fret_position(instrument.strings[0].scale_length_m, n);
                 const std::vector<double> c0 = crown(0, x0);
                 const std::size_t m = relief.at_fret;
                 const double crown_gap = c0[1] + (c0[frets] - c0[1]) * (x0[m] - x0[1]) / (x0[frets] - x0[1]) - c0[m];
@@ -154,11 +170,13 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
             board_z_.push_back(board_z_.back());
         }
     }
-    // The truss rod (what-ifs): a bow down toward mid-span, zero at the nut end and the last fret.
-    if (neck.truss_rod_bow_m != 0.0) {
+    // The truss rod (what-ifs) and the strings pulling more or less than when the relief was
+    // measured: a bow down toward mid-span, zero at the nut end and the last fret.
+    const double bow = neck.truss_rod_bow_m + pull_bow(instrument, x_[frets]);
+    if (bow != 0.0) {
         const double last = x_[frets];
-        for (std::size_t n = 0; n <= frets; ++n) line_[n] -= neck.truss_rod_bow_m * unit_bow(x_[n], last);
-        for (std::size_t j = 0; j < board_x_.size(); ++j) board_z_[j] -= neck.truss_rod_bow_m * unit_bow(board_x_[j], last);
+        for (std::size_t n = 0; n <= frets; ++n) line_[n] -= bow * unit_bow(x_[n], last);
+        for (std::size_t j = 0; j < board_x_.size(); ++j) board_z_[j] -= bow * unit_bow(board_x_[j], last);
     }
     top_ = line_;
     for (const auto& [n, offset] : neck.fret_offset_m) top_.at(n) += offset;

@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/InstrumentFile.hpp"
+#include "fretbuzz/model/SteelWire.hpp"
+#include "fretbuzz/model/TautString.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 
 namespace fretbuzz {
@@ -35,7 +38,56 @@ void check_strings(const Instrument& instrument, const std::string& option) {
     }
 }
 
+// New strings (a named set's, at the same pitches) or a retuning: each string's tension
+// follows from its mass and pitch (T = mu (2 L f)^2), and the neck bows with the pull.
+void change_strings(Instrument& out, const SetupChange& change) {
+    if (change.string_set) {
+        const std::string option = "--set " + *change.string_set;
+        const StringSet& set = builtin_string_set(*change.string_set, "--set");
+        if (set.strings.size() != out.strings.size())
+            throw InputError(option + ": the set has " + std::to_string(set.strings.size()) + " strings; " + out.name +
+                             " has " + std::to_string(out.strings.size()));
+        for (std::size_t k = 0; k < out.strings.size(); ++k) {
+            InstrumentString& s = out.strings[k];
+            const StringSetEntry& e = set.strings[k];
+            s.gauge_m = e.gauge_m;
+            s.linear_density = e.linear_density;
+            s.bending_stiffness = SteelWire{e.core_m}.bending_stiffness();
+            s.tension_n = TautString::tuned_with_mass(s.scale_length_m, s.linear_density, s.frequency_hz).tension_n;
+            s.tension_source = "string set " + set.name + " (" + set.source + ")";
+        }
+        check_strings(out, option);
+    }
+    for (const auto& [name, pitch] : change.pitch_hz) {
+        const std::string option = "--tune " + name;
+        InstrumentString& s = out.strings[out.string_index(name)];
+        if (!(pitch >= 20.0 && pitch <= 2000.0))
+            throw InputError(out_of_range_message(option + " (Hz)", pitch, "must be in [20, 2000] Hz"));
+        const double tension = TautString::tuned_with_mass(s.scale_length_m, s.linear_density, pitch).tension_n;
+        if (!(tension >= 1.0 && tension <= 1500.0))
+            throw InputError(option + ": the string would pull " + std::to_string(tension) +
+                             " N at that pitch, out of range: must be in [1, 1500] N");
+        s.frequency_hz = pitch;
+        s.tension_n = tension;
+        check_strings(out, option);
+    }
+}
+
 }  // namespace
+
+std::optional<PullChange> pull_change(const Instrument& before, const Instrument& after) {
+    const double was = strings_pull(before), now = strings_pull(after);
+    if (was == now || after.strings.empty() || after.neck.fret_count < 3) return std::nullopt;
+    PullChange c;
+    c.before_n = was;
+    c.after_n = now;
+    c.fret = relief_fret(after);
+    c.relief_before_m = StringNeck(before, 0).relief_gap(c.fret);
+    c.relief_after_m = StringNeck(after, 0).relief_gap(c.fret);
+    const StringNeck first(after, 0);
+    c.bow_m = pull_bow(after, first.fret_x(first.fret_count())) - pull_bow(before, first.fret_x(first.fret_count()));
+    return c;
+}
 
 std::size_t relief_fret(const Instrument& instrument) {
     if (instrument.neck.relief.form == ReliefMeasure::Form::gap) return instrument.neck.relief.at_fret;
@@ -57,6 +109,7 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
     if (change.empty()) return instrument;
     Instrument out = with_pinned_string_ends(instrument);
     NeckDescription& neck = out.neck;
+    change_strings(out, change);
     if (change.relief_m) {
         const std::size_t m = relief_fret(out);
         require_mm("--relief (the gap at fret " + std::to_string(m) + ")", *change.relief_m, -2e-3, 2e-3);

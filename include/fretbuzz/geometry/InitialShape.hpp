@@ -15,6 +15,15 @@ std::vector<double> triangle_shape(const Grid& grid, double position, double amp
 // is `amplitude`. Needs 0 < position - width/2 and position + width/2 < L.
 std::vector<double> rounded_triangle_shape(const Grid& grid, double position, double width, double amplitude);
 
+// A string pulled toward an obstacle below it and held there, as `shape` (a pluck with its
+// corner rounded over [position - width/2, position + width/2]) would have it but lying taut
+// over what it meets: on each side of the corner, where the straight string would pass below
+// the obstacle, it bends over the obstacle's points instead (the upper concave hull of the
+// string's end, those points and the corner's edge), a picometre above them. `obstacle`: the
+// heights at the grid points (-inf: none). Unchanged where nothing is in the way.
+std::vector<double> taut_over_obstacle(const Grid& grid, std::vector<double> shape, const std::vector<double>& obstacle,
+                                       double position, double width);
+
 // A strike (a hammer or a slap): a raised-cosine velocity distribution
 // v(x) = v_peak (1 + cos(2 pi (x - position) / width)) / 2 for |x - position| < width/2,
 // zero elsewhere.

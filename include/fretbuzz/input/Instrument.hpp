@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbuzz/geometry/NeckBeam.hpp"
+
 namespace fretbuzz {
 
 // The neck's relief (its bow under the strings' pull, set by the truss rod), as measured.
@@ -71,7 +73,14 @@ struct NeckDescription {
     std::map<std::size_t, double> fret_offset_m;   // individual frets: + proud of the fret line, - low
     ReliefMeasure relief;
     double truss_rod_bow_m = 0.0;                  // a bow added to the relief (what-ifs of the truss rod)
-    std::optional<double> radius_m;                // fretboard radius (cylindrical)
+    // The neck as a beam under the strings' pull (geometry/NeckBeam.hpp), and the pull the
+    // relief was measured under (the file's own strings; none: the relief does not follow the
+    // pull). Strings pulling more or less than that bow the neck by the difference.
+    NeckBeam beam;
+    std::optional<double> relief_pull_n;
+    std::optional<double> radius_m;                // fretboard radius at the nut (cylindrical unless the next is given)
+    std::optional<double> radius_last_fret_m;      // compound (conical) board: the radius at the last fret
+    std::size_t capo = 0;                          // a capo on this fret (0: none): the notes below it are not played
     double nut_width_m = 0.0;                      // centre to centre of the outer strings at the nut
     double bridge_spacing_m = 0.0;                 // the same at the bridge
     std::optional<std::size_t> perpendicular_fret;  // multiscale: the fret square to the neck
@@ -79,20 +88,39 @@ struct NeckDescription {
     std::optional<double> body_depth_m;            // past the board: the body, this far below the open string at the board's end
 };
 
-// How the strings are played. Finger plucks (soft, medium, hard) and the pop release the
-// string displaced away from the board (amplitude at the pluck point, a rounded triangle the
-// width of the fingertip); the slap throws it toward the board (a raised-cosine velocity the
-// width of the thumb). Every note of one attack is played at the same distance from the bridge.
+// One way of playing the string (a gesture): where along it, over what width, in which direction.
+struct GestureSettings {
+    double from_bridge_m = 0.0;       // where, from the bridge
+    double width_m = 0.0;             // fingertip, plectrum or thumb
+    // Direction of the release from the board's plane toward the board, degrees: a finger
+    // pluck pulled along the board and let go slightly toward it (> 0); a pop pulled straight
+    // away from it (-90); a slap strikes straight toward it (90).
+    double angle_deg = 0.0;
+};
+
+// How the strings are played, and where those defaults come from (cases/attacks/STYLE.toml,
+// each value with its source; an instrument file's [attack] overrides any of them).
+//  - finger plucks (soft, medium, hard): the string pulled by a fingertip and released from
+//    rest, displaced by the amplitude along the gesture's direction (a rounded triangle the
+//    width of the fingertip);
+//  - a pick stroke: the same with a plectrum's narrow edge;
+//  - a pop: pulled straight away from the board by a finger hooked under the string;
+//  - a slap: the thumb, a mass, strikes the string toward the board at a speed and bounces off.
+// Each note is played as an ensemble of such gestures: each member's place, direction and
+// size uniform within +- the spreads around the attack's (member 0 is the attack itself).
 struct AttackSettings {
-    double pluck_from_bridge_m = 0.0;
-    double finger_width_m = 0.01;
-    double soft_m = 0.0, medium_m = 0.0, hard_m = 0.0;
-    double pop_m = 0.0, pop_from_bridge_m = 0.0, pop_width_m = 0.008;
-    double slap_m_per_s = 0.0, slap_from_bridge_m = 0.0, slap_width_m = 0.015;
-    // The ensemble of one note: plucks jittered around the attack (member 0 is the attack itself).
-    std::size_t ensemble = 5;
-    double position_spread_m = 0.01;   // pluck point uniform within +- this
-    double strength_spread = 0.15;     // amplitude factor uniform within 1 +- this
+    std::string style;                // "bass" or "guitar": whose defaults
+    GestureSettings finger, pick, pop, slap;
+    double soft_m = 0.0, medium_m = 0.0, hard_m = 0.0;  // finger plucks' amplitudes
+    double pick_m = 0.0, pop_m = 0.0;
+    double slap_m_per_s = 0.0;        // the thumb's speed toward the board
+    double thumb_mass_kg = 0.0, thumb_stiffness = 0.0, thumb_loss = 0.0;
+    double position_spread_m = 0.0;
+    double angle_spread_deg = 0.0;
+    double strength_spread = 0.0;     // relative
+    // Each note is played until its verdict is sure, at most this many plucks; the same
+    // instrument and seed give the same plucks on every machine.
+    std::size_t ensemble = 40;
     unsigned long long seed = 1;
 };
 
@@ -103,8 +131,11 @@ struct BenchSettings {
     double grid_step_m = 0.0;          // dx of every note's grid (fret tops are one grid point)
     double output_rate_hz = 48000.0;   // rows of the observed signal
     double observe_from_bridge_m = 0.0;  // where the signal is taken (a bridge pickup)
-    double buzz_band_hz = 2000.0;      // the buzz band's lower edge
-    double audible_db = -30.0;         // a pluck buzzes audibly when its buzz level is at least this (docs/setup.md)
+    // What is heard (analysis/Listener.hpp): the clean note's loudest frame played back at this
+    // level, and a pluck heard to buzz when its contacts rise this far above the masked threshold.
+    double listening_level_db_spl = 85.0;
+    double audible_db = 0.0;
+    double fret_friction = 0.0;        // Coulomb coefficient at the frets (the y polarisation's drag)
     double contact_stiffness = 1e13;   // K
     double contact_exponent = 1.5;     // alpha
     double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2
@@ -122,6 +153,7 @@ struct Instrument {
     std::vector<InstrumentString> strings;  // in the file's order (low to high)
     AttackSettings attack;
     BenchSettings bench;
+    std::vector<std::string> warnings;  // what reading it found doubtful but not wrong (e.g. a mass implausible for a gauge)
 
     // The index of the string called `name`; InputError listing the names if none is.
     std::size_t string_index(const std::string& name) const;

@@ -18,6 +18,7 @@ enum class Quantity {
     rate,               // 1/s
     diffusivity,        // m^2/s
     time,               // s, ms
+    mass,               // kg, g
 };
 
 // The unit names accepted for a kind of quantity, for messages ("m, cm, mm or in").

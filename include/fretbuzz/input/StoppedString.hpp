@@ -17,16 +17,14 @@
 //
 // It stands in for a finger modelled inside the scheme (a lumped mass in contact with the
 // string): a fretted note is a different plan prepared once at set-up, not a finger that
-// lands on a sounding string. Building one costs the held string's modes: 35-60 ms of CPU
-// for the bass's 862 modes (bench/bench_stopped_string.cpp).
+// lands on a sounding string. Building one costs the held string's modes
+// (bench/bench_stopped_string.cpp; docs/performance.md).
 #include <cstddef>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/geometry/FretPositions.hpp"  // fret_position, for the stops
 
 namespace fretbuzz {
-
-// x_k = L (1 - 2^(-k/12)): equal-tempered fret k of a string of length L (k = 0: the nut).
-double fret_position(double length_m, int fret);
 
 // Where the finger goes: at x = 0 (the nut of a fretted neck), unless the obstacle lies near
 // x = 0 (a sitar's or tanpura's bridge: its centroid within L/4), then at x = L, so the

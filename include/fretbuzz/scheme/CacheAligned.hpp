@@ -3,7 +3,7 @@
 // coefficients, the contact rows), starting on a cache line: a vector load of the kernels
 // then never straddles two lines. With malloc's 16-byte alignment whether it did depended on
 // the heap's layout, which moved a run's speed from one build to another (docs/performance.md,
-// what the scheme keeps and why).
+// figures behind choices in the code).
 #include <cstddef>
 #include <new>
 #include <vector>

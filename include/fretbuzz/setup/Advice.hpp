@@ -1,8 +1,7 @@
 #pragma once
 // Advice: searches the bench runs for the luthier, each probe a map played with a what-if.
 //  - The lowest action per string: the gap over fret 12, on a 0.05 mm grid, at which every
-//    note of the string is free of audible buzz at the chosen attack (no pluck of any note's
-//    ensemble buzzes); found by bisection between a clean action and a buzzing one (or one
+//    note of the string is clean at the chosen attack; found by bisection between a clean action and a buzzing one (or one
 //    that would put the open string on a fret), so that the answer is clean and the step
 //    below it is not.
 //  - The proud frets: a fret the buzzing notes buzz against, whose lowering by at most
@@ -11,7 +10,8 @@
 //    neighbours moves the buzz onto its own note, the next fret now standing higher).
 //  - The relief range: the truss-rod settings (the luthier's relief gap, 0.05 mm grid, the
 //    strings' nut and saddle left where they are) over which the whole map is clean.
-// "Clean" here is the map's verdict: buzz_fraction = 0 for every note of the strings searched.
+// "Clean" here is the map's verdict: "clean" for every note of the strings searched (a marginal
+// note, whose plucks cannot show it clean, is not).
 #include <cstddef>
 #include <limits>
 #include <string>

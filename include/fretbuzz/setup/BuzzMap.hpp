@@ -1,14 +1,20 @@
 #pragma once
 // The buzz map of an instrument: every note of every string (open, every fret, the last one
-// included) at each attack, each note's verdict from its ensemble of plucks (Attack.hpp):
-//  - buzz_fraction: the share of plucks whose buzz level reaches the audible threshold
-//    (BenchSettings::audible_db; docs/setup.md says why that value);
-//  - buzz_db: the median buzz level of the plucks, those that touch nothing counting as the
-//    quietest (none when half of them or more touch nothing);
-//  - buzz_fret: the fret the audible plucks buzz against most often (0: the board or body).
+// included) at each attack, each note's verdict from an ensemble of plucks grown until it is
+// sure (NoteJudge):
+//  - verdict: "clean", "marginal" or "buzzes" (a note buzzes when more than one pluck in ten
+//    is heard to buzz), with the buzz fraction and its 90 % interval;
+//  - buzz_db: the median level of the plucks above the masked threshold (0 dB: just heard),
+//    those that touch nothing counting as the quietest (none when half of them or more
+//    touch nothing);
+//  - buzz_fret: the fret the audible plucks buzz against most often (0: the board or body);
+//  - clean_up_to: how much harder than the attack the note can be played and stay clean;
+//  - stiffness_sensitive: with MapRequest::stiffness_check, whether the verdict changes when
+//    the string's bending stiffness is halved or made 1.5 times (the wound strings' cores are
+//    rarely published: the stiffness is the least sure input).
 // A note whose string at rest already lies on a fret past the stop (a high fret) frets out:
 // it is reported as buzzing against that fret without being played. The notes are played
-// on a pool of threads, ensemble members as tasks, and reported as each note completes.
+// on a pool of threads, one note a task, and reported as each note completes.
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -18,6 +24,7 @@
 
 #include "fretbuzz/input/Instrument.hpp"
 #include "fretbuzz/setup/Attack.hpp"
+#include "fretbuzz/setup/NoteJudge.hpp"
 #include "fretbuzz/setup/NotePlayer.hpp"
 
 namespace fretbuzz {
@@ -29,25 +36,33 @@ struct NoteVerdict {
     std::size_t fret = 0;
     std::string strength;          // the attack's label
     std::string status = "ok";     // "ok", "frets out", "not played: ...", "failed: ..."
+    std::string verdict;           // "clean", "marginal", "buzzes" ("buzzes" when it frets out; "" not played)
     double buzz_fraction = 0.0;
+    double buzz_fraction_low = nan, buzz_fraction_high = nan;  // its 90 % interval
     double touch_fraction = 0.0;
-    double buzz_db = nan;
+    double buzz_db = nan;          // median level above the masked threshold (dB)
     int buzz_fret = kNoFret;
     std::size_t plucks = 0;        // plucks played
-    std::vector<double> pluck_db;  // each pluck's buzz level (NaN: touched nothing)
+    std::vector<double> pluck_db;  // each pluck's level (NaN: touched nothing)
     std::vector<int> pluck_fret;
+    double clean_up_to = nan;       // the strongest attack that stays clean, as a multiple of this one (inf: >= 3)
+    double clean_up_to_value = nan;  // the same in the attack's unit (mm or m/s)
+    std::string unit;                // "mm" or "m/s"
+    std::string stiffness_sensitive;  // "" not checked; "no"; or the factors that change it: "0.5", "1.5", "0.5,1.5"
     double clearance_m = nan;      // the smallest gap between the note's string at rest and a fret past the stop
     std::string audio;             // its WAV (the attack itself), in the map's folder; "" if none
 };
 
-// The verdict from the plucks of one note and attack.
-NoteVerdict judge(std::vector<PluckOutcome> plucks, double audible_db);
+// The verdict of one note and attack from its judgement (the fraction, levels and frets).
+NoteVerdict summarise(const AttackJudgement& judgement, double audible_db);
 
 struct MapRequest {
     std::vector<std::size_t> strings;   // indices into Instrument::strings; empty: all
     std::vector<std::size_t> frets;     // empty: 0 .. the last fret
     std::vector<Attack> attacks;
     bool finger = false;
+    bool clean_up_to = true;            // search each note's clean_up_to
+    bool stiffness_check = false;       // replay each note with the bending stiffness x 0.5 and x 1.5
     unsigned jobs = 0;                  // threads; 0: the hardware's
     std::filesystem::path audio_dir;    // where the notes' WAVs go (empty: none), named as note_audio_name says
     // Called (from a worker thread, one call at a time) as each note's verdicts are ready.

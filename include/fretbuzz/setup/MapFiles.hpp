@@ -1,9 +1,12 @@
 #pragma once
 // The files of a buzz map, and a map compared with an earlier one.
-//  - buzz_map.csv: one row per note and attack: string, fret, strength, buzz_fraction,
-//    buzz_dB, buzz_fret ("board" for the board or body, empty for none), touch_fraction,
-//    plucks, status, clearance_mm, audio, pluck_dB (each pluck's level, ';'-separated,
-//    empty where it touched nothing). Numbers in their shortest form that reads back exactly.
+//  - buzz_map.csv: one row per note and attack: string, fret, strength, verdict,
+//    buzz_fraction with its 90 % interval (buzz_fraction_low, _high), buzz_dB (the median level
+//    above the masked threshold), buzz_fret ("board" for the board or body, empty for none),
+//    touch_fraction, plucks, clean_up_to (a multiple of the attack; inf: at least 3),
+//    clean_up_to_value and its unit, stiffness_sensitive, status, clearance_mm, audio,
+//    pluck_dB (each pluck's level, ';'-separated, empty where it touched nothing). Numbers
+//    in their shortest form that reads back exactly.
 //  - map.json: everything a page or the studio draws: the instrument's geometry, the
 //    settings, the verdicts, the comparison and the advice when there are.
 #include <cstddef>
@@ -26,14 +29,15 @@ void write_buzz_map_csv(const std::filesystem::path& path, std::span<const NoteV
 // it is missing, too large (64 MiB) or not a buzz map.
 std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, const std::string& option);
 
-// How a note changed between two maps: "worse" (more of its plucks buzz, or as many and
-// 3 dB louder), "better" (the reverse), "moved" (as many buzz, against another fret),
-// "same", or "new" (not in the other map).
+// How a note changed between two maps: "worse" (a worse verdict, more of its plucks buzz, a
+// clean_up_to 10 % lower, or as many plucks buzz 3 dB louder), "better" (the reverse), "moved"
+// (as many buzz, against another fret), "same", or "new" (not in the other map).
 struct NoteChange {
     NoteVerdict now, before;
     std::string change;
 };
 inline constexpr double kChangeDb = 3.0;
+inline constexpr double kChangeCleanUpTo = 1.1;
 std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span<const NoteVerdict> before);
 void write_comparison_csv(const std::filesystem::path& path, std::span<const NoteChange> changes);
 

@@ -28,6 +28,11 @@
 
 namespace fretbuzz {
 
+// Which polarisations a stand-in note carries. The frets push along z only and friction only
+// drags y, so z (what a pickup senses) is the same with or without y: the bench's ensembles
+// run z alone; a note played for listening and drawing runs both.
+enum class Polarisations { z_only, both };
+
 class NoteMaker {
 public:
     NoteMaker(const Instrument& instrument, std::size_t string);
@@ -35,12 +40,15 @@ public:
     const StringNeck& neck() const { return neck_; }
     const Case& open_string() const { return open_; }
     std::size_t string_index() const { return string_; }
+    // The lowest partial of the stopped note (Hz): its fundamental.
+    double fundamental_hz(std::size_t fret) const;
 
     // Why the note cannot be played this way (the pluck would fall behind the fret, or off
     // the string), or nothing.
     std::optional<std::string> unplayable(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
                                           bool finger) const;
-    Case stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck) const;
+    Case stand_in(std::size_t fret, const Attack& attack, const PluckVariation& pluck,
+                  Polarisations polarisations = Polarisations::z_only) const;
     // The stand-in note of a fret before it is plucked: its string and obstacle, built once
     // (the held string's modes cost tens of ms) and shared by every pluck of the note (threads too).
     const Case& stopped(std::size_t fret) const;
@@ -54,7 +62,7 @@ private:
     // The string's own modes at a vibrating length: stiff-string frequencies and the damping law.
     ModeTable string_modes(double length, std::size_t modes) const;
     double pluck_position(double sounding, const Attack& attack, const PluckVariation& pluck) const;
-    void excite(Case& c, const Attack& attack, const PluckVariation& pluck) const;
+    void excite(Case& c, const Attack& attack, const PluckVariation& pluck, Polarisations polarisations) const;
 
     std::size_t string_;
     StringNeck neck_;
@@ -66,12 +74,23 @@ private:
     double grid_step_m_;
     bool pinned_;
     double bending_stiffness_, eta0_, eta2_;
+    double fret_friction_;
+    double thumb_mass_, thumb_stiffness_, thumb_loss_;
 };
+
+// The z share of an attack's release (or a thumb's speed) for a member of its ensemble: the
+// size times the sine of its direction toward the board, negative toward the board.
+double z_share(const Attack& attack, const PluckVariation& pluck);
 
 // True when no point of the string can reach the obstacle, ever: every mode's amplitude
 // (its largest displacement under its damping) summed with |phi_j(x_i)| stays below the
 // clearance at every grid point. Then the note is free motion and touches nothing.
 bool never_touches(const Case& c);
+// The factor by which the case's initial state can be scaled with never_touches() still
+// true (infinity when it never can touch; 0 when no bound holds: a finger or thumb on it, or
+// an overdamped mode). The free motion is linear in its initial state, so a pluck scaled by
+// less than this touches nothing.
+double touch_free_scale(const Case& c);
 
 // The string's motion without any obstacle at x, in closed form: each mode a damped
 // oscillator q_j(t) = e^(-sigma_j t) (q_j(0) cos(w_j t) + (sigma_j q_j(0) + v_j(0)) / w_j

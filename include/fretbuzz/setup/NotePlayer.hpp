@@ -1,19 +1,21 @@
 #pragma once
-// One pluck of a note, and how much it buzzed. The buzz level is the one of `fretbuzz sweep`
-// (docs/sweeps.md): the high-frequency energy (above the buzz band's edge) the contacts
-// added to the signal at the pickup, u - u_free, relative to the note's own, u_free, in dB;
-// u_free is the same pluck with nothing to touch. On the stand-in the string is linear where
-// it does not touch, so u_free comes in closed form (free_motion_at), and plucks of one shape
-// share it, scaled. With the finger model it is a second run with the frets past the stop
-// removed (the finger is not linear).
+// One pluck of a note, and how far its contacts are heard above what the clean note masks
+// (analysis/Listener.hpp: the level in dB above the masked threshold of the signal at the
+// pickup; 0 dB is just audible). The clean note u_free is the same pluck with nothing to touch:
+// on the stand-in the string is linear where it does not touch, so u_free comes in closed form
+// (free_motion_at), and the plucks of one member of the ensemble share it, scaled to their
+// size. With the finger model or a slap (the finger and the thumb are not linear) it is a
+// second run with the frets past the stop removed.
 #include <cstddef>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/analysis/Listener.hpp"
 #include "fretbuzz/input/Instrument.hpp"
 #include "fretbuzz/run/RunObserver.hpp"
 #include "fretbuzz/setup/NoteCase.hpp"
@@ -38,7 +40,8 @@ struct PluckOutcome {
     std::string error;              // not played (the pluck behind the fret) or failed: why
     bool simulated = false;         // false: provably clear of everything (never_touches), or not played
     bool touched = false;           // the obstacle pushed on the string (past the stopping fret)
-    double buzz_db = nan;           // NaN when it touched nothing
+    double buzz_db = nan;           // dB above the masked threshold; NaN when it touched nothing
+    double size = 0.0;              // the attack's size it was played at (m or m/s)
     int buzz_fret = kNoFret;        // where the largest impulse went
     double first_contact_s = nan;
     double peak_force_n = 0.0;
@@ -51,12 +54,12 @@ struct PluckOutcome {
 
 // Observes a note's run: the pickup signal and the obstacle's contacts, fret by fret (a
 // contact point belongs to the nearest fret within two grid steps, else to the board or
-// body). Contacts of a finger model's hand (its pads, everything up to the stopping fret:
-// first_buzz_point) do not count.
+// body). Contacts under a finger's or a thumb's pad do not count, nor, on a note fretted by
+// the finger model (`fretted`), everything up to the stopping fret (first_buzz_point).
 class NoteContacts : public RunObserver {
 public:
     // fret_x: the frets the note can buzz against, on its string (m); fret_number: theirs.
-    NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, double bin_s = 5e-4);
+    NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted, double bin_s = 5e-4);
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
@@ -72,6 +75,7 @@ public:
 private:
     std::vector<double> fret_x_;
     std::vector<std::size_t> fret_number_;
+    bool fretted_;
     double bin_s_;
     double rate_ = 0.0, dx_ = 0.0, dt_ = 0.0;
     std::vector<int> fret_of_point_;  // kNoFret: not counted (the hand)
@@ -83,23 +87,61 @@ private:
     double first_ = PluckOutcome::nan, peak_ = 0.0;
 };
 
-// What playing a note takes.
-struct PluckRequest {
-    bool finger = false;       // the finger model (else the stand-in)
-    double band_hz = 2000.0;   // the buzz band's lower edge
+// How one pluck is played.
+struct PluckOptions {
     bool keep_details = false;  // keep the signal and the contacts over time in the outcome
+    Polarisations polarisations = Polarisations::z_only;
+    // Where its sound goes (empty: none): the pickup's velocity (what a magnetic pickup sends, and
+    // what the listener hears), faded in over 5 ms and out over 50 ms.
+    std::filesystem::path wav;
 };
 
-// Plays member `pluck` of note `fret` once per attack; plucks of one shape share one
-// obstacle-free reference. wav_paths: per attack, where to write its audio (empty: none),
-// faded in over 5 ms and out over the last 50 ms. Throws Interrupted when a stop is asked.
-std::vector<PluckOutcome> play_plucks(const NoteMaker& maker, std::size_t fret, std::span<const Attack> attacks,
-                                      const PluckVariation& pluck, const PluckRequest& request,
-                                      std::span<const std::filesystem::path> wav_paths = {});
+// Plays the plucks of one note (string, fret) and judges each by ear: the listener planned
+// once for the note, and each member's clean note (its obstacle-free reference) kept for the
+// note's other sizes. One object per thread.
+class NotePlayer {
+public:
+    NotePlayer(const NoteMaker& maker, std::size_t fret, bool finger, const ListeningSettings& listening);
+    // Member `member` of the ensemble (`pluck` its variation) of `attack`, its size replaced by
+    // `size`. Throws Interrupted when a stop is asked.
+    PluckOutcome play(const Attack& attack, double size, std::size_t member, const PluckVariation& pluck,
+                      const PluckOptions& options = {});
+    // The factor of `attack`'s size below which member `pluck` touches nothing (0: no bound).
+    double touch_free_size(const Attack& attack, const PluckVariation& pluck) const;
+    // The listener, planned at the first pluck for the note's rate and length.
+    const Listener* listener() const { return listener_ ? &*listener_ : nullptr; }
 
-// One pluck of a note (member `member` of its ensemble) with everything kept: the pickup
-// signal, its audio at 48 kHz (as the note's WAV, before normalising) and the contacts over time.
+private:
+    struct Reference {
+        Gesture gesture;
+        std::size_t member;
+        double z_share;                 // of the run it was made from
+        std::vector<double> u;          // the clean note at the pickup
+        Listener::Clean clean;          // its band energies and masked threshold
+        std::vector<double> shape;      // the initial modal displacement it was made from
+    };
+    const Reference* reference(const Attack& attack, std::size_t member, const Case& played, double z_share,
+                               std::size_t samples);
+    PluckOutcome judge(const Case& c, const Attack& attack, std::size_t member, const PluckVariation& pluck,
+                       const PluckOptions& options);
+
+    const NoteMaker& maker_;
+    std::size_t fret_;
+    bool finger_;
+    ListeningSettings listening_;
+    std::optional<Listener> listener_;
+    std::vector<Reference> references_;
+    Reference scratch_;                          // a pluck's own, when it rests on a fret at release
+    std::vector<PluckVariation> members_at_;     // each member's variation, as played
+};
+
+// One pluck of a note (member `member` of its ensemble) with everything kept, in both
+// polarisations: the pickup signal, its audio at 48 kHz (as the note's WAV, before
+// normalising) and the contacts over time.
 PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
                           std::size_t member = 0, bool finger = false);
+
+// How the bench listens (BenchSettings' listening level).
+ListeningSettings listening_settings(const BenchSettings& bench);
 
 }  // namespace fretbuzz

@@ -5,9 +5,11 @@
 //  - Frets at equal-tempered positions x_n = L (1 - 2^(-n/12)) on the string's scale L (a
 //    measured profile: where its frets are).
 //  - The fret line: the relief (a bow fitted to the luthier's gap, or a measured curve), a
-//    truss-rod bow added by what-ifs, and the fretboard radius as this string sees it (the
-//    strings fan out over a cylinder: the outer ones see a crowned fret line). Each fret's
-//    top is the fret line plus its own offset (proud or low); a scan gives the tops directly.
+//    truss-rod bow added by what-ifs, the bow of a pull other than the one the relief was
+//    measured under (a retuning, another set: geometry/NeckBeam.hpp), and the fretboard
+//    radius as this string sees it (the strings fan out over a cylinder, or a cone for a
+//    compound radius: the outer ones see a crowned fret line). Each fret's top is the fret
+//    line plus its own offset (proud or low); a scan gives the tops directly.
 //  - The board one fret height below the fret line, straight from fret to fret, flat past
 //    the last fret up to the board's end; past it the body, parallel to the fret plane.
 //  - The open string: the straight line from the nut to the saddle, placed by the gap over
@@ -79,5 +81,11 @@ private:
 // The relief gap a bow of depth 1 m adds under a string (see StringNeck::relief_gap): the
 // what-ifs of the truss rod solve for the bow that gives a wanted gap with it.
 double relief_gap_per_bow(const StringNeck& neck, std::size_t at_fret);
+
+// The strings' total pull on the neck (N), and the bow (m, at mid-span of `span_m`, + down)
+// the neck takes beyond its measured relief because they pull more than when the relief was
+// measured (NeckBeam.hpp; 0 when the instrument says nothing of that pull).
+double strings_pull(const Instrument& instrument);
+double pull_bow(const Instrument& instrument, double span_m);
 
 }  // namespace fretbuzz

@@ -10,7 +10,11 @@
 //  - action12 / nut / saddle of one string: its gap over fret 12, over fret 1, or the
 //    saddle's height above the fret plane;
 //  - fret offset: fret k raised (+) or lowered (-) by an amount, or levelled: dressed down
-//    until its top lies on the line through its neighbours' tops under every string.
+//    until its top lies on the line through its neighbours' tops under every string;
+//  - strings: a named set's strings at the same pitches, or one string retuned (drop D):
+//    their tensions change, and the neck, its truss rod left as it was, bows with the pull
+//    (geometry/NeckBeam.hpp). These come first: a --relief with them is the truss rod set
+//    again under the new strings.
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -30,8 +34,11 @@ struct SetupChange {
     std::optional<double> relief_m;
     std::vector<std::pair<std::string, double>> action12_m, nut_m, saddle_m;  // string name, value
     std::vector<FretChange> frets;
+    std::optional<std::string> string_set;                // the strings replaced by this named set's
+    std::vector<std::pair<std::string, double>> pitch_hz;  // string name, its new open pitch
     bool empty() const {
-        return !relief_m && action12_m.empty() && nut_m.empty() && saddle_m.empty() && frets.empty();
+        return !relief_m && action12_m.empty() && nut_m.empty() && saddle_m.empty() && frets.empty() &&
+               !string_set && pitch_hz.empty();
     }
 };
 
@@ -45,5 +52,15 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
 
 // The fret the neck's relief is measured at (the relief's own, else 8 or the last fret but one).
 std::size_t relief_fret(const Instrument& instrument);
+
+// What a change of the strings' pull did to the neck: the pull before and after (N), the bow
+// it added (m, + down, NeckBeam.hpp) and the relief gap under the first string at the relief
+// fret before and after. Nothing when the pull is the same.
+struct PullChange {
+    double before_n = 0.0, after_n = 0.0, bow_m = 0.0;
+    double relief_before_m = 0.0, relief_after_m = 0.0;
+    std::size_t fret = 0;
+};
+std::optional<PullChange> pull_change(const Instrument& before, const Instrument& after);
 
 }  // namespace fretbuzz

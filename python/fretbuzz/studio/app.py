@@ -1,5 +1,6 @@
 """The studio's web application (FastAPI): the page, its JSON and HTML fragments, the study
-folder's files, and the guard that keeps it to this computer.
+folder's files, and the guard that keeps it to this computer (or, shared with --host, to
+requests with its token).
 
 Routes:
   GET  /                 the page
@@ -17,10 +18,14 @@ Routes:
 from __future__ import annotations
 
 import base64
+import errno
+import hmac
 import ipaddress
 import json
 import os
-from typing import Dict, Optional
+import re
+import secrets
+from typing import Dict, Iterable, Optional
 
 from fastapi import FastAPI, Request
 from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
@@ -34,6 +39,16 @@ from .study import QUEUE_LIMIT, SERVED_SUFFIXES, FieldErrors, Study, StudyPathEr
 HERE = os.path.dirname(os.path.abspath(__file__))
 LOOPBACK_NAMES = {"127.0.0.1", "localhost", "::1"}
 MAX_BODY_BYTES = 16 * 1024
+# Where the export writes its bytes: a test puts a full disk here.
+write_bytes = os.write
+
+
+class BodyTooLarge(Exception):
+    """A request body past MAX_BODY_BYTES, however it was sent."""
+
+
+class NoSpace(OSError):
+    """The study folder's disk is full (or its quota spent)."""
 
 
 def templates() -> Environment:
@@ -51,6 +66,11 @@ def is_loopback(address: Optional[str]) -> bool:
         return False
 
 
+def whole(text: str) -> bool:
+    """ASCII digits only (str.isdigit takes "٣" and "³" too)."""
+    return re.fullmatch(r"[0-9]+", text) is not None
+
+
 def host_name(header: str) -> tuple:
     """A Host header's name and port ("[::1]:8035" -> ("::1", 8035)); port None when absent, -1
     when not a number."""
@@ -60,54 +80,96 @@ def host_name(header: str) -> tuple:
         port = rest[1:] if rest.startswith(":") else ""
     else:
         name, _, port = header.partition(":")
-    return name, (int(port) if port.isdigit() else None if not port else -1)
+    return name, (int(port) if whole(port) and len(port) <= 5 else None if not port else -1)
+
+
+def is_address(name: str) -> bool:
+    try:
+        ipaddress.ip_address(name)
+        return True
+    except ValueError:
+        return False
+
+
+def refusal(status: int, message: str, close: bool = False) -> JSONResponse:
+    # close: the client may still be sending a body this answer will not read.
+    return JSONResponse({"error": message}, status_code=status, headers={"Connection": "close"} if close else None)
 
 
 class Guard:
-    """Who may talk to the studio. Without an explicit host: only loopback clients, naming the
-    server by a loopback name and its own port in Host (so that a web page whose name was
-    made to resolve to 127.0.0.1, DNS rebinding, is refused), and changes only from the page
-    itself (Origin, a JSON body: a cross-site form cannot send one without asking)."""
+    """Who may talk to the studio.
 
-    def __init__(self, port: int, host: Optional[str] = None):
+    Without a host (the default): only loopback clients, naming the server by a loopback name
+    and its own port in Host (so that a web page whose name was made to resolve to 127.0.0.1,
+    DNS rebinding, is refused), and changes only from the page itself (Origin, a JSON body: a
+    cross-site form cannot send one without asking).
+
+    With a host (exposed): any client, but each request carries the token (the printed
+    address's ?token=..., kept by the browser as a cookie), and Host still names this server:
+    a loopback name, the host's own name, a name in allow_hosts, or an address (a page that
+    reaches the port by an address is that address's own page, not a rebinding one)."""
+
+    def __init__(self, port: int, host: Optional[str] = None, allow_hosts: Iterable[str] = (),
+                 token: Optional[str] = None):
         self.port = port
         self.open = host is not None
+        self.token = (token or secrets.token_urlsafe(24)) if self.open else None
+        self.cookie = f"fretbuzz_studio_{port}"  # cookies ignore ports: one per studio
         wildcard = host in ("0.0.0.0", "::", "")
-        # Served on every interface: the name others use for this computer is not known here.
-        self.names = None if wildcard else LOOPBACK_NAMES | ({host.strip("[]").lower()} if host else set())
+        self.names = LOOPBACK_NAMES | {n.strip("[]").lower() for n in allow_hosts}
+        if host and not wildcard:
+            self.names.add(host.strip("[]").lower())
 
     def ours(self, name: str, port: Optional[int]) -> bool:
         """Whether host:port names this server (no port: 80)."""
-        return (80 if port is None else port) == self.port and (self.names is None or name in self.names)
+        return (80 if port is None else port) == self.port and (name in self.names or (self.open and is_address(name)))
+
+    def has_token(self, request: Request) -> Optional[str]:
+        """Where the request carries the token: "cookie", or "query" (the response then sets the
+        cookie); None when it carries none, or another."""
+        for given, how in ((request.cookies.get(self.cookie), "cookie"), (request.query_params.get("token"), "query")):
+            if given is not None and hmac.compare_digest(given.encode(), self.token.encode()):
+                return how
+        return None
 
     def refuse(self, request: Request) -> Optional[Response]:
         client = request.client.host if request.client else None
         if not self.open and not is_loopback(client):
-            return JSONResponse({"error": f"refused: the studio answers this computer only (loopback), not {client}; "
-                                          "start it with --host to serve other computers"}, status_code=403)
+            return refusal(403, f"refused: the studio answers this computer only (loopback), not {client}; "
+                                "start it with --host to serve other computers", close=True)
         host = request.headers.get("host", "")
         if not self.ours(*host_name(host)):
-            return JSONResponse({"error": f"refused: Host {host!r} is not this studio (http://127.0.0.1:{self.port}/)"},
-                                status_code=400)
+            return refusal(400, f"refused: Host {host!r} is not this studio (http://127.0.0.1:{self.port}/"
+                                f"{'; --allow-host adds a name' if self.open else ''})", close=True)
+        if self.open and not self.has_token(request):
+            return refusal(401, "refused: this studio is shared on the network and needs its token: open the "
+                                "address it printed (…/?token=…)", close=True)
+        # A body is read only up to MAX_BODY_BYTES (_json); one without a length is not read at all.
+        if "transfer-encoding" in request.headers:
+            return refusal(411, f"refused: a request body is sent with its Content-Length (at most "
+                                f"{MAX_BODY_BYTES} bytes)", close=True)
+        length = request.headers.get("content-length")
+        if length is not None and (not whole(length) or int(length) > MAX_BODY_BYTES):
+            return refusal(413, f"refused: a request body over {MAX_BODY_BYTES} bytes", close=True)
         if request.method not in ("GET", "HEAD"):
             origin = request.headers.get("origin")
             if origin is not None and not (origin.startswith("http://") and self.ours(*host_name(origin[7:]))):
-                return JSONResponse({"error": f"refused: a change from {origin} (only the studio's own page may "
-                                              "change it)"}, status_code=403)
+                return refusal(403, f"refused: a change from {origin} (only the studio's own page may change it)")
             if request.headers.get("content-type", "").split(";")[0].strip() != "application/json":
-                return JSONResponse({"error": "refused: changes are sent as JSON"}, status_code=415)
-            length = request.headers.get("content-length")
-            if length is not None and (not length.isdigit() or int(length) > MAX_BODY_BYTES):
-                return JSONResponse({"error": f"refused: a request body over {MAX_BODY_BYTES} bytes"}, status_code=413)
+                return refusal(415, "refused: changes are sent as JSON")
         return None
 
 
 async def _json(request: Request):
-    body = await request.body()
-    if len(body) > MAX_BODY_BYTES:
-        raise FieldErrors({"form": f"the request is over {MAX_BODY_BYTES} bytes"})
+    body = bytearray()
+    async for chunk in request.stream():  # never more than the limit in memory, whatever the headers said
+        body += chunk
+        if len(body) > MAX_BODY_BYTES:
+            raise BodyTooLarge()
     try:
-        return json.loads(body or b"{}")
+        return json.loads(bytes(body) or b"{}")
+    except RecursionError:
+        raise FieldErrors({"form": "the request nests too deep to be the page's controls"}) from None
     except ValueError:
         raise FieldErrors({"form": "the request is not JSON"}) from None
 
@@ -134,13 +196,16 @@ def _map_state(record) -> Optional[dict]:
             "advice": record.advice_status, "advice_error": record.advice_error}
 
 
-def create_app(study: Study, *, port: int, host: Optional[str] = None) -> FastAPI:
+def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hosts: Iterable[str] = (),
+               token: Optional[str] = None) -> FastAPI:
     """The studio's application around a Study; port (and host, when given) are where it is
-    served, for the Host checks."""
+    served, for the Host checks. With a host, every request needs the token (app.state.token:
+    the one given, else a random one)."""
     app = FastAPI(title="fretbuzz studio", docs_url=None, redoc_url=None, openapi_url=None)
     env = templates()
-    guard = Guard(port, host)
+    guard = Guard(port, host, allow_hosts, token)
     app.state.study = study
+    app.state.token = guard.token
 
     @app.middleware("http")
     async def only_this_computer(request: Request, call_next):
@@ -150,7 +215,21 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None) -> FastAP
         response = await call_next(request)
         response.headers["X-Content-Type-Options"] = "nosniff"
         response.headers["X-Frame-Options"] = "DENY"
+        if guard.open and guard.has_token(request) == "query":
+            response.set_cookie(guard.cookie, guard.token, httponly=True, samesite="strict")
         return response
+
+    @app.exception_handler(BodyTooLarge)
+    async def body_too_large(request: Request, e: BodyTooLarge):
+        return refusal(413, f"refused: a request body over {MAX_BODY_BYTES} bytes", close=True)
+
+    @app.exception_handler(NoSpace)
+    async def no_space(request: Request, e: NoSpace):
+        return JSONResponse({"error": str(e), "errors": {"export": str(e)}}, status_code=507)
+
+    @app.exception_handler(OSError)
+    async def cannot_write(request: Request, e: OSError):
+        return JSONResponse({"error": f"the studio could not do it: {e}"}, status_code=500)
 
     @app.on_event("shutdown")
     def stop_the_worker() -> None:
@@ -280,8 +359,31 @@ def write_report(study: Study, record, path: str, env: Optional[Environment] = N
         before=record.before, before_rows=present.map_rows(record.before) if record.before else [],
         views=present.neck_views(record.bench), setup=present.setup_rows(record.bench), advice=record.advice,
         settings=record.bench.settings, sounds=sounds)
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(html)
-    os.replace(tmp, path)
+    write_file(path, html.encode("utf-8"))
     return path
+
+
+def write_file(path: str, data: bytes) -> None:
+    """Writes path whole or not at all (a temporary file renamed over it, removed on failure);
+    NoSpace when the disk is full."""
+    tmp = f"{path}.{os.getpid()}.tmp"
+    try:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[write_bytes(fd, view):]
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        if e.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise NoSpace(f"export: the disk of the study folder is full ({os.path.dirname(path)}): free some "
+                          "space (`fretbuzz clean STUDY --keep-maps N` removes old maps) and export again") from None
+        raise

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any, Dict, List, Optional
 
-from ..setup_report import note_colour, side_view
+from ..setup_report import clean_up_to_text, note_colour, side_view
 
 # How each change from the previous map is marked, in text as well as by the cell's outline.
 CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "better than before"),
@@ -22,17 +22,13 @@ def _plucks(n: dict) -> str:
 
 
 def verdict(n: dict) -> str:
-    """A note's class: clean (touches nothing), touches (no audible buzz), some (some plucks
-    buzz audibly), buzz (most do), out (frets out), unplayed."""
+    """A note's class: clean, marginal (its plucks cannot tell), buzzes, out (frets out),
+    unplayed."""
     if n["status"] == "frets out":
         return "out"
-    if n["status"] != "ok":
+    if n["status"] != "ok" or not n.get("verdict"):
         return "unplayed"
-    if n["touch_fraction"] == 0:
-        return "clean"
-    if n["buzz_fraction"] == 0:
-        return "touches"
-    return "buzz" if n["buzz_fraction"] >= 0.5 else "some"
+    return n["verdict"]
 
 
 def sentence(n: dict) -> str:
@@ -43,13 +39,14 @@ def sentence(n: dict) -> str:
         return f"{where}: frets out" + (f" against fret {n['buzz_fret']}" if n.get("buzz_fret") not in (None, "") else "")
     if kind == "unplayed":
         return f"{where}: {n['status']}"
-    if kind == "clean":
-        return f"{where}: clean, touches no fret"
-    text = f"{where}: {_plucks(n)} plucks buzz audibly"
+    text = f"{where}: {kind}, {_plucks(n)} plucks buzz"
     if n.get("buzz_dB") is not None and not (isinstance(n["buzz_dB"], float) and math.isnan(n["buzz_dB"])):
-        text += f", median buzz level {n['buzz_dB']:.1f} dB"
-    if n.get("buzz_fret") not in (None, ""):
+        text += f", median level {n['buzz_dB']:+.0f} dB over the masked threshold"
+    if n.get("buzz_fret") not in (None, "") and n["buzz_fraction"] > 0:
         text += f", against {'the board' if n['buzz_fret'] == 'board' else 'fret ' + str(n['buzz_fret'])}"
+    up_to = clean_up_to_text(n)
+    if up_to:
+        text += f"; clean up to {up_to} this attack"
     if n.get("clearance_mm") is not None:
         text += f", clearance {n['clearance_mm']:.2f} mm"
     return text
@@ -69,8 +66,8 @@ def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
                 "label": f"{string} string, fret {fret}, {strength} attack: not played yet", "colour": "", "ink": "",
                 "change": "", "mark": "", "audio": ""}
     kind = verdict(n)
-    text = {"clean": "\u2713", "touches": _plucks(n), "some": _plucks(n), "buzz": _plucks(n), "out": "out",
-            "unplayed": "\u2013"}[kind]
+    up_to = clean_up_to_text(n)
+    text = {"out": "out", "unplayed": "\u2013"}.get(kind, (up_to or _plucks(n)) + ("?" if kind == "marginal" else ""))
     label = sentence(n)
     change = n.get("change", "") if n.get("change") in CHANGE_MARKS else ""
     mark = CHANGE_MARKS[change][0] if change else ""
@@ -92,10 +89,11 @@ def map_rows(record) -> List[dict]:
 
 
 def summary(record) -> Dict[str, int]:
-    """How many notes buzz audibly, and how many changed against the previous map (new: not
-    in it, played at another attack)."""
+    """How many notes buzz (marginal ones apart), and how many changed against the previous map
+    (new: not in it, played at another attack)."""
     notes = list(record.notes)
-    out = {"played": len(notes), "buzzing": sum(1 for n in notes if n["buzz_fraction"] > 0)}
+    out = {"played": len(notes), "buzzing": sum(1 for n in notes if verdict(n) in ("buzzes", "out")),
+           "marginal": sum(1 for n in notes if verdict(n) == "marginal")}
     for change in (*CHANGE_MARKS, "new"):
         out[change] = sum(1 for n in notes if n.get("change") == change)
     return out

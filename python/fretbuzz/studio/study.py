@@ -10,8 +10,11 @@ which files may be served.
 from __future__ import annotations
 
 import collections
+import errno
+import fcntl
 import os
 import re
+import shutil
 import threading
 import time
 from dataclasses import dataclass, field
@@ -26,6 +29,62 @@ QUEUE_LIMIT = 2
 MAX_VALUE_CHARS = 40
 # The files the study folder serves: the notes' WAVs and the exported reports.
 SERVED_SUFFIXES = {".wav": "audio/wav", ".html": "text/html; charset=utf-8"}
+
+
+# The study folder's lock: held by the one studio working in it (flock: the kernel lets go
+# when that process ends, however it ends); it holds that studio's process id.
+LOCK_NAME = ".fretbuzz-studio.lock"
+# A map is played into maps/NNN.partial and renamed maps/NNN once every note is written: a
+# folder named maps/NNN is a whole map. A studio killed mid-map leaves a .partial folder,
+# removed by the next studio in that folder (or `fretbuzz clean`).
+PARTIAL = ".partial"
+MAP_FOLDER = re.compile(r"([0-9]{3,})(\.partial)?")
+
+
+class StudyBusy(OSError):
+    """Another studio works in this study folder."""
+
+
+def lock_folder(folder: str) -> int:
+    """Takes the study folder's lock (a file descriptor, held until closed); StudyBusy naming
+    the process that holds it."""
+    fd = os.open(os.path.join(folder, LOCK_NAME), os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError as e:
+        if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN):
+            os.close(fd)
+            raise
+        holder = ""
+        for _ in range(50):  # the holder writes its id just after locking
+            holder = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
+            if holder:
+                break
+            time.sleep(0.02)
+        os.close(fd)
+        raise StudyBusy(f"another studio works in {folder} (process {holder or 'unknown'}): "
+                        "stop it, or give this one another --study") from None
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"{os.getpid()}\n".encode("ascii"), 0)
+    return fd
+
+
+def prune_maps(folder: str, keep: Optional[int] = None) -> tuple:
+    """Removes the unfinished maps of a study folder (maps/NNN.partial) and, with keep, all
+    but the newest `keep` finished ones; the caller holds the folder's lock. Returns (the
+    unfinished removed, the finished removed)."""
+    maps = os.path.join(folder, "maps")
+    if not os.path.isdir(maps):
+        return 0, 0
+    partial, whole = [], []
+    for name in os.listdir(maps):
+        m = MAP_FOLDER.fullmatch(name)
+        if m and os.path.isdir(os.path.join(maps, name)) and not os.path.islink(os.path.join(maps, name)):
+            (partial if m.group(2) else whole).append((int(m.group(1)), name))
+    old = sorted(whole)[:max(len(whole) - keep, 0)] if keep is not None else []
+    for _, name in partial + old:
+        shutil.rmtree(os.path.join(maps, name))
+    return len(partial), len(old)
 
 
 class FieldErrors(InputError):
@@ -47,7 +106,7 @@ class MapRecord:
     bench: Bench
     label: str
     strengths: str
-    folder: str  # relative to the study folder, e.g. "maps/003"
+    folder: str  # relative to the study folder, e.g. "maps/003" (maps/003.partial on disk until it is whole)
     total: int
     changes: Dict[str, Any] = field(default_factory=dict)  # the what-ifs, as Bench.with_changes takes them
     notes: List[dict] = field(default_factory=list)
@@ -58,6 +117,7 @@ class MapRecord:
     advice: Optional[dict] = None
     advice_status: str = ""  # "", waiting, running, done, failed
     advice_error: str = ""
+    whole: bool = False  # its folder renamed from NNN.partial to NNN: every note written
 
     @property
     def attacks(self) -> List[str]:
@@ -96,13 +156,22 @@ def _per_string(form: dict, key: str) -> dict:
 
 class Study:
     """The studio's state and its worker. Study(bench, folder) plays the instrument as it is
-    (the first map) unless start=False (the tests drive the queue by hand)."""
+    (the first map) unless start=False (the tests drive the queue by hand). It takes the
+    folder's lock (StudyBusy when another studio holds it) until close(), removes the maps a
+    killed studio left unfinished and, with keep_maps, all but the newest keep_maps maps."""
 
-    def __init__(self, bench: Bench, folder: str, *, strengths: str = "medium", start: bool = True):
+    def __init__(self, bench: Bench, folder: str, *, strengths: str = "medium", start: bool = True,
+                 keep_maps: Optional[int] = None):
         self.base = bench
         self.what_if({"strengths": strengths})  # a bad attack is refused before the folder is made
         os.makedirs(folder, exist_ok=True)
         self.folder = os.path.realpath(folder)
+        self._lock_fd: Optional[int] = lock_folder(self.folder)
+        try:
+            self.pruned = prune_maps(self.folder, keep_maps)
+        except OSError:
+            self._unlock()
+            raise
         self.lock = threading.Condition()
         self.version = 0
         self.pending: Deque[Job] = collections.deque()
@@ -123,20 +192,27 @@ class Study:
     def _first_free_id(self) -> int:
         """Maps are numbered on from those an earlier session left in the folder."""
         maps = os.path.join(self.folder, "maps")
-        taken = [int(n) for n in os.listdir(maps) if re.fullmatch(r"\d{3,}", n)] if os.path.isdir(maps) else []
-        return max(taken, default=0) + 1
+        names = os.listdir(maps) if os.path.isdir(maps) else []
+        return max((int(m.group(1)) for m in map(MAP_FOLDER.fullmatch, names) if m), default=0) + 1
 
     def start(self) -> None:
         self._worker = threading.Thread(target=self._work, name="fretbuzz-studio", daemon=True)
         self._worker.start()
 
     def close(self) -> None:
-        """Stops the map under way (within about 0.2 s) and the worker."""
+        """Stops the map under way (within about 0.2 s) and the worker, and lets go of the
+        folder's lock."""
         with self.lock:
             self.closing = True
             self.lock.notify_all()
         if self._worker is not None:
             self._worker.join(timeout=10)
+        self._unlock()
+
+    def _unlock(self) -> None:
+        if self._lock_fd is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
 
     def _changed(self) -> None:
         self.version += 1
@@ -188,7 +264,7 @@ class Study:
         if offset is not None:
             if fret_text is None:
                 errors["fret"] = f"fret: choose the fret to change (1 to {self.base.frets})"
-            elif not re.fullmatch(r"\d{1,4}", fret_text):
+            elif not re.fullmatch(r"[0-9]{1,4}", fret_text):  # ASCII: int() takes "٣" too
                 errors["fret"] = f"fret: {fret_text!r} is not a fret (a whole number, 1 to {self.base.frets})"
             else:
                 fret = int(fret_text)
@@ -320,13 +396,21 @@ class Study:
                 record.notes.append({**note, "change": change, "before": was})
                 self._changed()
 
+        partial = os.path.join(self.folder, record.folder + PARTIAL)
         try:
-            record.bench.map(strengths=record.strengths, audio_dir=os.path.join(self.folder, record.folder),
-                             progress=progress, stop=lambda: self.closing)
+            record.bench.map(strengths=record.strengths, audio_dir=partial, progress=progress,
+                             stop=lambda: self.closing)
             status, error = ("stopped", "") if self.closing else ("done", "")
         except Exception as e:  # shown on the page; the studio keeps serving
             status, error = "failed", f"{type(e).__name__}: {e}" if not isinstance(e, InputError) else str(e)
         with self.lock:
+            if status == "done":
+                try:
+                    if os.path.isdir(partial):
+                        os.rename(partial, os.path.join(self.folder, record.folder))
+                    record.whole = True
+                except OSError as e:
+                    status, error = "failed", f"cannot keep the map's sounds: {e}"
             record.status, record.error = status, error
             record.seconds = time.monotonic() - started
             if status == "done":
@@ -377,6 +461,11 @@ class Study:
             raise StudyPathError(f"{relative!r}: not a file of the study")
         if any(part in ("", ".", "..") for part in relative.split("/")):
             raise StudyPathError(f"{relative!r}: not a file of the study")
+        parts = relative.split("/")
+        if len(parts) > 2 and parts[0] == "maps" and re.fullmatch(r"[0-9]{3,}", parts[1]):
+            record = self.maps.get(int(parts[1]))
+            if record is not None and not record.whole:  # still under its unfinished name
+                relative = "/".join([parts[0], parts[1] + PARTIAL] + parts[2:])
         real = os.path.realpath(os.path.join(self.folder, relative))
         if os.path.commonpath([real, self.folder]) != self.folder or real == self.folder:
             raise StudyPathError(f"{relative!r}: outside the study folder")
@@ -385,5 +474,5 @@ class Study:
         return real
 
     def export_path(self, record: MapRecord) -> str:
-        os.makedirs(os.path.join(self.folder, "exports"), exist_ok=True)
+        """Where the report of a map goes, relative to the study folder."""
         return f"exports/report-{record.id:03d}.html"

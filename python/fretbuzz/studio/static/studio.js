@@ -151,7 +151,7 @@ async function refresh() {
   if (map && map.status !== "running" && map.status !== "waiting" && shown.announced !== map.id + map.status) {
     shown.announced = map.id + map.status;
     say($("announce"), "Map " + map.id + " " + (map.status === "done" ? "is complete: " + map.summary.buzzing + " of " +
-        map.summary.played + " notes buzz audibly in some plucks." : map.status + "."));
+        map.summary.played + " notes buzz, " + map.summary.marginal + " are marginal." : map.status + "."));
   }
   if (map && (map.id !== shown.map || map.done !== shown.done || map.status !== shown.status)) {
     await fragment($("maps"), "/fragment/maps?map=" + map.id);

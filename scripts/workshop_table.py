@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Does the bench match the workshop? The Jazz Bass under the set-ups a luthier knows, at the
+default attacks (docs/setup.md, "Does it match the workshop?"):
+
+- as measured (the paper's neck: 0.54 mm of relief, 2.32-2.7 mm at fret 12);
+- Fender's factory figures: relief 0.3 mm, 2.4 mm at fret 12 on every string;
+- a professional low set-up: relief 0.25 mm, 1.8 mm (E, A) and 1.6 mm (D, G) at fret 12;
+- too little relief: the factory actions on a straight neck;
+- a proud fret: the factory set-up with fret 7 raised 0.1 mm;
+- the advice's lowest clean action per string at the medium attack, from the factory set-up.
+
+The expectation from set-up practice: at factory figures the medium (ordinary) finger attack
+plays frets 0 to 15 clean and the hard attack buzzes somewhere; the lowest clean action at
+fret 12 lies between 1.6 and 2.6 mm on every string. These are checks, not targets: nothing
+here is fitted to them.
+
+Run: /usr/bin/python3 scripts/workshop_table.py [--jobs N] [--out DIR]   (about 10 minutes on 2
+cores: five maps at three attacks and the advice). Prints the Markdown tables of docs/setup.md.
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+STRINGS = ("E", "A", "D", "G")
+FACTORY = ["--relief", "0.3"] + [a for s in STRINGS for a in ("--action12", f"{s}=2.4")]
+SETUPS = [
+    ("as measured (relief 0.54 mm, 2.32-2.7 mm at fret 12)", []),
+    ("Fender's factory figures (relief 0.3 mm, 2.4 mm at fret 12)", FACTORY),
+    ("a professional low set-up (relief 0.25 mm, 1.8/1.8/1.6/1.6 mm)",
+     ["--relief", "0.25", "--action12", "E=1.8", "--action12", "A=1.8", "--action12", "D=1.6", "--action12", "G=1.6"]),
+    ("too little relief (the factory actions, a straight neck)",
+     ["--relief", "0"] + [a for s in STRINGS for a in ("--action12", f"{s}=2.4")]),
+    ("a proud fret (the factory set-up, fret 7 raised 0.1 mm)", FACTORY + ["--fret-offset", "7=0.1"]),
+]
+
+
+def binary():
+    for build in ("build", "build-release"):
+        candidate = ROOT / build / "cli" / "fretbuzz"
+        if candidate.exists():
+            return str(candidate)
+    sys.exit("build/cli/fretbuzz not found: build it first (cmake --build build --target fretbuzz_cli)")
+
+
+def run(args, jobs):
+    start = time.monotonic()
+    done = subprocess.run([binary(), "setup", "jazz-bass", "--quiet", "--jobs", str(jobs)] + args,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"fretbuzz setup {' '.join(args)} failed:\n{done.stderr}")
+    return time.monotonic() - start, done.stderr
+
+
+def summary(rows, attack):
+    notes = [r for r in rows if r["strength"] == attack]
+    count = {v: sum(1 for r in notes if r["verdict"] == v) for v in ("clean", "marginal", "buzzes")}
+    low_frets = [r for r in notes if int(r["fret"]) <= 15]
+    not_clean = [f"{r['string']}{r['fret']}" for r in low_frets if r["verdict"] != "clean"]
+    ups = [float(r["clean_up_to"]) for r in low_frets if r["clean_up_to"] not in ("", "inf")]
+    return count, not_clean, (min(ups) if ups else float("inf"))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    parser.add_argument("--out", help="keep the maps here (default: a temporary folder)")
+    a = parser.parse_args()
+    work = Path(a.out) if a.out else Path(tempfile.mkdtemp(prefix="fretbuzz-workshop-"))
+    print("| set-up | at medium: clean / marginal / buzzes (of 84) | frets 0-15 at medium | weakest clean_up_to, frets 0-15 | "
+          "at hard: clean / marginal / buzzes | map time |")
+    print("|---|---|---|---|---|---|")
+    for label, args in SETUPS:
+        out = work / re.sub(r"[^a-z0-9]+", "-", label.lower())[:40]
+        seconds, _ = run(args + ["--out", str(out)], a.jobs)
+        rows = list(csv.DictReader(open(out / "buzz_map.csv")))
+        medium, not_clean, weakest = summary(rows, "medium")
+        hard, _, _ = summary(rows, "hard")
+        frets = "all clean" if not not_clean else "not clean: " + " ".join(not_clean[:8]) + (" ..." if len(not_clean) > 8 else "")
+        print(f"| {label} | {medium['clean']} / {medium['marginal']} / {medium['buzzes']} | {frets} | "
+              f"{weakest:.2f}x medium | {hard['clean']} / {hard['marginal']} / {hard['buzzes']} | {seconds:.0f} s |")
+    # The advice from the factory set-up.
+    out = work / "advice"
+    seconds, _ = run(FACTORY + ["--strength", "medium", "--advice", "--out", str(out)], a.jobs)
+    import json
+    advice = json.load(open(out / "advice.json"))
+    print()
+    print("| string | the lowest clean action at fret 12, medium attack | in 1.6-2.6 mm? | the step below |")
+    print("|---|---|---|---|")
+    for row in advice["lowest_action"]:
+        lowest = row.get("lowest_clean_action12_mm")
+        inside = "yes" if lowest is not None and 1.6 <= lowest <= 2.6 else "no"
+        shown = "none up to 10 mm" if lowest is None else f"{lowest:.2f} mm"
+        print(f"| {row['string']} | {shown} | {inside} | {row.get('one_step_lower', '')} |")
+    print(f"\n(advice: {advice.get('maps')} maps, {seconds:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()
