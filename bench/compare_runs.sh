@@ -6,7 +6,8 @@
 # Usage: bench/compare_runs.sh [--all] <baseline fretbuzz> [this fretbuzz] [scratch directory]
 #   e.g. bench/compare_runs.sh /tmp/base/build/cli/fretbuzz build/cli/fretbuzz
 # Without --all: four cases at 48 kHz and at their own rate; with --all: every built-in case
-# (`fretbuzz cases`) at its own rate, for 0.2 s or as long as its contacts need.
+# (`fretbuzz cases`) at its own rate, for 0.2 s or as long as its contacts need, and the
+# fretted pop with a second plucker and a force gesture.
 set -e
 all=
 if [ "${1:-}" = --all ]; then all=1; shift; fi
@@ -62,6 +63,26 @@ if [ -n "$all" ]; then
         esac
         run_case "$name" --duration $duration
     done
+    # The fretted pop with a second pop and a force gesture beside it: two exact pluckers, the
+    # finger and the exact crowns in one solve, and a gesture's load.
+    "$program" export bass-fret5-pop "$scratch/played" >/dev/null
+    cat >> "$scratch/played/bass-fret5-pop.toml" <<'TOML'
+
+[[gesture]]
+type = "pop"
+position = 0.75
+width = 0.008
+time = 0.021
+release_displacement = 2e-3
+duration = 0.01
+stiffness = 1e5
+
+[[gesture]]
+type = "force"
+position = 0.3
+force = [[0.0, 0.0], [0.022, 0.0], [0.024, 3.0], [0.026, 0.0]]
+TOML
+    run_case "$scratch/played/bass-fret5-pop.toml" --duration 0.05
     exit 0
 fi
 # At 48 kHz (the audio rate) and at each case's own rate.

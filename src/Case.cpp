@@ -56,6 +56,9 @@ constexpr double kMinGestureSpeed = 1e-4;
 // each force gesture keeps two vectors of the mode count (its load on every mode, and that
 // load's displacement on the grid): a hand has a few, and this bounds what a case can ask for.
 constexpr std::size_t kMaxForceGestures = 64;
+// Pluckers: each keeps two vectors of the mode count and is one more unknown of the joint contact
+// solve, whose room is planned for all of them (no plucker moves another contact off its place).
+constexpr std::size_t kMaxPluckGestures = 64;
 
 void require_length(const std::string& name, std::size_t actual, std::size_t expected) {
     if (actual != expected) {
@@ -433,6 +436,9 @@ void Case::validate() const {
         check_pad(f.key, f.position_m, f.width_m, true, *this);
         check_force_profile(f.key, f.force_profile);
     }
+    if (plucks.size() > kMaxPluckGestures)
+        throw InputError("gesture: " + std::to_string(plucks.size()) + " pluck or pop gestures; at most " +
+                         std::to_string(kMaxPluckGestures) + " are allowed");
     for (const PluckSpec& f : plucks) check_pluck(f, *this);
     check_pads_apart(*this);
     check_polarisations(*this);

@@ -215,6 +215,35 @@ TEST(ExactFrets, APluckerPressingOntoCrownsAndBoardKeepsTheBalance) {
     EXPECT_LT(r.worst, 1e-12);
 }
 
+// Nine pluckers beside the fretboard: the one pressing onto crowns and board, and eight that
+// never reach the string (5 cm away). Past eight, the joint solve once put every plucker on its
+// grid pad and every crown back on its nearest grid point; its room is now planned for them all:
+// the crowns stay at their exact positions, and the eight leave the first one's run as it is
+// alone, to the joint solve's tolerance (1e-9 of its unknowns; their pads enter its Newton
+// system and move its pivots and stopping point, as screening does: see the next test).
+TEST(ExactFrets, NinePluckersBesideTheFretsKeepTheCrownsExact) {
+    const Case alone = pressed_onto_the_frets(110);
+    Case nine = alone;
+    for (const double x : {0.05, 0.09, 0.13, 0.17, 0.66, 0.70, 0.74, 0.78}) {
+        PluckSpec far = alone.plucks.front();
+        far.position_m = x;
+        far.gap_m = 0.05;
+        nine.plucks.push_back(far);
+    }
+    constexpr long kSteps = 20000;
+    const PlayedRun one = played_run(alone, kSteps), r = played_run(nine, kSteps);
+    const double l2 = testing::relative_l2(testing::observed(nine, 0.7, kSteps), testing::observed(alone, 0.7, kSteps));
+    std::printf("nine pluckers beside the frets: %zu exact crowns (%zu alone), %ld joint steps, balance %.2g; "
+                "u(0.7) against the first plucker alone: relative L2 %.3g\n",
+                r.exact_points, one.exact_points, r.joint_steps, r.worst, l2);
+    EXPECT_EQ(r.exact_points, alone.point_obstacles.size());  // every crown at its exact position
+    EXPECT_EQ(r.exact_points, one.exact_points);
+    EXPECT_TRUE(r.exact);
+    EXPECT_GT(r.pressed_joint, 100);
+    EXPECT_LT(r.worst, 1e-12);
+    EXPECT_LT(l2, 1e-9);
+}
+
 // The same press screened and straightforward: the same equations, rounded differently.
 TEST(ExactFrets, APluckerPressingOntoTheFretsIsTheSameOnTheScreenedPath) {
     const testing::PathComparison p = testing::compare_paths(pressed_onto_the_frets(110), 20000);

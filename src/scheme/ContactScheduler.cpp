@@ -19,8 +19,8 @@ constexpr std::size_t kHeadModes = 48;
 // (a loose bound wakes sleeping points early: more checks, same results).
 constexpr double kLooseness = 1.25;
 // The same after an impulse taken in modal form (hundreds of points pushed at once, step after
-// step): a bound 25 % loose let many more points fail to sleep (a flat obstacle's long contact:
-// 8 % more instructions in its whole run at N = 1600); 5 % keeps its onset's saving.
+// step): a bound 25 % loose let many more points fail to sleep through a flat obstacle's long
+// contact (docs/performance.md); 5 % keeps its onset's saving.
 constexpr double kImpulseLooseness = 1.05;
 // At most this many points get their push weight computed in one step (else a full update).
 constexpr std::size_t kNewPointsPerPush = 2;

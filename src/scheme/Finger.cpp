@@ -31,12 +31,12 @@ Finger::Finger(const FingerSpec& spec, double dx, const std::vector<double>& obs
       dt_(dt),
       k_(k),
       m_(spec.mass_kg / (dt * dt)),
-      law_(1.0, 1.0),
+      law_(1.0, 1.0, spec.loss, dt),
       obstacle_law_(obstacle_law),
       pad_(pad_points(spec.position_m, spec.width_m, dx, obstacle.size())),
       pressing_(spec.force_profile) {
     // The pad's stiffness K_f is shared by its points: per unit length K_f / (n dx).
-    law_ = PenaltyContact(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
+    law_.set(spec.stiffness / (static_cast<double>(pad_.size()) * dx), spec.exponent);
     for (std::size_t i : pad_) g_.push_back(obstacle[i]);
     const std::size_t n = pad_.size();
     // Room for a pad of the same width anywhere on the grid (place() must not allocate).
@@ -118,9 +118,8 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
     const double a_o = g - u_prev_[p];
     const double c = c_[p];
     // Fixed over the iteration: the laws' powers of them, once.
-    const PenaltyContact::Anchored obstacle_at = obstacle_law_.anchored(obstacle ? a_o : 0.0);
-    const PenaltyContact::Anchored finger_at = law_.anchored(c);
-    const double rho = rho_[p];
+    const PenaltyContact::Gradient obstacle_at = obstacle_law_.gradient(obstacle ? a_o : 0.0);
+    const ImpactLaw::Push finger_at = law_.push(c, rho_[p]);
     const double z_next_minus_z = s;
     Point pt;
     const auto evaluate = [&](double x) {
@@ -131,18 +130,18 @@ Finger::Point Finger::solve_point(std::size_t p, double w, double s, double gues
         double obstacle_slope = 0.0;
         if (obstacle) {
             const double r_o = u_prev_[p] - x;
-            const auto [quotient, slope] = obstacle_law_.quotient_and_slope(obstacle_at, r_o);
-            pt.obstacle_force = quotient;
-            obstacle_slope = slope;
-            v.slope += k_ * slope;
+            const ForceSlope o = obstacle_at(r_o);
+            pt.obstacle_force = o.force;
+            obstacle_slope = o.slope;
+            v.slope += k_ * o.slope;
             v.h -= k_ * pt.obstacle_force;
             v.scale += k_ * pt.obstacle_force;
         }
         const double psi_slope = v.slope;
         const double r_f = pt.y - c;
-        const auto [q, quotient_slope] = law_.quotient_and_slope(finger_at, r_f);
-        const double push_slope = quotient_slope + rho;
-        pt.push = q + rho * r_f;
+        const ForceSlope push = finger_at(r_f);  // Q + rho r_f and its slope
+        const double push_slope = push.slope;
+        pt.push = push.force;
         v.h += k_ * pt.push;
         // y and r_f carry the rounding of z and c, however far the finger is: through the push's
         // slope it is round-off in h too.
@@ -172,7 +171,7 @@ void Finger::prepare(long n) {
         c_[p] = u_prev_[p] - z_prev;
         guess_[p] = 2.0 * u_curr_[p] - u_prev_[p];  // u^{n+1} carried on at its last rate
         // Hunt-Crossley loss, its coefficient taken at level n so the step stays exactly lossy.
-        rho_[p] = spec_.loss * law_.force(u_curr_[p] - z_) / (2.0 * dt_);
+        rho_[p] = law_.damping(u_curr_[p] - z_);
     }
 }
 

@@ -483,7 +483,7 @@ FRETBUZZ_INLINE double advance_products_counted(const double* e, const double* b
 
 // The few rows' pass with and without the energy, and the blocked pass: functions of their own
 // (multiversioned, each called through the processor's choice). Compiled into one function,
-// GCC kept the few rows' pointers and sums in memory (the pass a third slower).
+// GCC kept the few rows' pointers and sums in memory (a slower pass; docs/performance.md).
 template <bool Lossy, bool E>
 FRETBUZZ_INLINE double step_few(const double* e, const double* beta, const double* loss, const StepPass& pass,
                                 double* q, double* d, std::size_t n) {
@@ -667,8 +667,8 @@ FRETBUZZ_INLINE v4 magnitude(const v4& x) {
 }
 }  // namespace
 
-// Vector types, as dot's: GCC vectorised the plain loops over 8 lanes with shuffles, four
-// times slower (the speed bound's growth after a flat obstacle's impulse is one of these).
+// Vector types, as dot's: GCC vectorised the plain loops over 8 lanes with shuffles, far
+// slower (the speed bound's growth after a flat obstacle's impulse is one of these).
 FRETBUZZ_MULTIVERSION double weighted_abs_sum(const double* w, const double* x, std::size_t n) {
     v4 lo{}, hi{};
     std::size_t j = 0;

@@ -41,7 +41,7 @@ FRETBUZZ_INLINE v4 sqrt4(const v4& x) {
 FRETBUZZ_INLINE v4 abs4(const v4& x) { return (v4)((m4)x & 0x7fffffffffffffffL); }
 
 // Whether any lane is set. On x86-64, from the lanes' sign bits (two instructions, 2-lane ones
-// that every variant has): moving the four lanes out one by one was a sixth of the batch's time.
+// that every variant has): moving the four lanes out one by one cost more than the test itself.
 FRETBUZZ_INLINE bool any4(const m4& m) {
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
     typedef double v2 __attribute__((vector_size(16)));

@@ -16,15 +16,12 @@ bool has_grid_obstacle(const Case& c) {
 }
 
 bool joins_grid(const Case& c, const PointObstacle& p, const PlanOptions& options) {
+    // (Pluckers and fingers beside the points join their solve: each plucker as one more
+    // unknown, the fingers through their pads' grid points; no number of them moves the points.)
     const double dx = c.grid_step();
     const double x = (std::round(p.x_m / dx)) * dx;
-    // Pluckers' pads on the grid (more than PointContact takes at their exact positions) would
-    // couple with off-grid points through the modes in the same step, and no solve takes them
-    // together: beside them the points join the grid, where every equation is its own. (Exact
-    // pluckers and the fingers join the points' own solve: each plucker as one more unknown, the
-    // fingers through their pads' grid points.)
-    const bool pads_on_grid = !plucks_exact(c.plucks.size());
-    return pads_on_grid || (options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m && std::abs(p.weight_m - dx) <= 1e-12 * dx);
+    return options.grid_points_on_grid && std::abs(p.x_m - x) <= 1e-12 * c.string.length_m &&
+           std::abs(p.weight_m - dx) <= 1e-12 * dx;
 }
 
 // The step kernel for the modes' damping: without losses the step skips their terms.
@@ -82,7 +79,7 @@ void Plan::place_points(const Case& c) {
     }
     // Exact pluckers beside fingers are solved with their pads even with no point off the grid:
     // the solve's state needs room for the pads (a PointContact with no points).
-    if (!c.plucks.empty() && plucks_exact(c.plucks.size()) && !c.fingers.empty())
+    if (!c.plucks.empty() && !c.fingers.empty())
         point_contact_ = PointContact(basis_, {}, true);
     for (const PointObstacle& p : points) {
         const double index = std::clamp(std::round(p.x_m / basis_.grid_step()) - 1.0, 0.0, static_cast<double>(obstacle_.size() - 1));

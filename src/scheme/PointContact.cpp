@@ -4,12 +4,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Dense>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/scheme/PenaltyContact.hpp"
 
 namespace fretbuzz {
 
@@ -63,8 +65,10 @@ void PointContact::set_offset(double offset) {
         heights_[p] = std::min(planned_heights_[p] + offset, std::max(planned_heights_[p], 0.0));
 }
 
-PointContact::State PointContact::make_state() const {
+PointContact::State PointContact::make_state(std::size_t pads) const {
     State s;
+    for (std::vector<double>* v : {&s.press_x, &s.press_force, &s.press_slope, &s.press_residual, &s.press_trial, &s.press_moved, &s.press_own})
+        v->assign(pads, 0.0);
     for (std::vector<double>* v : {&s.eta_before, &s.eta_prev, &s.eta_curr, &s.force, &s.increment, &s.b, &s.quotient, &s.slope, &s.residual, &s.candidate})
         v->assign(size(), 0.0);
     for (std::vector<double>* v : {&s.pad_shift, &s.pad_force, &s.pad_response, &s.pad_lift, &s.pad_pull, &s.height,
@@ -108,11 +112,13 @@ void PointContact::start(State& s, std::span<const double> q, std::span<const do
     }
 }
 
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const {
+template <ContactForceLaw Law>
+bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k) const {
     return solve(s, predicted, law, k, std::span<Pad>());
 }
 
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
+template <ContactForceLaw Law>
+bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k,
                          std::span<Pad> pads) const {
     solve_points(s, predicted, law, k, pads);
     return commit(s);
@@ -131,8 +137,10 @@ double pad_force_at(const PointContact::Pad& pad, double x) {
 }
 }  // namespace
 
-void PointContact::solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
+template <ContactForceLaw Law>
+void PointContact::solve_points(State& s, std::span<const double> predicted, const Law& law, double k,
                                 std::span<Pad> pads, bool held) const {
+    if (pads.size() > s.press_x.size()) throw std::logic_error("PointContact: more pads than its state has room for");
     const std::size_t count = size();
     s.iterations = 0;
     s.prediction_size = 0.0;
@@ -195,11 +203,13 @@ bool PointContact::commit(State& s) const {
 }
 
 
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const {
+template <ContactForceLaw Law>
+bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid) const {
     return solve(s, predicted, law, k, grid, std::span<Pad>());
 }
 
-bool PointContact::solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
+template <ContactForceLaw Law>
+bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid,
                          std::span<Pad> pads) const {
     // A held note (the last step needed the joint solve): Newton at once, from the last step's
     // motion carried on (eta in contact at its last rate, the fingers' last height steps in
@@ -225,9 +235,9 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
         // Not from that start (a note let go or struck anew): from each side's own solution.
         solve_points(s, predicted, law, k, pads);
     }
-    std::array<double, kMaxPads> pad_force{};
+    const std::span<double> pad_force = std::span<double>(s.press_own).first(pads.size());
     for (std::size_t a = 0; a < pads.size(); ++a) pad_force[a] = pad_force_at(pads[a], pads[a].x);
-    const bool points_push = any_push(std::span<const double>(pad_force).first(pads.size())) || any_push(s.force);
+    const bool points_push = any_push(pad_force) || any_push(s.force);
     const bool grid_pushes = solve_grid(s, law, k, grid, pads, pad_force);
     // Apart, each side's solution is the joint one if the other's push leaves it as it is: the
     // grid solved with the points' (and the pad's) forces already; the points and the pad, with
@@ -239,7 +249,7 @@ bool PointContact::solve(State& s, std::span<const double> predicted, const Pena
             s.quotient[p] = s.increment[p] - grid_push(s, k, grid, p, pads);
             joint = law.difference_quotient(s.eta_prev[p], s.quotient[p]) != 0.0;
         }
-        std::array<double, kMaxPads> pad_x{};
+        const std::span<double> pad_x = std::span<double>(s.press_moved).first(pads.size());
         for (std::size_t a = 0; a < pads.size() && !joint; ++a) {
             pad_x[a] = pads[a].x + grid_push(s, k, grid, size() + a, pads);
             joint = pad_force_at(pads[a], pad_x[a]) != 0.0;
@@ -273,7 +283,8 @@ double PointContact::grid_push(const State& s, double k, const Grid& grid, std::
     return k * grid.step * shift;
 }
 
-bool PointContact::solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<const Pad> pads,
+template <ContactForceLaw Law>
+bool PointContact::solve_grid(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
                               std::span<const double> pad_force, const std::vector<double>* height) const {
     bool pushes = false;
     s.pushing.clear();  // (within its reserved room)
@@ -333,8 +344,8 @@ double PointContact::newton_scale(State& s) const {
     return std::max(scale, s.prediction_size);
 }
 
-template <class Matrix>
-void PointContact::points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r,
+template <class Matrix, ContactForceLaw Law>
+void PointContact::points_jacobian(State& s, const Law& law, double k, const std::vector<double>& r,
                                    Matrix& jacobian) const {
     // J = I + k G diag(d f_q / d r_q) over the awake points, at r's quotients
     const std::vector<std::size_t>& awake = s.awake_list;
@@ -412,8 +423,8 @@ void PointContact::pads_jacobian(State& s, double k, const Grid& grid, std::span
     }
 }
 
-template <class Matrix>
-bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<Pad> pads,
+template <class Matrix, ContactForceLaw Law>
+bool PointContact::solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads,
                                    bool evaluated, bool may_fail) const {
     // Newton on the points' increments r_p (and each pad's x_a, and the fingers' height steps),
     // the grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their
@@ -438,12 +449,14 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
     std::vector<double>& r = s.increment;
     // Each pad's unknown x, its force F(x), dF/dx and residual; its trial x.
-    std::array<double, kMaxPads> x{}, pad_force{}, pad_slope{}, pad_residual{}, trial_x{};
+    const auto room = [&](std::vector<double>& v) { return std::span<double>(v).first(pad_count); };
+    const std::span<double> x = room(s.press_x), pad_force = room(s.press_force), pad_slope = room(s.press_slope),
+                            pad_residual = room(s.press_residual), trial_x = room(s.press_trial);
     for (std::size_t a = 0; a < pad_count; ++a) {
         x[a] = pads[a].x;
         scale = std::max({scale, std::abs(pads[a].predicted), std::abs(x[a])});
     }
-    const auto residual_at = [&](const std::vector<double>& at, const std::array<double, kMaxPads>& at_x,
+    const auto residual_at = [&](const std::vector<double>& at, std::span<const double> at_x,
                                  const std::vector<double>& at_height, bool solve) {
         for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
         for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at_x[a], pad_force[a], pad_slope[a]);
@@ -539,7 +552,7 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
             if (trial_norm < norm) {
                 r.swap(candidate);
                 s.height.swap(s.height_candidate);
-                x = trial_x;
+                std::copy(trial_x.begin(), trial_x.end(), x.begin());
                 norm = trial_norm;
                 decreased = true;
                 break;
@@ -552,7 +565,7 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
                 // (the fingers' state is its trial's), so it is the answer.
                 r.swap(candidate);
                 s.height.swap(s.height_candidate);
-                x = trial_x;
+                std::copy(trial_x.begin(), trial_x.end(), x.begin());
                 norm = trial_norm;
             } else {
                 residual_at(r, x, s.height, true);  // back to r's quotients and grid solutions
@@ -573,8 +586,8 @@ bool PointContact::solve_with_grid(State& s, const PenaltyContact& law, double k
     return true;
 }
 
-template <class Matrix>
-void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, std::span<Pad> pads) const {
+template <class Matrix, ContactForceLaw Law>
+void PointContact::solve_coupled(State& s, const Law& law, double k, std::span<Pad> pads) const {
     double scale = newton_scale(s);
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
@@ -583,14 +596,16 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     Matrix jacobian(m, m);
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
     // Each pad's unknown x, its force F(x), dF/dx and residual beside the points'.
-    std::array<double, kMaxPads> x{}, pad_force{}, pad_slope{}, pad_residual{}, trial_x{};
+    const auto room = [&](std::vector<double>& v) { return std::span<double>(v).first(pad_count); };
+    const std::span<double> x = room(s.press_x), pad_force = room(s.press_force), pad_slope = room(s.press_slope),
+                            pad_residual = room(s.press_residual), trial_x = room(s.press_trial);
     for (std::size_t a = 0; a < pad_count; ++a) {
         x[a] = pads[a].x;
         scale = std::max({scale, std::abs(pads[a].predicted), std::abs(x[a])});
     }
     // residual_p = r_p + k sum_q G_pq f_q(r_q) + k sum_a h^a_p F_a(x_a) - b_p, at increments r (and
     // the pads' x); returns the largest size of them.
-    const auto residual_at = [&](const std::vector<double>& r, const std::array<double, kMaxPads>& at) {
+    const auto residual_at = [&](const std::vector<double>& r, std::span<const double> at) {
         double largest = 0.0;
         for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], r[q]);
         for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at[a], pad_force[a], pad_slope[a]);
@@ -632,7 +647,7 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
             const double trial_norm = residual_at(trial, trial_x);
             if (trial_norm < norm) {
                 r.swap(trial);
-                x = trial_x;
+                std::copy(trial_x.begin(), trial_x.end(), x.begin());
                 norm = trial_norm;
                 decreased = true;
                 break;
@@ -652,7 +667,8 @@ void PointContact::solve_coupled(State& s, const PenaltyContact& law, double k, 
     for (std::size_t a = 0; a < pad_count; ++a) pads[a].x = x[a];
 }
 
-double PointContact::potential(const State& s, const PenaltyContact& law, bool current) const {
+template <ContactForceLaw Law>
+double PointContact::potential(const State& s, const Law& law, bool current) const {
     double sum = 0.0;
     for (std::size_t p = 0; p < size(); ++p)
         if (const double eta = current ? s.eta_curr[p] : s.eta_prev[p]; eta > 0.0)  // (Psi = 0 apart)
@@ -664,5 +680,13 @@ void PointContact::add_impulse(const State& s, double k, std::span<double> impul
     for (std::size_t p = 0; p < size(); ++p)
         if (s.force[p] != 0.0) kernels::axpy(k * points_[p].weight_m * s.force[p], rows_[p].data(), impulse.data(), impulse.size());
 }
+
+// The laws the scheme plans with.
+template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double) const;
+template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, std::span<Pad>) const;
+template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, Grid&) const;
+template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, Grid&,
+                                  std::span<Pad>) const;
+template double PointContact::potential(const State&, const PenaltyContact&, bool) const;
 
 }  // namespace fretbuzz

@@ -2,8 +2,8 @@
 // Storage for the arrays the kernels sweep at every step (the modal state, the propagator's
 // coefficients, the contact rows), starting on a cache line: a vector load of the kernels
 // then never straddles two lines. With malloc's 16-byte alignment whether it did depended on
-// the heap's layout, which moved a run's speed by 10-15 % from one build to another
-// (fretbuzz_bench Fast/bass-pop).
+// the heap's layout, which moved a run's speed from one build to another (docs/performance.md,
+// figures behind choices in the code).
 #include <cstddef>
 #include <new>
 #include <vector>

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/scheme/ImpactLaw.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/PlayedPart.hpp"
 #include "fretbuzz/scheme/TimeProfile.hpp"
@@ -132,7 +133,7 @@ private:
 
     FingerSpec spec_;
     double dx_, dt_, k_, m_;  // m_ = M / dt^2
-    PenaltyContact law_;
+    ImpactLaw law_;  // the pad's contact with the string (its Hunt-Crossley loss: spec.loss)
     const PenaltyContact& obstacle_law_;
     std::vector<std::size_t> pad_;
     TimeProfile pressing_;

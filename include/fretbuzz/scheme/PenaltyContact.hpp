@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <span>
 
+#include "fretbuzz/scheme/ContactForceLaw.hpp"
+
 // The penalty contact law f = K [eta]_+^alpha with potential Psi = K/(alpha+1) [eta]_+^(alpha+1),
 // eta = g - u (Issanchou et al. 2017, section 2.2), and the scalar implicit equation the
 // energy-conserving scheme (eq. 4) reduces to at each grid point:
@@ -15,19 +17,6 @@
 // expm1 or log1p (polynomials in eta, or in sqrt(eta) for 3/2), free of cancellation: the
 // contact solve is where contact-heavy runs spend their time.
 namespace fretbuzz {
-
-// Marks a square root not computed (a real one is never negative).
-inline constexpr double kNoRoot = -1.0;
-
-struct ContactSolution {
-    double increment = 0.0;  // r
-    double force = 0.0;      // f = (Psi(a + r) - Psi(a)) / r  (force per unit length, N/m)
-    int iterations = 0;
-    // What the solve computed of a + r in contact, else kNoRoot: sqrt(a + r) at alpha = 3/2,
-    // (a + r)^(alpha+1) for the general law. potential(a + r, root) then needs no square root
-    // or pow of its own.
-    double root = kNoRoot;
-};
 
 class PenaltyContact {
 public:
@@ -83,6 +72,20 @@ public:
         double quotient, slope;
     };
     QuotientSlope quotient_and_slope(const Anchored& a, double r) const;
+    // The ContactForceLaw gradient: quotient_and_slope at a, as a callable of r.
+    class Gradient {
+    public:
+        Gradient(const PenaltyContact& law, double a) : law_(&law), at_(law.anchored(a)) {}
+        ForceSlope operator()(double r) const {
+            const QuotientSlope qs = law_->quotient_and_slope(at_, r);
+            return {qs.quotient, qs.slope};
+        }
+
+    private:
+        const PenaltyContact* law_;
+        Anchored at_;
+    };
+    Gradient gradient(double a) const { return Gradient(*this, a); }
 
 private:
     enum class Law { general, linear, three_halves, quadratic, cubic };
@@ -115,5 +118,7 @@ private:
     Law law_ = Law::general;
     bool specialise_ = true;
 };
+
+static_assert(ContactForceLaw<PenaltyContact>);
 
 }  // namespace fretbuzz

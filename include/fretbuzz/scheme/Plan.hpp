@@ -56,10 +56,6 @@ struct ScreeningChoice {
 };
 ScreeningChoice choose_screening(const Case& c, const PlanOptions& options, bool can_fly);
 
-// Whether a case's pluckers act at their exact positions: up to PointContact::kMaxPads, each one
-// more unknown of the points' solve; beyond, on their grid pads, and the points join the grid.
-inline bool plucks_exact(std::size_t plucks) { return plucks <= PointContact::kMaxPads; }
-
 class Plan {
 public:
     Plan(const Case& c, double dt, PlanOptions options = {});

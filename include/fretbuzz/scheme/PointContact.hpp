@@ -8,10 +8,11 @@
 // grid, a force at one point moves the others in the same step (phi(x_p) . phi(x_q) != 0 for
 // p != q): with r_p = eta_p^{n+1} - eta_p^{n-1}, a_p = eta_p^{n-1} and b_p the free step's r_p,
 //     r_p + (dt^2/mu) sum_q G_pq f_q(r_q) = b_p,   G_pq = c_q phi(x_p) . phi(x_q),
-// a P x P system solved by Newton's method (Eigen's LU for its steps; up to 32 points on the
+// a P x P system solved by Newton's method (Eigen's LU for its steps; up to 32 unknowns on the
 // stack: stepping allocates nothing) from each point's own
-// scalar root. A single point, or points that do not couple (on the grid), take the scalar
-// solve of PenaltyContact with the step factor scaled by G_pp.
+// scalar root. A single point, or points that do not couple (on the grid), take the law's
+// scalar solve with the step factor scaled by G_pp. Every solve is a template on the contact
+// law (ContactForceLaw), instantiated for the laws the plan offers (PenaltyContact).
 //
 // Beside obstacle points on the grid (a fretboard's board under its exact frets), a grid point's
 // force f_i moves every point p by k dx M_pi f_i (M_pi = phi(x_p) . S_i), and each point's force
@@ -28,7 +29,7 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/ModalBasis.hpp"
-#include "fretbuzz/scheme/PenaltyContact.hpp"
+#include "fretbuzz/scheme/ContactForceLaw.hpp"
 
 namespace fretbuzz {
 
@@ -121,8 +122,14 @@ public:
         std::vector<double> pad_shift, pad_force, pad_response, pad_lift, pad_pull;
         std::vector<double> height, height_candidate, height_residual, height_size, height_slope;
         std::vector<std::size_t> height_end;  // where each finger's pad points end
+        // With Pads: each pad's unknown x, its force F(x), dF/dx, residual and trial x, and the
+        // x and force of a solve beside the grid (room for the pads planned: make_state).
+        std::vector<double> press_x, press_force, press_slope, press_residual, press_trial;
+        std::vector<double> press_moved, press_own;
     };
-    State make_state() const;
+    // pads: how many Pads a solve may take (the plan's pluckers), fixed here: no capacity of the
+    // solve changes which contacts it takes.
+    State make_state(std::size_t pads = 0) const;
     // eta at levels n (u_now = phi . q^n) and n - 1 (phi . (q^n - d^n)); every point awake.
     void start(State& s, std::span<const double> q, std::span<const double> d) const;
     void rest(State& s, std::size_t p) const;
@@ -130,7 +137,8 @@ public:
     void wake(State& s, std::size_t p, std::span<const double> q, std::span<const double> d) const;
     // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
     // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k) const;
+    template <ContactForceLaw Law>
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k) const;
     // Pads pressing on their u_s in the same step (pluckers at their exact positions): with pad
     // a's force F_a(x_a) the system gains one unknown per pad,
     //     r_p + k sum_q G_pq f_q + k sum_a h^a_p F_a(x_a) = b_p,
@@ -138,7 +146,6 @@ public:
     // h^a_p = phi(x_p) . s_a, w_a the free step's u_s; x_a holds the pad's solution alone on entry
     // and the joint one on return. Two pads always move one another (their shapes overlap in
     // mode space), so where either presses they are solved together.
-    static constexpr std::size_t kMaxPads = 8;
     struct Pad {
         const PadPress* press = nullptr;
         double predicted = 0.0;            // w
@@ -148,8 +155,9 @@ public:
         double x = 0.0;
         std::span<const double> grid;  // m_i = s . S_i at every grid point (with a Grid only)
     };
-    // pads: at most kMaxPads.
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, std::span<Pad> pads) const;
+    // pads: at most the State's room (make_state).
+    template <ContactForceLaw Law>
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads) const;
     // The grid's active obstacle points in the same step (grid_coupled() only): each one's
     // eta^{n-1} (a) and free-step increment (b); `solutions` receives each one's solution with
     // the points' forces (the caller moves the grid's eta on).
@@ -160,49 +168,54 @@ public:
         double step = 0.0;  // dx
         GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid) const;
+    template <ContactForceLaw Law>
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid) const;
     // The points, the pads and the grid's active obstacle points in one solve (no point need be
     // grid_coupled() where there are none awake).
-    bool solve(State& s, std::span<const double> predicted, const PenaltyContact& law, double k, Grid& grid,
+    template <ContactForceLaw Law>
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid,
                std::span<Pad> pads) const;
     bool grid_coupled() const { return grid_points_ != 0; }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
     // sum_p c_p Psi(eta_p) at the current and the previous level.
-    double potential(const State& s, const PenaltyContact& law, bool current) const;
+    template <ContactForceLaw Law>
+    double potential(const State& s, const Law& law, bool current) const;
     // Adds the modal impulse k sum_p c_p f_p phi(x_p) to `impulse`.
     void add_impulse(const State& s, double k, std::span<double> impulse) const;
 
 private:
     // The points' own solve (alone, then together where they couple), eta not yet moved on.
     // held: Newton's start only (a joint solve follows), eta carried on where in contact.
-    void solve_points(State& s, std::span<const double> predicted, const PenaltyContact& law, double k,
-                      std::span<Pad> pads, bool held = false) const;
+    template <ContactForceLaw Law>
+    void solve_points(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads,
+                      bool held = false) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
     // The grid's equations (and the pads') given the points' forces; returns whether any grid or
     // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
     // `height`: the fingers' heights to try (GridPads::trial); none: their own solves (GridPads::solve).
-    bool solve_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<const Pad> pads,
+    template <ContactForceLaw Law>
+    bool solve_grid(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
                     std::span<const double> pad_force, const std::vector<double>* height = nullptr) const;
     // k dx sum_i M_pi f_i over the grid's pushing points and the fingers' pads (u at x_p: p < size();
     // pad a's u_s for p == size() + a).
     double grid_push(const State& s, double k, const Grid& grid, std::size_t p, std::span<const Pad> pads) const;
     double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
-    template <class Matrix>
-    void points_jacobian(State& s, const PenaltyContact& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
+    template <class Matrix, ContactForceLaw Law>
+    void points_jacobian(State& s, const Law& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
     template <class Matrix>
     void pad_border(const State& s, double k, std::span<const Pad> pads, std::span<const double> pad_slope,
                     Matrix& jacobian) const;
     template <class Matrix>
     void pads_jacobian(State& s, double k, const Grid& grid, std::span<const Pad> pads, std::span<const double> pad_slope,
                        Matrix& jacobian) const;
-    template <class Matrix>
     // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
     // does not converge (else throws SolverError).
-    bool solve_with_grid(State& s, const PenaltyContact& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
+    template <class Matrix, ContactForceLaw Law>
+    bool solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
                          bool may_fail = false) const;
-    template <class Matrix>
-    void solve_coupled(State& s, const PenaltyContact& law, double k, std::span<Pad> pads) const;
+    template <class Matrix, ContactForceLaw Law>
+    void solve_coupled(State& s, const Law& law, double k, std::span<Pad> pads) const;
 
     std::vector<PointObstacle> points_;
     std::vector<double> planned_heights_, heights_;

@@ -1,0 +1,150 @@
+#pragma once
+// Every contact of one string, and the step's joint solve of them: the obstacle's points on the
+// grid (GridContact), the point obstacles at their exact positions (ExactPoints), and the played
+// parts at pads (PlayedParts: fingers on grid points, pluckers at their exact positions,
+// ExactPluckers). Each step it decides once which solve applies (each point alone, the points
+// together, or everything coupled through the modes in one Newton solve with the grid's own
+// equations eliminated: PointContact), then forms the step's pushes on the modes (their rows in
+// the pass, or one impulse vector) and the forecasts the next step reads, and reports its forces.
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fretbuzz/scheme/ExactPluckers.hpp"
+#include "fretbuzz/scheme/ExactPoints.hpp"
+#include "fretbuzz/scheme/ForceGestures.hpp"
+#include "fretbuzz/scheme/GridContact.hpp"
+#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/scheme/ModalState.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/PlayedParts.hpp"
+#include "fretbuzz/scheme/Screening.hpp"
+#include "fretbuzz/scheme/StepRecord.hpp"
+
+namespace fretbuzz {
+
+class ContactSet {
+public:
+    ContactSet(const Plan& plan, const ForceGestures& gestures);
+
+    PlayedParts& parts() { return parts_; }
+    const PlayedParts& parts() const { return parts_; }
+    const ExactPluckers& pluckers() const { return pluckers_; }
+    GridContact& grid() { return grid_; }
+    ExactPoints& points() { return points_; }
+    const ExactPoints& points() const { return points_; }
+
+    // n = 0 -> 1: the modes take their exact free step; every contact starts from levels 0 and 1.
+    void first_step(ModalState& modes, Screening& screening);
+    // Everything looked at again for the state as it is (after it or the plan changed); the
+    // string's u^n and u^{n-1} are then in field() and previous() where they were read.
+    void restart(const ModalState& modes, Screening& screening, long n);
+    std::span<const double> field() const { return field_; }
+    std::span<const double> previous() const { return impulse_; }
+    std::span<double> field_scratch() { return field_; }  // (its values are formed before they are read)
+    void forget_forecasts();  // the state changed from outside
+
+    // Step n's contacts solved from the free prediction of `modes`, shifted by the gestures' loads
+    // where record.loaded.
+    void solve(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
+    // The impulse vector where the pass does not push by rows itself (the gestures' loads with it).
+    void form_impulse(const ForceGestures& gestures, bool loaded);
+    // The step's pushes and the next step's forecasts into `pass`; keep_forecasts after it ran.
+    void fill_pass(kernels::StepPass& pass, bool loaded);
+    void keep_forecasts(long next) {
+        if (rows_.with_points) keep_point_forecasts(next);  // (else the pass wrote the grid's in place)
+    }
+    // After the pass: the screening told of the pushes (the motion is a new free motion), points
+    // apart put to sleep; the forces reported.
+    void tell_screening(Screening& screening, const ModalState& modes, long next, bool loaded);
+    void report_forces() {
+        if (points_.pushed() || pluckers_.size() != 0) report_off_grid();  // (most steps: nothing off the grid)
+    }
+    void forget_forces() {
+        forces_.clear();
+        forecast_.count = 0;
+    }
+
+    // No contact can act: nothing awake, no pad held, no contact energy (a flight may start).
+    bool quiet() const;
+    // dx (Psi^n + Psi^{n-1}) / 2 of the grid's obstacle points, plus the exact points'.
+    double energy() const;
+    // Points with a non-zero force in the last step and that force (N/m).
+    std::span<const std::pair<std::size_t, double>> forces() const { return forces_; }
+    std::span<const double> point_forces() const;  // the exact points' (empty where none pushed)
+    // Where friction along y acts, with the normal force per unit length there.
+    std::span<const std::pair<std::size_t, double>> rubbing_points();
+
+    // Fingers at run time (see Stepper); place_finger needs restart() between it and land().
+    bool lift_finger(std::size_t f);
+    bool place_finger(std::size_t f, double centre_m, double width_m);
+    void land(std::size_t f);
+
+private:
+    // The free prediction at `points` into field_: the forecast where it has them, row products otherwise.
+    void predict_points(std::span<const std::size_t> points, const ModalState& modes);
+    void solve_fingers(const ModalState& modes, const ForceGestures& gestures, long n, bool use_transform,
+                       bool with_points, StepRecord& record);
+    void take_part(const PlayedPart& part, double obstacle_psi, std::span<const double> force, StepRecord& record);
+    void retire(const PlayedPart& part);
+    void start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now);
+    void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
+    // The exact points (and the acting pluckers' pads) solved apart from the grid; whether any pushed.
+    bool solve_points(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
+    // The exact points, the pluckers (with_pluck) and the fingers (with_fingers) with the grid's
+    // active points (their equations gathered), all in one solve.
+    void solve_with_grid(const ModalState& modes, const ForceGestures& gestures, long n, bool with_pluck,
+                         bool with_fingers, StepRecord& record);
+    // Whether the pass pushes with the points' rows (and the grid's) and forms the next prediction
+    // at every point where the step is fused (else through one impulse vector).
+    bool points_by_rows() const;
+    void points_impulse();
+    // A force (N) at x off the grid, reported as a force per length at the nearest grid point.
+    void report_force_at(double x, double force);
+    void report_off_grid();
+    void keep_point_forecasts(long next);
+
+    const Plan* plan_;
+    PlayedParts parts_;
+    ExactPluckers pluckers_;
+    GridContact grid_;
+    ExactPoints points_;
+    AlignedVector predicted_;  // scratch: q^{n+1} without contact force
+    AlignedVector impulse_;    // the step's modal impulse where it is one vector (scratch in a restart)
+    std::vector<double> field_;  // scratch: a field on the grid (predictions at the points solved)
+    std::vector<std::pair<std::size_t, double>> forces_;
+    std::vector<std::pair<std::size_t, double>> pushes_;  // scratch: forces_ and the exact points' (as N + p)
+    std::vector<std::pair<std::size_t, double>> rubbing_;  // scratch: where friction acts, F_n
+    std::vector<double> pad_w_, pad_f_;  // scratch: predictions and forces at one pad
+    // The fingers solved with the exact points: their pads' grid points, one after the other, and
+    // their predictions; scratch for a trial's.
+    std::vector<std::size_t> joint_pads_;
+    std::vector<double> joint_w_, joint_trial_;
+    // The next step's free prediction at the points solved now (active, pads), formed by the
+    // pass while it holds q^{n+1}; the next solve reads it. Whatever else changes the state (a
+    // restart, a flight) empties it. Without it a string resting on a bridge or held by a finger
+    // would make a pass more per step.
+    struct Forecast {
+        std::size_t count = 0;
+        std::array<std::size_t, kernels::kMaxPassRows> points{};
+        std::array<double, kernels::kMaxPassRows> values{};
+    };
+    Forecast forecast_;
+    std::vector<std::size_t> others_;  // scratch: points predict_points finds no forecast for
+    // The pass's rows (not zeroed each step: only the first entries are read). With the exact
+    // points pushing by rows, the awake points' forecasts come first (`awake` of them, which[]).
+    struct PassRows {
+        std::array<double, kernels::kMaxPassRows> coefficients;
+        std::array<const double*, kernels::kMaxPassRows> push, predict;
+        std::array<std::size_t, kernels::kMaxPassRows> which;
+        std::array<double, kernels::kMaxPassRows> values;
+        std::size_t awake = 0;
+        bool with_points = false;
+    };
+    PassRows rows_{};
+};
+
+}  // namespace fretbuzz
