@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -268,6 +270,65 @@ TEST(BridgeCoupling, RigidBridgeGivesBackTheIndependentStrings) {
                     rigid.participation[0], difference);
         EXPECT_LT(difference, 1e-12);
     }
+}
+
+// A strings case in `dir` with `strings` copies of the pair's string and one bridge mode.
+std::string write_strings_case(const testing::ScratchDir& dir, std::size_t strings, const std::string& mode) {
+    std::string text = "name = \"bad\"\n[run]\nfs = 96000\nduration = 0.01\n[bridge]\n[[bridge.mode]]\n" + mode + "\n";
+    for (std::size_t s = 0; s < strings; ++s)
+        text += "[[string]]\nname = \"s" + std::to_string(s) + "\"\ncase = \"bridges/pair-string.toml\"\n";
+    const std::string path = (dir.path() / "strings.toml").string();
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+    return path;
+}
+
+TEST(BridgeCases, BadCasesExit2NamingTheKey) {
+    const testing::ScratchDir dir("bridge-cases");
+    const std::string out = " --quiet --out " + (dir.path() / "out").string();
+    struct Bad {
+        std::size_t strings;
+        std::string mode, key;
+    };
+    const std::vector<Bad> bad{
+        {2, "mass_kg = 0.01\nfrequency_hz = 300\nparticipation = [1.0, 0.0]", "string[1] (\"s1\"): on no bridge"},
+        {2, "mass_kg = 0.0\nfrequency_hz = 300\nparticipation = [1.0, 1.0]", "bridge.mode[0].mass_kg"},
+        {2, "mass_kg = -1.0\nfrequency_hz = 300\nparticipation = [1.0, 1.0]", "bridge.mode[0].mass_kg"},
+        {2, "mass_kg = 0.01\nfrequency_hz = 300\nparticipation = [1.0]", "bridge.mode[0].participation"},
+        {25, "mass_kg = 0.01\nfrequency_hz = 300\nparticipation = [1.0]", "at most 24"},
+    };
+    for (const Bad& b : bad) {
+        const std::string path = write_strings_case(dir, b.strings, b.mode);
+        const testing::CommandResult r = testing::run_cli("run " + path + out);
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find(b.key), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(dir.path() / "out"));  // no partial output
+    }
+}
+
+TEST(BridgeCases, StringsOnABridgeWritesEachStringsEnergy) {
+    const testing::ScratchDir dir("bridge-run");
+    const testing::CommandResult r = testing::run_cli("run strings-on-a-bridge --duration 0.3 --quiet --out " + dir.str());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::FILE* f = std::fopen((dir.path() / "strings.csv").string().c_str(), "r");
+    ASSERT_NE(f, nullptr);
+    char header[256] = {};
+    ASSERT_NE(std::fgets(header, sizeof header, f), nullptr);
+    EXPECT_EQ(std::string(header), "t,plucked,sympathetic,bridge,balance\n");
+    // The sympathetic string, at rest at first, takes up most of the plucked one's energy
+    // within the first half beat; the balance holds at every row.
+    double t = 0, plucked = 0, sympathetic = 0, bridge = 0, balance = 0, first = 0, most = 0, worst = 0;
+    while (std::fscanf(f, "%lf,%lf,%lf,%lf,%lf", &t, &plucked, &sympathetic, &bridge, &balance) == 5) {
+        if (first == 0.0) first = plucked;
+        most = std::max(most, sympathetic);
+        worst = std::max(worst, std::abs(balance));
+    }
+    std::fclose(f);
+    EXPECT_GT(most, 0.3 * first);
+    EXPECT_LT(worst, 1e-11);
+    for (const char* wav : {"bridge.wav", "pickup_plucked.wav", "pickup_sympathetic.wav"})
+        EXPECT_GT(std::filesystem::file_size(dir.path() / wav), 10000u) << wav;
 }
 
 }  // namespace
