@@ -25,7 +25,8 @@ namespace {
 constexpr double kFs = 100000.0;
 
 // An ideal (harmonic) string, f1 = sqrt(T/mu)/(2L) = 203.5 Hz, without losses unless asked.
-Case pair_string(bool lossy, const std::string& obstacle = "type = \"none\"") {
+Case pair_string(bool lossy, const std::string& obstacle = "type = \"none\"",
+                 const std::string& excitation = "type = \"sine\"\nmode = 1\namplitude = 1e-3") {
     const std::string text = R"(
 name = "pair"
 [string]
@@ -41,9 +42,7 @@ model = ")" + std::string(lossy ? "law" : "none") + R"("
 [obstacle]
 )" + obstacle + R"(
 [excitation]
-type = "sine"
-mode = 1
-amplitude = 1e-3
+)" + excitation + R"(
 [contact]
 K = 1e10
 alpha = 1.5
@@ -60,21 +59,24 @@ BridgeModeSpec light_bridge(double p1, double p2, double mass = 0.005) {
     return BridgeModeSpec{mass, 300.0, 0.0, {p1, p2}};
 }
 
+// Two strings on one bridge: the first from its case's initial state times a1, the second from
+// its own case's times a2.
 struct Pair {
-    Case c;
-    Plan plan;
+    Case c, c2;
+    Plan plan, plan2;
     std::vector<double> q1, q2, zero;
     Assembly assembly;
-    Pair(Case cs, double a1, double a2, std::vector<BridgeModeSpec> bridge)
-        : c(std::move(cs)), plan(c, 1.0 / kFs), q1(scaled(c.initial_displacement, a1)),
-          q2(scaled(c.initial_displacement, a2)), zero(c.mode_count(), 0.0),
+    Pair(Case cs, double a1, double a2, std::vector<BridgeModeSpec> bridge) : Pair(cs, cs, a1, a2, std::move(bridge)) {}
+    Pair(Case first, Case second, double a1, double a2, std::vector<BridgeModeSpec> bridge)
+        : c(std::move(first)), c2(std::move(second)), plan(c, 1.0 / kFs), plan2(c2, 1.0 / kFs),
+          q1(scaled(c.initial_displacement, a1)), q2(scaled(c2.initial_displacement, a2)), zero(c.mode_count(), 0.0),
           assembly(strings(), bridge) {}
     static std::vector<double> scaled(std::vector<double> q, double a) {
         for (double& x : q) x *= a;
         return q;
     }
     std::vector<Assembly::OnBridge> strings() const {
-        return {{&plan, c.string, q1, zero}, {&plan, c.string, q2, zero}};
+        return {{&plan, c.string, q1, zero}, {&plan2, c2.string, q2, zero}};
     }
 };
 
@@ -250,6 +252,48 @@ TEST(BridgeCoupling, BuzzingAssemblyConservesItsEnergy) {
     // A flat obstacle 0.4 mm under the strings at rest: the plucked string hits it each period.
     Pair pair(pair_string(false, "type = \"flat\"\nheight = -0.4e-3\nstart = 0.1\nend = 0.5"), 1.0, 0.0, {light_bridge(1.0, 1.0)});
     expect_balance(pair, 20000, 1e-12);
+}
+
+TEST(BridgeCoupling, BuzzingStringAndAFingerDownOnTheOtherKeepTheBalance) {
+    // The first string buzzes on the obstacle; a finger presses the second onto it (its pad's
+    // Hunt-Crossley loss counted as dissipated), the bridge carrying energy between them.
+    const std::string obstacle = "type = \"flat\"\nheight = -0.4e-3\nstart = 0.1\nend = 0.5";
+    Case fingered = pair_string(false, obstacle);
+    FingerSpec finger;
+    finger.position_m = 0.3;
+    finger.force_profile = {{0.0, 0.0}, {0.02, 3.0}, {1.0, 3.0}};
+    fingered.fingers.push_back(finger);
+    Pair pair(pair_string(false, obstacle), fingered, 1.0, 0.0, {light_bridge(1.0, 1.0)});
+    expect_balance(pair, 30000, 1e-11);
+    EXPECT_GT(pair.assembly.string(1).contacts().parts().loss(), 0.0);  // the finger was down
+}
+
+// The energy a string at rest (tuned by its tension to `ratio` times the plucked string's f1)
+// takes up from a plucked one through the bridge: its largest over the run.
+double sympathetic_uptake(double ratio, double bridge_mass) {
+    // Plucked at a fifth of its length: every partial but the fifth's multiples sounds.
+    const Case main = pair_string(false, "type = \"none\"", "type = \"triangle\"\nposition = 0.13\namplitude = 1e-3");
+    Case taraf = pair_string(false);
+    taraf.string.tension_n *= ratio * ratio;
+    for (double& f : taraf.modes.frequency_hz) f *= ratio;
+    Pair pair(main, taraf, 1.0, 0.0, {BridgeModeSpec{bridge_mass, 350.0, 0.05, {1.0, 1.0}}});
+    double most = 0.0;
+    for (long n = 0; n < static_cast<long>(2.0 * kFs); ++n) {
+        pair.assembly.step();
+        if (n % 50 == 0) most = std::max(most, pair.assembly.string_energy(1));
+    }
+    return most;
+}
+
+TEST(BridgeCoupling, SympatheticStringTakesUpAPartialNotAQuarterToneAway) {
+    // Tuned to the plucked string's second partial it rings; a quarter tone sharp it does not.
+    // A bridge mode of 0.5 kg: a heavy bridge that a sympathetic string excites only near
+    // resonance (a light one, 0.1 kg, shares the partial's neighbourhood: 18 dB).
+    const double tuned = sympathetic_uptake(2.0, 0.5), off = sympathetic_uptake(2.0 * std::pow(2.0, 1.0 / 24.0), 0.5);
+    const double db = 10.0 * std::log10(tuned / off);
+    std::printf("sympathetic string: tuned to the 2nd partial %.3e J, a quarter tone sharp %.3e J: %.1f dB\n", tuned,
+                off, db);
+    EXPECT_GT(db, 20.0);
 }
 
 TEST(BridgeCoupling, RigidBridgeGivesBackTheIndependentStrings) {
