@@ -22,6 +22,14 @@ void put_at_rest(Case& c) {
     c.initial_velocity.assign(c.mode_count(), 0.0);
 }
 
+// Tuned by its tension: T r^2, every mode's frequency times r (exact for an ideal string; the
+// stiffness's share of the partials stays as the case has it). Its damping stays.
+void retune(Case& c, double r) {
+    if (r == 1.0) return;
+    c.string.tension_n *= r * r;
+    for (double& f : c.modes.frequency_hz) f *= r;
+}
+
 }  // namespace
 
 std::vector<BuiltinCaseInfo> builtin_strings_cases() {
@@ -82,6 +90,9 @@ StringsCase parse_strings_case(const CaseText& source) {
             throw InputError(s.key_path("name") + " = \"" + name + "\": two strings have that name");
         const std::string file = s.text("case");
         const bool at_rest = s.optional_flag("at_rest").value_or(false);
+        const double pitch = s.optional_positive("pitch_ratio").value_or(1.0);
+        if (pitch < 0.25 || pitch > 4.0)
+            throw InputError(out_of_range_message(s.key_path("pitch_ratio"), pitch, "must be in [0.25, 4]"));
         s.finish();
         // A built-in case's name, or a one-string case file beside this one (or a built-in data path).
         const std::string text = is_builtin_case(file) ? builtin_case_text(file) : source.data.read(file, s.key_path("case"));
@@ -90,6 +101,7 @@ StringsCase parse_strings_case(const CaseText& source) {
         c.run.duration_s = sc.run.duration_s;
         if (lossless) c.make_lossless();
         if (at_rest) put_at_rest(c);
+        retune(c, pitch);
         sc.string_names.push_back(name);
         sc.strings.push_back(std::move(c));
     }
