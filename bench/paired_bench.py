@@ -10,7 +10,7 @@ waits for a core; CPU time is the thread's own work).
     bench/paired_bench.py --rounds 5 OLD/fretbuzz_bench NEW/fretbuzz_bench --contact 9 'sitar bridge'
 
 Google Benchmark rows come from its JSON output (the repetitions' own rows, not their
-aggregates); `--contact` rows from the tables it prints (each line '| label | ... | CPU | wall |'
+aggregates; a program that reports aggregates only, fretbuzz_bench_realtime, gives its medians); `--contact` rows from the tables it prints (each line '| label | ... | CPU | wall |'
 whose last two cells are numbers: the table's medians of its repetitions).
 """
 import argparse
@@ -42,12 +42,20 @@ def run(program, args):
         path = Path(scratch) / "out.json"
         subprocess.run([program] + args + [f"--benchmark_out={path}", "--benchmark_out_format=json"],
                        stdout=subprocess.DEVNULL, check=True)
+        medians = defaultdict(lambda: ([], []))  # for programs that report aggregates only
         for b in json.loads(path.read_text())["benchmarks"]:
-            if b.get("run_type") != "iteration":
-                continue
             scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
-            rows[b["run_name"]][0].append(b["cpu_time"] * scale)
-            rows[b["run_name"]][1].append(b["real_time"] * scale)
+            if b.get("run_type") == "iteration":
+                target = rows
+            elif b.get("aggregate_name") == "median":
+                target = medians
+            else:
+                continue
+            target[b["run_name"]][0].append(b["cpu_time"] * scale)
+            target[b["run_name"]][1].append(b["real_time"] * scale)
+        for label, values in medians.items():
+            if label not in rows:
+                rows[label] = values
     return rows
 
 

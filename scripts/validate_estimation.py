@@ -8,14 +8,12 @@
    case.toml; re-running it reproduces the original displacement to the relative L2 error
    printed, over the first 0.5 s (whole band, and below the highest measured partial);
 3. a real recording: the nylon-guitar low E sample of Debian's freepats package
-   (scripts/freepats_decay.py extracts it), its f0 against the sample's root note, B and Q;
-4. doublets: synthetic decays whose every mode rings in two polarisations, the second
-   partial a relative `separation` higher, at 0.6 of the amplitude and 0.8 of the damping,
-   in white noise: how many of modes 3-12 keep both partials and with what errors, against
-   separation, SNR and duration.
+   (scripts/freepats_decay.py extracts it), its f0 against the sample's root note, B and Q,
+   its doublets and merged ones.
+Doublets on synthetic decays: scripts/estimation_grid.py.
 
-Run: /usr/bin/python3 scripts/validate_estimation.py [noise|round-trip|real|doublets]...
-(all four without arguments; after building fretbuzz and its module)
+Run: /usr/bin/python3 scripts/validate_estimation.py [noise|round-trip|real]...
+(all three without arguments; after building fretbuzz and its module)
 """
 import json
 import math
@@ -103,6 +101,7 @@ def real_recording(work):
     fit = json.loads((work / "nylon" / "fit.json").read_text())
     p = np.loadtxt(work / "nylon" / "partials.csv", delimiter=",", comments="#")
     second = p[p[:, 9] == 2]
+    merged = p[p[:, 12] > 0.5]
     p = p[p[:, 9] == 1]  # each mode's stronger partial
     rel = p[:, 8] > 0.5
     f1 = p[p[:, 0] == 1, 1]
@@ -115,103 +114,21 @@ def real_recording(work):
           f"rms {fm['rms_cents']:.2f} cents")
     q = p[rel, 3]
     print(f"  Q of the reliable partials: median {np.median(q):.0f}, range {q.min():.0f} to {q.max():.0f}")
+    print(f"  doublets resolved: {len(second)}; merged (too close to resolve): {len(merged)}, modes "
+          f"{', '.join(str(int(m)) for m in merged[:, 0])}")
     for row in second:
         first = p[p[:, 0] == row[0]][0]
-        print(f"  mode {int(row[0])}: doublet {row[1] - first[1]:+.3f} Hz ({100 * (row[1] / first[1] - 1):+.3f} %), "
-              f"amplitude ratio {row[4] / first[4]:.2f}, sigma {first[2]:.3f} and {row[2]:.3f} 1/s"
-              f"{'' if row[8] > 0.5 else ' (weak)'}")
+        print(f"  mode {int(row[0])}: doublet {row[1] - first[1]:+.3f} Hz ({100 * (row[1] / first[1] - 1):+.3f} %, "
+              f"{(row[1] - first[1]) * fit['recording']['decay_duration_s']:+.2f} beats), "
+              f"amplitude ratio {row[4] / first[4]:.2f}, sigma {first[2]:.3f} +- {first[11]:.3f} and "
+              f"{row[2]:.3f} +- {row[11]:.3f} 1/s{'' if row[8] > 0.5 else ' (not reliable)'}")
     d = fit["damping_model"]
     print(f"  damping fit: delta_ve = {d['delta_ve']:.3e}, 1/Q_te = {d['Q_te_inv']:.3e}, sigma rms error "
           f"{100 * d['sigma_rms_relative_error']:.0f} %")
 
 
-def doublet_decay(separation, snr_db, seconds, rng, f0=110.0, modes=15, rate=16000.0):
-    """The synthetic decay of tests/SyntheticDecay.hpp: mode j at j f0 sqrt(1 + B j^2),
-    sigma_j = 0.5 + 0.3 j, amplitude 0.5 / j; its doublet partial separation higher, 0.6 of
-    the amplitude, 0.8 of the damping. Returns the signal and the true partials by
-    (mode, polarisation)."""
-    t = np.arange(int(rate * seconds)) / rate
-    x = np.zeros_like(t)
-    truth = {}
-    for j in range(1, modes + 1):
-        f = f0 * j * math.sqrt(1 + 1e-4 * j * j)
-        sigma = 0.5 + 0.3 * j
-        for polarisation, (fj, sj, aj, phase) in ((1, (f, sigma, 0.5 / j, 0.0)),
-                                                 (2, (f * (1 + separation), 0.8 * sigma, 0.3 / j, 1.0 * j))):
-            x += aj * np.exp(-sj * t) * np.cos(2 * np.pi * fj * t + phase)
-            truth[(j, polarisation)] = (fj, sj)
-    x += rng.normal(0.0, math.sqrt(np.mean(x ** 2) * 10 ** (-snr_db / 10)), x.size)
-    return x, rate, truth
-
-
-def doublet_errors(separation, snr_db, seconds, rng, first=3, last=12):
-    """Modes first..last: how many keep both partials, the largest relative errors of those
-    partials, and the largest sigma error (against the stronger partial) of a mode found as
-    one partial."""
-    x, rate, truth = doublet_decay(separation, snr_db, seconds, rng)
-    p = fb.estimate(x, rate, max_partial=15)["partials"]
-    found = {(int(m), int(k)): (f, s) for m, k, f, s in
-             zip(p["mode"], p["polarisation"], p["frequency_hz"], p["sigma_per_s"])}
-    both, df, ds, merged = 0, 0.0, 0.0, 0.0
-    for j in range(first, last + 1):
-        if (j, 2) in found and (j, 1) in found:
-            both += 1
-            for k in (1, 2):
-                f, s = found[(j, k)]
-                df = max(df, abs(f / truth[(j, k)][0] - 1))
-                ds = max(ds, abs(s / truth[(j, k)][1] - 1))
-        elif (j, 1) in found:
-            merged = max(merged, abs(found[(j, 1)][1] / truth[(j, 1)][1] - 1))
-    return both, df, ds, merged
-
-
-SEPARATIONS = (1e-4, 2e-4, 4e-4, 1e-3, 2e-3, 5e-3)
-SNRS = (30.0, 40.0, 50.0, 60.0)
-
-
-def beats(separation, seconds, mode):
-    """Delta f T of that mode's doublet: the number of beats in the record."""
-    return 110.0 * mode * math.sqrt(1 + 1e-4 * mode * mode) * separation * seconds
-
-
-def doublet_study():
-    rng = np.random.default_rng(38)
-    seconds = 3.0
-    print(f"\ndoublets, {seconds:g} s at 16 kHz, f0 = 110 Hz, modes 3-12:")
-    print("| separation (%) | Delta f T, mode 3 .. 12 | SNR (dB) | both partials (of 10) | max freq. error | "
-          "max sigma error (%) | merged: max sigma error (%) |")
-    print("|---|---|---|---|---|---|---|")
-    for separation in SEPARATIONS:
-        for snr in SNRS:
-            both, df, ds, merged = doublet_errors(separation, snr, seconds, rng)
-            print(f"| {100 * separation:g} | {beats(separation, seconds, 3):.2f} .. {beats(separation, seconds, 12):.2f} "
-                  f"| {snr:g} | {both} | {df:.1e} | {100 * ds:.1f} | {100 * merged:.0f} |")
-    # The smallest Delta f T at which a doublet is still resolved, from every mode of every
-    # separation: per duration and SNR, the smallest Delta f T above which all were.
-    print("\nsmallest separation above which every doublet of modes 1-12 was resolved (both partials within "
-          "1e-4 in frequency and 15 % in sigma), Delta f in Hz (Delta f T):")
-    print("| SNR (dB) | " + " | ".join(f"T = {t:g} s" for t in (1.0, 3.0)) + " |")
-    print("|---|---|---|")
-    for snr in SNRS:
-        row = []
-        for seconds in (1.0, 3.0):
-            failed = []
-            for separation in SEPARATIONS:
-                x, rate, truth = doublet_decay(separation, snr, seconds, rng)
-                p = fb.estimate(x, rate, max_partial=15)["partials"]
-                found = {(int(m), int(k)): (f, s) for m, k, f, s in
-                         zip(p["mode"], p["polarisation"], p["frequency_hz"], p["sigma_per_s"])}
-                for j in range(1, 13):
-                    ok = all((j, k) in found and abs(found[(j, k)][0] / truth[(j, k)][0] - 1) <= 1e-4 and
-                             abs(found[(j, k)][1] / truth[(j, k)][1] - 1) <= 0.15 for k in (1, 2))
-                    if not ok:
-                        failed.append(beats(separation, seconds, j))
-            row.append(f"{max(failed) / seconds:.2f} Hz ({max(failed):.2f})" if failed else "all")
-        print(f"| {snr:g} | " + " | ".join(row) + " |")
-
-
 def main():
-    parts = sys.argv[1:] or ["noise", "round-trip", "real", "doublets"]
+    parts = sys.argv[1:] or ["noise", "round-trip", "real"]
     work = scratch_dir("estimation")
     if "noise" in parts:
         noise_study(work)
@@ -219,8 +136,6 @@ def main():
         round_trip(work)
     if "real" in parts:
         real_recording(work)
-    if "doublets" in parts:
-        doublet_study()
 
 
 if __name__ == "__main__":

@@ -7,7 +7,10 @@ default attacks (docs/setup.md, "Does it match the workshop?"):
 - a professional low set-up: relief 0.25 mm, 1.8 mm (E, A) and 1.6 mm (D, G) at fret 12;
 - too little relief: the factory actions on a straight neck;
 - a proud fret: the factory set-up with fret 7 raised 0.1 mm;
-- the advice's lowest clean action per string at the medium attack, from the factory set-up.
+- the advice's lowest clean action per string at the medium attack, from the factory set-up, for
+  every fret and for frets 0-15 alone;
+- the notes of the factory set-up whose verdict at the medium attack changes when a string's
+  bending stiffness is halved or made 1.5 times (the wound strings' cores are not published).
 
 The expectation from set-up practice: at factory figures the medium (ordinary) finger attack
 plays frets 0 to 15 clean and the hard attack buzzes somewhere; the lowest clean action at
@@ -85,20 +88,34 @@ def main():
         frets = "all clean" if not not_clean else "not clean: " + " ".join(not_clean[:8]) + (" ..." if len(not_clean) > 8 else "")
         print(f"| {label} | {medium['clean']} / {medium['marginal']} / {medium['buzzes']} | {frets} | "
               f"{weakest:.2f}x medium | {hard['clean']} / {hard['marginal']} / {hard['buzzes']} | {seconds:.0f} s |")
-    # The advice from the factory set-up.
-    out = work / "advice"
-    seconds, _ = run(FACTORY + ["--strength", "medium", "--advice", "--out", str(out)], a.jobs)
+    # The advice from the factory set-up: for every fret, and for frets 0-15 alone (what set-up
+    # practice expects to play clean).
     import json
-    advice = json.load(open(out / "advice.json"))
+    advices = {}
+    for frets in ("0-20", "0-15"):
+        out = work / f"advice-{frets}"
+        seconds, _ = run(FACTORY + ["--strength", "medium", "--frets", frets, "--advice", "--out", str(out)], a.jobs)
+        advices[frets] = (json.load(open(out / "advice.json")), seconds)
     print()
-    print("| string | the lowest clean action at fret 12, medium attack | in 1.6-2.6 mm? | the step below |")
-    print("|---|---|---|---|")
-    for row in advice["lowest_action"]:
-        lowest = row.get("lowest_clean_action12_mm")
-        inside = "yes" if lowest is not None and 1.6 <= lowest <= 2.6 else "no"
-        shown = "none up to 10 mm" if lowest is None else f"{lowest:.2f} mm"
-        print(f"| {row['string']} | {shown} | {inside} | {row.get('one_step_lower', '')} |")
-    print(f"\n(advice: {advice.get('maps')} maps, {seconds:.0f} s)")
+    print("| string | the lowest clean action at fret 12, medium attack, every fret | set by fret | frets 0-15 only | "
+          "in 1.6-2.6 mm? | the step below (every fret) |")
+    print("|---|---|---|---|---|---|")
+    shown = lambda v: "none up to 10 mm" if v is None else f"{v:.2f} mm"
+    upto15 = {row["string"]: row for row in advices["0-15"][0]["lowest_action"]}
+    for row in advices["0-20"][0]["lowest_action"]:
+        lowest, low15 = row.get("lowest_clean_action12_mm"), upto15[row["string"]].get("lowest_clean_action12_mm")
+        inside = "/".join("yes" if v is not None and 1.6 <= v <= 2.6 else "no" for v in (lowest, low15))
+        print(f"| {row['string']} | {shown(lowest)} | {row.get('limiting_fret', '')} | {shown(low15)} | {inside} | "
+              f"{row.get('one_step_lower', '')} |")
+    print(f"\n(advice: {advices['0-20'][1]:.0f} s for every fret, {advices['0-15'][1]:.0f} s for frets 0-15)")
+    # The stiffness check.
+    out = work / "stiffness"
+    seconds, _ = run(FACTORY + ["--strength", "medium", "--stiffness-check", "--no-clean-up-to", "--out", str(out)], a.jobs)
+    rows = list(csv.DictReader(open(out / "buzz_map.csv")))
+    sensitive = [f"{r['string']}{r['fret']} ({r['verdict']}; x{r['stiffness_sensitive']})" for r in rows
+                 if r["stiffness_sensitive"] not in ("", "no")]
+    print(f"\nStiffness check (factory set-up, medium, {seconds:.0f} s): {len(sensitive)} of {len(rows)} notes change "
+          f"their verdict: " + (", ".join(sensitive) if sensitive else "none"))
 
 
 if __name__ == "__main__":

@@ -356,14 +356,18 @@ FingerSpec Case::fret_finger(std::size_t k, const std::string& key) const {
                                               "must be a fret of this case, in [1, " +
                                                   std::to_string(fret_positions_m.size()) + "]"));
     const double fret = fret_positions_m[k - 1];
-    const double spacing = fret - (k > 1 ? fret_positions_m[k - 2] : 0.0);
-    FingerSpec f;  // defaults: see FingerSpec and the case files' comments
+    FingerSpec f = finger_behind_fret(fret, fret - (k > 1 ? fret_positions_m[k - 2] : 0.0));
     f.key = key + " = " + std::to_string(k) + " (finger)";
-    f.width_m = std::min(0.01, 0.5 * spacing);
-    // Just behind the fret: the pad's near edge 15 % of the fret spacing from it.
-    f.position_m = fret - 0.15 * spacing - 0.5 * f.width_m;
-    f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), 5.0}};
+    f.force_profile = {{0.0, 0.0}, {std::min(0.005, 0.5 * run.duration_s), kFretFingerForce}};
     f.default_force = true;
+    return f;
+}
+
+FingerSpec finger_behind_fret(double fret_m, double spacing_m) {
+    FingerSpec f;  // defaults: see FingerSpec and the case files' comments
+    f.width_m = std::min(0.01, 0.5 * spacing_m);
+    // Just behind the fret: the pad's near edge 15 % of the fret spacing from it.
+    f.position_m = fret_m - 0.15 * spacing_m - 0.5 * f.width_m;
     return f;
 }
 

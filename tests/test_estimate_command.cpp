@@ -356,7 +356,8 @@ TEST(EstimateCommand, WritesBothPolarisationsWhenAsked) {
     EXPECT_NE(r.output.find("--polarisations = 3 is out of range: must be 1 or 2"), std::string::npos) << r.output;
     r = run_cli("estimate " + wav.string() + options + " --polarisations 2");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(read_file(out / "partials.csv").find(",reliable,polarisation\n"), std::string::npos);
+    EXPECT_NE(read_file(out / "partials.csv").find(",reliable,polarisation,frequency_sd_hz,sigma_sd_per_s,merged\n"),
+              std::string::npos);
     EXPECT_NE(read_file(out / "case-snippet.toml").find("[polarisation_y]\ntable = \"modes_y.csv\""),
               std::string::npos);
     const Case c = load_case((out / "case.toml").string());
@@ -373,6 +374,39 @@ TEST(EstimateCommand, WritesBothPolarisationsWhenAsked) {
     }
     // Above the measured modes y follows z (the models).
     EXPECT_EQ(y.frequency_hz[39], c.modes.frequency_hz[39]);
+}
+
+// A doublet below the resolution (41.2 Hz, 0.05 % apart, 2 s at 40 dB: mode 3 beats 0.12
+// times in the record): one row, merged = 1 and reliable = 0, and the note on the terminal.
+TEST(EstimateCommand, MergedDoubletIsFlaggedWithItsNote) {
+    ScratchDir dir("estimate-merged");
+    testing::DecaySpec spec;
+    spec.f0_hz = 41.2;
+    spec.modes = 15;
+    spec.separation = 5e-4;
+    spec.ratio = 0.8;
+    spec.seconds = 2.0;
+    spec.snr_db = 40.0;
+    const fs::path wav = dir.path() / "close.wav", out = dir.path() / "out";
+    write_wav(wav, scaled(spec, 0.5), static_cast<int>(spec.rate_hz));
+    const auto r = run_cli("estimate " + wav.string() + " --L 0.863 --mu 6.69e-3 --d 1.14e-3 --max-partial 15 --no-plots --out " +
+                           out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("too close to resolve in this record"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("beating envelope's"), std::string::npos) << r.output;
+    std::istringstream rows(read_file(out / "partials.csv"));
+    std::string row;
+    std::vector<std::string> third;
+    while (std::getline(rows, row))
+        if (row.starts_with("3,")) third.push_back(row);
+    ASSERT_EQ(third.size(), 1u) << read_file(out / "partials.csv");
+    // ...,reliable,polarisation,frequency_sd_hz,sigma_sd_per_s,merged
+    std::vector<std::string> fields;
+    std::istringstream columns(third[0]);
+    for (std::string field; std::getline(columns, field, ',');) fields.push_back(field);
+    ASSERT_EQ(fields.size(), 13u) << third[0];
+    EXPECT_EQ(fields[8], "0") << third[0];   // not reliable
+    EXPECT_EQ(fields[12], "1") << third[0];  // merged
 }
 
 }  // namespace

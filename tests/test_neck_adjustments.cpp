@@ -143,7 +143,10 @@ TEST(NeckAdjustments, ACompoundRadiusIsAConeFromNutToLastFret) {
         for (auto& s : g.strings) s.bridge = {StringEnd::Form::gap_over_fret, 2e-3, 12};
         return std::make_pair(g, StringNeck(g, string));
     };
-    const auto [g, cone] = neck("[\"7.25 in\", \"16 in\"]", 0);
+    // (named members, not a structured binding: the lambda below captures them)
+    const auto made = neck("[\"7.25 in\", \"16 in\"]", 0);
+    const Instrument& g = made.first;
+    const StringNeck& cone = made.second;
     EXPECT_NEAR(*g.neck.radius_m, 7.25 * kInch, 1e-15);
     EXPECT_NEAR(*g.neck.radius_last_fret_m, 16.0 * kInch, 1e-15);
     const double last = cone.fret_x(cone.fret_count()), length = cone.length();

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -86,13 +87,38 @@ TEST(SetupCommand, AdviceAndComparisonAreWritten) {
                            " --advice");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string advice = read_file(dir.path() / "b" / "advice.txt");
-    EXPECT_NE(advice.find("string G: action over fret 12 now"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("string G: action at fret 12 now"), std::string::npos) << advice;
     EXPECT_NE(advice.find("stands proud"), std::string::npos) << advice;  // which ones: SetupAdvice's tests
     EXPECT_NE(advice.find("relief (gap at fret 8) now"), std::string::npos) << advice;
     EXPECT_NE(read_file(dir.path() / "b" / "advice.json").find("\"lowest_clean_action12_mm\""), std::string::npos);
     const std::string compare = read_file(dir.path() / "b" / "compare.csv");
     EXPECT_EQ(std::count(compare.begin(), compare.end(), '\n'), 22) << compare;  // a header and 21 notes
     EXPECT_NE(compare.find("G,14,medium,"), std::string::npos) << compare;
+}
+
+// --dress writes what comes off each fret (mm and thousandths of an inch) and the map after it.
+TEST(SetupCommand, TheFretDressIsWritten) {
+    ScratchDir dir("setup-dress");
+    const std::string out = (dir.path() / "d").string();
+    const auto r = run_cli("setup jazz-bass --out " + out + kQuick + " --strength medium --dress --fall-away 17");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::istringstream csv(read_file(dir.path() / "d" / "dress.csv"));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "fret,remove_mm,remove_thou");
+    std::size_t rows = 0;
+    while (std::getline(csv, line)) {
+        ++rows;
+        double mm = 0.0, thou = 0.0;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%*d,%lf,%lf", &mm, &thou), 2) << line;
+        EXPECT_NEAR(thou, mm / 25.4 * 1e3, 1e-3) << line;  // the same depth in thousandths of an inch
+        EXPECT_GE(mm, 0.0);
+        EXPECT_LE(mm, 0.3 + 1e-9);  // the default depth
+    }
+    EXPECT_EQ(rows, 20u);  // every fret
+    const std::string after = read_file(dir.path() / "d" / "dress_map.csv");
+    EXPECT_NE(after.find("G,19,medium,"), std::string::npos) << after;
+    EXPECT_NE(read_file(dir.path() / "d" / "map.json").find("\"dress\": {"), std::string::npos);
 }
 
 // Ctrl-C: exit status 130, a message that says the map is lost, and nothing written.
@@ -132,6 +158,14 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--ensemble 1000", {"--ensemble", "[1, 200]"}},
         {"--fs 10", {"--fs", "[50000, 2e7]"}},
         {"--compare " + (dir.path() / "nothing").string(), {"--compare", "buzz_map.csv"}},
+        {"--advice --tolerate loud", {"--tolerate loud", "marginal", "above=K", "[0, 20]"}},
+        {"--advice --tolerate above=30", {"--tolerate above=30", "[0, 20]"}},
+        {"--tolerate marginal", {"--tolerate", "--advice or --dress"}},
+        {"--dress --dress-depth 5", {"--dress-depth", "[0.01, 1] mm"}},
+        {"--dress --crown 2", {"--crown", "[0, 1.2 mm)"}},
+        {"--dress --fall-away 20", {"--fall-away 20", "[1, 18]"}},
+        {"--dress --fall-away 30", {"--fall-away 30", "[1, 20]"}},
+        {"--fall-away 15", {"--fall-away", "--dress"}},
     };
     for (const Refusal& c : cases) {
         const auto r = run_cli("setup jazz-bass --out " + out + " " + c.arguments);

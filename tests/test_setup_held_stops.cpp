@@ -1,13 +1,15 @@
 // The held-string stand-in against the pinned one on the single-string bass: the held string
-// sounds a few cents higher (it is partly clamped over the fret), so its buzz map may differ
-// from the pinned string's, but only where a pitch change of that size changes the pinned
-// map itself. The pinned string retuned by 0 to +5 cents spans what pitch alone does to each
-// note's verdict; the held string's verdict must lie in that span (one pluck of slack, the
-// ensemble's resolution).
+// sounds a few cents higher (it is partly clamped over the fret), and the finger's loss damps
+// its upper partials several times faster than the string's own (scheme/HeldString.hpp), so
+// its buzz map may differ from the pinned string's: where a pitch change of that size changes
+// the pinned map itself, or lower (more loss only calms a note). The pinned string retuned by
+// 0 to +5 cents spans what pitch alone does to each note's verdict; the held string's verdict
+// must not lie above that span (one pluck of slack, the ensemble's resolution).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <utility>
 
@@ -43,7 +45,7 @@ std::map<std::pair<std::size_t, std::string>, NoteVerdict> map_of(const Instrume
     return notes;
 }
 
-TEST(SetupHeldStops, TheHeldStandInChangesTheMapOnlyWherePitchExplainsIt) {
+TEST(SetupHeldStops, TheHeldStandInNeverBuzzesMoreThanItsPitchExplains) {
     const auto held = map_of(coarse_bass_neck(false, 0.0));
     std::map<std::pair<std::size_t, std::string>, std::pair<double, double>> span;  // buzz fraction: lowest, highest
     for (const double cents : {0.0, 1.25, 2.5, 3.75, 5.0})
@@ -53,17 +55,18 @@ TEST(SetupHeldStops, TheHeldStandInChangesTheMapOnlyWherePitchExplainsIt) {
             it->second.second = std::max(it->second.second, v.buzz_fraction);
         }
     ASSERT_EQ(held.size(), span.size());
-    std::size_t differing = 0;
+    std::size_t differing = 0, calmer = 0;
     for (const auto& [key, v] : held) {
         ASSERT_EQ(v.status, "ok") << "fret " << key.first << " " << key.second;
         const auto [low, high] = span.at(key);
         const double slack = 1.0 / static_cast<double>(v.plucks) + 1e-9;
-        if (v.buzz_fraction < low - 1e-9 || v.buzz_fraction > high + 1e-9) ++differing;
-        EXPECT_GE(v.buzz_fraction, low - slack) << "fret " << key.first << " " << key.second;
+        if (v.buzz_fraction > high + 1e-9) ++differing;
+        if (v.buzz_fraction < low - 1e-9) ++calmer;
         EXPECT_LE(v.buzz_fraction, high + slack) << "fret " << key.first << " " << key.second;
     }
     // The slack is for the odd note at the edge of chaos, not a general licence.
-    EXPECT_LE(differing, held.size() / 10) << differing << " of " << held.size() << " verdicts outside the pitch span";
+    EXPECT_LE(differing, held.size() / 10) << differing << " of " << held.size() << " verdicts above the pitch span";
+    std::printf("%zu of %zu verdicts above the pitch span, %zu below it\n", differing, held.size(), calmer);
 }
 
 }  // namespace

@@ -124,14 +124,19 @@ int estimate_command(const EstimateArguments& a) {
     }
     out.commit();
 
-    std::size_t reliable = 0, doublets = 0;
+    std::size_t reliable = 0, doublets = 0, merged = 0;
     for (const EstimatedPartial& p : estimate.partials) {
         reliable += p.reliable ? 1 : 0;
         doublets += p.polarisation == 2 ? 1 : 0;
+        merged += p.merged ? 1 : 0;
     }
+    if (!a.quiet && merged > 0)
+        std::cerr << "fretbuzz: note: " << merged << " mode(s) ring as a doublet too close to resolve in this record "
+                  << "(merged = 1 in partials.csv): each is reported as one partial whose damping is the beating "
+                     "envelope's, not either polarisation's; a longer or cleaner recording resolves them\n";
     if (!a.quiet)
         std::cerr << "fretbuzz: " << estimate.partials.size() << " partials (" << reliable << " reliable; "
-                  << doublets << " modes with both polarisations) in " << estimate.bands
+                  << doublets << " modes with both polarisations, " << merged << " merged) in " << estimate.bands
                   << " bands; f0 = " << fit.frequency.f0_hz << " Hz, B = "
                   << fit.frequency.inharmonicity << " (rms " << fit.frequency.rms_cents << " cents); delta_ve = "
                   << fit.damping.parameters.viscoelastic_loss << ", 1/Q_te = "

@@ -26,6 +26,7 @@
 #include "fretbuzz/output/OutputDirectory.hpp"
 #include "fretbuzz/setup/Advice.hpp"
 #include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/FretDress.hpp"
 #include "fretbuzz/setup/MapFiles.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
 
@@ -36,8 +37,9 @@ namespace {
 struct SetupArguments {
     std::string instrument, out;
     std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration, string_set;
+    std::string tolerate, dress_depth, crown, fall_away;
     std::vector<std::string> action12, nut, saddle, fret_offsets, tune;
-    bool finger = false, advice = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
+    bool finger = false, advice = false, dress = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
 };
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -194,6 +196,27 @@ int setup_command(const SetupArguments& a) {
         for (const std::string& name : split(a.strings, ',')) request.strings.push_back(instrument.string_index(name));
     if (!a.frets.empty()) request.frets = parse_frets(a.frets, instrument.neck.fret_count);
     map_notes(instrument, request);
+    // What the advice and the dress answer for, checked before anything runs.
+    AdviceRequest advice_request;
+    advice_request.attack = request.attacks.back();
+    advice_request.finger = a.finger;
+    advice_request.jobs = request.jobs;
+    advice_request.strings = request.strings;
+    advice_request.frets = request.frets;
+    if (!a.tolerate.empty()) advice_request.tolerate = parse_tolerance(a.tolerate, instrument.neck.fret_count);
+    DressRequest dress_request;
+    dress_request.play = advice_request;
+    if (!a.dress_depth.empty())
+        dress_request.max_depth_m = parse_quantity_or(a.dress_depth, Quantity::length, "mm", "--dress-depth");
+    if (!a.crown.empty()) dress_request.min_crown_m = parse_quantity_or(a.crown, Quantity::length, "mm", "--crown");
+    if (!a.fall_away.empty())
+        dress_request.fall_away_from = whole_number(a.fall_away, "--fall-away", 1, instrument.neck.fret_count,
+                                                    "the fret the fall-away starts from");
+    if (a.dress) check_dress_request(instrument, dress_request);
+    if ((!a.dress_depth.empty() || !a.crown.empty() || !a.fall_away.empty()) && !a.dress)
+        throw InputError("--dress-depth, --crown and --fall-away shape the fret dress: give --dress with them");
+    if (!a.tolerate.empty() && !a.dress && !a.advice)
+        throw InputError("--tolerate says what the advice and the dress may let buzz: give --advice or --dress with it");
     std::vector<NoteVerdict> before;
     if (!a.compare.empty()) before = read_buzz_map_csv(std::filesystem::path(a.compare) / "buzz_map.csv", "--compare");
 
@@ -236,18 +259,24 @@ int setup_command(const SetupArguments& a) {
         write_comparison_csv(out.staged("compare.csv"), doc.comparison);
     }
     if (a.advice) {
-        AdviceRequest advice_request;
-        advice_request.attack = request.attacks.back();
-        advice_request.finger = a.finger;
-        advice_request.jobs = request.jobs;
-        advice_request.strings = request.strings;
-        if (!a.quiet) std::cerr << "fretbuzz: advice: searching (each step is a map of a string at "
-                                << advice_request.attack.label << ")\n";
+        if (!a.quiet) std::cerr << "fretbuzz: advice: searching (each probe plays notes at the "
+                                << advice_request.attack.label << " attack)\n";
         const Advice advice = advise(instrument, map.notes, advice_request);
         doc.advice_json = advice_json(advice);
         std::ofstream(out.staged("advice.json")) << doc.advice_json << "\n";
         std::ofstream(out.staged("advice.txt")) << advice_text(advice);
         if (!a.quiet) std::cerr << advice_text(advice);
+    }
+    if (a.dress) {
+        if (!a.quiet) std::cerr << "fretbuzz: fret dress: searching at the " << advice_request.attack.label << " attack\n";
+        const DressResult dress = dress_frets(instrument, map.notes, dress_request);
+        doc.dress_json = dress_json(dress);
+        doc.dressed_notes = dress.after;
+        std::ofstream(out.staged("dress.csv")) << dress_csv(dress);
+        std::ofstream(out.staged("dress.json")) << doc.dress_json << "\n";
+        std::ofstream(out.staged("dress.txt")) << dress_text(dress);
+        write_buzz_map_csv(out.staged("dress_map.csv"), dress.after);
+        if (!a.quiet) std::cerr << dress_text(dress);
     }
     write_map_json(out.staged("map.json"), instrument, doc);
     // The page is drawn by the Python package; without it the map is still whole (CSV, JSON, WAVs).
@@ -312,8 +341,20 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");
     cmd->add_option("--frets", args->frets, "Frets to play, e.g. 0-20 or 0,5,7 (default: every one)");
     cmd->add_flag("--advice", args->advice,
-                  "Also search the lowest clean action per string, the proud frets and the clean relief range, at the "
-                  "last attack of --strength");
+                  "Also search, at the last attack of --strength, the lowest clean action per string (and the saddle "
+                  "move to it), where a fall-away would help, the proud frets and the relief with the least buzz");
+    cmd->add_option("--tolerate", args->tolerate,
+                    "What the advice and the dress may let buzz: marginal (marginal notes pass), above=K (notes above "
+                    "fret K), or both: marginal,above=15");
+    cmd->add_flag("--dress", args->dress,
+                  "Also work out the least fret material to take off, fret by fret, so that every note passes at the "
+                  "last attack of --strength and this set-up (dress.csv, dress_map.csv: the map after)");
+    cmd->add_option("--dress-depth", args->dress_depth, "The fret dress: at most this much off any fret (default 0.3 mm)");
+    cmd->add_option("--crown", args->crown,
+                    "The fret dress: the crowns kept at least this high above the board (default 0.75 mm)");
+    cmd->add_option("--fall-away", args->fall_away,
+                    "The fret dress: first a fall-away over the frets past this one (dressed down along a line to the "
+                    "last fret)");
     cmd->add_option("--jobs", args->jobs, "Threads (default: every core)");
     cmd->add_option("--ensemble", args->ensemble,
                     "The most plucks per note (default: the instrument's, 40; each note stops once its verdict is sure)");

@@ -211,4 +211,11 @@ struct StringsCase {
 // Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx: see Case::fret_positions_m.
 std::vector<double> find_frets(const std::vector<double>& heights, double dx);
 
+// The finger of `fret = k` behind a fret at fret_m, spacing_m past the fret (or nut) before
+// it: the default finger (FingerSpec) with its pad 10 mm long, or half the spacing, its near
+// edge 15 % of the spacing behind the fret. Its key and pressing force are the caller's.
+FingerSpec finger_behind_fret(double fret_m, double spacing_m);
+// What that finger presses with once it has landed (N; `fret = k` ramps it up over 5 ms).
+constexpr double kFretFingerForce = 5.0;
+
 }  // namespace fretbuzz

@@ -21,7 +21,7 @@ namespace py = pybind11;
 namespace {
 
 py::dict partials_dict(const ModalEstimate& e) {
-    std::vector<double> mode, nu, sigma, q, amplitude, phase, snr, reliable, polarisation;
+    std::vector<double> mode, nu, sigma, q, amplitude, phase, snr, reliable, polarisation, nu_sd, sigma_sd, merged;
     for (const EstimatedPartial& p : e.partials) {
         mode.push_back(static_cast<double>(p.mode));
         nu.push_back(p.frequency_hz);
@@ -32,6 +32,9 @@ py::dict partials_dict(const ModalEstimate& e) {
         snr.push_back(p.snr_db);
         reliable.push_back(p.reliable ? 1.0 : 0.0);
         polarisation.push_back(static_cast<double>(p.polarisation));
+        nu_sd.push_back(p.frequency_sd_hz);
+        sigma_sd.push_back(p.sigma_sd_per_s);
+        merged.push_back(p.merged ? 1.0 : 0.0);
     }
     py::dict d;
     d["mode"] = to_numpy(mode);
@@ -43,6 +46,9 @@ py::dict partials_dict(const ModalEstimate& e) {
     d["snr_db"] = to_numpy(snr);
     d["reliable"] = to_numpy(reliable);
     d["polarisation"] = to_numpy(polarisation);
+    d["frequency_sd_hz"] = to_numpy(nu_sd);
+    d["sigma_sd_per_s"] = to_numpy(sigma_sd);
+    d["merged"] = to_numpy(merged);
     return d;
 }
 
@@ -119,7 +125,9 @@ void bind_estimate(py::module_& m) {
           py::arg("fit_air") = false,
           "Partials of a free decay (1-D array at `rate` Hz) by ESPRIT per band: a dict with 'partials'\n"
           "(mode, frequency_hz, sigma_per_s, quality_factor, amplitude, phase_rad, snr_db, reliable,\n"
-          "polarisation: 1 for each mode's stronger partial, 2 for the weaker one of a resolved doublet),\n"
+          "polarisation: 1 for each mode's stronger partial, 2 for the weaker one of a resolved doublet,\n"
+          "frequency_sd_hz, sigma_sd_per_s: Cramer-Rao standard deviations, merged: 1 for one partial\n"
+          "standing for a doublet too close to resolve, whose damping is the beating envelope's),\n"
           "'f0_hz' and 'B'. With string={'L':..,'mu':..,'d':..[,'T':..]} also 'fit' (B, delta_ve, Q_te_inv,\n"
           "...), 'mode_table' for `modes` modes (measured where reliable, models elsewhere) and\n"
           "'mode_table_y' (the weaker partials of resolved doublets, 'mode_table' elsewhere).\n"

@@ -17,7 +17,10 @@
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/setup/Advice.hpp"
+#include "fretbuzz/analysis/Recording.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/FretDress.hpp"
 #include "fretbuzz/setup/InstrumentGeometry.hpp"
 #include "fretbuzz/setup/MapFiles.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
@@ -302,8 +305,10 @@ py::dict record(const Instrument& instrument, const std::string& string, std::si
     return d;
 }
 
-std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
-                   const std::vector<std::string>& strings, bool finger, unsigned jobs) {
+// What the advice and the dress answer for, as Python gives it (messages name the arguments).
+AdviceRequest advice_request(const Instrument& instrument, const std::string& strength,
+                             const std::vector<std::string>& strings, const std::vector<std::size_t>& frets,
+                             const std::string& tolerate, bool finger, unsigned jobs) {
     AdviceRequest request;
     const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
@@ -311,9 +316,68 @@ std::string advice(const Instrument& instrument, const py::iterable& map, const 
     request.finger = finger;
     request.jobs = jobs;
     for (const std::string& s : strings) request.strings.push_back(instrument.string_index(s));
+    MapRequest check;
+    check.frets = frets;
+    check.attacks = attacks;
+    with_python_names([&] { return map_notes(instrument, check); });
+    request.frets = frets;
+    if (!tolerate.empty()) request.tolerate = parse_tolerance(tolerate, instrument.neck.fret_count, "tolerate");
+    return request;
+}
+
+std::vector<NoteVerdict> map_verdicts(const Instrument& instrument, const py::iterable& map) {
     std::vector<NoteVerdict> verdicts = verdicts_from(map);
     for (NoteVerdict& v : verdicts) v.string = instrument.string_index(v.string_name);
+    return verdicts;
+}
+
+std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
+                   const std::vector<std::string>& strings, const std::vector<std::size_t>& frets,
+                   const std::string& tolerate, bool finger, unsigned jobs) {
+    const AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+    const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
     return without_gil([&] { return advice_json(advise(instrument, verdicts, request)); });
+}
+
+py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
+               const std::vector<std::string>& strings, const std::vector<std::size_t>& frets, const std::string& tolerate,
+               const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
+    DressRequest request;
+    request.play = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+    if (!depth.is_none()) request.max_depth_m = millimetres(depth, "depth");
+    if (!crown.is_none()) request.min_crown_m = millimetres(crown, "crown");
+    if (!fall_away.is_none())
+        request.fall_away_from = static_cast<std::size_t>(
+            to_whole(fall_away, "fall_away (the fret the fall-away starts from)", 0, 1 << 20));
+    const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
+    const DressResult result = without_gil([&] {
+        try {
+            return dress_frets(instrument, verdicts, request);
+        } catch (const InputError& e) {
+            std::string message = e.what();
+            for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+                     {"--dress-depth", "depth"}, {"--crown", "crown"}, {"--fall-away", "fall_away"}})
+                if (message.starts_with(from)) message.replace(0, from.size(), to);
+            throw InputError(message);
+        }
+    });
+    py::dict d = py::module_::import("json").attr("loads")(dress_json(result));
+    py::list after;
+    for (const NoteVerdict& v : result.after) after.append(verdict_dict(v));
+    d["after"] = after;
+    d["csv"] = dress_csv(result);
+    d["text"] = dress_text(result);
+    d["dressed"] = result.dressed;
+    return d;
+}
+
+// A note's WAV as a small Ogg Vorbis file (the studio's report embeds its sounds so).
+void compressed_audio(const std::string& wav, const std::string& out) {
+    const Recording sound = read_recording(wav);
+    without_gil([&] {
+        write_compact_audio(out, sound.samples, sound.rate_hz);
+        return true;
+    });
 }
 
 }  // namespace
@@ -334,6 +398,13 @@ void bind_setup(py::module_& m) {
         .def_property_readonly("frets", [](const Instrument& i) { return i.neck.fret_count; })
         .def_property_readonly("settings", &settings, "how finely notes are simulated and how buzz is judged")
         .def_readonly("warnings", &Instrument::warnings, "what reading it found doubtful (e.g. a mass implausible for a gauge)")
+        .def_property_readonly("units",
+                               [](const Instrument& i) {
+                                   return std::string(i.units == ShopUnits::mm                ? "mm"
+                                                      : i.units == ShopUnits::sixty_fourths ? "64ths"
+                                                                                            : "thousandths");
+                               },
+                               "the units its file gives the gaps in: 'mm', '64ths' (of an inch) or 'thousandths'")
         .def("geometry", &geometry,
              "The neck under each string: a list of dicts (see fretbuzz.Bench.geometry). InputError if a string "
              "would lie on a fret.")
@@ -388,7 +459,16 @@ void bind_setup(py::module_& m) {
         return rows;
     });
     m.def("_setup_advice", &advice, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
+          py::arg("frets"), py::arg("tolerate"), py::arg("finger"), py::arg("jobs"));
+    m.def("_setup_dress", &dress, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
+          py::arg("frets"), py::arg("tolerate"), py::arg("depth"), py::arg("crown"), py::arg("fall_away"),
           py::arg("finger"), py::arg("jobs"));
+    m.def("_setup_tolerance", [](const Instrument& instrument, const std::string& text) {
+              return text.empty() ? std::string() : parse_tolerance(text, instrument.neck.fret_count, "tolerate").text();
+          },
+          py::arg("instrument"), py::arg("text"), "What the advice tolerates, in words; InputError for a bad value.");
+    m.def("_compressed_audio", &compressed_audio, py::arg("wav"), py::arg("out"),
+          "Writes the sound of a WAV file as Ogg Vorbis (a report's embedded sounds: a tenth of the size).");
 }
 
 }  // namespace fretbuzz::python

@@ -526,7 +526,7 @@ def plot_estimate(directory, quiet):
     cents_model = 1200 * np.log2(model["frequency_hz"] / (model["mode"] * f0))
     axes[0].plot(model["frequency_hz"][shown], cents_model[shown], "-", color="C0",
                  label=f"inharmonicity law, B = {fit['frequency_model']['B']:.3g}")
-    for mask, style, label in ((reliable, "o", "measured (reliable)"), (~reliable, "x", "measured (weak)")):
+    for mask, style, label in ((reliable, "o", "measured (reliable)"), (~reliable, "x", "measured (not reliable)")):
         axes[0].plot(measured["frequency_hz"][mask], 1200 * np.log2(measured["frequency_hz"][mask] / harmonic[mask]),
                      style, color="C1", label=label)
     axes[0].set_ylabel(f"deviation from j f0 (cents), f0 = {f0:.4g} Hz")

@@ -308,18 +308,48 @@ class Bench:
         out = _core._setup_compare(_records(now), _records(before))
         return _frame(out, MAP_COLUMNS + ("change", "buzz_fraction_before", "buzz_dB_before", "buzz_fret_before"))
 
-    def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None) -> dict:
-        """The bench's searches (docs/setup.md): 'lowest_action' (per string, the lowest gap over
-        fret 12 on a 0.05 mm grid at which every note is clean, and what the step
-        below does), 'proud_frets' (frets whose lowering by at most 0.1 mm clears the notes
-        buzzing on them), 'relief' (the relief range over which the map is clean). strength:
-        the attack (default the strongest of the Bench's); map: this Bench's map at that
-        attack (played if not given). Slow: each step of each search plays a map."""
+    def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
+               frets: Union[int, Iterable[int], None] = None, tolerate: str = "") -> dict:
+        """The bench's advice (docs/setup.md, section 5), each answer played: 'lowest_action'
+        (per string, the lowest gap over fret 12 on a 0.05 mm grid at which every note passes,
+        action12_mm and lowest_clean_action12_mm with their _in, the saddle move to it
+        saddle_change_mm (+ up) and saddle_change_in, and what the step below does),
+        'fall_away' (where the upper frets set a string's action: what the lower frets would
+        allow, and the fall-away predicted to get there), 'proud_frets' (frets standing above
+        their neighbours whose levelling makes failing notes pass), 'relief' (the relief with
+        the fewest failing notes, played; the range predicted clean), 'units' (the instrument
+        file's: "mm", "64ths" or "thousandths"). strength: the attack (default the strongest of
+        the Bench's); strings, frets: the notes answered for (default all); tolerate:
+        "marginal" (marginal notes pass), "above=K" (notes above fret K may buzz), or both,
+        comma-separated. map: this Bench's map at that attack, with clean_up_to (played if not
+        given): it places the searches."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
-            map = self.map(strings=strings, strengths=attack)
-        return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), self.finger,
-                                              self.jobs))
+            _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
+            map = self.map(strings=strings, frets=frets, strengths=attack)
+        return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), _frets(frets),
+                                              tolerate, self.finger, self.jobs))
+
+    def dress(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
+              frets: Union[int, Iterable[int], None] = None, tolerate: str = "", depth: Optional[Millimetres] = None,
+              crown: Optional[Millimetres] = None, fall_away: Optional[int] = None) -> dict:
+        """The virtual fret dress (docs/setup.md, section 5): the least taken off each fret so
+        that every note passes at the attack. 'frets' (fret, remove_mm, remove_in per fret),
+        'total_mm', 'fall_away' (from_fret and depth_mm, or None), 'clean', 'unresolved' (what it
+        could not clear, and why), 'after' (the map after it, a DataFrame), 'csv' (dress.csv's
+        text), 'text', 'dressed' (a Bench with the frets dressed). depth: at most this off a fret
+        (mm, default 0.3); crown: crowns kept this high above the board (default 0.75 mm);
+        fall_away: first a fall-away over the frets past this one. strength, strings, frets,
+        tolerate and map as advise()."""
+        attack = strength or self.strengths.split(",")[-1]
+        if map is None:
+            _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
+            map = self.map(strings=strings, frets=frets, strengths=attack)
+        out = _core._setup_dress(self.instrument, _records(map), attack, _names(strings), _frets(frets), tolerate,
+                                 depth, crown, fall_away, self.finger, self.jobs)
+        out["after"] = _frame(out["after"], MAP_COLUMNS)
+        out["dressed"] = self._copy(out["dressed"], {"dress": True})
+        return out
 
     def __repr__(self) -> str:
         changes = f", changes {self.changes}" if self.changes else ""

@@ -18,7 +18,24 @@ import os
 import sys
 from typing import Dict, List, Optional
 
-__all__ = ["render", "side_view", "note_colour", "clean_up_to_text", "main"]
+__all__ = ["render", "side_view", "note_colour", "clean_up_to_text", "shop_length", "main"]
+
+INCH_MM = 25.4
+
+
+def shop_length(mm: Optional[float], units: str = "mm", fine: bool = False, change: bool = False) -> str:
+    """A length (given in mm) in the instrument file's units with mm beside: "2.40 mm",
+    "6.0/64 in (2.40 mm)" (units "64ths"), "0.094 in (2.40 mm)" ("thousandths"). fine: a small
+    length (relief, a fret's height) in thousandths wherever the file is in inches. change: signed."""
+    if mm is None or (isinstance(mm, float) and math.isnan(mm)):
+        return ""
+    sign = "+" if change else ""
+    metric = f"{mm:{sign}.2f} mm"
+    if units == "mm":
+        return metric
+    if units == "64ths" and not fine:
+        return f"{mm / INCH_MM * 64:{sign}.1f}/64 in ({metric})"
+    return f"{mm / INCH_MM:{sign}.3f} in ({metric})"
 
 # Viridis (matplotlib's perceptually uniform map, readable by colour-blind eyes and in grey):
 # the colour of a cell is how much harder than the attack the note can be played and stay
@@ -89,11 +106,27 @@ def side_view(strings: List[dict], width: float = 900.0, height: float = 150.0) 
         surface = " ".join(f"{X(x):.1f},{Y(z):.1f}" for x, z in zip(s["surface_x_m"], s["surface_z_m"]) if z is not None)
         frets = [{"x": round(X(x), 1), "top": round(Y(t), 1), "base": round(Y(t - 1e-3), 1), "n": n}
                  for n, (x, t) in enumerate(zip(s["fret_x_m"], s["fret_top_m"])) if n > 0]
-        views.append({"name": s["name"], "surface": surface, "frets": frets,
+        # What a luthier measures, written where it is measured: the string's height over the
+        # fret line at the nut, and its gap over fret 1, fret 12 and the last fret.
+        last = len(s["fret_x_m"]) - 1
+        at = [("nut", 0, s["nut_height_m"] - s["fret_top_m"][0])]
+        at += [(f"fret {k}", k, s["gap_m"][k]) for k in sorted({1, 12, last}) if 0 < k <= last and s["gap_m"][k] is not None]
+        gaps = [{"label": where, "x": round(X(s["fret_x_m"][k]), 1), "mm": 1e3 * gap,
+                 "text": f"{1e3 * gap:.2f} mm / {1e3 * gap / INCH_MM:.3f} in"} for where, k, gap in at]
+        views.append({"name": s["name"], "surface": surface, "frets": frets, "gaps": gaps,
                       "string": [round(X(0.0), 1), round(Y(s["nut_height_m"]), 1), round(X(length), 1),
                                  round(Y(s["saddle_height_m"]), 1)],
                       "exaggeration": round(exaggeration), "width": width, "height": height})
     return views
+
+
+def stopped_string(view: dict, fret: int) -> Optional[List[float]]:
+    """The note stopped at `fret` on a side view: its string from that fret's top to the saddle
+    (None for the open string, drawn already)."""
+    if fret <= 0:
+        return None
+    top = next((f for f in view["frets"] if f["n"] == fret), None)
+    return None if top is None else [top["x"], top["top"], view["string"][2], view["string"][3]]
 
 
 def _cells(doc: dict, notes: List[dict], changes: Dict[tuple, str]) -> List[dict]:
@@ -120,9 +153,10 @@ def _cells(doc: dict, notes: List[dict], changes: Dict[tuple, str]) -> List[dict
                          (f"; clean up to {up_to} this attack" if up_to else "") +
                          (f", clearance {n['clearance_mm']:.2f} mm" if n["clearance_mm"] is not None else ""))
                 change = changes.get((s["name"], k, attack), "")
+                kind = "out" if n["status"] == "frets out" else n.get("verdict") or "unplayed"
                 cells.append({"colour": note_colour(n), "title": title + (f" ({change})" if change else ""),
                               "mark": up_to + ("?" if n.get("verdict") == "marginal" else ""), "audio": n["audio"],
-                              "change": change})
+                              "change": change, "kind": kind, "string": s["name"], "fret": k})
             rows.append({"string": s["name"], "attack": attack, "cells": cells})
     return rows
 
@@ -137,8 +171,12 @@ def render(directory: str, out: Optional[str] = None) -> str:
     before = [c["before"] for c in doc.get("comparison", []) if c.get("before")]
     env = Environment(loader=FileSystemLoader(os.path.join(os.path.dirname(__file__), "templates")),
                       autoescape=select_autoescape(["html", "j2"]), trim_blocks=True, lstrip_blocks=True)
+    units = doc.get("units", "mm")
+    dress = doc.get("dress")
     page = env.get_template("buzz_map.html.j2").render(
         doc=doc, rows=_cells(doc, doc["notes"], changes), before_rows=_cells(doc, before, {}) if before else [],
+        dress_rows=_cells(doc, dress["after"], {}) if dress else [], units=units,
+        shop=lambda mm, fine=False, change=False: shop_length(mm, units, fine, change),
         views=side_view(doc["strings"]), changed=[c for c in doc.get("comparison", []) if c["change"] in ("better", "worse", "moved")],
         mm=lambda v: "" if v is None else f"{1e3 * v:.2f}", isnan=lambda v: v is None or (isinstance(v, float) and math.isnan(v)))
     path = out or os.path.join(directory, "buzz_map.html")

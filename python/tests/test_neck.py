@@ -108,9 +108,18 @@ class MapTest(unittest.TestCase):
         changes = fretbuzz.Bench.compare(after, before).set_index("fret")
         self.assertEqual(changes.loc[6, "change"], "worse")
         advice = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(strength="soft", strings="G")
-        self.assertEqual(set(advice), {"attack", "step_mm", "lowest_action", "proud_frets", "relief", "maps_played",
-                                       "wall_seconds"})
+        self.assertEqual(set(advice), {"attack", "units", "frets", "tolerated", "step_mm", "lowest_action", "fall_away",
+                                       "proud_frets", "relief", "maps_played", "wall_seconds", "cpu_seconds"})
         self.assertEqual(advice["lowest_action"][0]["string"], "G")
+        self.assertEqual(advice["units"], "mm")  # the jazz bass's file gives its gaps in mm
+        # The advice answers for the frets asked, and says what it tolerates.
+        low = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(
+            strength="soft", strings="G", frets=range(0, 13), tolerate="marginal")
+        self.assertEqual((low["frets"], low["tolerated"]), ("0-12", "marginal notes"))
+        self.assertLessEqual(low["lowest_action"][0]["limiting_fret"], 12)
+        with self.assertRaises(fretbuzz.InputError) as caught:
+            quick_bench().advise(strength="soft", tolerate="above=99")
+        self.assertIn("tolerate above=99", str(caught.exception))
         # A map whose notes buzz (its buzz_fret column holds whole numbers and None) is read back.
         quick = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05)
         hard = quick.map(strings="G", strengths="hard")

@@ -633,8 +633,8 @@ class ExportOnAFullDiskTest(unittest.TestCase):
 
     @unittest.skipUnless(hasattr(os, "geteuid") and os.geteuid() == 0, "mounting a small file system needs root")
     def test_a_full_disk_on_a_small_file_system(self):
-        mount = tempfile.mkdtemp(prefix="fretbuzz-full-disk-")
-        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", mount], capture_output=True).returncode:
+        mount = tempfile.mkdtemp(prefix="fretbuzz-full-disk-")  # 16 MB: room for one map of 1.5 s notes
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16m", "tmpfs", mount], capture_output=True).returncode:
             os.rmdir(mount)
             self.skipTest("mount -t tmpfs is not allowed here")
         try:

@@ -5,9 +5,16 @@ contacts are drawn; a new relief is played and the map changes against the one b
 changed cells marked); an out-of-range value is answered next to its control with the
 library's message while the studio keeps serving; the advice and the report come on request.
 
+Each cell shows how much harder than the attack its note stays clean (the map's
+clean_up_to, as the library gives it); the neck's side views write the gaps at the nut,
+fret 1, fret 12 and the last fret (mm and inches, the library's geometry); a clicked note
+draws its stopped string over the frets and its sound lasts at least 1.5 s; the fret dress
+and a dated report in three parts come on request.
+
 With FRETBUZZ_SCREENSHOTS=DIR (relative to the source tree, e.g. docs/figures) the same
 steps run on the built-in jazz-bass at its own settings and save the docs' screenshots
-there: studio-map.png, studio-what-if.png, studio-note.png, studio-neck.png, studio-advice.png.
+there: studio-map.png, studio-what-if.png, studio-note.png, studio-neck.png, studio-advice.png,
+studio-dress.png, studio-report.png.
 """
 import http.client
 import io
@@ -134,9 +141,30 @@ class StudioInTheBrowserTest(unittest.TestCase):
         for cell in cells.values():  # each verdict in words, the attack named, not colour alone
             self.assertRegex(cell["label"], r" attack: ")
             self.assertIn("medium", cell["text"])
+        # A cell's number: how much harder than the attack the note stays clean, the library's clean_up_to.
+        from fretbuzz.setup_report import clean_up_to_text
+        first_map = self.studio.study.maps[1]
+        for n in first_map.notes:
+            cell = cells[f"note-{n['string']}-{n['fret']}-{n['strength']}"]
+            if clean_up_to_text(n):
+                self.assertTrue(cell["text"].startswith(clean_up_to_text(n)), (cell["text"], n["clean_up_to"]))
+        self.assertTrue(any(re.match(r"[0-9.]+x", c["text"]) for c in cells.values()))
+        # Marginal notes hatched: they differ from clean ones with the colour taken away.
+        for key, c in cells.items():
+            image = d.execute_script("return getComputedStyle(document.getElementById(arguments[0]).parentElement)"
+                                     ".backgroundImage", key)
+            self.assertEqual(c["kind"] == "marginal", "gradient" in image, (key, c["kind"], image))
         self.wait(lambda d: self.css("#neck figure svg"), "the neck")
         self.assertIn("vertical scale exaggerated", self.css("#neck svg")[0].text)
         self.assertEqual(len(self.css("#neck figure")), len(self.bench.strings))
+        # The gaps a luthier measures, written on the neck: the library's, in mm and inches.
+        table = self.bench.strings_table()
+        gaps = [t.get_attribute("textContent") for t in self.css("#neck figure:first-of-type text.gap")]
+        action = 1e3 * table.iloc[0]["action12_m"]
+        self.assertEqual([g.split(":")[0] for g in gaps], ["nut", "fret 1", "fret 12", f"fret {self.bench.frets}"])
+        self.assertEqual(gaps[2], f"fret 12: {action:.2f} mm / {action / 25.4:.3f} in")
+        nut = 1e3 * table.iloc[0]["nut_gap_m"]
+        self.assertIn(f"fret 1: {nut:.2f} mm", gaps[1])
         if self.shots:
             print(f"\n{self.css('#map-now .map-title')[0].text}", file=sys.stderr)
         self.shoot(None, "map")
@@ -184,6 +212,11 @@ class StudioInTheBrowserTest(unittest.TestCase):
                   "the audio's metadata", 30)
         self.assertIsNone(d.execute_script("return arguments[0].error && arguments[0].error.code", audio))
         self.assertAlmostEqual(d.execute_script("return arguments[0].duration", audio), frames / rate, delta=0.01)
+        self.assertGreaterEqual(frames / rate, 1.5 - 1e-3)  # a note to judge by ear, not a click
+        # Its stopped string, drawn over the frets of its string from the fret it is stopped on.
+        stopped = self.css("#note-now svg line.stopped")
+        if int(self.css("#note-now")[0].get_attribute("data-fret")) > 0:
+            self.assertEqual(len(stopped), 1)
         # Its contacts: the library's record of that pluck, one dot per stretch of 0.5 ms.
         note = self.css("#note-now")[0]
         played = self.bench.with_changes(relief=RELIEF).note(
@@ -215,15 +248,26 @@ class StudioInTheBrowserTest(unittest.TestCase):
         self.assertIn("Relief (gap at fret", advice)
         self.shoot(self.css("#advice-panel")[0], "advice")
 
+        self.css("#dress")[0].click()
+        self.wait(lambda d: self.css('#dress-now[data-status="done"]'), "the fret dress", 2 * self.timeout)
+        self.assertRegex(self.css("#dress-now")[0].text, r"take off|Nothing to take off")
+        self.shoot(self.css("#dress-panel")[0], "dress")
+
         self.css("#export")[0].click()
         link = self.wait(lambda d: self.css("#report-link"), "the report")[0]
         status, kind, data = self.fetch(link.get_attribute("href"))
         self.assertEqual(status, 200)
         self.assertTrue(kind.startswith("text/html"))
         html = data.decode()
-        self.assertIn("data:audio/wav;base64,", html)
+        self.assertIn("data:audio/ogg;base64,", html)
+        self.assertLess(len(data), 2_000_000)
         self.assertIn("Relief (gap at fret", html)  # the advice
         self.assertIn("vertical scale exaggerated", html)
+        for part in ("As found", "Recommended", "After", "Dated "):
+            self.assertIn(part, html)
+        d.get(link.get_attribute("href"))
+        self.wait(lambda d: self.css("#found"), "the report in the browser")
+        self.shoot(None, "report")
 
 
 if __name__ == "__main__":

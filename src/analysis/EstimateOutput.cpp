@@ -65,11 +65,13 @@ void copy_data_files(toml::table& table, const DataSource& data, const std::stri
 
 void write_partials_csv(const std::filesystem::path& path, const ModalEstimate& estimate) {
     std::ofstream out = open_for_writing(path);
-    out << "# mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation\n";
+    out << "# mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation,"
+           "frequency_sd_hz,sigma_sd_per_s,merged\n";
     for (const EstimatedPartial& p : estimate.partials)
         out << p.mode << ',' << p.frequency_hz << ',' << p.sigma_per_s << ',' << pi * p.frequency_hz / p.sigma_per_s
             << ',' << p.amplitude << ',' << p.phase_rad << ',' << p.snr_db << ',' << p.band << ','
-            << (p.reliable ? 1 : 0) << ',' << p.polarisation << '\n';
+            << (p.reliable ? 1 : 0) << ',' << p.polarisation << ',' << p.frequency_sd_hz << ',' << p.sigma_sd_per_s
+            << ',' << (p.merged ? 1 : 0) << '\n';
     close_checked(out, path);
 }
 
@@ -96,10 +98,11 @@ void write_model_curves_csv(const std::filesystem::path& path, const StringFit& 
 
 void write_fit_json(const std::filesystem::path& path, const ModalEstimate& estimate, const StringFit& fit,
                     const ModeTable& table) {
-    std::size_t reliable = 0, measured = 0, measured_up_to = 0, doublets = 0;
+    std::size_t reliable = 0, measured = 0, measured_up_to = 0, doublets = 0, merged = 0;
     for (const EstimatedPartial& p : estimate.partials) {
         reliable += p.reliable ? 1 : 0;
         doublets += p.polarisation == 2 ? 1 : 0;
+        merged += p.merged ? 1 : 0;
     }
     for (std::size_t j = 0; j < table.size(); ++j)
         if (table.source[j] == ModeSource::measured) ++measured, measured_up_to = j + 1;
@@ -112,7 +115,8 @@ void write_fit_json(const std::filesystem::path& path, const ModalEstimate& esti
           {"band_hz", {estimate.band_low_hz, estimate.band_high_hz}},
           {"bands", estimate.bands}}},
         {"poles", {{"in_kept_ranges", estimate.poles}, {"rejected", estimate.rejected_poles}}},
-        {"partials", {{"found", estimate.partials.size()}, {"reliable", reliable}, {"doublets", doublets}}},
+        {"partials",
+         {{"found", estimate.partials.size()}, {"reliable", reliable}, {"doublets", doublets}, {"merged", merged}}},
         {"frequency_model",
          {{"f0_hz", fit.frequency.f0_hz},
           {"B", fit.frequency.inharmonicity},

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/analysis/DecaySpectrum.hpp"
+#include "fretbuzz/analysis/DoubletResolution.hpp"
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
 #include "fretbuzz/analysis/SubbandFilter.hpp"
@@ -218,8 +220,7 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
             for (std::size_t k = 0; k < kept; ++k) {
                 const Candidate& c = poles[k];
                 const double snr = kept == 2 ? c.own_snr_db : c.snr_db;
-                partials.push_back({j, c.frequency_hz, c.sigma, c.amplitude, c.phase, snr, result.bands,
-                                    snr >= o.reliable_snr_db, k + 1});
+                partials.push_back({j, c.frequency_hz, c.sigma, c.amplitude, c.phase, snr, result.bands, false, k + 1});
             }
         }
         ++result.bands;
@@ -238,13 +239,18 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
         throw InputError("recording: no partial of f0 = " + number_text(law.f0_hz) + " Hz found in the band [" +
                          number_text(result.band_low_hz) + ", " + number_text(result.band_high_hz) +
                          "] Hz (check --f0 and --band)");
+    for (auto& [j, p] : found) result.partials.insert(result.partials.end(), p.begin(), p.end());
+    result.rejected_poles += resolve_doublets(result.partials, DecaySpectrum(filter.spectrum(), filter.size()), rate_hz, law, o);
+    if (result.partials.empty())
+        throw InputError("recording: no partial of f0 = " + number_text(law.f0_hz) + " Hz confirmed by the fit of the "
+                         "decay's spectrum (check --f0 and --band)");
     std::vector<std::size_t> modes;
     std::vector<double> frequencies;
-    for (auto& [j, p] : found) {
-        result.partials.insert(result.partials.end(), p.begin(), p.end());
-        modes.push_back(j);
-        frequencies.push_back(p.front().frequency_hz);
-    }
+    for (const EstimatedPartial& p : result.partials)
+        if (p.polarisation == 1) {
+            modes.push_back(p.mode);
+            frequencies.push_back(p.frequency_hz);
+        }
     law = fit_frequency_law(modes, frequencies);
     result.f0_hz = law.f0_hz;
     result.inharmonicity = law.inharmonicity;

@@ -393,6 +393,22 @@ void read_stiffness(Reader& r, TomlSection& s, const StringSetEntry* from_set, I
     }
 }
 
+// The unit a string's gaps are written in (its nut and action values, as read): 64ths of an
+// inch ("5/64 in", "4.5/64\""), thousandths ("0.094 in"), or mm; nothing when it gives no gap.
+std::optional<ShopUnits> written_units(TomlSection& s) {
+    for (std::string_view key : {"action12", "action", "nut", "saddle_height", "nut_height"}) {
+        if (!s.has(key)) continue;
+        const toml::node* n = s.node(key);
+        const auto* str = n ? n->as_string() : nullptr;
+        if (str == nullptr) continue;
+        const std::string& text = str->get();
+        if (text.find("/64") != std::string::npos) return ShopUnits::sixty_fourths;
+        if (text.find("in") != std::string::npos || text.find('"') != std::string::npos) return ShopUnits::thousandths;
+        return ShopUnits::mm;
+    }
+    return std::nullopt;
+}
+
 InstrumentString read_string(Reader& r, TomlSection& s, std::size_t index, double scale, const StringSet* set,
                              std::size_t frets) {
     InstrumentString str;
@@ -657,9 +673,15 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
         strings->finish();
     }
     std::set<std::string> names;
+    bool units_known = false;
     for (std::size_t k = 0; k < string_tables.size(); ++k) {
         inst.strings.push_back(read_with_key_check(
             string_tables[k], [&] { return read_string(r, string_tables[k], k, scale_of[k], set, inst.neck.fret_count); }));
+        if (!units_known)
+            if (const auto units = written_units(string_tables[k])) {
+                inst.units = *units;
+                units_known = true;
+            }
         if (!names.insert(inst.strings.back().name).second)
             throw InputError(string_tables[k].key_path("name") + " = \"" + inst.strings.back().name +
                              "\": another string has that name; names must differ");

@@ -11,7 +11,7 @@ namespace fretbuzz {
 
 namespace {
 constexpr double kFarBelow = 5e-3;  // m
-Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes);
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes, const HeldString::Finger& finger);
 }  // namespace
 
 namespace {
@@ -44,13 +44,38 @@ bool stops_at_far_end(const Case& c) {
     return count > 0 && sum / static_cast<double>(count) < 0.25 * c.string.length_m;
 }
 
+HeldString::Finger stopping_finger(const Case& open, double stop_m) {
+    const double length = open.string.length_m;
+    std::vector<double> frets = open.fret_positions_m;  // as seen from the finger's end
+    if (stops_at_far_end(open))
+        for (double& x : frets) x = length - x;
+    std::sort(frets.begin(), frets.end());
+    const auto at = std::find_if(frets.begin(), frets.end(), [&](double x) { return std::abs(x - stop_m) <= 1.5 * open.grid_step(); });
+    if (at != frets.end()) {
+        const double behind = at == frets.begin() ? 0.0 : *(at - 1);
+        return HeldString::Finger::of(finger_behind_fret(stop_m, stop_m - behind), kFretFingerForce, behind);
+    }
+    // No fret there: the fret before one equal-tempered semitone lower (the nut, if that is
+    // within a millimetre of it), the string lying on it only where there is nothing to say
+    // otherwise (a string with no obstacle at all, as the set-up bench shortens its strings).
+    double before = length - (length - stop_m) * std::exp2(1.0 / 12.0);
+    if (before < 1e-3) before = 0.0;
+    const bool bare = std::none_of(open.obstacle_height_m.begin(), open.obstacle_height_m.end(), [](double g) { return std::isfinite(g); }) &&
+                      open.point_obstacles.empty();
+    return HeldString::Finger::of(finger_behind_fret(stop_m, stop_m - before), kFretFingerForce, bare ? before : 0.0);
+}
+
+Case stopped_string(const Case& open, double stop_m, std::size_t modes, const HeldString::Finger& finger) {
+    if (stop_m > 0.0 && stops_at_far_end(open)) return mirrored(stopped_from_zero(mirrored(open), stop_m, modes, finger));
+    return stopped_from_zero(open, stop_m, modes, finger);
+}
+
 Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
-    if (stop_m > 0.0 && stops_at_far_end(open)) return mirrored(stopped_from_zero(mirrored(open), stop_m, modes));
-    return stopped_from_zero(open, stop_m, modes);
+    return stopped_string(open, stop_m, modes, stopping_finger(open, stop_m));
 }
 
 namespace {
-Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
+Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes, const HeldString::Finger& finger) {
     const double length = open.string.length_m;
     if (!(stop_m >= 0.0 && stop_m <= 0.75 * length))
         throw InputError(out_of_range_message("stop position (m)", stop_m, "[0, 3 L / 4] (fret 24) with L = " + std::to_string(length)));
@@ -65,7 +90,7 @@ Case stopped_from_zero(const Case& open, double stop_m, std::size_t modes) {
     // The held string's partials (truncated when unstopped); a measured table of the second
     // polarisation the same way, mode for mode.
     const auto sounding_modes = [&](const ModeTable& t) {
-        if (stop_m > 0.0) return HeldString(t, length, stop_m).sounding_partials(n);
+        if (stop_m > 0.0) return HeldString(t, length, stop_m).sounding_partials(n, finger, open.string.linear_density);
         ModeTable first = t;
         first.frequency_hz.resize(n);
         first.sigma_per_s.resize(n);

@@ -100,8 +100,9 @@ int format_of(const std::filesystem::path& path, int bits) {
 }
 }  // namespace
 
-double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
-                         std::size_t fade_in, std::size_t fade_out) {
+namespace {
+double write_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
+                   std::size_t fade_in, std::size_t fade_out, double vbr_quality) {
     const std::size_t size = signal.size();
     // What a pickup passes (no DC), then the fades, then the peak: the gain is that of the
     // file as heard. Taken twice in the same order (once for the peak, once to write) rather
@@ -127,6 +128,7 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     if (fd.get() < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
     SNDFILE* file = sf_open_fd(fd.get(), SFM_WRITE, &info, SF_FALSE);
     if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
+    if (vbr_quality >= 0.0) sf_command(file, SFC_SET_VBR_ENCODING_QUALITY, &vbr_quality, sizeof vbr_quality);
     std::vector<double> block(std::min(size, kBlockFrames));
     std::string write_error;
     pickup = PickupHighPass(rate_hz);
@@ -142,6 +144,20 @@ double write_faded_audio(const std::filesystem::path& path, std::span<const doub
     if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
     if (fd.close() != 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
     return 1.0 / gain;
+}
+}  // namespace
+
+double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
+                         std::size_t fade_in, std::size_t fade_out) {
+    return write_audio(path, signal, rate_hz, bits, fade_in, fade_out, -1.0);
+}
+
+void write_compact_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                         double quality) {
+    if (!(quality >= 0.0 && quality <= 1.0))
+        throw std::invalid_argument("write_compact_audio: the quality must be in [0, 1]");
+    write_audio(path.extension() == ".ogg" ? path : std::filesystem::path(path).concat(".ogg"), signal, rate_hz, 16, 0,
+                0, quality);
 }
 
 double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,

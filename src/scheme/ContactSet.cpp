@@ -398,8 +398,7 @@ void ContactSet::fill_pass(kernels::StepPass& pass, bool loaded) {
     }
 }
 
-void ContactSet::keep_forecasts(long next) {
-    if (!rows_.with_points) return;  // (the pass wrote the grid's forecasts in place)
+void ContactSet::keep_point_forecasts(long next) {
     if (!plan_->options().fused_step) {
         points_.forget_forecast();
         return;

@@ -56,9 +56,4 @@ void ExactPoints::predict(const ModalState& modes, long n, std::span<double> scr
         for (std::size_t p = 0; p < contact_->size(); ++p) predicted_[p] += loads->at_point(p);
 }
 
-void ExactPoints::keep_forecast(const std::size_t* which, const double* values, std::size_t count, long step) {
-    for (std::size_t r = 0; r < count; ++r) forecast_[which[r]] = values[r];
-    forecast_step_ = step;
-}
-
 }  // namespace fretbuzz

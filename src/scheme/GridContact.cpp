@@ -31,7 +31,7 @@ void GridContact::classify(const Law& law, std::span<const std::size_t> points, 
     }
 }
 
-void GridContact::put_to_sleep(ContactScheduler& scheduler, std::span<const double> q, std::span<const double> d) {
+void GridContact::sleep_apart(ContactScheduler& scheduler, std::span<const double> q, std::span<const double> d) {
     std::erase_if(active_, [&](std::size_t i) {
         if (!(eta_curr_[i] <= 0.0 && eta_prev_[i] <= 0.0)) return false;
         scheduler.refresh(q, d);  // the speed bound is kept current only while some point sleeps

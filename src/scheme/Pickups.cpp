@@ -15,10 +15,7 @@ void Pickups::keep(const ModalState& modes) {
     if (observed_row_ != nullptr) observed_ = modes.at(observed_row_);
 }
 
-double Pickups::observation(bool fused, const ModalState& modes) const {
-    if (observed_row_ == nullptr) throw std::logic_error("Stepper::observation: no row to observe (call observe first)");
-    return fused ? observed_ : modes.at(observed_row_);
-}
+void Pickups::no_row() { throw std::logic_error("Stepper::observation: no row to observe (call observe first)"); }
 
 void Pickups::observe_rows(std::span<const double* const> rows) {
     flight_rows_.assign(rows.begin(), rows.end());

@@ -21,7 +21,9 @@ namespace {
 
 constexpr double kQuietest = -std::numeric_limits<double>::infinity();
 
-std::string shortest_factor(double f) { return f == 0.5 ? "0.5" : "1.5"; }
+// The stiffness check's factors of each string's bending stiffness, and how the column names them.
+constexpr std::array kStiffness{0.5, 1.5};
+constexpr std::array<const char*, 2> kStiffnessNames{"0.5", "1.5"};
 
 }  // namespace
 
@@ -100,6 +102,16 @@ std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& r
                                                   "fret " + std::to_string(k) + " does not exist: frets are 0 (open) to " +
                                                       std::to_string(last)));
     if (request.attacks.empty()) throw InputError("--strength: give at least one attack");
+    if (!request.notes.empty()) {
+        for (const MapNote& n : request.notes)
+            if (n.string >= instrument.strings.size() || n.fret < capo || n.fret > last)
+                throw InputError(out_of_range_message("note (string " + std::to_string(n.string + 1) + ", fret)",
+                                                      static_cast<double>(n.fret),
+                                                      "must be a fret from " + std::to_string(capo) + " to " +
+                                                          std::to_string(last) + " of one of the " +
+                                                          std::to_string(instrument.strings.size()) + " strings"));
+        return request.notes;
+    }
     std::vector<MapNote> notes;
     for (std::size_t s : strings)
         for (std::size_t k : frets) notes.push_back({s, k});
@@ -121,7 +133,6 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
     const std::vector<MapNote> notes = map_notes(instrument, request);
     const auto start = std::chrono::steady_clock::now();
     if (!request.audio_dir.empty()) std::filesystem::create_directories(request.audio_dir);
-    constexpr std::array kStiffness{0.5, 1.5};
     // Per string: the instrument as it is, then (stiffness check) with the stiffness scaled.
     std::vector<std::vector<Instrument>> variants(instrument.strings.size());
     std::vector<std::vector<std::unique_ptr<NoteMaker>>> makers(instrument.strings.size());
@@ -205,6 +216,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                 JudgeOptions options;
                 options.finger = request.finger;
                 options.clean_up_to = request.clean_up_to;
+                options.sound_s = request.sound_s;
                 if (!request.audio_dir.empty())
                     for (const Attack& a : request.attacks)
                         options.wavs.push_back(request.audio_dir /
@@ -230,7 +242,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
                         const std::vector<AttackJudgement> again = other.judge(request.attacks);
                         for (std::size_t a = 0; a < attacks; ++a)
                             if (!verdicts[a].verdict.empty() && again[a].verdict != verdicts[a].verdict)
-                                changed[a] += (changed[a].empty() ? "" : ",") + shortest_factor(kStiffness[k]);
+                                changed[a] += std::string(changed[a].empty() ? "" : ",") + kStiffnessNames[k];
                         simulated += other.plucks_simulated();
                         clear += other.plucks_clear();
                     }

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "MillimetreText.hpp"
 #include "fretbuzz/setup/MapFiles.hpp"
 
 namespace fretbuzz {
@@ -97,7 +98,15 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
         row["before"] = c.change == "new" ? Json() : verdict(c.before);
         comparison.push_back(row);
     }
+    Json dress;
+    if (!d.dress_json.empty()) {
+        dress = Json::parse(d.dress_json);
+        Json after = Json::array();
+        for (const NoteVerdict& v : d.dressed_notes) after.push_back(verdict(v));
+        dress["after"] = after;
+    }
     Json doc{{"instrument", instrument.name},
+             {"units", units_name(instrument.units)},
              {"description", instrument.description},
              {"command", d.command},
              {"changes", d.changes},
@@ -125,6 +134,7 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
              {"compared_with", d.compared_with},
              {"comparison", comparison},
              {"advice", d.advice_json.empty() ? Json() : Json::parse(d.advice_json)},
+             {"dress", dress},
              {"wall_seconds", d.wall_seconds}};
     std::ofstream out(path, std::ios::binary);
     out << doc.dump(1) << "\n";

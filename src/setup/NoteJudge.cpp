@@ -54,6 +54,7 @@ AttackJudgement NoteJudge::verdict(const Attack& attack, std::size_t index) {
     if (index < options_.wavs.size() && !options_.wavs[index].empty()) {
         PluckOptions with_sound;
         with_sound.wav = options_.wavs[index];
+        with_sound.sound_s = options_.sound_s;
         PluckOutcome o = player_.play(attack, attack.size, 0, members_[0], with_sound);
         if (o.error.empty()) ++(o.simulated ? simulated_ : clear_);
         played_.push_back({attack.gesture, 0, attack.size, std::move(o)});

@@ -18,12 +18,13 @@ namespace {
 
 constexpr double kFadeIn = 0.005;   // s: a plucked string starts displaced
 constexpr double kFadeOut = 0.05;   // s: a note cut at the end of the run must not click
+constexpr double kSoundFadeOut = 0.3;  // s: a note played on for the ear dies away rather than stops
 
 }  // namespace
 
 NoteContacts::NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted,
-                           double bin_s)
-    : fret_x_(std::move(fret_x)), fret_number_(std::move(fret_number)), fretted_(fretted), bin_s_(bin_s) {}
+                           double bin_s, double until_s)
+    : fret_x_(std::move(fret_x)), fret_number_(std::move(fret_number)), fretted_(fretted), bin_s_(bin_s), until_s_(until_s) {}
 
 void NoteContacts::begin(const RunLayout& layout) {
     const Case& c = *layout.source;
@@ -52,17 +53,21 @@ void NoteContacts::begin(const RunLayout& layout) {
     };
     for (const FingerSpec& f : c.fingers) mark(f.position_m, f.width_m);
     for (const ForceSpec& f : c.forces) mark(f.position_m, f.width_m);
+    // The rows a run of until_s would give: one at t = 0, then one every stride.
+    const long steps = until_s_ > 0.0 ? std::min(layout.steps, std::lround(until_s_ / layout.dt)) : layout.steps;
+    rows_ = static_cast<std::size_t>(steps / layout.output_stride) + 1;
     signal_.clear();
-    signal_.reserve(static_cast<std::size_t>(layout.steps / layout.output_stride) + 2);
+    signal_.reserve(rows_ + 1);
     stretches_.clear();
     steps_ = 0;
 }
 
 void NoteContacts::observation(double, std::span<const double> u) {
-    if (!u.empty()) signal_.push_back(u[0]);
+    if (!u.empty() && signal_.size() < rows_) signal_.push_back(u[0]);
 }
 
 void NoteContacts::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
+    if (until_s_ > 0.0 && t > until_s_ + 0.5 * dt_) return;
     double total = 0.0;
     for (const auto& [i, f] : forces)
         if (fret_of_point_[i] != kNoFret) total += f * dx_;
@@ -150,21 +155,26 @@ PluckOutcome NotePlayer::play(const Attack& attack, double size, std::size_t mem
         o.error = "not played: " + *why;
         return o;
     }
-    const Case c = finger_ ? maker_.fingered(fret_, sized, pluck) : maker_.stand_in(fret_, sized, pluck, options.polarisations);
+    Case c = finger_ ? maker_.fingered(fret_, sized, pluck) : maker_.stand_in(fret_, sized, pluck, options.polarisations);
     if (options.wav.empty() && !options.keep_details && !finger_ && never_touches(c)) return o;
-    return judge(c, sized, member, pluck, options);
+    const double judged_s = c.run.duration_s;
+    // A longer sound: the same run, going on (the first judged_s of it are what a run of that length gives).
+    const bool longer = !options.wav.empty() && options.sound_s > judged_s;
+    if (longer) c.run.duration_s = options.sound_s;
+    return judge(c, sized, member, pluck, options, longer ? judged_s : 0.0);
 }
 
 PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t member, const PluckVariation& pluck,
-                               const PluckOptions& options) {
+                               const PluckOptions& options, double judged_s) {
     PluckOutcome o;
     o.size = attack.size;
-    NoteContacts contacts(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_);
+    NoteContacts contacts(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_, 5e-4, judged_s);
     std::vector<RunObserver*> observers{&contacts};
     std::unique_ptr<AudioWriter> audio;
     if (!options.wav.empty()) {
         audio = std::make_unique<AudioWriter>(std::vector<std::filesystem::path>{options.wav}, 48000.0,
-                                              AudioSignal::velocity, AudioFades{kFadeIn, kFadeOut});
+                                              AudioSignal::velocity,
+                                              AudioFades{kFadeIn, judged_s > 0.0 ? kSoundFadeOut : kFadeOut});
         observers.push_back(audio.get());
     }
     try {
@@ -193,6 +203,7 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
     if (finger_ || attack.strike() || options.polarisations == Polarisations::both) {
         // Not linear (a finger, a thumb) or in two polarisations: the same note with nothing to buzz against past the stop.
         Case free = c;
+        if (judged_s > 0.0) free.run.duration_s = judged_s;
         for (std::size_t i = finger_ ? first_buzz_point(c) : 0; i < free.obstacle_height_m.size(); ++i)
             free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
         NoteContacts quiet(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_);

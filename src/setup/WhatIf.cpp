@@ -89,6 +89,21 @@ std::optional<PullChange> pull_change(const Instrument& before, const Instrument
     return c;
 }
 
+double proud_height(const Instrument& instrument, std::size_t fret) {
+    const std::size_t last = instrument.neck.fret_count;
+    if (fret < 1 || fret > last || last < 3) return 0.0;
+    double height = -std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < instrument.strings.size(); ++s) {
+        const StringNeck n(instrument, s);
+        const std::size_t a = fret == last ? fret - 2 : fret - 1;
+        const std::size_t b = fret == last ? fret - 1 : fret + 1;
+        const double line =
+            n.fret_top(a) + (n.fret_top(b) - n.fret_top(a)) * (n.fret_x(fret) - n.fret_x(a)) / (n.fret_x(b) - n.fret_x(a));
+        height = std::max(height, n.fret_top(fret) - line);
+    }
+    return height;
+}
+
 std::size_t relief_fret(const Instrument& instrument) {
     if (instrument.neck.relief.form == ReliefMeasure::Form::gap) return instrument.neck.relief.at_fret;
     return std::min<std::size_t>(8, instrument.neck.fret_count - 1);
@@ -130,15 +145,7 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
             require_mm(option, by, -1e-3, 1e-3);
         } else {
             // Dressed down to the line through its neighbours' tops under every string.
-            by = std::numeric_limits<double>::infinity();
-            for (std::size_t s = 0; s < out.strings.size(); ++s) {
-                const StringNeck n(out, s);
-                const std::size_t a = f.fret == neck.fret_count ? f.fret - 2 : f.fret - 1;
-                const std::size_t b = f.fret == neck.fret_count ? f.fret - 1 : f.fret + 1;
-                const double line = n.fret_top(a) + (n.fret_top(b) - n.fret_top(a)) * (n.fret_x(f.fret) - n.fret_x(a)) /
-                                                        (n.fret_x(b) - n.fret_x(a));
-                by = std::min(by, line - n.fret_top(f.fret));
-            }
+            by = -proud_height(out, f.fret);
             if (!(by < 0.0))
                 throw InputError(option + "=level: fret " + std::to_string(f.fret) +
                                  " is not proud of its neighbours (it lies " + mm(by) +

@@ -368,7 +368,7 @@ TEST(StoppedString, AStoppedVoiceSoundsAtTheHeldStringsPitch) {
         const double stop = fret_position(open.string.length_m, fret);
         const Case stopped = stopped_string(open, stop, open.mode_count());
         const HeldString held(open.modes, open.string.length_m, stop);
-        const double f_held = held.sounding_partials(1).frequency_hz[0];
+        const double f_held = held.sounding_partials(1, stopping_finger(open, stop), open.string.linear_density).frequency_hz[0];
         const double f_pinned = held.pinned_partials(1).frequency_hz[0];
         Engine engine(stopped, {});
         engine.strike({0.8 * stopped.string.length_m, 0.2, 0.01, false});

@@ -10,6 +10,7 @@
 
 #include "Pitch.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/scheme/HeldString.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 
@@ -60,7 +61,9 @@ TEST_P(FrettedNote, SoundsAtTheHeldStringsPitch) {
     pluck(engine, k);
     render(engine, 1.0, out);
     const HeldString held(engine.voice_case().modes, engine.length_m(), engine.fret_position_m(k));
-    const double expected = held.sounding_partials(1).frequency_hz[0];
+    const double expected =
+        held.sounding_partials(1, stopping_finger(engine.voice_case(), engine.fret_position_m(k)), engine.voice_case().string.linear_density)
+            .frequency_hz[0];
     const double pinned = held.pinned_partials(1).frequency_hz[0];
     const double f = partial_near(out, out.size() - 38400, out.size(), kRate, expected);
     EXPECT_LT(std::abs(cents(f, expected)), 0.5) << f << " Hz, expected " << expected << " Hz";

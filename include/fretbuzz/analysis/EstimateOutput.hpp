@@ -17,7 +17,8 @@ namespace fretbuzz {
 inline constexpr const char* kModeTableFile = "modes.csv";
 inline constexpr const char* kModeTableYFile = "modes_y.csv";  // the y polarisation's, when asked for
 
-// mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation
+// mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation,
+// frequency_sd_hz,sigma_sd_per_s (Cramer-Rao standard deviations),merged
 void write_partials_csv(const std::filesystem::path& path, const ModalEstimate& estimate);
 // mode,frequency_hz,sigma_per_s,source: what [modes] table = "modes.csv" reads.
 void write_mode_table_csv(const std::filesystem::path& path, const ModeTable& table);

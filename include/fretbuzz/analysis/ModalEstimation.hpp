@@ -6,7 +6,9 @@
 // ESTER runs in each band, poles that cannot be partials are rejected (growing or
 // strongly damped, outside the band's kept range, too weak against the noise, off the
 // inharmonicity law) and the others get their mode number from that law, refitted after
-// every band so the bands follow the stretched partial series up.
+// every band so the bands follow the stretched partial series up. Each mode is then
+// settled on the whole decay's spectrum (DoubletResolution): one partial, a resolved
+// doublet or a merged one, with Cramer-Rao standard deviations and a reliability flag.
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -21,8 +23,16 @@ struct EstimationOptions {
     std::size_t partials_per_band = 5;
     std::size_t max_partials = 200;        // highest mode number searched
     double min_snr_db = 20.0;              // a pole weaker than this against the noise is rejected
-    double reliable_snr_db = 35.0;         // and a partial this strong is measured "reliably"
     double min_quality_factor = 20.0;      // Q below this: not a string partial
+    // Each mode's partials, settled on the decay's spectrum (DoubletResolution.hpp, where
+    // the rules and their sources are): a second partial is detected when it lowers the
+    // residual by `doublet_detection` in the likelihood-ratio statistic; it is resolved when
+    // the two frequencies lie `resolution_sd` Cramer-Rao standard deviations of their
+    // difference apart (else the pair is reported merged); a partial is reliable when the
+    // standard deviation of its damping is at most `reliable_sigma_sd` of it.
+    double doublet_detection = 40.0;
+    double resolution_sd = 3.0;
+    double reliable_sigma_sd = 0.03;
     bool whiten = true;
     std::optional<double> full_scale;      // for files: 1; enables the clipping and silence levels
 };
@@ -39,6 +49,12 @@ struct EstimatedPartial {
     // 1: the mode's stronger partial; 2: the weaker one of a resolved doublet, the string's
     // other polarisation (the two ring at slightly different frequencies and beat).
     std::size_t polarisation = 1;
+    // Cramer-Rao standard deviations of frequency and damping at the fit (docs/estimation.md).
+    double frequency_sd_hz = 0.0;
+    double sigma_sd_per_s = 0.0;
+    // One partial standing for a doublet too close to resolve in this record: its damping is
+    // that of the pair's beating envelope, not either polarisation's (never reliable).
+    bool merged = false;
 };
 
 struct ModalEstimate {

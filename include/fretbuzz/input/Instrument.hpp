@@ -145,6 +145,11 @@ struct BenchSettings {
     bool pinned_stops = false;
 };
 
+// The unit a luthier's file gives its gaps in (the strings' nut and action values), which the
+// bench's advice answers in (mm beside): mm, 64ths of an inch ("5/64 in": an action gauge) or
+// thousandths of an inch ("0.094 in": feeler gauges).
+enum class ShopUnits { mm, sixty_fourths, thousandths };
+
 struct Instrument {
     std::string name;
     std::string description;
@@ -154,6 +159,7 @@ struct Instrument {
     AttackSettings attack;
     BenchSettings bench;
     std::vector<std::string> warnings;  // what reading it found doubtful but not wrong (e.g. a mass implausible for a gauge)
+    ShopUnits units = ShopUnits::mm;    // as the first string's nut or action is written
 
     // The index of the string called `name`; InputError listing the names if none is.
     std::size_t string_index(const std::string& name) const;

@@ -38,6 +38,12 @@ double write_normalised_audio(const std::filesystem::path& path, std::span<const
 double write_faded_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                          std::size_t fade_in, std::size_t fade_out);
 
+// A compact copy of a sound, for embedding in a page: Ogg Vorbis at the encoder's variable-bit-
+// rate quality `quality` (0 to 1; 0.1 is some 40 kbit/s for a mono note at 48 kHz), the pickup's
+// high-pass and the normalisation as above; ".ogg" is added to a path without it.
+void write_compact_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
+                         double quality = 0.1);
+
 class AudioWriter : public RunObserver {
 public:
     // One path per observation point, in the order of the case's points. angle_deg: the

@@ -54,7 +54,9 @@ public:
     void form_impulse(const ForceGestures& gestures, bool loaded);
     // The step's pushes and the next step's forecasts into `pass`; keep_forecasts after it ran.
     void fill_pass(kernels::StepPass& pass, bool loaded);
-    void keep_forecasts(long next);
+    void keep_forecasts(long next) {
+        if (rows_.with_points) keep_point_forecasts(next);  // (else the pass wrote the grid's in place)
+    }
     // After the pass: the screening told of the pushes (the motion is a new free motion), points
     // apart put to sleep; the forces reported.
     void tell_screening(Screening& screening, const ModalState& modes, long next, bool loaded);
@@ -103,6 +105,7 @@ private:
     // A force (N) at x off the grid, reported as a force per length at the nearest grid point.
     void report_force_at(double x, double force);
     void report_off_grid();
+    void keep_point_forecasts(long next);
 
     const Plan* plan_;
     PlayedParts parts_;

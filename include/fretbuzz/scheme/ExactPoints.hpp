@@ -40,7 +40,10 @@ public:
     void predict(const ModalState& modes, long n, std::span<double> scratch, const ForceGestures* loads);
     std::span<double> predicted() { return predicted_; }
     // The pass into step `step` formed the prediction at awake point which[r]: values[r].
-    void keep_forecast(const std::size_t* which, const double* values, std::size_t count, long step);
+    void keep_forecast(const std::size_t* which, const double* values, std::size_t count, long step) {
+        for (std::size_t r = 0; r < count; ++r) forecast_[which[r]] = values[r];
+        forecast_step_ = step;
+    }
     void forget_forecast() { forecast_step_ = -1; }
 
     // sum_p c_p (Psi(eta_p^n) + Psi(eta_p^{n-1})) / 2.

@@ -36,7 +36,9 @@ public:
                   std::span<const double> u_now, std::span<const double> u_before, std::span<const char> on_pad,
                   ContactScheduler* screening);
     // The points apart from the obstacle over both levels that the screening lets sleep.
-    void put_to_sleep(ContactScheduler& scheduler, std::span<const double> q, std::span<const double> d);
+    void put_to_sleep(ContactScheduler& scheduler, std::span<const double> q, std::span<const double> d) {
+        if (!active_.empty()) sleep_apart(scheduler, q, d);
+    }
 
     // Psi sums: the step moves them one level on; parts add their pads' Psi of level n + 1.
     void begin_step() {
@@ -60,6 +62,8 @@ public:
                std::vector<std::pair<std::size_t, double>>& forces, StepRecord& record);
 
 private:
+    void sleep_apart(ContactScheduler& scheduler, std::span<const double> q, std::span<const double> d);
+
     std::vector<std::size_t> active_;  // points solved every step
     std::vector<double> eta_prev_, eta_curr_;  // eta^{n-1}, eta^n at active points
     std::vector<double> solve_a_, solve_b_;

@@ -22,20 +22,34 @@
 // [0, x_h] (summed on the open string's grid). Where a mode of the far side [x_h, L] and one
 // of the near side have nearly the same frequency they mix (at fret 12 of a uniform string
 // every pair mixes half and half, into a pinned-like and a clamped-like mode). The finger
-// damps the near side: the sounding partials are those of the held string with a damping
-// 2 zeta omega S added (S the near-side overlaps of the held modes, zeta = 0.2, omega the
-// partial's): each partial is, among the complex modes of the window of held modes around it
-// (the quadratic eigenproblem in state space, by Eigen), the one with most of its energy on
-// the far side nearest to the pinned piece's partial. With zeta = 0.05 or 0.5 instead, the first 10 partials of the bass at frets 1,
-// 5, 12 and 15 move by at most 0.05 cents: the near side's modes drop out, its static
-// stiffness (the partial clamp) stays. Partials above half the open table's highest frequency
-// (where the table's truncation starts to move the held modes by a few hundredths of a cent)
-// follow the pinned piece's dispersion, scaled by the held-to-pinned ratio of the last
-// partial below.
+// (Finger below) undoes the mixing and adds its own loss: it is the finger model of
+// scheme/Finger.hpp at rest, linearised. Pressed with F, each of its p pad points is
+// compressed by eta = (F / K_f)^(1 / alpha) and tied to the finger's mass M by a spring
+// alpha K_f eta^(alpha - 1) / p and a damper lambda F / p (its Hunt-Crossley loss at that
+// compression); the string lies on fret k - 1 too (a second point held, u(x_b) = 0: the
+// finger between the frets presses it onto both). Nothing is fitted: the partials' dampings
+// are the string's own plus what the pad's dampers take, through the mass that moves with
+// the string at low frequencies (so little loss there) and stands still at high ones.
+// Each sounding partial is, among the complex modes of a window of held modes around it with
+// the finger and the fret behind attached (the other held modes as their receptance at those
+// points, the held modes never computed and the modes above the table as their static
+// flexibility), the one with most of its energy on the far side nearest to the pinned piece's
+// partial times the last held-to-pinned ratio: picked by Eigen's QZ with the receptance at
+// the target frequency, then refined by inverse iteration with the receptance at the
+// eigenvalue itself (the root of the exact problem: a dense eigenproblem of every mode agrees
+// to 0.05 cents). The first 40 partials are solved, then one every 5 % in partial number,
+// the ratio and the finger's share of the damping interpolated between. On the jazz-bass E
+// string at frets 5, 12 and 15 this is the finger model's run (`fret = k`) within 0.73 cents
+// and 14 % in damping on partials 1 to 10 (docs/validation.md, section 7).
+// Partials above half the open table's highest frequency (where the table's truncation starts
+// to move the held modes by a few hundredths of a cent) follow the pinned piece's dispersion,
+// scaled by the held-to-pinned ratio of the last partial solved, and its damping plus the
+// finger's share of that last partial.
 #include <cstddef>
 #include <utility>
 #include <vector>
 
+#include "fretbuzz/Case.hpp"
 #include "fretbuzz/model/ModeTable.hpp"
 #include "fretbuzz/model/StringDispersion.hpp"
 
@@ -43,8 +57,22 @@ namespace fretbuzz {
 
 class HeldString {
 public:
-    static constexpr double kNearSideDampingRatio = 0.2;  // zeta
-    static constexpr std::size_t kWindowHalfWidth = 4;    // held modes on each side of a partial
+    static constexpr std::size_t kWindowHalfWidth = 3;  // held modes on each side of a partial
+
+    // The finger that holds the string down (see above), on the open string's grid.
+    struct Finger {
+        double pad_centre_m = 0.0;  // in (behind_m, x_h)
+        double pad_width_m = 0.0;   // its points: the open grid's within width / 2 of the centre
+        double mass_kg = 0.0;       // M
+        double stiffness = 0.0;     // K_f of the whole pad, N/m^alpha
+        double exponent = 1.0;      // alpha >= 1
+        double loss = 0.0;          // lambda, s/m
+        double force_n = 0.0;       // F, pressing it toward the fretboard
+        double behind_m = 0.0;      // the fret behind x_h the string lies on too (0: none)
+
+        // The finger of `spec` (its pad, mass and contact law) pressing with force_n.
+        static Finger of(const FingerSpec& spec, double force_n, double behind_m);
+    };
 
     struct Mode {
         double frequency_hz = 0.0;
@@ -59,8 +87,10 @@ public:
     // The held modes (no damping added), ascending in frequency, up to a few above
     // trusted_below_hz().
     const std::vector<Mode>& modes() const { return modes_; }
-    // The first `count` partials of the sounding side [x_h, L], the near side damped (above).
-    ModeTable sounding_partials(std::size_t count) const;
+    // The first `count` partials of the sounding side [x_h, L] with the finger on the near side
+    // (above), on a string of that linear density (kg/m). InputError unless the finger's pad
+    // lies between behind_m and x_h and its parameters are positive (its loss at least 0).
+    ModeTable sounding_partials(std::size_t count, const Finger& finger, double linear_density) const;
     // The piece from x_h to L pinned at both ends: the open string's dispersion at n pi / (L - x_h).
     ModeTable pinned_partials(std::size_t count) const;
     // Up to this frequency the held modes are computed; above, extrapolated (see above).

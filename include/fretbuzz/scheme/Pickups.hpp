@@ -22,7 +22,10 @@ public:
     double observed_value() const { return observed_; }
     void keep(const ModalState& modes);  // the observation from the state as it is
     // The observation now: as the pass formed it (fused), or from the state.
-    double observation(bool fused, const ModalState& modes) const;
+    double observation(bool fused, const ModalState& modes) const {
+        if (observed_row_ == nullptr) no_row();
+        return fused ? observed_ : modes.at(observed_row_);
+    }
 
     // The rows read after flights (their values may have changed).
     void observe_rows(std::span<const double* const> rows);
@@ -39,6 +42,7 @@ public:
 
 private:
     void gather();
+    [[noreturn]] static void no_row();
 
     const double* observed_row_ = nullptr;  // observe(): one row, or none
     double observed_ = 0.0;                 // its displacement in the current state (fused step)

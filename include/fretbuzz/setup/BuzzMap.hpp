@@ -56,15 +56,28 @@ struct NoteVerdict {
 // The verdict of one note and attack from its judgement (the fraction, levels and frets).
 NoteVerdict summarise(const AttackJudgement& judgement, double audible_db);
 
+// A note of the map: a string (index into Instrument::strings) stopped at a fret (0: open).
+struct MapNote {
+    std::size_t string, fret;
+};
+
+// How long each note's sound (its WAV) lasts: long enough to judge by ear. The note is judged
+// on the bench's own duration (BenchSettings::duration_s); its first pluck runs on to this.
+inline constexpr double kNoteSoundSeconds = 1.5;
+
 struct MapRequest {
     std::vector<std::size_t> strings;   // indices into Instrument::strings; empty: all
     std::vector<std::size_t> frets;     // empty: 0 .. the last fret
+    // Instead of strings x frets: these notes, played in this order (the searches play the
+    // notes likeliest to buzz first, and stop at the first that does).
+    std::vector<MapNote> notes;
     std::vector<Attack> attacks;
     bool finger = false;
     bool clean_up_to = true;            // search each note's clean_up_to
     bool stiffness_check = false;       // replay each note with the bending stiffness x 0.5 and x 1.5
     unsigned jobs = 0;                  // threads; 0: the hardware's
     std::filesystem::path audio_dir;    // where the notes' WAVs go (empty: none), named as note_audio_name says
+    double sound_s = kNoteSoundSeconds;  // each WAV's length (at least the bench's duration)
     // Called (from a worker thread, one call at a time) as each note's verdicts are ready.
     std::function<void(const NoteVerdict&, std::size_t done, std::size_t total)> on_note;
     // Stops the map early (the notes under way finish) once a verdict satisfies it: a search
@@ -86,9 +99,6 @@ struct BuzzMapResult {
 
 // The notes of a map request, checked: InputError naming --strings or --frets (a fret that
 // does not exist) before anything runs.
-struct MapNote {
-    std::size_t string, fret;
-};
 std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& request);
 
 // Plays the map. Throws Interrupted (Ctrl-C) after the notes under way stop; InputError for

@@ -8,7 +8,8 @@
 //    pluck_dB (each pluck's level, ';'-separated, empty where it touched nothing). Numbers
 //    in their shortest form that reads back exactly.
 //  - map.json: everything a page or the studio draws: the instrument's geometry, the
-//    settings, the verdicts, the comparison and the advice when there are.
+//    settings, the units the instrument file gives its gaps in, the verdicts, the comparison,
+//    the advice and the fret dress (with the map after it) when there are.
 #include <cstddef>
 #include <filesystem>
 #include <span>
@@ -51,6 +52,8 @@ struct MapDocument {
     std::vector<NoteChange> comparison;  // empty: no comparison
     std::string compared_with;
     std::string advice_json;             // the advice as JSON text ("": none)
+    std::string dress_json;              // the fret dress as JSON text ("": none), and the map after it
+    std::vector<NoteVerdict> dressed_notes;
     double wall_seconds = 0.0;
 };
 void write_map_json(const std::filesystem::path& path, const Instrument& instrument, const MapDocument& document);

@@ -65,6 +65,7 @@ struct JudgeOptions {
     bool finger = false;
     bool clean_up_to = true;
     std::vector<std::filesystem::path> wavs;  // per attack: member 0's sound (empty: none)
+    double sound_s = 0.0;                      // its length (the note is judged on the bench's duration)
 };
 
 class NoteJudge {

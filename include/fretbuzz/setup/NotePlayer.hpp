@@ -59,7 +59,10 @@ struct PluckOutcome {
 class NoteContacts : public RunObserver {
 public:
     // fret_x: the frets the note can buzz against, on its string (m); fret_number: theirs.
-    NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted, double bin_s = 5e-4);
+    // until_s: what comes after this time (a run going on for its sound) is not counted: the
+    // contacts and the signal are those of a run of that length (0: the whole run).
+    NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted, double bin_s = 5e-4,
+                 double until_s = 0.0);
     void begin(const RunLayout& layout) override;
     void observation(double t, std::span<const double> u) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
@@ -77,6 +80,8 @@ private:
     std::vector<std::size_t> fret_number_;
     bool fretted_;
     double bin_s_;
+    double until_s_;
+    std::size_t rows_ = 0;  // the signal's rows a run of until_s gives
     double rate_ = 0.0, dx_ = 0.0, dt_ = 0.0;
     std::vector<int> fret_of_point_;  // kNoFret: not counted (the hand)
     std::vector<double> impulse_;     // per fret number (0: board or body)
@@ -92,8 +97,11 @@ struct PluckOptions {
     bool keep_details = false;  // keep the signal and the contacts over time in the outcome
     Polarisations polarisations = Polarisations::z_only;
     // Where its sound goes (empty: none): the pickup's velocity (what a magnetic pickup sends, and
-    // what the listener hears), faded in over 5 ms and out over 50 ms.
+    // what the listener hears), faded in over 5 ms and out at its end.
     std::filesystem::path wav;
+    // The sound's length: the run goes on this long (the string may touch again, as it would),
+    // and the pluck is judged on the bench's duration alone, as every other pluck.
+    double sound_s = 0.0;
 };
 
 // Plays the plucks of one note (string, fret) and judges each by ear: the listener planned
@@ -123,7 +131,7 @@ private:
     const Reference* reference(const Attack& attack, std::size_t member, const Case& played, double z_share,
                                std::size_t samples);
     PluckOutcome judge(const Case& c, const Attack& attack, std::size_t member, const PluckVariation& pluck,
-                       const PluckOptions& options);
+                       const PluckOptions& options, double judged_s);
 
     const NoteMaker& maker_;
     std::size_t fret_;

@@ -50,6 +50,11 @@ Instrument with_pinned_string_ends(const Instrument& instrument);
 // would put an open string on a fret.
 Instrument apply_change(const Instrument& instrument, const SetupChange& change);
 
+// How far fret `fret`'s top stands above the line through its neighbours' tops (the last fret:
+// through the two before it), under the string where it stands most (m; <= 0: not proud).
+// Levelling it (FretChange without by_m) takes this off.
+double proud_height(const Instrument& instrument, std::size_t fret);
+
 // The fret the neck's relief is measured at (the relief's own, else 8 or the last fret but one).
 std::size_t relief_fret(const Instrument& instrument);
 

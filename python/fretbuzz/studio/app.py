@@ -7,10 +7,12 @@ Routes:
   GET  /api/state        the queue, the map under way (progress), the set-up now (JSON)
   POST /api/what-if      queue the map of the page's controls (JSON); 422 names each bad control
   POST /api/advice       queue the advice for the newest finished map
+  POST /api/dress        queue the fret dress for the newest finished map
   POST /api/export       write the customer's report into the study folder
   GET  /fragment/maps    the map and the one before it, with the changes marked (HTML)
   GET  /fragment/neck    the side views of the neck for a map (HTML)
   GET  /fragment/advice  the advice (HTML)
+  GET  /fragment/dress   the fret dress (HTML)
   GET  /fragment/note    one note: its sound and its contacts over time (HTML)
   GET  /study/PATH       a file of the study folder (a note's WAV, a report)
   GET  /static/...       the page's script and style sheet
@@ -32,7 +34,7 @@ from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
-from ..setup_bench import InputError
+from ..setup_bench import Bench, InputError
 from . import present
 from .study import QUEUE_LIMIT, SERVED_SUFFIXES, FieldErrors, Study, StudyPathError
 
@@ -193,7 +195,8 @@ def _map_state(record) -> Optional[dict]:
     return {"id": record.id, "label": record.label, "status": record.status, "error": record.error,
             "done": len(record.notes), "total": record.total, "seconds": record.seconds,
             "before": record.before.id if record.before else None, "summary": present.summary(record),
-            "advice": record.advice_status, "advice_error": record.advice_error}
+            "advice": record.advice_status, "advice_error": record.advice_error,
+            "dress": record.dress_status, "dress_error": record.dress_error}
 
 
 def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hosts: Iterable[str] = (),
@@ -271,6 +274,7 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         shown = latest or done
         return JSONResponse({"version": version, "jobs": _jobs_state(study), "map": _map_state(latest),
                              "done": done.id if done else None, "advice": done.advice_status if done else "",
+                             "dress": done.dress_status if done else "",
                              "setup": present.setup_rows(shown.bench) if shown else present.setup_rows(study.base),
                              "exports": list(study.exports)})
 
@@ -284,6 +288,13 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
     async def advice(request: Request) -> JSONResponse:
         await _json(request)
         job, superseded = study.submit_advice()
+        return JSONResponse({"id": job.id if job else None, "map": study.done.id if study.done else None,
+                             "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
+
+    @app.post("/api/dress")
+    async def dress(request: Request) -> JSONResponse:
+        await _json(request)
+        job, superseded = study.submit_advice("dress")
         return JSONResponse({"id": job.id if job else None, "map": study.done.id if study.done else None,
                              "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
 
@@ -304,7 +315,14 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
     @app.get("/fragment/advice", response_class=HTMLResponse)
     def advice_fragment(map: Optional[int] = None) -> HTMLResponse:
         record = study.done if map is None else record_of(map)
-        return page("_advice.html.j2", record=record, advice=record.advice if record else None)
+        return page("_advice.html.j2", record=record, advice=record.advice if record else None,
+                    shop=present.shop(record.bench if record else study.base))
+
+    @app.get("/fragment/dress", response_class=HTMLResponse)
+    def dress_fragment(map: Optional[int] = None) -> HTMLResponse:
+        record = study.done if map is None else record_of(map)
+        return page("_dress.html.j2", record=record, dress=record.dress if record else None,
+                    shop=present.shop(record.bench if record else study.base))
 
     @app.get("/fragment/note", response_class=HTMLResponse)
     def note(map: int, string: str, fret: int, strength: str) -> HTMLResponse:
@@ -312,7 +330,8 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         record = found["record"]
         plot = present.contacts_plot(found["played"], record.bench.settings["duration_s"], record.bench.frets)
         return page("_note.html.j2", record=record, note=found["verdict"], played=found["played"], plot=plot,
-                    sentence=present.sentence(found["verdict"]), audio=found["audio"])
+                    sentence=present.sentence(found["verdict"]), audio=found["audio"],
+                    view=present.note_view(record.bench, string, fret))
 
     @app.post("/api/export")
     async def export(request: Request) -> JSONResponse:
@@ -342,23 +361,70 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
     return app
 
 
+# The report's sounds (Ogg Vorbis, base64) stop at this many bytes, so that the file stays
+# under 2 MB however many notes the maps hold; the notes past it are drawn without a sound.
+REPORT_SOUND_BYTES = 1_600_000
+
+
+def _compressed_sound(study: Study, record, name: str) -> Optional[str]:
+    """A note's WAV as a data: URL of Ogg Vorbis (None when it cannot be read)."""
+    import tempfile
+    from .. import _core
+    try:
+        wav = study.path(f"{record.folder}/{name}")
+    except (OSError, StudyPathError):
+        return None
+    with tempfile.TemporaryDirectory(prefix="fretbuzz-report-") as scratch:
+        out = os.path.join(scratch, "note.ogg")
+        try:
+            _core._compressed_audio(wav, out)
+            with open(out, "rb") as f:
+                return "data:audio/ogg;base64," + base64.b64encode(f.read()).decode("ascii")
+        except (OSError, ValueError, RuntimeError):
+            return None
+
+
 def write_report(study: Study, record, path: str, env: Optional[Environment] = None) -> str:
-    """The customer's report: one HTML file with the map (each note's sound embedded), the
-    comparison with the map before, the neck's side views, the set-up and the advice."""
+    """The customer's report: one HTML file, dated, in the instrument file's units with mm
+    beside: "As found" (the first map of the instrument as loaded, its set-up, its neck),
+    "Recommended" (the advice and the fret dress, where they were asked for) and "After" (this
+    map, marked against the one as found). Each note's sound is embedded as Ogg Vorbis (this
+    map's first), up to REPORT_SOUND_BYTES."""
+    import datetime
+    from types import SimpleNamespace
     env = env or templates()
+    found = study.as_found() or record
+    after = record if record is not found else None
+    if after is not None:  # each note of this map against the instrument as found
+        compared = Bench.compare([{k: v for k, v in n.items() if k not in ("change", "before")} for n in record.notes],
+                                 [{k: v for k, v in n.items() if k not in ("change", "before")} for n in found.notes])
+        changes = {(c["string"], c["fret"], c["strength"]): c["change"] for c in compared.to_dict("records")}
+        was = {(n["string"], n["fret"], n["strength"]): n for n in found.notes}
+        after = SimpleNamespace(notes=[{**n, "change": changes.get((n["string"], n["fret"], n["strength"]), ""),
+                                        "before": was.get((n["string"], n["fret"], n["strength"]))} for n in record.notes],
+                                bench=record.bench, attacks=record.attacks, label=record.label)
     sounds: Dict[str, str] = {}
-    for n in record.notes:
-        if n.get("audio"):
-            try:
-                with open(study.path(f"{record.folder}/{n['audio']}"), "rb") as f:
-                    sounds[n["audio"]] = "data:audio/wav;base64," + base64.b64encode(f.read()).decode("ascii")
-            except (OSError, StudyPathError):
-                pass  # that note is drawn without its sound
+    used = 0
+    for owner, key in ((record, "after"), (found, "found")):
+        for n in owner.notes:
+            if not n.get("audio") or used >= REPORT_SOUND_BYTES:
+                continue
+            sound = _compressed_sound(study, owner, n["audio"])
+            if sound and used + len(sound) <= REPORT_SOUND_BYTES:
+                sounds[f"{key}/{n['audio']}"] = sound
+                used += len(sound)
+    advice = record.advice or found.advice
+    dress = record.dress or found.dress
+    shop = present.shop(record.bench)
     html = env.get_template("report.html.j2").render(
-        record=record, bench=record.bench, rows=present.map_rows(record), summary=present.summary(record),
-        before=record.before, before_rows=present.map_rows(record.before) if record.before else [],
-        views=present.neck_views(record.bench), setup=present.setup_rows(record.bench), advice=record.advice,
-        settings=record.bench.settings, sounds=sounds)
+        record=record, bench=record.bench, found=found, after=after,
+        found_rows=present.map_rows(found), after_rows=present.map_rows(after) if after else [],
+        found_summary=present.summary(found), after_summary=present.summary(after) if after else None,
+        found_views=present.neck_views(found.bench), after_views=present.neck_views(record.bench) if after else [],
+        found_setup=present.setup_rows(found.bench), after_setup=present.setup_rows(record.bench) if after else [],
+        advice=advice, dress=dress, settings=record.bench.settings, sounds=sounds, shop=shop,
+        units={"mm": "mm", "64ths": "64ths of an inch", "thousandths": "thousandths of an inch"}[record.bench.instrument.units],
+        dated=datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"))
     write_file(path, html.encode("utf-8"))
     return path
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any, Dict, List, Optional
 
-from ..setup_report import clean_up_to_text, note_colour, side_view
+from ..setup_report import clean_up_to_text, note_colour, shop_length, side_view, stopped_string
 
 # How each change from the previous map is marked, in text as well as by the cell's outline.
 CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "better than before"),
@@ -114,6 +114,21 @@ def neck_views(bench, width: float = 900.0, height: float = 200.0) -> List[dict]
         view["relief_fret"] = s["relief_fret"]
         view["action12_mm"] = None if s["action12_m"] is None else 1e3 * s["action12_m"]
     return views
+
+
+def note_view(bench, string: str, fret: int) -> dict:
+    """The side view of one string with the note stopped at `fret` drawn over its frets (its
+    string from that fret's top to the saddle; the open string for fret 0)."""
+    view = next(v for v in neck_views(bench) if v["name"] == string)
+    view["stopped"] = stopped_string(view, fret)
+    view["fret"] = fret
+    return view
+
+
+def shop(bench):
+    """A Jinja filter: a length in mm in the instrument file's units, mm beside."""
+    units = bench.instrument.units
+    return lambda mm, fine=False, change=False: shop_length(mm, units, fine, change)
 
 
 def setup_rows(bench) -> List[dict]:

@@ -117,6 +117,9 @@ class MapRecord:
     advice: Optional[dict] = None
     advice_status: str = ""  # "", waiting, running, done, failed
     advice_error: str = ""
+    dress: Optional[dict] = None  # the fret dress (Bench.dress, its DataFrame and Bench left out)
+    dress_status: str = ""
+    dress_error: str = ""
     whole: bool = False  # its folder renamed from NNN.partial to NNN: every note written
 
     @property
@@ -127,8 +130,8 @@ class MapRecord:
 
 @dataclass
 class Job:
-    id: Union[int, str]  # a map's number, or "advice N" for the advice on map N
-    kind: str  # "map" or "advice"
+    id: Union[int, str]  # a map's number, or "advice N" / "dress N" for the advice / fret dress on map N
+    kind: str  # "map", "advice" or "dress"
     record: MapRecord
     label: str
     superseded_by: Optional[Union[int, str]] = None
@@ -316,7 +319,7 @@ class Study:
                     old.record.status = "superseded"
                     self.maps.pop(old.record.id, None)  # never played: nothing of it to show
                 else:
-                    old.record.advice_status = ""
+                    setattr(old.record, f"{old.kind}_status", "")
                 self.superseded.append(old)
                 dropped.append(old)
             self.pending.append(job)
@@ -342,16 +345,18 @@ class Study:
             self.maps[n] = record
         return job, self._queue(job)
 
-    def submit_advice(self) -> tuple:
-        """Queues the advice for the newest finished map (InputError when there is none yet)."""
+    def submit_advice(self, kind: str = "advice") -> tuple:
+        """Queues the advice ("advice") or the fret dress ("dress") for the newest finished map
+        (InputError when there is none yet)."""
+        what = {"advice": "advice", "dress": "fret dress"}[kind]
         with self.lock:
             record = self.done
             if record is None:
-                raise InputError("advice: no map has finished yet; the advice searches from a finished map")
-            if record.advice_status in ("waiting", "running", "done"):
+                raise InputError(f"{kind}: no map has finished yet; the {what} searches from a finished map")
+            if getattr(record, f"{kind}_status") in ("waiting", "running", "done"):
                 return None, []
-            record.advice_status = "waiting"
-        job = Job(f"advice {record.id}", "advice", record, f"advice for map {record.id} ({record.label})")
+            setattr(record, f"{kind}_status", "waiting")
+        job = Job(f"{kind} {record.id}", kind, record, f"{what} for map {record.id} ({record.label})")
         return job, self._queue(job)
 
     # The worker -----------------------------------------------------------------------
@@ -370,7 +375,7 @@ class Study:
                 if job.kind == "map":
                     self._play(job.record)
                 else:
-                    self._advise(job.record)
+                    self._advise(job.record, job.kind)
             finally:
                 with self.lock:
                     self.running = None
@@ -417,21 +422,28 @@ class Study:
                 self.done = record
             self._changed()
 
-    def _advise(self, record: MapRecord) -> None:
+    def _advise(self, record: MapRecord, kind: str = "advice") -> None:
         with self.lock:
-            record.advice_status = "running"
+            setattr(record, f"{kind}_status", "running")
             self._changed()
         attack = record.attacks[-1]
         at_attack = [{k: v for k, v in n.items() if k not in ("change", "before")} for n in record.notes
                      if n["strength"] == attack]
         try:
             # The map's notes at that attack (None: the library plays them, should the labels differ).
-            advice = record.bench.advise(at_attack or None, strength=attack)
+            if kind == "advice":
+                result = record.bench.advise(at_attack or None, strength=attack)
+            else:
+                result = record.bench.dress(at_attack or None, strength=attack)
+                result = {k: v for k, v in result.items() if k not in ("dressed",)}
+                result["after"] = result["after"].to_dict("records")
             with self.lock:
-                record.advice, record.advice_status = advice, "done"
+                setattr(record, kind, result)
+                setattr(record, f"{kind}_status", "done")
         except Exception as e:  # shown on the page
             with self.lock:
-                record.advice_status, record.advice_error = "failed", str(e)
+                setattr(record, f"{kind}_status", "failed")
+                setattr(record, f"{kind}_error", str(e))
         with self.lock:
             self._changed()
 
@@ -472,6 +484,12 @@ class Study:
         if os.path.splitext(real)[1].lower() not in SERVED_SUFFIXES or not os.path.isfile(real):
             raise FileNotFoundError(relative)
         return real
+
+    def as_found(self) -> Optional[MapRecord]:
+        """The instrument as found: the first finished map of the study with no what-if."""
+        with self.lock:
+            found = [r for _, r in sorted(self.maps.items()) if r.status == "done" and not r.changes]
+        return found[0] if found else None
 
     def export_path(self, record: MapRecord) -> str:
         """Where the report of a map goes, relative to the study folder."""

@@ -4,7 +4,7 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const shown = { version: -1, map: null, done: -1, status: "", advice: "", announced: "" };
+const shown = { version: -1, map: null, done: -1, status: "", advice: "", dress: "", announced: "" };
 let busy = true;
 
 async function failure(response) {
@@ -169,7 +169,13 @@ async function refresh() {
     shown.advice = advice;
     await fragment($("advice"), "/fragment/advice");
   }
+  const dress = (state.done || "") + ":" + state.dress;
+  if (dress !== shown.dress) {
+    shown.dress = dress;
+    await fragment($("dress-result"), "/fragment/dress");
+  }
   $("advise").disabled = !state.done;
+  $("dress").disabled = !state.done;
   $("export").disabled = !state.done;
 }
 
@@ -216,6 +222,12 @@ $("maps").addEventListener("click", async (event) => {
 $("advise").addEventListener("click", async () => {
   const response = await post("/api/advice", {});
   if (!response.ok) $("advice").replaceChildren(paragraph((await failure(response)).error, "error"));
+  wake();
+});
+
+$("dress").addEventListener("click", async () => {
+  const response = await post("/api/dress", {});
+  if (!response.ok) $("dress-result").replaceChildren(paragraph((await failure(response)).error, "error"));
   wake();
 });
 
