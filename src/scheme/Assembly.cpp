@@ -11,7 +11,7 @@ Assembly::Assembly(std::span<const OnBridge> strings, std::span<const BridgeMode
         stiffness.push_back(ends_.back().stiffness());
         ends_.back().keep(strings_.back().modes());  // g . q'^0
     }
-    bridge_ = std::make_unique<Bridge>(bridge, stiffness, strings.front().plan->dt());
+    bridge_.emplace(bridge, stiffness, strings.front().plan->dt());
     pulls_.assign(strings.size(), 0.0);
     now_.assign(strings.size(), 0.0);
     before_.assign(strings.size(), 0.0);

@@ -23,9 +23,8 @@ ModeTable bridge_table(std::span<const BridgeModeSpec> modes) {
 }  // namespace
 
 Bridge::Bridge(std::span<const BridgeModeSpec> modes, std::span<const double> end_stiffness, double dt)
-    : table_(bridge_table(modes)),
-      propagator_(table_, dt),
-      state_(propagator_, std::vector<double>(modes.size(), 0.0), std::vector<double>(modes.size(), 0.0)),
+    : propagator_(std::make_shared<const ModalPropagator>(bridge_table(modes), dt)),
+      state_(*propagator_, std::vector<double>(modes.size(), 0.0), std::vector<double>(modes.size(), 0.0)),
       stiffness_(end_stiffness.begin(), end_stiffness.end()),
       end_now_(end_stiffness.size(), 0.0),
       end_before_(end_stiffness.size(), 0.0),
@@ -60,7 +59,7 @@ void Bridge::step(std::span<const double> pull) {
     }
     for (std::size_t b = 0; b < B; ++b)
         impulse_[b] = kernels::dot(inverse_.data() + b * B, rhs_.data(), B) - predicted_[b];
-    const ModalPropagator& prop = propagator_;
+    const ModalPropagator& prop = *propagator_;
     const double losses = kernels::advance(prop.decay().data(), prop.beta().data(),
                                            prop.lossless() ? nullptr : prop.loss().data(), impulse_.data(),
                                            state_.q().data(), state_.d().data(), B);

@@ -7,7 +7,7 @@
 // strings' pulls in one small linear solve. One balance: the strings' terms, their ends' link
 // energy, the bridge's energy and damping.
 #include <cstddef>
-#include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -43,7 +43,7 @@ public:
         for (VibratingString& s : strings_) s.step();
     }
 
-    const Bridge* bridge() const { return bridge_.get(); }
+    const Bridge* bridge() const { return bridge_ ? &*bridge_ : nullptr; }
     // String s's energy H^{n-1/2} with its end's link energy (its contacts and played parts too).
     double string_energy(std::size_t s) const;
     // The whole assembly's balance terms: energy, what damping and contacts took, what gestures
@@ -57,7 +57,7 @@ private:
 
     std::vector<VibratingString> strings_;
     std::vector<BridgeEnd> ends_;
-    std::unique_ptr<Bridge> bridge_;  // (a bridge points into itself: it does not move)
+    std::optional<Bridge> bridge_;  // (an assembly copies whole, its bridge too)
     std::vector<double> pulls_, now_, before_;  // the pulls, w^n and w^{n-1} of the step
 };
 

@@ -12,6 +12,7 @@
 // the unknown w^{n+1}: one small linear solve per step, (I/dt^2 + sum_s k_s/2 p~_s p~_s^T)
 // y^{n+1} = ..., whose inverse is formed once when the bridge is built (plan once).
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -25,11 +26,9 @@ class Bridge {
 public:
     // `modes` with one participation per string; end_stiffness[s] = k_s (N/m).
     Bridge(std::span<const BridgeModeSpec> modes, std::span<const double> end_stiffness, double dt);
-    Bridge(const Bridge&) = delete;  // its state points into its propagator
-    Bridge& operator=(const Bridge&) = delete;
 
     std::size_t strings() const { return stiffness_.size(); }
-    std::size_t size() const { return propagator_.size(); }
+    std::size_t size() const { return propagator_->size(); }
     // w_s^n and w_s^{n-1}: where string s's end is now and was a step before (m).
     double end(std::size_t s) const { return end_now_[s]; }
     double end_before(std::size_t s) const { return end_before_[s]; }
@@ -44,8 +43,8 @@ public:
     double velocity() const;
 
 private:
-    ModeTable table_;
-    ModalPropagator propagator_;
+    // Fixed once built and shared by copies (a copied bridge steps on from the same state).
+    std::shared_ptr<const ModalPropagator> propagator_;
     ModalState state_;
     std::vector<double> share_;      // p~_sb, string by string (s * B + b)
     std::vector<double> inverse_;    // (I/dt^2 + sum_s k_s/2 p~_s p~_s^T)^-1, B x B
