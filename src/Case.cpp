@@ -445,3 +445,46 @@ void Case::validate() const {
 }
 
 }  // namespace fretbuzz
+
+namespace fretbuzz {
+
+void StringsCase::validate() const {
+    if (strings.empty()) throw InputError("string: a case with a bridge needs at least one [[string]]");
+    if (strings.size() > kMaxStrings)
+        throw InputError("string: " + std::to_string(strings.size()) + " strings; at most " +
+                         std::to_string(kMaxStrings) + " rest on one bridge");
+    if (bridge.empty()) throw InputError("bridge.mode: a bridge needs at least one [[bridge.mode]]");
+    if (bridge.size() > kMaxBridgeModes)
+        throw InputError("bridge.mode: " + std::to_string(bridge.size()) + " modes; at most " +
+                         std::to_string(kMaxBridgeModes));
+    for (std::size_t b = 0; b < bridge.size(); ++b) {
+        const BridgeModeSpec& m = bridge[b];
+        const std::string key = "bridge.mode[" + std::to_string(b) + "].";
+        require_positive(key + "mass_kg", m.mass_kg);
+        require_positive(key + "frequency_hz", m.frequency_hz);
+        require_non_negative(key + "damping_ratio", m.damping_ratio);
+        if (m.participation.size() != strings.size())
+            throw InputError(key + "participation: " + std::to_string(m.participation.size()) +
+                             " values for " + std::to_string(strings.size()) + " strings (one per [[string]])");
+        for (std::size_t s = 0; s < strings.size(); ++s)
+            require_finite(key + "participation[" + std::to_string(s) + "]", m.participation[s]);
+    }
+    // A string that no mode moves is on no bridge: it would sound alone, which a case with a
+    // bridge does not mean.
+    for (std::size_t s = 0; s < strings.size(); ++s) {
+        bool on_bridge = false;
+        for (const BridgeModeSpec& m : bridge) on_bridge = on_bridge || m.participation[s] != 0.0;
+        if (!on_bridge)
+            throw InputError("string[" + std::to_string(s) + "] (\"" + string_names[s] +
+                             "\"): on no bridge (every bridge.mode's participation for it is 0)");
+    }
+    for (std::size_t s = 0; s < strings.size(); ++s) {
+        if (strings[s].two_polarisations())
+            throw InputError("string[" + std::to_string(s) + "].polarisation: a string on a bridge has one polarisation (z) for now");
+        if (strings[s].run.sample_rate_hz != run.sample_rate_hz)
+            throw InputError("string[" + std::to_string(s) + "].run.fs: strings on one bridge share one rate (" +
+                             std::to_string(run.sample_rate_hz) + " Hz)");
+    }
+}
+
+}  // namespace fretbuzz

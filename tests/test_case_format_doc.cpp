@@ -13,7 +13,9 @@
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseExport.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/run/StringsRun.hpp"
 
 namespace fretbuzz {
 namespace {
@@ -155,6 +157,14 @@ TEST_F(CaseFormatDoc, EveryObstacleAndExcitationTypeHasARunningExample) {
     }
     // Every example parses and runs (2 ms), and its result is a real motion.
     for (const Example& e : examples_) {
+        if (e.kind == "strings") {  // strings on a bridge: their own kind of case
+            StringsCase sc = parse_strings_case({e.text, "doc.toml", DataSource::directory(dir_.path())});
+            sc.run.duration_s = 0.002;
+            const StringsRun run = simulate_strings(sc);
+            EXPECT_GT(run.energy.front().front(), 0.0) << e.text;
+            EXPECT_LE(run.worst_balance, 1e-9) << e.text;
+            continue;
+        }
         const Case c = parse_case(complete(e), "doc.toml", DataSource::directory(dir_.path()));
         Case shortened = c;
         shortened.run.duration_s = 0.002;

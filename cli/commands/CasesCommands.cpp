@@ -9,6 +9,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseExport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 
 namespace fretbuzz::cli {
@@ -18,6 +19,7 @@ void add_cases_commands(CLI::App& app, Action& action) {
     cases->callback([&action] {
         action = [] {
             for (const auto& info : builtin_cases()) std::cout << info.name << "\t" << info.description << "\n";
+            for (const auto& info : builtin_strings_cases()) std::cout << info.name << "\t" << info.description << "\n";
             return 0;
         };
     });

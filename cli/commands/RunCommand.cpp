@@ -17,8 +17,11 @@
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/RunLength.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
 #include "fretbuzz/output/RunOutputs.hpp"
+#include "fretbuzz/output/StringsOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/run/StringsRun.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::cli {
@@ -129,8 +132,30 @@ void keep_modes_in_band(const RunArguments& a, Case& c) {
                          "; --allow-aliasing keeps them all, aliased under contact)");
 }
 
+// Strings on a bridge: the whole assembly in one run (the one-string options do not apply).
+int run_strings_command(const RunArguments& a, const CaseText& text) {
+    StringsCase sc = parse_strings_case(text);
+    if (a.duration) {
+        require_positive("--duration (s)", *a.duration);
+        sc.run.duration_s = *a.duration;
+    }
+    for (const Case& c : sc.strings)
+        if (contact_possible(c)) require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing);
+    if (!a.quiet)
+        std::cerr << "fretbuzz: " << sc.name << ": " << sc.strings.size() << " strings on a bridge of "
+                  << sc.bridge.size() << " modes, fs = " << sc.run.sample_rate_hz << " Hz, " << sc.run.duration_s << " s\n";
+    const StringsRun run = simulate_strings(sc);
+    const std::filesystem::path dir = write_strings_outputs(a.out, sc, run);
+    if (!a.quiet)
+        std::cerr << "fretbuzz: " << run.steps << " steps in " << run.wall_seconds << " s ("
+                  << run.wall_seconds / sc.run.duration_s << " s per simulated second); worst relative balance "
+                  << run.worst_balance << "; outputs in " << dir.string() << "\n";
+    return 0;
+}
+
 int run_command(const RunArguments& a) {
     stop_cleanly_on_signals();
+    if (const auto strings = read_strings_case_text(a.case_name)) return run_strings_command(a, *strings);
     Case c = load_case(a.case_name);
     apply_overrides(a, c);
     keep_modes_in_band(a, c);

@@ -180,6 +180,34 @@ struct Case {
     static constexpr double kMaxExponent = 10.0;
 };
 
+// One mode of a bridge that strings rest on (StringsCase): an oscillator of modal mass M, natural
+// frequency f and damping ratio zeta, and how much each string's bridge end moves with it (the
+// end of string s moves by sum_b participation_b[s] z_b, z_b the mode's coordinate).
+struct BridgeModeSpec {
+    double mass_kg = 0.0;
+    double frequency_hz = 0.0;
+    double damping_ratio = 0.0;
+    std::vector<double> participation;  // one per string
+};
+
+// Several strings whose bridge ends rest on one bridge (scheme/Bridge.hpp): each a whole
+// one-string Case (its bridge end at x = L), sharing one time step and one run length.
+struct StringsCase {
+    std::string name;
+    std::string description;
+    std::vector<std::string> string_names;
+    std::vector<Case> strings;
+    std::vector<BridgeModeSpec> bridge;
+    RunSettings run;
+    std::string source_text;
+
+    // A bound on the strings of one case (a sitar's main strings and taraf fit well within it).
+    static constexpr std::size_t kMaxStrings = 24;
+    static constexpr std::size_t kMaxBridgeModes = 64;
+    // Checks the bridge and the strings against each other; throws InputError naming the key.
+    void validate() const;
+};
+
 // Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx: see Case::fret_positions_m.
 std::vector<double> find_frets(const std::vector<double>& heights, double dx);
 

@@ -6,6 +6,7 @@
 #include "TomlSection.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseExport.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
 
 namespace fretbuzz {
 
@@ -37,7 +38,10 @@ std::set<std::string> case_keys_looked_up(std::string_view toml_text, const std:
                                           const DataSource& data) {
     std::set<std::string> keys;
     const KeyLogScope scope(keys);
-    parse_case(toml_text, source_name, data);
+    if (parse_toml_document(toml_text, source_name).contains("bridge"))
+        parse_strings_case({std::string(toml_text), source_name, data});  // strings on a bridge
+    else
+        parse_case(toml_text, source_name, data);
     return keys;
 }
 

@@ -6,9 +6,10 @@
 
 namespace fretbuzz {
 
-ForceGestures::ForceGestures(const Plan& plan) : plan_(&plan) {
+ForceGestures::ForceGestures(const Plan& plan, std::span<const std::vector<double>> driven) : plan_(&plan) {
     for (const ForceSpec& spec : plan.forces())
         gestures_.emplace_back(spec, plan.basis(), plan.dt(), -spec.direction * polarisation_share(spec.angle_deg, false));
+    for (const std::vector<double>& shape : driven) gestures_.emplace_back(shape, plan.basis());
     load_.assign(gestures_.size(), 0.0);
     const PointContact& points = plan.point_contact();
     for (const ForceProfile& g : gestures_)
@@ -55,6 +56,13 @@ void ForceGestures::begin_step(const ModalState& modes) {
 void ForceGestures::end_step(const ModalState& modes) {
     for (std::size_t g = 0; g < gestures_.size(); ++g)
         if (load_[g] != 0.0) gestures_[g].end_step(modes.q(), load_[g]);
+}
+
+double ForceGestures::driven_work() const {
+    double sum = 0.0;
+    for (const ForceProfile& g : gestures_)
+        if (g.driven()) sum += g.work();
+    return sum;
 }
 
 double ForceGestures::add_work(double sum) const {

@@ -1,6 +1,8 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 
 #include <cmath>
+#include <limits>
+#include <utility>
 #include <numbers>
 
 #include "fretbuzz/scheme/Kernels.hpp"
@@ -26,6 +28,17 @@ ForceProfile::ForceProfile(const ForceSpec& spec, const ModalBasis& basis, doubl
       quiet_from_s_(force_.zero_from()),  // (also with no share here: the other polarisation's)
       shape_(pad_mean_shapes(basis, spec.position_m, spec.width_m)),
       on_grid_(basis.mode_count(), 0.0) {
+    basis.to_grid(shape_, on_grid_);
+}
+
+ForceProfile::ForceProfile(std::vector<double> shape, const ModalBasis& basis)
+    : force_({}),
+      along_(1.0),
+      dt_(0.0),
+      quiet_from_s_(std::numeric_limits<double>::infinity()),
+      shape_(std::move(shape)),
+      on_grid_(basis.mode_count(), 0.0),
+      driven_(true) {
     basis.to_grid(shape_, on_grid_);
 }
 

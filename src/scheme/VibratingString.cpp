@@ -6,9 +6,13 @@
 namespace fretbuzz {
 
 VibratingString::VibratingString(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
+    : VibratingString(plan, q0, v0, {}) {}
+
+VibratingString::VibratingString(const Plan& plan, std::span<const double> q0, std::span<const double> v0,
+                                 std::span<const std::vector<double>> driven)
     : plan_(&plan),
       modes_(plan.propagator(), q0, v0),
-      gestures_(plan),
+      gestures_(plan, driven),
       contacts_(plan, gestures_),
       screening_(plan),
       ledger_(plan) {}

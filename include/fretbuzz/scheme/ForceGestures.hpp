@@ -15,7 +15,8 @@ namespace fretbuzz {
 
 class ForceGestures {
 public:
-    explicit ForceGestures(const Plan& plan);
+    // The plan's gestures, then one driven load (ForceProfile::drive) per shape of `driven`.
+    explicit ForceGestures(const Plan& plan, std::span<const std::vector<double>> driven = {});
 
     bool empty() const { return gestures_.empty(); }
     std::size_t size() const { return gestures_.size(); }
@@ -26,6 +27,8 @@ public:
     // The loads of step n; whether any is non-zero.
     bool load(long n);
     double load_of(std::size_t g) const { return load_[g]; }
+    // Sets driven gesture g's load for the steps to come.
+    void drive(std::size_t g, double load) { gestures_[g].drive(load); }
     // The shift of the free prediction (m) the step's loads make at grid point i / exact point p.
     double at_grid(std::size_t i) const;
     double at_point(std::size_t p) const;
@@ -36,6 +39,8 @@ public:
     void end_step(const ModalState& modes);
     // sum plus their work so far, added one by one (the ledger's order of sums).
     double add_work(double sum) const;
+    // The driven loads' work so far (what a bridge did on the string: inside an assembly).
+    double driven_work() const;
 
 private:
     const Plan* plan_;

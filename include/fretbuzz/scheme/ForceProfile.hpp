@@ -29,9 +29,14 @@ public:
     // along: the force's signed component along the polarisation stepped, per newton of F, in
     // the solve's orientation (along z: -direction cos(angle), down being negative).
     ForceProfile(const ForceSpec& spec, const ModalBasis& basis, double dt, double along);
+    // A load driven from outside, step by step (a bridge's end on its string, BridgeEnd): modal
+    // shape s as given, f^n whatever drive() last set; it may act at any time.
+    ForceProfile(std::vector<double> shape, const ModalBasis& basis);
 
     // f^n: the load per unit of shape at step n (0 where it does not act).
-    double at_step(long n) const { return along_ * force_.at(static_cast<double>(n) * dt_); }
+    double at_step(long n) const { return driven_ ? drive_ : along_ * force_.at(static_cast<double>(n) * dt_); }
+    void drive(double load) { drive_ = load; }
+    bool driven() const { return driven_; }
     // Whether its force may be non-zero at step n or at any later step (whatever its share here).
     bool acts_from(long n) const { return static_cast<double>(n) * dt_ < quiet_from_s_; }
     std::span<const double> shape() const { return shape_; }  // s_j
@@ -48,6 +53,8 @@ private:
     TimeProfile force_;
     double along_, dt_, quiet_from_s_;
     std::vector<double> shape_, on_grid_;
+    bool driven_ = false;
+    double drive_ = 0.0;
     double before_ = 0.0;  // u_s^{n-1} of the step being taken
     double work_ = 0.0;
 };

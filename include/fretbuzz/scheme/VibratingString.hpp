@@ -30,6 +30,10 @@ class VibratingString {
 public:
     // At n = 0 from modal displacement q0 and velocity v0 (dq/dt), on `plan` (which outlives it).
     VibratingString(const Plan& plan, std::span<const double> q0, std::span<const double> v0);
+    // With loads driven from outside after the plan's gestures (ForceGestures), one per shape: a
+    // bridge's end on the string (BridgeEnd).
+    VibratingString(const Plan& plan, std::span<const double> q0, std::span<const double> v0,
+                    std::span<const std::vector<double>> driven);
 
     // n -> n + 1 (the first step is the exact free motion), as its three phases.
     void step();
@@ -56,6 +60,7 @@ public:
     const ContactSet& contacts() const { return contacts_; }
     ContactSet& contacts() { return contacts_; }
     const ForceGestures& gestures() const { return gestures_; }
+    ForceGestures& gestures() { return gestures_; }
     Pickups& pickups() { return pickups_; }
     const Pickups& pickups() const { return pickups_; }
     EnergyLedger& ledger() { return ledger_; }

@@ -1,0 +1,129 @@
+#include "fretbuzz/input/StringsCaseFile.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "TomlSection.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/BuiltinFiles.hpp"
+#include "fretbuzz/input/TextFile.hpp"
+
+namespace fretbuzz {
+
+namespace {
+
+constexpr std::string_view kFolder = "bridges/";
+constexpr std::string_view kStringsSuffix = ".toml";
+
+// A string at rest: its modes start from zero whatever its case plucks (a sympathetic string).
+void put_at_rest(Case& c) {
+    c.initial_displacement.assign(c.mode_count(), 0.0);
+    c.initial_velocity.assign(c.mode_count(), 0.0);
+}
+
+// Tuned by its tension: T r^2, every mode's frequency times r (exact for an ideal string; the
+// stiffness's share of the partials stays as the case has it). Its damping stays.
+void retune(Case& c, double r) {
+    if (r == 1.0) return;
+    c.string.tension_n *= r * r;
+    for (double& f : c.modes.frequency_hz) f *= r;
+}
+
+}  // namespace
+
+std::vector<BuiltinCaseInfo> builtin_strings_cases() {
+    std::vector<BuiltinCaseInfo> cases;
+    for (const EmbeddedFile& f : builtin_files()) {
+        const std::string_view name = f.name;
+        if (!name.starts_with(kFolder) || !name.ends_with(kStringsSuffix)) continue;
+        const toml::table root = parse_toml_document(f.text(), std::string(name));
+        if (!root.contains("bridge")) continue;
+        cases.push_back({std::string(name.substr(kFolder.size(), name.size() - kFolder.size() - kStringsSuffix.size())),
+                         root["description"].value_or(std::string())});
+    }
+    return cases;
+}
+
+std::optional<CaseText> read_strings_case_text(const std::string& name_or_path) {
+    const std::string builtin = std::string(kFolder) + name_or_path + std::string(kStringsSuffix);
+    if (auto text = find_builtin_file(builtin))
+        return CaseText{std::string(*text), builtin, DataSource::builtin()};
+    const std::filesystem::path path(name_or_path);
+    std::error_code ec;
+    if (path.extension() != kStringsSuffix || !std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+    std::string text = read_text_file(path, "case file " + path.string(), kMaxCaseFileBytes);
+    if (!parse_toml_document(text, path.string()).contains("bridge")) return std::nullopt;
+    return CaseText{std::move(text), path.string(), DataSource::directory(path.parent_path())};
+}
+
+StringsCase parse_strings_case(const CaseText& source) {
+    const toml::table root = parse_toml_document(source.text, source.source_name);
+    TomlSection top(root, "");
+    StringsCase sc;
+    sc.name = top.text("name");
+    sc.description = top.optional_text("description").value_or("");
+    sc.source_text = source.text;
+    TomlSection run = top.section("run");
+    sc.run.sample_rate_hz = run.positive("fs");
+    sc.run.duration_s = run.positive("duration");
+    if (auto rate = run.optional_positive("output_rate")) sc.run.output_rate_hz = *rate;
+    sc.run.audio_rate_hz = run.optional_positive("audio_rate").value_or(sc.run.audio_rate_hz);
+    const bool lossless = run.optional_flag("lossless").value_or(false);
+    run.finish();
+
+    if (!top.has("string")) throw InputError("string: a case with a bridge needs at least one [[string]]");
+    std::vector<TomlSection> strings = top.sections("string");
+    if (strings.size() > StringsCase::kMaxStrings)
+        throw InputError("string: " + std::to_string(strings.size()) + " strings; at most " +
+                         std::to_string(StringsCase::kMaxStrings) + " rest on one bridge");
+    for (TomlSection& s : strings) {
+        const std::string name = s.text("name");
+        // Names a CSV column and a file: letters, digits, '-' and '_', each once.
+        const bool plain = !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char ch) {
+            return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_';
+        });
+        if (!plain || name == "t" || name == "bridge" || name == "balance")
+            throw InputError(s.key_path("name") + " = \"" + name +
+                             "\": must be 1 to 64 letters, digits, '-' or '_' (not t, bridge or balance)");
+        if (std::find(sc.string_names.begin(), sc.string_names.end(), name) != sc.string_names.end())
+            throw InputError(s.key_path("name") + " = \"" + name + "\": two strings have that name");
+        const std::string file = s.text("case");
+        const bool at_rest = s.optional_flag("at_rest").value_or(false);
+        const double pitch = s.optional_positive("pitch_ratio").value_or(1.0);
+        if (pitch < 0.25 || pitch > 4.0)
+            throw InputError(out_of_range_message(s.key_path("pitch_ratio"), pitch, "must be in [0.25, 4]"));
+        s.finish();
+        // A built-in case's name, or a one-string case file beside this one (or a built-in data path).
+        const std::string text = is_builtin_case(file) ? builtin_case_text(file) : source.data.read(file, s.key_path("case"));
+        Case c = parse_case(text, file, source.data);
+        c.run.sample_rate_hz = sc.run.sample_rate_hz;
+        c.run.duration_s = sc.run.duration_s;
+        if (lossless) c.make_lossless();
+        if (at_rest) put_at_rest(c);
+        retune(c, pitch);
+        sc.string_names.push_back(name);
+        sc.strings.push_back(std::move(c));
+    }
+
+    TomlSection bridge = top.section("bridge");
+    if (!bridge.has("mode")) throw InputError("bridge.mode: a bridge needs at least one [[bridge.mode]]");
+    for (TomlSection& m : bridge.sections("mode")) {
+        BridgeModeSpec spec;
+        spec.mass_kg = m.number("mass_kg");
+        require_positive(m.key_path("mass_kg"), spec.mass_kg);
+        spec.frequency_hz = m.positive("frequency_hz");
+        spec.damping_ratio = m.optional_non_negative("damping_ratio").value_or(0.0);
+        if (lossless) spec.damping_ratio = 0.0;
+        spec.participation = m.numbers("participation");
+        m.finish();
+        sc.bridge.push_back(std::move(spec));
+    }
+    bridge.finish();
+    top.finish();
+    for (std::size_t s = 0; s < sc.strings.size(); ++s) sc.strings[s].validate();
+    sc.validate();
+    return sc;
+}
+
+}  // namespace fretbuzz

@@ -1,0 +1,81 @@
+#include "fretbuzz/scheme/BridgeEnd.hpp"
+
+#include "fretbuzz/scheme/Kernels.hpp"
+
+namespace fretbuzz {
+
+BridgeEnd::BridgeEnd(const Plan& plan, const StringProperties& string)
+    : plan_(&plan),
+      g_(plan.mode_count()),
+      first_gesture_(plan.forces().size()),
+      mu_(plan.linear_density()),
+      dt_(plan.dt()),
+      stiffness_(string.tension_n / string.length_m),
+      q_(plan.mode_count()),
+      d_(plan.mode_count()) {
+    const ModalBasis& basis = plan.basis();
+    const std::size_t n = plan.mode_count();
+    std::vector<double> psi(n);
+    for (std::size_t i = 0; i < n; ++i) psi[i] = static_cast<double>(i + 1) * basis.grid_step() / basis.length();
+    basis.to_modes(psi, g_);
+    g_norm2_ = kernels::dot(g_.data(), g_.data(), n);
+    const ModalPropagator& prop = plan.propagator();
+    const double k = plan.force_to_displacement();
+    std::vector<double> now(n), before(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const double loss = 1.0 - prop.decay()[j];
+        now[j] = g_[j] * (prop.beta()[j] + loss) / k;  // 2 - A = beta + 1 - e
+        before[j] = g_[j] * loss / k;
+    }
+    load_now_ = k * kernels::dot(g_.data(), now.data(), n);
+    load_before_ = k * kernels::dot(g_.data(), before.data(), n);
+    shapes_.push_back(std::move(now));
+    if (!prop.lossless()) {
+        shapes_.push_back(std::move(before));
+        for (std::size_t j = 0; j < n; ++j) g_loss_.push_back(g_[j] * (1.0 - prop.decay()[j]));
+        loss_norm_ = kernels::dot(g_loss_.data(), g_.data(), n);
+    }
+}
+
+void BridgeEnd::keep(const ModalState& modes) {
+    x_[0] = x_[1];
+    x_[1] = x_[2];
+    x_[2] = kernels::dot(g_.data(), modes.q().data(), g_.size());
+    if (g_loss_.empty()) return;
+    y_[0] = y_[1];
+    y_[1] = y_[2];
+    y_[2] = kernels::dot(g_loss_.data(), modes.q().data(), g_.size());
+}
+
+double BridgeEnd::pull(const ModalState& modes, double w_now, double w_before) const {
+    const double* row = g_.data();
+    double free = 0.0;
+    modes.predict_at(&row, 1, &free);
+    const double load = load_now_ * w_now - load_before_ * w_before;
+    return -mu_ * (free + load - 2.0 * x_[2] + x_[1]) / (dt_ * dt_);
+}
+
+void BridgeEnd::correct_damping(double w_step2) {
+    // sum_j (1 - e_j) [(s_j - g_j D)^2 - s_j^2], s_j = q'^{n+1}_j - q'^{n-1}_j, D = w^{n+1} - w^{n-1}.
+    if (g_loss_.empty()) return;
+    damping_ += plan_->modal_loss_scale() * (w_step2 * w_step2 * loss_norm_ - 2.0 * w_step2 * (y_[2] - y_[0]));
+}
+
+double BridgeEnd::energy(const ModalState& modes, double modal_energy, double w_next, double w_now) const {
+    const std::size_t n = g_.size();
+    const double step = w_next - w_now;
+    for (std::size_t j = 0; j < n; ++j) {
+        q_[j] = modes.q()[j] - g_[j] * w_next;
+        d_[j] = modes.d()[j] - g_[j] * step;
+    }
+    const ModalPropagator& prop = plan_->propagator();
+    const double own = plan_->modal_energy_scale() *
+                       kernels::modal_energy(prop.decay().data(), prop.beta().data(), q_.data(), d_.data(), n);
+    const double rate = mu_ / (dt_ * dt_);
+    const double cross = rate * ((x_[2] - x_[1]) - g_norm2_ * step) * step;
+    const double mass = 0.5 * rate * g_norm2_ * step * step;
+    const double spring = 0.25 * stiffness_ * (w_next * w_next + w_now * w_now);
+    return (own - modal_energy) + cross + mass + spring;
+}
+
+}  // namespace fretbuzz
