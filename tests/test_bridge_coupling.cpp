@@ -9,12 +9,15 @@
 #include <complex>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "TestSupport.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/scheme/Assembly.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -373,6 +376,46 @@ TEST(BridgeCases, StringsOnABridgeWritesEachStringsEnergy) {
     EXPECT_LT(worst, 1e-11);
     for (const char* wav : {"bridge.wav", "pickup_plucked.wav", "pickup_sympathetic.wav"})
         EXPECT_GT(std::filesystem::file_size(dir.path() / wav), 10000u) << wav;
+}
+
+// A built-in strings case run for `duration` s: strings.csv's columns by name.
+struct StringsRunCsv {
+    CsvTable table;
+    std::vector<double> column(const std::string& name) const {
+        for (std::size_t c = 0; c < table.column_names.size(); ++c)
+            if (table.column_names[c] == name) return table.column(c);
+        ADD_FAILURE() << "no column " << name;
+        return {};
+    }
+    double most(const std::string& name) const {
+        double m = 0.0;
+        for (double v : column(name)) m = std::max(m, std::abs(v));
+        return m;
+    }
+};
+
+StringsRunCsv run_strings_case(const std::string& name, double duration) {
+    const testing::ScratchDir dir("bridge-" + name);
+    const testing::CommandResult r =
+        testing::run_cli("run " + name + " --duration " + std::to_string(duration) + " --quiet --out " + dir.str());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(dir.path() / "strings.csv");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return {parse_csv(text, name + "/strings.csv", 3)};
+}
+
+TEST(BridgeCases, SitarTarafStringsTakeUpTheMainStringsPartials) {
+    // The main string buzzes on its jawari; every taraf string starts at rest. Those tuned to a
+    // partial of the main string (Sa: 2nd, upper Ga: 5th) take up far more than Ma tivra
+    // (45/32 of Sa, on no partial), and the whole assembly's balance stays at round-off.
+    const StringsRunCsv run = run_strings_case("sitar-taraf", 0.2);
+    const double sa = run.most("Sa"), ga_high = run.most("Ga-high"), ma = run.most("Ma-tivra");
+    std::printf("sitar-taraf, 0.2 s: main %.3e J; Sa %.3e J, upper Ga %.3e J, Ma tivra %.3e J; balance %.2e\n",
+                run.most("main"), sa, ga_high, ma, run.most("balance"));
+    EXPECT_GT(10.0 * std::log10(sa / ma), 10.0);
+    EXPECT_GT(10.0 * std::log10(ga_high / ma), 10.0);
+    EXPECT_GT(sa, 1e-5 * run.most("main"));  // the energy that rings is the main string's
+    EXPECT_LT(run.most("balance"), 1e-11);
 }
 
 }  // namespace
