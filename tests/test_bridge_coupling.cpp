@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "TestSupport.hpp"
+#include "fretbuzz/analysis/Recording.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/scheme/Assembly.hpp"
@@ -394,8 +395,7 @@ struct StringsRunCsv {
     }
 };
 
-StringsRunCsv run_strings_case(const std::string& name, double duration) {
-    const testing::ScratchDir dir("bridge-" + name);
+StringsRunCsv run_strings_case(const std::string& name, double duration, const testing::ScratchDir& dir) {
     const testing::CommandResult r =
         testing::run_cli("run " + name + " --duration " + std::to_string(duration) + " --quiet --out " + dir.str());
     EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -408,7 +408,8 @@ TEST(BridgeCases, SitarTarafStringsTakeUpTheMainStringsPartials) {
     // The main string buzzes on its jawari; every taraf string starts at rest. Those tuned to a
     // partial of the main string (Sa: 2nd, upper Ga: 5th) take up far more than Ma tivra
     // (45/32 of Sa, on no partial), and the whole assembly's balance stays at round-off.
-    const StringsRunCsv run = run_strings_case("sitar-taraf", 0.2);
+    const testing::ScratchDir dir("bridge-sitar-taraf");
+    const StringsRunCsv run = run_strings_case("sitar-taraf", 0.2, dir);
     const double sa = run.most("Sa"), ga_high = run.most("Ga-high"), ma = run.most("Ma-tivra");
     std::printf("sitar-taraf, 0.2 s: main %.3e J; Sa %.3e J, upper Ga %.3e J, Ma tivra %.3e J; balance %.2e\n",
                 run.most("main"), sa, ga_high, ma, run.most("balance"));
@@ -416,6 +417,31 @@ TEST(BridgeCases, SitarTarafStringsTakeUpTheMainStringsPartials) {
     EXPECT_GT(10.0 * std::log10(ga_high / ma), 10.0);
     EXPECT_GT(sa, 1e-5 * run.most("main"));  // the energy that rings is the main string's
     EXPECT_LT(run.most("balance"), 1e-11);
+}
+
+TEST(BridgeCases, GuitarChordSoundsItsFrettedNotesWithTheBalanceAtRoundOff) {
+    // E major: the fingers hold A and D at fret 2 and G at fret 1 on their frets while a pick
+    // strums all six from rest; each pickup sounds its string's note of the chord (equal
+    // temperament on the frets), the whole assembly's balance judged against the work put in.
+    const testing::ScratchDir dir("bridge-guitar-chord");
+    const StringsRunCsv run = run_strings_case("guitar-chord", 0.3, dir);
+    std::printf("guitar-chord, 0.3 s: bridge %.3e J at most; balance %.2e\n", run.most("bridge"), run.most("balance"));
+    EXPECT_LT(run.most("balance"), 1e-11);
+    EXPECT_GT(run.most("bridge"), 0.0);
+    const struct {
+        const char* name;
+        double open_hz;
+        int fret;
+    } strings[] = {{"E2", 82.4069, 0}, {"A2", 110.0, 2}, {"D3", 146.8324, 2}, {"G3", 195.9977, 1}};
+    for (const auto& s : strings) {
+        const Recording pickup = read_recording(dir.path() / ("pickup_" + std::string(s.name) + ".wav"));
+        const auto skip = static_cast<std::ptrdiff_t>(0.03 * pickup.rate_hz);  // after the strum
+        const std::vector<double> x(pickup.samples.begin() + skip, pickup.samples.end());
+        const double note = s.open_hz * std::pow(2.0, s.fret / 12.0);
+        const double heard = peak_frequency(x, 1.0 / pickup.rate_hz, note, 0.03 * note);
+        std::printf("%s at fret %d: %.2f Hz (the note %.2f Hz)\n", s.name, s.fret, heard, note);
+        EXPECT_NEAR(heard, note, 0.005 * note) << s.name;
+    }
 }
 
 }  // namespace
