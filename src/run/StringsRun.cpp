@@ -61,8 +61,8 @@ StringsRun simulate_strings(const StringsCase& sc) {
             throw_if_stopped();
         }
         if (n == 1) first = assembly.energy();
-        largest_work = std::max(largest_work, std::abs(assembly.work()));
         if (n % stride != 0 && n != 1) continue;
+        largest_work = std::max(largest_work, std::abs(assembly.work()));
         run.t.push_back(static_cast<double>(n) * dt);
         for (std::size_t s = 0; s < S; ++s) run.energy[s].push_back(assembly.string_energy(s));
         run.bridge_energy.push_back(assembly.bridge()->energy());
