@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <sndfile.h>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,18 @@
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz::testing {
+
+// Every frame of an audio file libsndfile reads (WAV, Ogg, ...), first channel of a mono file;
+// empty if it cannot be opened.
+inline std::vector<double> read_audio(const std::filesystem::path& path) {
+    SF_INFO info{};
+    SNDFILE* f = sf_open(path.c_str(), SFM_READ, &info);
+    if (f == nullptr) return {};
+    std::vector<double> x(static_cast<std::size_t>(info.frames));
+    sf_read_double(f, x.data(), info.frames);
+    sf_close(f);
+    return x;
+}
 
 // ||a - b|| / ||b|| over the samples both have.
 inline double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {

@@ -377,6 +377,11 @@ TEST(BridgeCases, StringsOnABridgeWritesEachStringsEnergy) {
     EXPECT_LT(worst, 1e-11);
     for (const char* wav : {"bridge.wav", "pickup_plucked.wav", "pickup_sympathetic.wav"})
         EXPECT_GT(std::filesystem::file_size(dir.path() / wav), 10000u) << wav;
+    // The Ogg is the same sound as bridge.wav, lossy: same length, within a few % in L2.
+    const std::vector<double> wav = testing::read_audio(dir.path() / "bridge.wav"),
+                              ogg = testing::read_audio(dir.path() / "bridge.ogg");
+    ASSERT_EQ(ogg.size(), wav.size());
+    EXPECT_LT(testing::relative_l2(ogg, wav), 0.05);
 }
 
 // A built-in strings case run for `duration` s: strings.csv's columns by name.

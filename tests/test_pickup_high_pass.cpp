@@ -2,7 +2,6 @@
 // written through it (run outputs, `fretbuzz play`, buzz-map notes); the data files keep the
 // displacement itself.
 #include <gtest/gtest.h>
-#include <sndfile.h>
 
 #include <cmath>
 #include <numbers>
@@ -113,24 +112,13 @@ TEST(PickupHighPass, IsAPairOfNumbersOfState) {
     static_assert(sizeof(PickupHighPass) == 7 * sizeof(double));  // five coefficients, two of state
 }
 
-std::vector<double> read_wav(const std::filesystem::path& path) {
-    SF_INFO info{};
-    SNDFILE* f = sf_open(path.c_str(), SFM_READ, &info);
-    EXPECT_NE(f, nullptr) << path;
-    if (f == nullptr) return {};
-    std::vector<double> x(static_cast<std::size_t>(info.frames));
-    sf_read_double(f, x.data(), info.frames);
-    sf_close(f);
-    return x;
-}
-
 TEST(PickupHighPass, AudioFilesCarryNoDc) {
     testing::ScratchDir scratch("pickup");
     const std::vector<double> x = fretted_note(static_cast<std::size_t>(2 * kRate));
     for (const char* name : {"note.wav", "note.ogg"}) {
         const auto path = scratch.path() / name;
         const double full_scale = write_normalised_audio(path, x, kRate);
-        const std::vector<double> y = read_wav(path);
+        const std::vector<double> y = testing::read_audio(path);
         ASSERT_EQ(y.size(), x.size()) << name;
         const auto half = y.size() / 2;
         // Before, the file's second half sat at -0.09 / 0.14 of full scale.

@@ -25,6 +25,7 @@ std::filesystem::path write_strings_outputs(const std::filesystem::path& dir, co
     }
     write_text_file(out.staged("strings.csv"), text);
     write_normalised_audio(out.staged("bridge.wav"), run.bridge_audio, run.audio_rate_hz);
+    write_normalised_audio(out.staged("bridge.ogg"), run.bridge_audio, run.audio_rate_hz);  // to listen to, share
     for (std::size_t s = 0; s < sc.string_names.size(); ++s)
         write_normalised_audio(out.staged("pickup_" + sc.string_names[s] + ".wav"), run.pickup_audio[s], run.audio_rate_hz);
     write_text_file(out.staged("case.toml"), sc.source_text);
