@@ -62,7 +62,7 @@ double Assembly::dissipated() const {
 
 double Assembly::work() const {
     double e = 0.0;
-    for (const VibratingString& s : strings_) e += s.work() - s.gestures().driven_work();
+    for (const VibratingString& s : strings_) e += s.work();  // driven loads' work is not counted
     return e;
 }
 

@@ -48,21 +48,17 @@ void ForceGestures::add_impulse(double k, std::span<double> impulse) const {
         if (load_[g] != 0.0) kernels::axpy(k * load_[g], gestures_[g].shape().data(), impulse.data(), impulse.size());
 }
 
+// A driven load's work is not counted: inside an assembly what a bridge does on its string is
+// the link's energy exchange, which the assembly's balance holds without it (two passes over
+// the modes per load and step saved, on every step of a string on a bridge).
 void ForceGestures::begin_step(const ModalState& modes) {
     for (std::size_t g = 0; g < gestures_.size(); ++g)
-        if (load_[g] != 0.0) gestures_[g].begin_step(modes.q(), modes.d());
+        if (load_[g] != 0.0 && !gestures_[g].driven()) gestures_[g].begin_step(modes.q(), modes.d());
 }
 
 void ForceGestures::end_step(const ModalState& modes) {
     for (std::size_t g = 0; g < gestures_.size(); ++g)
-        if (load_[g] != 0.0) gestures_[g].end_step(modes.q(), load_[g]);
-}
-
-double ForceGestures::driven_work() const {
-    double sum = 0.0;
-    for (const ForceProfile& g : gestures_)
-        if (g.driven()) sum += g.work();
-    return sum;
+        if (load_[g] != 0.0 && !gestures_[g].driven()) gestures_[g].end_step(modes.q(), load_[g]);
 }
 
 double ForceGestures::add_work(double sum) const {

@@ -34,13 +34,12 @@ public:
     double at_point(std::size_t p) const;
     // Their modal impulse k f_g s_g added to `impulse` (k = dt^2/mu).
     void add_impulse(double k, std::span<double> impulse) const;
-    // Around the pass that moves the modes with the loads: each loaded gesture's work.
+    // Around the pass that moves the modes with the loads: each loaded gesture's work (not a
+    // driven load's: an assembly's balance counts the bridge's exchange as the link's energy).
     void begin_step(const ModalState& modes);
     void end_step(const ModalState& modes);
     // sum plus their work so far, added one by one (the ledger's order of sums).
     double add_work(double sum) const;
-    // The driven loads' work so far (what a bridge did on the string: inside an assembly).
-    double driven_work() const;
 
 private:
     const Plan* plan_;
