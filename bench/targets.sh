@@ -52,6 +52,11 @@ heading "Audio rates: tanpura and sitar, 48 kHz, 10 s CLI run with every output,
     "sh bench/audio_rate_runs.sh \"\" $build/cli/fretbuzz $reps"
 sh "$here/audio_rate_runs.sh" "" "$build/cli/fretbuzz" "$reps"
 
+heading "Strings on a bridge: sitar-taraf, 400 kHz, 10 s with every output, < 1 s per simulated second (and its parts)" \
+    "sh bench/strings_runs.sh \"\" $build/cli/fretbuzz $reps 10; bench/sitar_taraf_parts.py --reps $reps"
+sh "$here/strings_runs.sh" "" "$build/cli/fretbuzz" "$reps" 10
+python3 "$here/sitar_taraf_parts.py" --reps "$reps" --program "$build/cli/fretbuzz"
+
 heading "A fretted note: fretted pop within 2x of the open pop" \
     "fretbuzz_bench --benchmark_filter=Played --benchmark_repetitions=$bench_reps"
 "$bench" --benchmark_filter=Played --benchmark_repetitions="$bench_reps" --benchmark_report_aggregates_only=true "$plain"
