@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
-#include <ctime>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -12,6 +10,7 @@
 
 #include "MillimetreText.hpp"
 #include "NoteTrials.hpp"
+#include "SearchClock.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/setup/NoteJudge.hpp"
 #include "fretbuzz/setup/PluckReach.hpp"
@@ -363,8 +362,7 @@ ReliefAdvice best_relief(const Instrument& instrument, const std::vector<NoteVer
 }
 
 Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map, const AdviceRequest& request) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::clock_t cpu = std::clock();
+    const SearchClock timer;
     Advice advice;
     advice.attack = request.attack;
     advice.units = instrument.units;
@@ -380,8 +378,8 @@ Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map,
     }
     advice.proud = proud_search(instrument, map, request, trials);
     advice.relief = relief_search(instrument, request, forecast, trials);
-    advice.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    advice.cpu_seconds = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+    advice.wall_seconds = timer.wall_seconds();
+    advice.cpu_seconds = timer.cpu_seconds();
     return advice;
 }
 

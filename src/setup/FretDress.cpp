@@ -1,8 +1,6 @@
 #include "fretbuzz/setup/FretDress.hpp"
 
 #include <algorithm>
-#include <chrono>
-#include <ctime>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -11,6 +9,7 @@
 
 #include "MillimetreText.hpp"
 #include "NoteTrials.hpp"
+#include "SearchClock.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
@@ -49,8 +48,7 @@ void check_dress_request(const Instrument& instrument, const DressRequest& r) {
 
 DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerdict>& before, const DressRequest& request) {
     check_dress_request(instrument, request);
-    const auto start = std::chrono::steady_clock::now();
-    const std::clock_t cpu = std::clock();
+    const SearchClock timer;
     const std::size_t last = instrument.neck.fret_count;
     DressResult d;
     d.units = instrument.units;
@@ -197,8 +195,8 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
     for (const NoteVerdict& v : d.after)
         if (!trials.passes(v) && unresolved.empty()) unresolved.insert(failure_text(v) + " after the dress");
     d.unresolved.assign(unresolved.begin(), unresolved.end());
-    d.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    d.cpu_seconds = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+    d.wall_seconds = timer.wall_seconds();
+    d.cpu_seconds = timer.cpu_seconds();
     return d;
 }
 
