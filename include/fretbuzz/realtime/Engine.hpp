@@ -7,7 +7,7 @@
 // lies below the internal Nyquist frequency (the aliasing check of SamplingCheck passes; modes
 // that would need more than the largest allowed M are dropped). The default keeps every mode
 // up to M = 8: dropping modes changes the buzz by more than the rate (RateAccuracy measures
-// it; the numbers are by choose_rate in Engine.cpp). It decimates the pickup
+// it; the numbers are by choose_rate in InternalRate.cpp). It decimates the pickup
 // signal by M through a band-limited FIR (Decimator). While no point can touch, it flies over
 // each host sample stepping only the modes below the host's Nyquist frequency (FreeFlight).
 //
@@ -20,7 +20,6 @@
 // only decrease, so if H + dissipated - W (W: the pressing force's work; dissipated counts the
 // finger's contact loss) ever exceeds the energy put in (every pluck, and every parameter
 // change, counted), or a sample is not finite, the voice is silenced and counted.
-#include <array>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -29,6 +28,8 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/realtime/Decimator.hpp"
+#include "fretbuzz/realtime/EnergyGuard.hpp"
+#include "fretbuzz/realtime/FretHand.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -39,7 +40,7 @@ struct EngineOptions {
     double host_rate_hz = 48000.0;
     int oversampling = 0;          // M; 0: the smallest that keeps every mode below 0.45 M fs
     int max_oversampling = 8;      // largest M chosen automatically (cost grows with M; fewer
-                                   // modes change the buzz: see choose_rate in Engine.cpp)
+                                   // modes change the buzz: see choose_rate in InternalRate.cpp)
     std::size_t max_modes = 0;     // 0: the case's (fewer if M cannot reach them)
     bool free_flight = true;       // fly while no contact is possible (false: step every mode)
     bool start_from_case = false;  // start from the case's initial state (else at rest)
@@ -57,6 +58,14 @@ struct Strike {
     double width_m = 0.01;
     bool displacement = false;
 };
+
+// value clamped to [low, high] (NaN: low), each move counted in `count`.
+double clamp_counted(double value, double low, double high, long& count);
+// The strike's bump in modal coordinates, dx S^T u, added to `target` (a displacement or a
+// velocity, as s says) on c's string planned by `plan`; its width, position and strength are
+// clamped to the string (counted in `clamped`). `row` is scratch of c.mode_count().
+void add_strike(const Strike& s, const Case& c, const Plan& plan, std::vector<double>& row,
+                std::vector<double>& target, long& clamped);
 
 // What the energy guard and the clamps saw (read by front ends to log, outside the audio path).
 struct EngineHealth {
@@ -113,9 +122,9 @@ public:
     double internal_rate_hz() const { return factor_ * options_.host_rate_hz; }
     double host_rate_hz() const { return options_.host_rate_hz; }
     std::size_t mode_count() const { return case_.mode_count(); }
-    int fret_count() const { return static_cast<int>(fret_pads_.size()); }
-    int fret() const { return fret_; }  // the fret pressed; 0: none (open, or lifting)
-    bool finger_on_string() const { return finger_ != kNoFinger && stepper_->finger_on(finger_); }
+    int fret_count() const { return hand_.fret_count(); }
+    int fret() const { return hand_.fret(); }  // the fret pressed; 0: none (open, or lifting)
+    bool finger_on_string() const { return hand_.on(stepper_->string()); }
     // Where fret k stands (m from x = 0; 0: the nut), so that front ends pluck the sounding part.
     double fret_position_m(int fret) const;
     const Case& voice_case() const { return case_; }
@@ -127,7 +136,7 @@ public:
     double dissipated() const { return stepper_->dissipated(); }
     double work() const { return stepper_->work(); }
     double finger_loss() const { return stepper_->finger_loss(); }
-    double injected() const { return injected_; }
+    double injected() const { return guard_.injected(); }
     bool sounding() const;
     const EngineHealth& health() const { return health_; }
     // The stepper's counts (contact steps, steps flown...), for benchmarks and tests.
@@ -143,8 +152,6 @@ private:
     void silence();
     double ledger() const { return energy() + dissipated() - work(); }
     void retire_lifted_finger();
-    void add_finger_room();
-    static constexpr std::size_t kNoFinger = static_cast<std::size_t>(-1);
     // Runs a change of state or plan, counting the energy it adds or removes as input.
     template <class Change>
     void change(Change&& f);
@@ -164,15 +171,8 @@ private:
     std::vector<double> base_sigma_, sigma_;
     double damping_scale_ = 1.0;
     bool muted_ = false;
-    double injected_ = 0.0;
-    double peak_ = 0.0;  // largest energy after a strike: the scale of "silent"
-    std::size_t finger_ = kNoFinger;            // the engine's finger among the stepper's
-    std::vector<std::array<double, 2>> fret_pads_;  // per fret: pad centre and width (m)
-    double finger_force_ = 0.0;                 // N, once pressed
-    long finger_ramp_steps_ = 1;                // steps to press it or to let it go
-    int fret_ = 0;
-    bool lifting_ = false;
-    long lifted_at_ = 0;                        // the step its force reaches zero
+    EnergyGuard guard_;
+    FretHand hand_;
     EngineHealth health_;
 };
 

@@ -1,0 +1,188 @@
+// The real-time voice of strings on one bridge (BridgeEngine): the offline Assembly's physics,
+// its energy ledger through every event, and an audio path that never allocates.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <span>
+#include <vector>
+
+#include "../TestSupport.hpp"
+#include "AllocationCounter.hpp"
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
+#include "fretbuzz/realtime/BridgeEngine.hpp"
+#include "fretbuzz/scheme/Assembly.hpp"
+#include "fretbuzz/scheme/Plan.hpp"
+
+namespace fretbuzz {
+namespace {
+
+constexpr double kRate = 48000.0;
+
+StringsCase load_strings(const char* name) { return parse_strings_case(*read_strings_case_text(name)); }
+
+// |H + dissipated - work - injected| relative to the largest energy that went through.
+double ledger_error(const BridgeEngine& e) {
+    const double scale = std::max({std::abs(e.injected()), std::abs(e.work()), e.energy(), 1e-300});
+    return std::abs(e.energy() + e.dissipated() - e.work() - e.injected()) / scale;
+}
+
+// The offline Assembly of the voice's own cases (its strings cut to the internal band), at the
+// voice's internal rate, from the cases' initial state: the sum of the strings' pickups, step
+// by step from step 2 (the voice took the first step at set-up).
+std::vector<double> offline_pickups(const BridgeEngine& e, const StringsCase& sc, long steps) {
+    const double dt = 1.0 / e.internal_rate_hz();
+    std::vector<Case> cases;
+    std::vector<std::unique_ptr<Plan>> plans;
+    std::vector<Assembly::OnBridge> on_bridge;
+    std::vector<std::vector<double>> rows;
+    for (std::size_t s = 0; s < e.string_count(); ++s) {
+        Case c = e.string_case(s);
+        if (e.fret_count(s) > 0) c.fingers.pop_back();  // the voice's fretting finger, lifted
+        cases.push_back(c);
+    }
+    for (const Case& c : cases) {
+        plans.push_back(std::make_unique<Plan>(c, dt));
+        on_bridge.push_back({plans.back().get(), c.string, c.initial_displacement, c.initial_velocity});
+        rows.push_back(plans.back()->basis().mode_shapes_at(c.observation_points_m.front()));
+        plans.back()->orient(rows.back());
+    }
+    Assembly assembly(on_bridge, sc.bridge);
+    assembly.step();
+    std::vector<double> u;
+    for (long n = 0; n < steps; ++n) {
+        assembly.step();
+        double sum = 0.0;
+        for (std::size_t s = 0; s < cases.size(); ++s) sum += assembly.string(s).modes().at(rows[s].data());
+        u.push_back(sum);
+    }
+    return u;
+}
+
+TEST(BridgeEngine, EqualsTheOfflineAssemblyBeforeDecimation) {
+    // The sitar's main string buzzes on its jawari from the start; the guitar's pick strums at
+    // 10 ms with two fingers down (the cases' own gestures and fingers, kept from the case).
+    for (const char* name : {"sitar-taraf", "guitar-chord"}) {
+        SCOPED_TRACE(name);
+        const StringsCase sc = load_strings(name);
+        BridgeEngineOptions o;
+        o.engine.start_from_case = true;
+        o.engine.oversampling = 8;  // 384 kHz
+        BridgeEngine engine(sc, o);
+        const long steps = 6000;
+        std::vector<double> live(static_cast<std::size_t>(steps));
+        engine.render_internal(live);
+        const std::vector<double> offline = offline_pickups(engine, sc, steps);
+        const double error = testing::relative_l2(live, offline);
+        std::printf("%s: relative L2 %.3e over %ld steps\n", name, error, steps);
+        EXPECT_LT(error, 1e-9);
+        EXPECT_LT(std::abs(engine.energy() + engine.dissipated() - engine.work() - engine.injected()),
+                  1e-9 * std::max(engine.injected(), std::abs(engine.work())));
+    }
+}
+
+TEST(BridgeEngine, BalanceHoldsThroughBlocksWithAFingerDown) {
+    // The A string fretted at 2 and struck; its energy passes to the other strings through the
+    // bridge; H + dissipated - work equals what the events put in, block after block.
+    BridgeEngine guitar(load_strings("guitar-chord"));
+    ASSERT_EQ(guitar.string_count(), 6u);
+    ASSERT_GE(guitar.fret_count(1), 12);
+    ASSERT_TRUE(guitar.finger_down(1, 2));
+    std::vector<float> block(256);
+    for (int b = 0; b < 4; ++b) guitar.process(block);  // the finger presses (5 ms ramp)
+    const double stop = guitar.fret_position_m(1, 2);
+    guitar.strike(1, {stop + 0.8 * (guitar.length_m(1) - stop), 0.5, 0.01, false});
+    double worst = 0.0;
+    for (int b = 0; b < 40; ++b) {
+        guitar.process(block);
+        worst = std::max(worst, ledger_error(guitar));
+    }
+    std::printf("worst ledger error %.3e, settled %.3e J of %.3e J put in\n", worst, guitar.settled(), guitar.injected());
+    EXPECT_LT(worst, 1e-10);
+    EXPECT_TRUE(guitar.finger_on_string(1));
+    EXPECT_EQ(guitar.fret(1), 2);
+    EXPECT_EQ(guitar.health().resets, 0);
+    // The others took up energy through the bridge (no other way in).
+    for (std::size_t s : {0u, 2u, 5u}) EXPECT_GT(guitar.assembly().string_energy(s), 0.0) << s;
+    double peak = 0.0;
+    for (float y : block) peak = std::max(peak, static_cast<double>(std::abs(y)));
+    EXPECT_GT(peak, 1e-4);
+}
+
+TEST(BridgeEngine, StrikeMissedByTheBridgeForTwoStepsIsSmall) {
+    // What the settling counts as input (the bridge's pull missing the strike for two steps) is
+    // bounded by a small part of the strike's energy: 2e-4 of it for the sitar's main string.
+    BridgeEngine sitar(load_strings("sitar-taraf"));
+    sitar.strike(0, {0.63, 0.5, 0.01, false});
+    const double struck = sitar.injected();
+    std::vector<float> block(256);
+    sitar.process(block);
+    std::printf("settled %.3e J of %.3e J struck\n", sitar.settled(), struck);
+    EXPECT_GT(sitar.settled(), 0.0);
+    EXPECT_LT(sitar.settled(), 1e-3 * struck);
+    EXPECT_LT(ledger_error(sitar), 1e-10);
+}
+
+TEST(BridgeEngine, AudioPathNeverAllocates) {
+    BridgeEngine guitar(load_strings("guitar-chord"));
+    BridgeEngine sitar(load_strings("sitar-taraf"));
+    std::vector<float> block(1024);
+    const long before = testing::allocations();
+    {
+        const testing::Counting counting;
+        guitar.finger_down(1, 2);
+        guitar.finger_down(2, 2);
+        guitar.process(std::span<float>(block).first(256));
+        for (std::size_t s = 0; s < 6; ++s) guitar.strike(s, {0.55, 0.8, 0.01, false});
+        guitar.process(block);
+        guitar.finger_down(1, 5);  // a new note: the finger moves
+        guitar.strike(1, {0.5, 2e-3, 0.01, true});
+        guitar.process(std::span<float>(block).first(300));
+        guitar.finger_up(2);
+        guitar.process(block);
+        guitar.process(block);
+        guitar.finger_down(3, 0);
+        guitar.stop();
+        guitar.process(std::span<float>(block).first(7));
+        sitar.strike(0, {0.63, 0.5, 0.01, false});
+        sitar.strike(4, {0.2, 0.1, 0.01, false});
+        sitar.process(block);
+        sitar.finger_down(0, 3);  // no frets: refused
+        sitar.stop();
+        sitar.process(block);
+    }
+    EXPECT_EQ(testing::allocations() - before, 0);
+    EXPECT_EQ(guitar.health().resets, 0);
+    EXPECT_EQ(sitar.health().resets, 0);
+}
+
+TEST(BridgeEngine, BadOptionsNameTheOption) {
+    const StringsCase sc = load_strings("guitar-chord");
+    const auto message = [&](const BridgeEngineOptions& o) {
+        try {
+            BridgeEngine e(sc, o);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    BridgeEngineOptions played;
+    played.played = 6;
+    EXPECT_NE(message(played).find("played string"), std::string::npos) << message(played);
+    BridgeEngineOptions rate;
+    rate.engine.host_rate_hz = 100.0;
+    EXPECT_NE(message(rate).find("host rate"), std::string::npos) << message(rate);
+    BridgeEngineOptions gain;
+    gain.bridge_gain_per_m_s = -1.0;
+    EXPECT_NE(message(gain).find("bridge gain"), std::string::npos) << message(gain);
+    BridgeEngineOptions m;
+    m.engine.oversampling = 65;
+    EXPECT_NE(message(m).find("oversampling"), std::string::npos) << message(m);
+}
+
+}  // namespace
+}  // namespace fretbuzz
