@@ -24,6 +24,8 @@
 
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
+#include "fretbuzz/realtime/BridgeEngine.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 
 namespace {
@@ -60,10 +62,10 @@ std::unique_ptr<Engine> make_voice(const Voice& v, bool free_flight, int max_ove
                                     o);
 }
 
-void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight, int max_oversampling,
-            Fretting fretting) {
-    std::vector<std::unique_ptr<Engine>> engines;
-    for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight, max_oversampling, fretting));
+// Plays one second per iteration in blocks of kBlock: start() strikes the voices, process(block)
+// renders a block, contact_steps() counts the steps with a contact force so far.
+template <class Start, class Process, class ContactSteps>
+void time_blocks(benchmark::State& state, Start&& start, Process&& process, ContactSteps&& contact_steps) {
     std::vector<float> block(kBlock);
     const long blocks = static_cast<long>(kRate) / static_cast<long>(kBlock);
     std::vector<double> times;  // every block's CPU time (s), this repetition
@@ -71,24 +73,16 @@ void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight
     double worst = 0.0;
     long worst_contact_steps = 0;
     for (auto _ : state) {
-        for (std::size_t i = 0; i < engines.size(); ++i) {
-            Engine& e = *engines[i];
-            const bool finger = fretting == Fretting::finger && voices[i].fret > 0;
-            if (finger) e.finger_down(voices[i].fret);
-            const double stop = finger ? e.fret_position_m(voices[i].fret) : 0.0;
-            e.strike({stop + voices[i].pluck * (e.length_m() - stop), 1.0, 0.01, false});
-        }
+        start();
         for (long b = 0; b < blocks; ++b) {
-            long contact_steps = 0;
-            for (auto& e : engines) contact_steps -= e->statistics().contact_steps;
+            const long before = contact_steps();
             const double t0 = thread_seconds();
-            for (auto& e : engines) e->process(block);
+            process(block);
             const double t = thread_seconds() - t0;
-            for (auto& e : engines) contact_steps += e->statistics().contact_steps;
             times.push_back(t);
             if (t > worst) {
                 worst = t;
-                worst_contact_steps = contact_steps;
+                worst_contact_steps = contact_steps() - before;
             }
             benchmark::DoNotOptimize(block.data());
         }
@@ -107,9 +101,130 @@ void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight
     state.counters["p99_block_pct"] = quantile_pct(0.99);
     state.counters["median_block_pct"] = quantile_pct(0.5);
     state.counters["worst_block_contact_steps"] = static_cast<double>(worst_contact_steps);
+}
+
+void render(benchmark::State& state, std::vector<Voice> voices, bool free_flight, int max_oversampling,
+            Fretting fretting) {
+    std::vector<std::unique_ptr<Engine>> engines;
+    for (const Voice& v : voices) engines.push_back(make_voice(v, free_flight, max_oversampling, fretting));
+    const auto start = [&] {
+        for (std::size_t i = 0; i < engines.size(); ++i) {
+            Engine& e = *engines[i];
+            const bool finger = fretting == Fretting::finger && voices[i].fret > 0;
+            if (finger) e.finger_down(voices[i].fret);
+            const double stop = finger ? e.fret_position_m(voices[i].fret) : 0.0;
+            e.strike({stop + voices[i].pluck * (e.length_m() - stop), 1.0, 0.01, false});
+        }
+    };
+    const auto process = [&](std::vector<float>& block) {
+        for (auto& e : engines) e->process(block);
+    };
+    const auto contact_steps = [&] {
+        long n = 0;
+        for (auto& e : engines) n += e->statistics().contact_steps;
+        return n;
+    };
+    time_blocks(state, start, process, contact_steps);
     state.counters["modes"] = static_cast<double>(engines.front()->mode_count());
     state.counters["oversampling"] = engines.front()->oversampling();
     state.counters["latency_samples"] = engines.front()->latency_samples();
+}
+
+// Strings on one bridge (BridgeEngine): the strings of a strings case, or some of them (with
+// their participations), each struck or fretted as `notes` says (string, fret, pluck fraction).
+struct BridgeNote {
+    std::size_t string;
+    int fret;
+    double pluck;
+};
+
+StringsCase some_strings(const StringsCase& sc, const std::vector<std::size_t>& keep) {
+    StringsCase out = sc;
+    out.strings.clear();
+    out.string_names.clear();
+    for (std::size_t s : keep) {
+        out.strings.push_back(sc.strings[s]);
+        out.string_names.push_back(sc.string_names[s]);
+    }
+    for (std::size_t b = 0; b < sc.bridge.size(); ++b) {
+        out.bridge[b].participation.clear();
+        for (std::size_t s : keep) out.bridge[b].participation.push_back(sc.bridge[b].participation[s]);
+    }
+    return out;
+}
+
+void render_bridge(benchmark::State& state, const StringsCase& sc, const BridgeEngineOptions& o,
+                   const std::vector<BridgeNote>& notes) {
+    BridgeEngine voice(sc, o);
+    const auto start = [&] {
+        for (const BridgeNote& n : notes) {
+            if (n.fret > 0) voice.finger_down(n.string, n.fret);
+            const double stop = voice.fret_position_m(n.string, n.fret);
+            voice.strike(n.string, {stop + n.pluck * (voice.length_m(n.string) - stop), 1.0, 0.01, false});
+        }
+    };
+    const auto process = [&](std::vector<float>& block) { voice.process(block); };
+    const auto contact_steps = [&] {
+        long n = 0;
+        for (std::size_t s = 0; s < voice.string_count(); ++s) n += voice.assembly().string(s).record().stats.contact_steps;
+        return n;
+    };
+    time_blocks(state, start, process, contact_steps);
+    std::size_t modes = 0;
+    for (std::size_t s = 0; s < voice.string_count(); ++s) modes += voice.mode_count(s);
+    state.counters["strings"] = static_cast<double>(voice.string_count());
+    state.counters["modes"] = static_cast<double>(modes);
+    state.counters["oversampling"] = voice.oversampling();
+    state.counters["latency_samples"] = voice.latency_samples();
+}
+
+void register_bridges() {
+    const StringsCase sitar = parse_strings_case(*read_strings_case_text("sitar-taraf"));
+    const StringsCase guitar = parse_strings_case(*read_strings_case_text("guitar-chord"));
+    std::vector<std::size_t> all(sitar.strings.size()), eleven(12), taraf;
+    for (std::size_t s = 0; s < all.size(); ++s) all[s] = s;
+    for (std::size_t s = 0; s < eleven.size(); ++s) eleven[s] = s;  // the main string and 11 taraf
+    for (std::size_t s = 1; s < all.size(); ++s) taraf.push_back(s);
+    const std::vector<BridgeNote> main = {{0, 0, 0.72}};  // 0.25 m from the bridge end, as the case plucks it
+    // An E major chord (A and D at fret 2, G at fret 1), every string struck.
+    const std::vector<BridgeNote> chord = {{0, 0, 0.8}, {1, 2, 0.8}, {2, 2, 0.8}, {3, 1, 0.8}, {4, 0, 0.8}, {5, 0, 0.8}};
+    const auto with = [](int max_oversampling, std::size_t max_free_modes) {
+        BridgeEngineOptions o;
+        o.engine.host_rate_hz = kRate;
+        o.engine.max_oversampling = max_oversampling;
+        o.max_free_modes = max_free_modes;
+        return o;
+    };
+    BridgeEngineOptions at_8x = with(8, 0);
+    at_8x.engine.oversampling = 8;  // the taraf strings alone would choose 1x: the sitar's rate
+    const struct {
+        const char* label;
+        StringsCase sc;
+        BridgeEngineOptions options;
+        std::vector<BridgeNote> notes;
+    } sets[] = {
+        // Where the time goes: the whole sitar, then its main string alone on the bridge, its
+        // taraf strings alone (one struck: every string is stepped at every step anyway).
+        {"bridge_sitar_taraf13", sitar, with(8, 0), main},
+        {"bridge_sitar_taraf11", some_strings(sitar, eleven), with(8, 0), main},
+        {"bridge_sitar_main_only", some_strings(sitar, {0}), with(8, 0), main},
+        {"bridge_taraf13_only", some_strings(sitar, taraf), at_8x, {{0, 0, 0.5}}},
+        {"bridge_sitar_taraf13_M4", sitar, with(4, 0), main},
+        {"bridge_sitar_taraf13_M2", sitar, with(2, 0), main},
+        // Each taraf string cut to 20 modes (from 40, all below the host band).
+        {"bridge_sitar_taraf13_taraf20modes", sitar, with(8, 20), main},
+        {"bridge_guitar_chord", guitar, with(8, 0), chord},
+        {"bridge_guitar_chord_M4", guitar, with(4, 0), chord},
+    };
+    for (const auto& s : sets)
+        benchmark::RegisterBenchmark((std::string(s.label) + "/engine").c_str(),
+                                     [sc = s.sc, o = s.options, notes = s.notes](benchmark::State& st) {
+                                         render_bridge(st, sc, o, notes);
+                                     })
+            ->Unit(benchmark::kMillisecond)
+            ->Repetitions(5)
+            ->ReportAggregatesOnly(true)
+            ->Iterations(1);
 }
 
 void register_all() {
@@ -164,6 +279,7 @@ void register_all() {
 
 int main(int argc, char** argv) {
     register_all();
+    register_bridges();
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
