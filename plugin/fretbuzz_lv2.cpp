@@ -1,7 +1,16 @@
-// The fretbuzz LV2 instrument: a thin shell over the real-time Engine. One string of a preset
-// (bass, guitar, sitar, tanpura); MIDI note n plays fret n - (the open string's note), velocity
-// sets the pluck strength, note-off mutes. Each fret is a voice prepared at instantiation (the
-// string stopped at that fret: a stand-in for a modelled finger).
+// The fretbuzz LV2 instruments: thin shells over the real-time engines.
+//
+// One string of a preset (bass, guitar, sitar, tanpura), over Engine: MIDI note n plays fret
+// n - (the open string's note), velocity sets the pluck strength, note-off mutes. Each fret is
+// a voice prepared at instantiation (the string stopped at that fret: a stand-in for a
+// modelled finger).
+//
+// Strings on one bridge (sitar-taraf: the sitar's main string and its 13 taraf strings;
+// guitar-chord: six strings), over BridgeEngine, one voice of every string: a note is played on
+// the highest string whose open note is at most the note and whose frets reach it (the sitar's
+// strings have none: each string is the key of its own open note), the finger put down behind
+// the fret first; note-off lifts that finger (an open string rings on: the bridge voice has no
+// mute, see realtime/BridgeEngine.hpp). Its one control is the pluck position.
 //
 // The work of a block is bounded whatever the host sends: at most kVoices voices sound at once
 // (a note beyond them takes the voice released longest ago, or else the one held longest,
@@ -27,6 +36,8 @@
 
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
+#include "fretbuzz/realtime/BridgeEngine.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
@@ -51,6 +62,52 @@ struct Control {
 // The ranges the .ttl declares: values outside are clamped, with a warning.
 constexpr std::array<Control, kPortCount> kControls = {
     {{"", 0, 0}, {"", 0, 0}, {"pluck", 0.02f, 0.98f}, {"pickup", 0.02f, 0.98f}, {"buzz", -2.0f, 0.5f}, {"damping", 0.1f, 10.0f}}};
+
+// A control's value within its range; a warning when a new raw value is out of it.
+float clamped(float raw, const Control& c, float& last, LV2_Log_Logger& logger) {
+    const float value = std::isnan(raw) ? c.low : std::clamp(raw, c.low, c.high);
+    if (raw != last && !(std::isnan(raw) && std::isnan(last)) && value != raw)
+        lv2_log_warning(&logger, "fretbuzz: %s = %g is out of range [%g, %g]; using %g\n", c.name, static_cast<double>(raw),
+                        static_cast<double>(c.low), static_cast<double>(c.high), static_cast<double>(value));
+    last = raw;
+    return value;
+}
+
+bool is_note_on(const uint8_t* msg) { return lv2_midi_message_type(msg) == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0; }
+bool is_note_off(const uint8_t* msg) {
+    const uint8_t status = lv2_midi_message_type(msg);
+    return !is_note_on(msg) && (status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON);
+}
+
+// One block: render(from, to) between the MIDI events that act, event(msg) at each. Of a burst
+// of note-ons that act (plays(msg)) only the block's last `most` start: the earlier ones would
+// have been taken over within the block anyway. acts(msg) says whether an event does anything.
+template <class Plays, class Acts, class Render, class Event>
+void play_block(const LV2_Atom_Sequence* midi, LV2_URID midi_event, uint32_t frames, long most, Plays&& plays,
+                Acts&& acts, Render&& render, Event&& event) {
+    long note_ons = 0;
+    LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
+        const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
+        if (ev->body.type == midi_event && ev->body.size >= 3 && is_note_on(msg) && plays(msg)) ++note_ons;
+    }
+    long skip = std::max(0L, note_ons - most);
+    uint32_t done = 0;
+    LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
+        if (ev->body.type != midi_event || ev->body.size < 3) continue;
+        const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
+        if (!plays(msg)) continue;
+        if (is_note_on(msg) && skip > 0) {
+            --skip;
+            continue;
+        }
+        if (!acts(msg)) continue;
+        const auto at = static_cast<uint32_t>(std::clamp<int64_t>(ev->time.frames, done, frames));
+        render(done, at);
+        done = at;
+        event(msg);
+    }
+    render(done, frames);
+}
 
 struct Preset {
     const char* uri;
@@ -84,17 +141,7 @@ struct Instrument {
     LV2_URID midi_event = 0;
     LV2_Log_Logger logger{};
 
-    float control(uint32_t port) {
-        const float raw = *controls[port];
-        const Control& c = kControls[port];
-        const float value = std::isnan(raw) ? c.low : std::clamp(raw, c.low, c.high);
-        if (raw != last[port] && !(std::isnan(raw) && std::isnan(last[port])) && value != raw)
-            lv2_log_warning(&logger, "fretbuzz: %s = %g is out of range [%g, %g]; using %g\n", c.name,
-                            static_cast<double>(raw), static_cast<double>(c.low), static_cast<double>(c.high),
-                            static_cast<double>(value));
-        last[port] = raw;
-        return value;
-    }
+    float control(uint32_t port) { return clamped(*controls[port], kControls[port], last[port], logger); }
 
     void sync(Voice& v, const std::array<float, kPortCount>& now) {
         Engine& e = *v.engine;
@@ -109,8 +156,6 @@ struct Instrument {
         const int fret = msg[1] - open_note;
         return fret >= 0 && fret < kFrets ? &voices[static_cast<std::size_t>(fret)] : nullptr;
     }
-
-    static bool is_note_on(const uint8_t* msg) { return lv2_midi_message_type(msg) == LV2_MIDI_MSG_NOTE_ON && msg[2] > 0; }
 
     // Room for `v` to sound: beyond kVoices, the voice released longest ago (or else the one
     // held longest) fades out.
@@ -188,45 +233,36 @@ struct Instrument {
         for (Voice& v : voices)
             if (v.active && v.fading == 0) sync(v, now);
         // Only the block's last kVoices note-ons start (see the top of this file).
-        long note_ons = 0;
-        LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
-            const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
-            if (ev->body.type == midi_event && ev->body.size >= 3 && is_note_on(msg) && voice_of(msg) != nullptr) ++note_ons;
+        play_block(
+            midi, midi_event, frames, kVoices, [this](const uint8_t* msg) { return voice_of(msg) != nullptr; },
+            [this](const uint8_t* msg) { return is_note_on(msg) || (is_note_off(msg) && voice_of(msg)->started >= 0); },
+            [this](uint32_t from, uint32_t to) { render(from, to); },
+            [&](const uint8_t* msg) {
+                if (is_note_on(msg))
+                    note_on(*voice_of(msg), msg[2], now);
+                else
+                    note_off(*voice_of(msg));
+            });
+    }
+};
+
+// What the plugins need from the host: the URID map (required: MIDI events are told apart by
+// their URID) and, if given, its log.
+struct HostFeatures {
+    LV2_URID_Map* map = nullptr;
+    LV2_Log_Log* log = nullptr;
+    explicit HostFeatures(const LV2_Feature* const* features) {
+        for (int i = 0; features != nullptr && features[i] != nullptr; ++i) {
+            if (std::strcmp(features[i]->URI, LV2_URID__map) == 0) map = static_cast<LV2_URID_Map*>(features[i]->data);
+            if (std::strcmp(features[i]->URI, LV2_LOG__log) == 0) log = static_cast<LV2_Log_Log*>(features[i]->data);
         }
-        long skip = std::max(0L, note_ons - kVoices);
-        uint32_t done = 0;
-        LV2_ATOM_SEQUENCE_FOREACH(midi, ev) {
-            if (ev->body.type != midi_event || ev->body.size < 3) continue;
-            const auto* msg = reinterpret_cast<const uint8_t*>(ev + 1);
-            Voice* v = voice_of(msg);
-            if (v == nullptr) continue;
-            const uint8_t status = lv2_midi_message_type(msg);
-            const bool on = is_note_on(msg);
-            if (on && skip > 0) {
-                --skip;
-                continue;
-            }
-            const bool off = !on && (status == LV2_MIDI_MSG_NOTE_OFF || status == LV2_MIDI_MSG_NOTE_ON);
-            if (!on && !(off && v->started >= 0)) continue;
-            const auto at = static_cast<uint32_t>(std::clamp<int64_t>(ev->time.frames, done, frames));
-            render(done, at);
-            done = at;
-            if (on)
-                note_on(*v, msg[2], now);
-            else
-                note_off(*v);
-        }
-        render(done, frames);
     }
 };
 
 LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char*, const LV2_Feature* const* features) {
-    LV2_URID_Map* map = nullptr;
-    LV2_Log_Log* log = nullptr;
-    for (int i = 0; features != nullptr && features[i] != nullptr; ++i) {
-        if (std::strcmp(features[i]->URI, LV2_URID__map) == 0) map = static_cast<LV2_URID_Map*>(features[i]->data);
-        if (std::strcmp(features[i]->URI, LV2_LOG__log) == 0) log = static_cast<LV2_Log_Log*>(features[i]->data);
-    }
+    const HostFeatures host(features);
+    LV2_URID_Map* map = host.map;
+    LV2_Log_Log* log = host.log;
     if (map == nullptr) return nullptr;  // required: MIDI events are told apart by their URID
     auto instrument = std::make_unique<Instrument>();
     lv2_log_logger_init(&instrument->logger, map, log);
@@ -260,13 +296,18 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
     return instrument.release();
 }
 
+// Ports 0 and 1, the same in every plugin: MIDI in, audio out. False for any other.
+template <class Plugin>
+bool connect_midi_and_out(Plugin& self, uint32_t port, void* data) {
+    if (port == kMidiIn) self.midi = static_cast<const LV2_Atom_Sequence*>(data);
+    if (port == kOut) self.out = static_cast<float*>(data);
+    return port == kMidiIn || port == kOut;
+}
+
 void connect_port(LV2_Handle handle, uint32_t port, void* data) {
     auto* self = static_cast<Instrument*>(handle);
-    if (port == kMidiIn)
-        self->midi = static_cast<const LV2_Atom_Sequence*>(data);
-    else if (port == kOut)
-        self->out = static_cast<float*>(data);
-    else if (port < kPortCount)
+    if (connect_midi_and_out(*self, port, data)) return;
+    if (port < kPortCount)
         self->controls[port] = static_cast<const float*>(data);
     else if (port == kLatencyPort)
         self->latency = static_cast<float*>(data);
@@ -276,13 +317,122 @@ void run(LV2_Handle handle, uint32_t frames) { static_cast<Instrument*>(handle)-
 
 void cleanup(LV2_Handle handle) { delete static_cast<Instrument*>(handle); }
 
+// Strings on one bridge, one BridgeEngine (see the top of this file).
+enum StringsPort : uint32_t { kStringsPluck = 2, kStringsLatency };  // after MIDI in and out
+constexpr Control kStringsPluckControl = {"pluck", 0.02f, 0.98f};
+constexpr std::array<Preset, 2> kStringsPresets = {{{"urn:fretbuzz:sitar-taraf", "sitar-taraf"},
+                                                    {"urn:fretbuzz:guitar-chord", "guitar-chord"}}};
+
+struct Strings {
+    std::unique_ptr<BridgeEngine> engine;
+    std::vector<int> open_note;  // per string
+    std::vector<int> playing;    // per string: the note it plays (-1: none)
+    const LV2_Atom_Sequence* midi = nullptr;
+    float* out = nullptr;
+    const float* pluck = nullptr;
+    float* latency = nullptr;
+    float latency_samples = 0.0f;
+    float last_pluck = 0.8f;  // the .ttl default
+    LV2_URID midi_event = 0;
+    LV2_Log_Logger logger{};
+
+    // The string that plays `note`: the highest whose open note is at most it and whose frets
+    // reach it; -1 if none.
+    int string_of(int note) const {
+        int best = -1;
+        for (std::size_t s = 0; s < open_note.size(); ++s) {
+            const int fret = note - open_note[s];
+            if (fret < 0 || fret > engine->fret_count(s)) continue;
+            if (best < 0 || open_note[s] > open_note[static_cast<std::size_t>(best)]) best = static_cast<int>(s);
+        }
+        return best;
+    }
+
+    void note_on(int note, int velocity, float where) {
+        const auto s = static_cast<std::size_t>(string_of(note));
+        const int fret = note - open_note[s];
+        if (engine->fret_count(s) > 0) engine->finger_down(s, fret);  // 0 lifts it
+        const double stop = engine->fret_position_m(s, fret);
+        engine->strike(s, {stop + where * (engine->length_m(s) - stop), kFullStrength * velocity / 127.0, 0.01, false});
+        playing[s] = note;
+    }
+
+    void note_off(int note) {
+        const auto s = static_cast<std::size_t>(string_of(note));
+        if (playing[s] != note) return;
+        engine->finger_up(s);
+        playing[s] = -1;
+    }
+
+    void run(uint32_t frames) {
+        if (latency != nullptr) *latency = latency_samples;
+        const float where = clamped(*pluck, kStringsPluckControl, last_pluck, logger);
+        // At most one note-on per string starts in a block.
+        play_block(
+            midi, midi_event, frames, static_cast<long>(open_note.size()), [this](const uint8_t* msg) { return string_of(msg[1]) >= 0; },
+            [](const uint8_t*) { return true; },
+            [this](uint32_t from, uint32_t to) { engine->process(std::span<float>(out + from, to - from)); },
+            [&](const uint8_t* msg) {
+                if (is_note_on(msg))
+                    note_on(msg[1], msg[2], where);
+                else if (is_note_off(msg))
+                    note_off(msg[1]);
+            });
+    }
+};
+
+LV2_Handle instantiate_strings(const LV2_Descriptor* descriptor, double rate, const char*,
+                               const LV2_Feature* const* features) {
+    const HostFeatures host(features);
+    if (host.map == nullptr) return nullptr;
+    auto strings = std::make_unique<Strings>();
+    lv2_log_logger_init(&strings->logger, host.map, host.log);
+    strings->midi_event = host.map->map(host.map->handle, LV2_MIDI__MidiEvent);
+    try {
+        const Preset* preset = nullptr;
+        for (const Preset& p : kStringsPresets)
+            if (std::strcmp(p.uri, descriptor->URI) == 0) preset = &p;
+        if (preset == nullptr) return nullptr;
+        const StringsCase sc = parse_strings_case(*read_strings_case_text(preset->case_name));
+        BridgeEngineOptions options;
+        options.engine.host_rate_hz = rate;
+        options.engine.gain_per_m = 300.0;
+        // At most 4x oversampling, as the one-string plugin (docs/performance.md, real time).
+        options.engine.max_oversampling = 4;
+        strings->engine = std::make_unique<BridgeEngine>(sc, options);
+        for (const Case& c : sc.strings) strings->open_note.push_back(open_string_note(c));
+        strings->playing.assign(sc.strings.size(), -1);
+        strings->latency_samples = static_cast<float>(std::round(strings->engine->latency_samples()));
+    } catch (const std::exception& e) {
+        lv2_log_error(&strings->logger, "fretbuzz: cannot prepare %s: %s\n", descriptor->URI, e.what());
+        return nullptr;
+    }
+    return strings.release();
+}
+
+void connect_strings(LV2_Handle handle, uint32_t port, void* data) {
+    auto* self = static_cast<Strings*>(handle);
+    if (connect_midi_and_out(*self, port, data)) return;
+    if (port == kStringsPluck) self->pluck = static_cast<const float*>(data);
+    if (port == kStringsLatency) self->latency = static_cast<float*>(data);
+}
+
+void run_strings(LV2_Handle handle, uint32_t frames) { static_cast<Strings*>(handle)->run(frames); }
+
+void cleanup_strings(LV2_Handle handle) { delete static_cast<Strings*>(handle); }
+
 const void* extension_data(const char*) { return nullptr; }
 
 constexpr LV2_Descriptor descriptor(const char* uri) {
     return {uri, instantiate, connect_port, nullptr, run, nullptr, cleanup, extension_data};
 }
-const std::array<LV2_Descriptor, kPresets.size()> kDescriptors = {
-    descriptor(kPresets[0].uri), descriptor(kPresets[1].uri), descriptor(kPresets[2].uri), descriptor(kPresets[3].uri)};
+constexpr LV2_Descriptor strings_descriptor(const char* uri) {
+    return {uri, instantiate_strings, connect_strings, nullptr, run_strings, nullptr, cleanup_strings, extension_data};
+}
+const std::array<LV2_Descriptor, kPresets.size() + kStringsPresets.size()> kDescriptors = {
+    descriptor(kPresets[0].uri),        descriptor(kPresets[1].uri),
+    descriptor(kPresets[2].uri),        descriptor(kPresets[3].uri),
+    strings_descriptor(kStringsPresets[0].uri), strings_descriptor(kStringsPresets[1].uri)};
 
 }  // namespace
 

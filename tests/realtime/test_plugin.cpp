@@ -30,6 +30,7 @@
 #include "AllocationCounter.hpp"
 #include "Pitch.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
 
 namespace {
@@ -91,7 +92,8 @@ double thread_seconds() {
 
 class PluginHost {
 public:
-    explicit PluginHost(const char* uri, double rate) : rate_(rate) {
+    // `controls` control inputs from port 2 on, then the latency output.
+    explicit PluginHost(const char* uri, double rate, uint32_t controls = 4) : rate_(rate) {
         // FRETBUZZ_TEST_LV2_PATH, if set, runs these checks against another build's bundle.
         const char* other = std::getenv("FRETBUZZ_TEST_LV2_PATH");
         setenv("LV2_PATH", (std::string(other != nullptr ? other : FRETBUZZ_LV2_PATH) + ":/usr/lib/lv2").c_str(), 1);
@@ -107,8 +109,8 @@ public:
         controls_ = {0.0f, 0.0f, 0.8f, 0.9f, 0.0f, 1.0f};
         midi_.clear();
         lilv_instance_connect_port(instance_, 0, midi_.bytes);
-        for (uint32_t p = 2; p < 6; ++p) lilv_instance_connect_port(instance_, p, &controls_[p]);
-        lilv_instance_connect_port(instance_, 6, &latency_);
+        for (uint32_t p = 2; p < 2 + controls; ++p) lilv_instance_connect_port(instance_, p, &controls_[p]);
+        lilv_instance_connect_port(instance_, 2 + controls, &latency_);
         lilv_instance_activate(instance_);
     }
     ~PluginHost() {
@@ -428,3 +430,53 @@ TEST(Lv2Plugin, HasPresetsAndUnits) {
 }
 
 }  // namespace
+
+// The strings on one bridge (BridgeEngine): a note is struck on the string that plays it (the
+// guitar's finger put down behind the fret first), the chord sounds, run() never allocates,
+// and the host is told the latency. The sitar's main string rings, its taraf take it up.
+TEST(Lv2Plugin, StringsOnABridgePlayNotesAndChords) {
+    const double rate = 48000.0;
+    {
+        PluginHost host("urn:fretbuzz:guitar-chord", rate, 1);
+        ASSERT_TRUE(host.ready());
+        const fretbuzz::StringsCase sc = fretbuzz::parse_strings_case(*fretbuzz::read_strings_case_text("guitar-chord"));
+        const int g3 = fretbuzz::open_string_note(sc.strings[3]);
+        // A3 is fret 2 of the G string (the highest string that reaches it).
+        const double expected = sc.strings[3].modes.frequency_hz.front() * std::exp2(2.0 / 12.0);
+        const long before = fretbuzz::testing::allocations();
+        std::vector<float> out;
+        host.run(4800, out);
+        host.midi().add(0, LV2_MIDI_MSG_NOTE_ON, static_cast<unsigned char>(g3 + 2), 100);
+        host.run(48000, out);
+        EXPECT_GT(host.latency(), 0.0f);
+        const double f = partial_near(out, 9600, 52800, rate, expected);
+        std::printf("guitar-chord: A3 on the G string at %.2f Hz (%+.1f cents from 2 frets above the open string)\n", f,
+                    1200.0 * std::log2(f / expected));
+        EXPECT_LT(std::abs(1200.0 * std::log2(f / expected)), 20.0);
+        // An E major chord, E2 B2 E3 G#3 B3 E4, struck together; then released.
+        for (const int note : {40, 47, 52, 56, 59, 64}) host.midi().add(0, LV2_MIDI_MSG_NOTE_ON, static_cast<unsigned char>(note), 90);
+        host.run(24000, out);
+        for (const int note : {40, 47, 52, 56, 59, 64}) host.midi().add(0, LV2_MIDI_MSG_NOTE_OFF, static_cast<unsigned char>(note), 0);
+        host.run(4800, out);
+        EXPECT_EQ(fretbuzz::testing::allocations() - before, 0);
+        for (float y : out) ASSERT_TRUE(std::isfinite(y));
+        EXPECT_GT(rms(out, 52800, 76800), 1e-4);
+    }
+    {
+        PluginHost host("urn:fretbuzz:sitar-taraf", rate, 1);
+        ASSERT_TRUE(host.ready());
+        const fretbuzz::StringsCase sc = fretbuzz::parse_strings_case(*fretbuzz::read_strings_case_text("sitar-taraf"));
+        const long before = fretbuzz::testing::allocations();
+        std::vector<float> out;
+        host.midi().add(0, LV2_MIDI_MSG_NOTE_ON, static_cast<unsigned char>(fretbuzz::open_string_note(sc.strings[0])), 110);
+        host.run(24000, out);
+        host.midi().add(0, LV2_MIDI_MSG_NOTE_ON, 20, 110);  // no string's note: nothing
+        host.run(4800, out);
+        EXPECT_EQ(fretbuzz::testing::allocations() - before, 0);
+        for (float y : out) ASSERT_TRUE(std::isfinite(y));
+        const double f1 = sc.strings[0].modes.frequency_hz.front();
+        EXPECT_GT(rms(out, 4800, 24000), 1e-4);
+        const double f = partial_near(out, 4800, 28800, rate, f1);
+        EXPECT_LT(std::abs(1200.0 * std::log2(f / f1)), 20.0) << f << " Hz, expected " << f1;
+    }
+}
