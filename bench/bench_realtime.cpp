@@ -188,6 +188,7 @@ void register_bridges() {
     const std::vector<BridgeNote> main = {{0, 0, 0.72}};  // 0.25 m from the bridge end, as the case plucks it
     // An E major chord (A and D at fret 2, G at fret 1), every string struck.
     const std::vector<BridgeNote> chord = {{0, 0, 0.8}, {1, 2, 0.8}, {2, 2, 0.8}, {3, 1, 0.8}, {4, 0, 0.8}, {5, 0, 0.8}};
+    const std::vector<BridgeNote> open = {{0, 0, 0.8}, {1, 0, 0.8}, {2, 0, 0.8}, {3, 0, 0.8}, {4, 0, 0.8}, {5, 0, 0.8}};
     const auto with = [](int max_oversampling, std::size_t max_free_modes) {
         BridgeEngineOptions o;
         o.engine.host_rate_hz = kRate;
@@ -215,6 +216,10 @@ void register_bridges() {
         {"bridge_sitar_taraf13_taraf20modes", sitar, with(8, 20), main},
         {"bridge_guitar_chord", guitar, with(8, 0), chord},
         {"bridge_guitar_chord_M4", guitar, with(4, 0), chord},
+        // The same strings struck open (no finger down): what the three fingers' pads cost.
+        {"bridge_guitar_open", guitar, with(8, 0), open},
+        // One open string alone on the bridge (the low E).
+        {"bridge_guitar_E2_only", some_strings(guitar, {0}), with(8, 0), {{0, 0, 0.8}}},
     };
     for (const auto& s : sets)
         benchmark::RegisterBenchmark((std::string(s.label) + "/engine").c_str(),

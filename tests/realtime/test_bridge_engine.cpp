@@ -196,7 +196,9 @@ TEST(BridgeEngine, CuttingTheTarafStringsModesChangesTheSoundLittle) {
         BridgeEngineOptions o;
         o.max_free_modes = cap;
         BridgeEngine e(sc, o);
-        if (cap > 0) EXPECT_EQ(e.mode_count(1), cap);
+        if (cap > 0) {
+            EXPECT_EQ(e.mode_count(1), cap);
+        }
         e.strike(0, {0.63, 0.5, 0.01, false});
         std::vector<float> block(256);
         outs.emplace_back();
