@@ -4,6 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
+#include <charconv>
 #include <sstream>
 
 #include "CaseDocument.hpp"
@@ -34,17 +35,50 @@ void retune(Case& c, double r) {
 }
 
 
-// Every key path that `set` gives, as written ("string.T", "gesture": an array replaces the
-// base's whole), with its value as TOML text.
-void list_overrides(const toml::table& set, const std::string& prefix, std::vector<std::pair<std::string, std::string>>& out) {
+// A value of `set` as TOML text, its numbers in their shortest exact form (86.74, not
+// 86.739999999999995).
+void append_value(std::string& out, const toml::node& node) {
+    if (const auto* number = node.as_floating_point()) {
+        char digits[32];
+        const auto end = std::to_chars(digits, digits + sizeof digits, number->get()).ptr;
+        out.append(digits, end);
+    } else if (const toml::table* table = node.as_table()) {
+        out += "{";
+        for (const auto& [key, value] : *table) {
+            out += (out.back() == '{' ? " " : ", ") + std::string(key.str()) + " = ";
+            append_value(out, value);
+        }
+        out += " }";
+    } else if (const toml::array* array = node.as_array()) {
+        out += "[";
+        for (std::size_t k = 0; k < array->size(); ++k) {
+            if (k > 0) out += ", ";
+            append_value(out, *array->get(k));
+        }
+        out += "]";
+    } else {
+        std::ostringstream text;
+        node.visit([&text](const auto& v) { text << v; });
+        out += text.str();
+    }
+}
+
+struct Override {
+    toml::source_position at;  // where it was written: overrides are listed in that order
+    std::string key;           // "string.T", "gesture" (an array replaces the base's whole)
+    std::string value;         // as TOML text
+};
+
+// Every key path that `set` gives, with its value.
+void list_overrides(const toml::table& set, const std::string& prefix, std::vector<Override>& out) {
     for (const auto& [key, value] : set) {
         const std::string path = prefix + std::string(key.str());
         if (const toml::table* t = value.as_table()) {
             list_overrides(*t, path + ".", out);
         } else {
-            std::ostringstream text;
-            value.visit([&text](const auto& v) { text << v; });
-            out.emplace_back(path, text.str());
+            std::string text;
+            append_value(text, value);
+            out.push_back({value.source().begin, path, text});
         }
     }
 }
@@ -65,16 +99,16 @@ void lay_over(toml::table& base, const toml::table& set) {
 // `set` as string[i].set.KEY (and the key it likely misspells beside it), any other as the
 // base case's, after the string's case key.
 std::string where_in_string(std::string message, const TomlSection& s, const std::string& case_file,
-                            const std::vector<std::pair<std::string, std::string>>& overrides) {
+                            const std::vector<Override>& overrides) {
     const auto key_at = [&message](std::size_t at, const std::string& key) {
         const std::size_t end = at + key.size();
         return message.compare(at, key.size(), key) == 0 && (at == 0 || message[at - 1] == ' ') &&
                (end == message.size() || std::string_view(" :.[=").find(message[end]) != std::string_view::npos);
     };
     const std::string set = s.key_path("set") + ".";
-    for (const auto& [key, value] : overrides) {
+    for (const Override& o : overrides) {
         for (std::size_t at = 0; at < message.size(); ++at) {
-            if (!key_at(at, key)) continue;
+            if (!key_at(at, o.key)) continue;
             message.insert(at, set);
             const std::string meant = "did you mean ";
             if (const std::size_t m = message.find(meant); m != std::string::npos) message.insert(m + meant.size(), set);
@@ -91,9 +125,12 @@ Case read_string_case(const TomlSection& s, StringsCase::StringOrigin& origin, c
     // A built-in case's name, or a one-string case file beside this one (or a built-in data path).
     const std::string text = is_builtin_case(file) ? builtin_case_text(file) : source.data.read(file, s.key_path("case"));
     if (set == nullptr) return parse_case(text, file, source.data);
-    std::vector<std::pair<std::string, std::string>> overrides;
+    std::vector<Override> overrides;
     list_overrides(*set, "", overrides);
-    for (const auto& [key, value] : overrides) origin.overrides.push_back(key + " = " + value);
+    std::stable_sort(overrides.begin(), overrides.end(), [](const Override& a, const Override& b) {
+        return a.at.line != b.at.line ? a.at.line < b.at.line : a.at.column < b.at.column;
+    });
+    for (const Override& o : overrides) origin.overrides.push_back(o.key + " = " + o.value);
     toml::table root = parse_toml_document(text, file);
     lay_over(root, *set);
     try {
@@ -202,6 +239,33 @@ StringsCase parse_strings_case(const CaseText& source) {
     for (std::size_t s = 0; s < sc.strings.size(); ++s) sc.strings[s].validate();
     sc.validate();
     return sc;
+}
+
+std::string describe_strings_case(const StringsCase& sc) {
+    std::ostringstream text;
+    text.precision(6);
+    text << "\n# As fretbuzz reads it (fretbuzz show): a bridge of " << sc.bridge.size() << " mode"
+         << (sc.bridge.size() == 1 ? "" : "s") << ", " << sc.strings.size() << " strings\n";
+    for (std::size_t b = 0; b < sc.bridge.size(); ++b) {
+        const BridgeModeSpec& m = sc.bridge[b];
+        text << "#   bridge.mode[" << b << "]: M = " << m.mass_kg << " kg, f = " << m.frequency_hz
+             << " Hz, damping ratio " << m.damping_ratio << ", participation";
+        for (std::size_t s = 0; s < m.participation.size(); ++s)
+            text << (s == 0 ? " " : ", ") << sc.string_names[s] << " " << m.participation[s];
+        text << "\n";
+    }
+    for (std::size_t s = 0; s < sc.strings.size(); ++s) {
+        const Case& c = sc.strings[s];
+        const StringsCase::StringOrigin& o = sc.origins[s];
+        text << "#   string[" << s << "] " << sc.string_names[s] << ": " << o.case_file;
+        if (o.turned) text << " turned end for end";
+        for (std::size_t k = 0; k < o.overrides.size(); ++k) text << (k == 0 ? " with " : ", ") << o.overrides[k];
+        if (o.pitch_ratio != 1.0) text << "; retuned by " << o.pitch_ratio;
+        text << "; f1 = " << c.modes.frequency_hz.front() << " Hz open";
+        for (const FingerSpec& f : c.fingers) text << ", a finger at x = " << f.position_m << " m";
+        text << (o.at_rest ? "; at rest" : "") << "\n";
+    }
+    return text.str();
 }
 
 }  // namespace fretbuzz
