@@ -496,8 +496,6 @@ void StringsCase::validate() const {
                              "\"): on no bridge (every bridge.mode's participation for it is 0)");
     }
     for (std::size_t s = 0; s < strings.size(); ++s) {
-        if (strings[s].two_polarisations())
-            throw InputError("string[" + std::to_string(s) + "].polarisation: a string on a bridge has one polarisation (z) for now");
         if (strings[s].run.sample_rate_hz != run.sample_rate_hz)
             throw InputError("string[" + std::to_string(s) + "].run.fs: strings on one bridge share one rate (" +
                              std::to_string(run.sample_rate_hz) + " Hz)");

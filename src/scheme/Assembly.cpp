@@ -28,13 +28,11 @@ void Assembly::step_on_bridge() {
     // The bridge first (the strings' pulls need only their free predictions), then each string
     // with the load of the end's w^n and w^{n-1}.
     if (!first) {
-        for (std::size_t s = 0; s < S; ++s) pulls_[s] = ends_[s].pull(strings_[s].modes(), now_[s], before_[s]);
+        for (std::size_t s = 0; s < S; ++s) pulls_[s] = ends_[s].pull(strings_[s], now_[s], before_[s]);
         bridge_->step(pulls_);
     }
     for (std::size_t s = 0; s < S; ++s) {
-        ends_[s].drive(strings_[s].gestures(), now_[s], before_[s]);
-        strings_[s].step();
-        ends_[s].keep(strings_[s].modes());
+        ends_[s].step(strings_[s], now_[s], before_[s]);
         if (!first) ends_[s].correct_damping(bridge_->end(s) - before_[s]);
     }
 }

@@ -34,25 +34,63 @@ BridgeEnd::BridgeEnd(const Plan& plan, const StringProperties& string)
         shapes_.push_back(std::move(before));
         for (std::size_t j = 0; j < n; ++j) g_loss_.push_back(g_[j] * (1.0 - prop.decay()[j]));
         loss_norm_ = kernels::dot(g_loss_.data(), g_.data(), n);
+        loss_now_ = k * kernels::dot(g_loss_.data(), shapes_[0].data(), n);
+        loss_before_ = k * kernels::dot(g_loss_.data(), shapes_[1].data(), n);
     }
 }
 
 void BridgeEnd::keep(const ModalState& modes) {
+    const bool lossy = !g_loss_.empty();
+    const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
+    double now[2] = {0.0, 0.0};
+    kernels::dot_rows(rows, lossy ? 2 : 1, modes.q().data(), g_.size(), now);  // one pass for both
     x_[0] = x_[1];
     x_[1] = x_[2];
-    x_[2] = kernels::dot(g_.data(), modes.q().data(), g_.size());
-    if (g_loss_.empty()) return;
+    x_[2] = now[0];
+    if (!lossy) return;
     y_[0] = y_[1];
     y_[1] = y_[2];
-    y_[2] = kernels::dot(g_loss_.data(), modes.q().data(), g_.size());
+    y_[2] = now[1];
 }
 
-double BridgeEnd::pull(const ModalState& modes, double w_now, double w_before) const {
-    const double* row = g_.data();
+double BridgeEnd::pull(const VibratingString& string, double w_now, double w_before) const {
     double free = 0.0;
-    modes.predict_at(&row, 1, &free);
+    if (forecast_.step == string.step_index() && forecast_.revision == string.revision()) {
+        free = forecast_.g;
+    } else {
+        const double* row = g_.data();
+        string.modes().predict_at(&row, 1, &free);
+    }
     const double load = load_now_ * w_now - load_before_ * w_before;
     return -mu_ * (free + load - 2.0 * x_[2] + x_[1]) / (dt_ * dt_);
+}
+
+void BridgeEnd::step(VibratingString& string, double w_now, double w_before) {
+    drive(string.gestures(), w_now, w_before);
+    if (!string.driven_only()) {
+        string.step();
+        keep(string.modes());
+        return;
+    }
+    // q'^{n+1} = free q'^{n+1} + the load's impulse, so g . q'^{n+1} needs no pass of its own.
+    const bool lossy = !g_loss_.empty();
+    double free[2] = {forecast_.g, forecast_.loss};
+    if (forecast_.step != string.step_index() || forecast_.revision != string.revision()) {
+        const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
+        string.modes().predict_at(rows, lossy ? 2 : 1, free);
+    }
+    const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
+    double next[2] = {0.0, 0.0};
+    string.step_driven(rows, lossy ? 2 : 1, next);
+    x_[0] = x_[1];
+    x_[1] = x_[2];
+    x_[2] = free[0] + load_now_ * w_now - load_before_ * w_before;
+    if (lossy) {
+        y_[0] = y_[1];
+        y_[1] = y_[2];
+        y_[2] = free[1] + loss_now_ * w_now - loss_before_ * w_before;
+    }
+    forecast_ = {next[0], next[1], string.step_index(), string.revision()};
 }
 
 void BridgeEnd::correct_damping(double w_step2) {

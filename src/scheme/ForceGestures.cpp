@@ -11,6 +11,8 @@ ForceGestures::ForceGestures(const Plan& plan, std::span<const std::vector<doubl
         gestures_.emplace_back(spec, plan.basis(), plan.dt(), -spec.direction * polarisation_share(spec.angle_deg, false));
     for (const std::vector<double>& shape : driven) gestures_.emplace_back(shape, plan.basis());
     load_.assign(gestures_.size(), 0.0);
+    rows_.assign(gestures_.size(), nullptr);
+    coefficients_.assign(gestures_.size(), 0.0);
     const PointContact& points = plan.point_contact();
     for (const ForceProfile& g : gestures_)
         for (std::size_t p = 0; p < points.size(); ++p)
@@ -46,6 +48,18 @@ double ForceGestures::at_point(std::size_t p) const {
 void ForceGestures::add_impulse(double k, std::span<double> impulse) const {
     for (std::size_t g = 0; g < gestures_.size(); ++g)
         if (load_[g] != 0.0) kernels::axpy(k * load_[g], gestures_[g].shape().data(), impulse.data(), impulse.size());
+}
+
+void ForceGestures::push_rows(double k, kernels::StepPass& pass) {
+    std::size_t count = 0;
+    for (std::size_t g = 0; g < gestures_.size(); ++g) {
+        if (load_[g] == 0.0) continue;
+        rows_[count] = gestures_[g].shape().data();
+        coefficients_[count++] = k * load_[g];
+    }
+    pass.push_rows = rows_.data();
+    pass.push_coefficients = coefficients_.data();
+    pass.pushes = count;
 }
 
 // A driven load's work is not counted: inside an assembly what a bridge does on its string is

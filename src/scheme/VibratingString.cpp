@@ -35,6 +35,7 @@ void VibratingString::silence() {
 }
 
 void VibratingString::restart() {
+    ++revision_;
     // What the passes formed belongs to the state before the change.
     ledger_.forget();
     pickups_.forget();
@@ -77,6 +78,19 @@ void VibratingString::step() {
     begin_step();
     solve_contacts();
     end_step();
+}
+
+void VibratingString::step_driven(const double* const* rows, std::size_t m, double* predicted) {
+    if (!driven_only()) throw std::logic_error("VibratingString::step_driven: something else acts on the string");
+    record_.loaded = false;
+    if (gestures_.load(n_)) record_.mark_loaded();
+    kernels::StepPass pass;
+    gestures_.push_rows(plan_->force_to_displacement(), pass);
+    pass.predict_rows = rows;
+    pass.predict_count = m;
+    pass.predicted = predicted;
+    run_pass(pass);
+    ++n_;
 }
 
 void VibratingString::first_step() {

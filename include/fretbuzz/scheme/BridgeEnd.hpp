@@ -21,6 +21,7 @@
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/ModalState.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/VibratingString.hpp"
 
 namespace fretbuzz {
 
@@ -34,17 +35,15 @@ public:
     std::size_t first_gesture() const { return first_gesture_; }
     double stiffness() const { return stiffness_; }
 
-    // The loads of the step n -> n + 1 from w^n and w^{n-1}.
-    template <class Gestures>
-    void drive(Gestures& gestures, double w_now, double w_before) const {
-        gestures.drive(first_gesture_, w_now);
-        if (shapes_.size() > 1) gestures.drive(first_gesture_ + 1, -w_before);
-    }
-    // After the string's step to n + 1 (and at n = 0): g . q'^{n+1} kept.
+    // The string's step n -> n + 1 with the loads of w^n and w^{n-1}; g . q'^{n+1} kept. A string
+    // that nothing else acts on (a sympathetic string) takes it as one pass over its modes, which
+    // forms the next pull's prediction too; any other steps its three phases.
+    void step(VibratingString& string, double w_now, double w_before);
+    // After the string's first step: g . q'^1 kept.
     void keep(const ModalState& modes);
-    // Before the step n -> n + 1 (modes at n, the end at w^n and w^{n-1}): the string's pull on
+    // Before the step n -> n + 1 (string at n, the end at w^n and w^{n-1}): the string's pull on
     // the bridge without its stiffness term, -mu/dt^2 g . (free q'^{n+1} + bridge load - 2 q'^n + q'^{n-1}).
-    double pull(const ModalState& modes, double w_now, double w_before) const;
+    double pull(const VibratingString& string, double w_now, double w_before) const;
     // After the step, with w^{n+1} - w^{n-1}: the modes' damping acts on q = q' - g w, not on the
     // q' the string's ledger sees; the difference is added here (J).
     void correct_damping(double w_step2);
@@ -53,6 +52,13 @@ public:
     double energy(const ModalState& modes, double modal_energy, double w_next, double w_now) const;
 
 private:
+    // The loads of the step n -> n + 1 from w^n and w^{n-1}.
+    template <class Gestures>
+    void drive(Gestures& gestures, double w_now, double w_before) const {
+        gestures.drive(first_gesture_, w_now);
+        if (shapes_.size() > 1) gestures.drive(first_gesture_ + 1, -w_before);
+    }
+
     const Plan* plan_;
     std::vector<double> g_;
     std::vector<std::vector<double>> shapes_;
@@ -60,10 +66,18 @@ private:
     std::vector<double> g_loss_;  // g_j (1 - e_j) (lossy strings)
     double mu_, dt_, stiffness_, g_norm2_;
     double load_now_ = 0.0, load_before_ = 0.0;  // g . (the bridge load's shape), per unit of w^n and w^{n-1}
+    double loss_now_ = 0.0, loss_before_ = 0.0;  // the same with g_loss
     double loss_norm_ = 0.0;                     // sum_j (1 - e_j) g_j^2
     double x_[3] = {0.0, 0.0, 0.0};              // g . q' at n - 1, n, n + 1
     double y_[3] = {0.0, 0.0, 0.0};              // g_loss . q' at n - 1, n, n + 1
     double damping_ = 0.0;
+    // g . and g_loss . (free q'^{n+1}) as the driven pass formed them, valid for the string at
+    // step `step` and revision `revision` (a restart in between makes them stale).
+    struct Forecast {
+        double g = 0.0, loss = 0.0;
+        long step = -1, revision = -1;
+    };
+    Forecast forecast_;
     mutable std::vector<double> q_, d_;
 };
 

@@ -70,6 +70,10 @@ public:
 
     // No contact can act: nothing awake, no pad held, no contact energy (a flight may start).
     bool quiet() const;
+    // Nothing can ever touch the string: no obstacle point, no exact point, no played part.
+    bool none() const {
+        return parts_.empty() && plan_->obstacle_points().empty() && plan_->point_contact().size() == 0;
+    }
     // dx (Psi^n + Psi^{n-1}) / 2 of the grid's obstacle points, plus the exact points'.
     double energy() const;
     // Points with a non-zero force in the last step and that force (N/m).

@@ -34,6 +34,9 @@ public:
     double at_point(std::size_t p) const;
     // Their modal impulse k f_g s_g added to `impulse` (k = dt^2/mu).
     void add_impulse(double k, std::span<double> impulse) const;
+    // The same impulse as rows for a pass: pass.push_rows and push_coefficients set to the loaded
+    // gestures' shapes and k f_g.
+    void push_rows(double k, kernels::StepPass& pass);
     // Around the pass that moves the modes with the loads: each loaded gesture's work (not a
     // driven load's: an assembly's balance counts the bridge's exchange as the link's energy).
     void begin_step(const ModalState& modes);
@@ -46,6 +49,8 @@ private:
     std::vector<ForceProfile> gestures_;
     std::vector<double> load_;       // f^n of each gesture in the step being taken
     std::vector<double> at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
+    std::vector<const double*> rows_;  // the pass's push rows and coefficients (push_rows)
+    std::vector<double> coefficients_;
 };
 
 }  // namespace fretbuzz

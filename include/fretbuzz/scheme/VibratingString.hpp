@@ -75,6 +75,17 @@ public:
     double work() const;
     bool played() const { return !contacts_.parts().empty() || !gestures_.empty(); }
 
+    // Nothing on the string but loads driven from outside (its bridge end): nothing can touch it,
+    // no gesture of its own, one polarisation, past its first step. Its step is then one pass over
+    // the modes (step_driven), as a sympathetic string's is.
+    bool driven_only() const { return n_ != 0 && !y_ && plan_->forces().empty() && contacts_.none(); }
+    // n -> n + 1 of a driven-only string: its driven loads pushed by rows in the pass, and
+    // predicted[r] = rows[r] . (free q^{n+2}) formed in it for r < m (m <= kernels::kMaxPassRows).
+    void step_driven(const double* const* rows, std::size_t m, double* predicted);
+    // Counts the changes of state other than steps (a strike, a damping change, a finger: every
+    // restart), so that what was formed for the next step can be known stale.
+    long revision() const { return revision_; }
+
 private:
     void first_step();
     void advance();  // the pass over the modes, the gestures' work around it where they load it
@@ -96,6 +107,7 @@ private:
     EnergyLedger ledger_;
     StepRecord record_;
     std::optional<SecondPolarisation> y_;  // empty with one polarisation (a string stays copyable)
+    long revision_ = 0;
 };
 
 // The balance's terms, read at every audited step, and the step's phases, here so that step()
