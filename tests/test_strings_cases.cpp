@@ -177,6 +177,7 @@ TEST(StringsCases, BadKeysExit2NamingTheKey) {
         {"set.gesture = [{ type = \"pluck\", position = 0.3 }]", "string[1].set.gesture[0].direction is missing"},
         {"set.string = 5", "string[1].set.string must be a table"},
         {"set = 3", "string[1].set: must be a table"},
+        {"set.run.fs = 48000", "string[1].set.run.fs: every string runs by the strings case's [run] fs"},
         {"mirror = 2", "string[1].mirror must be true or false"},
         {"mirrror = true", "unknown key string[1].mirrror: did you mean string[1].mirror?"},
     };

@@ -125,6 +125,11 @@ Case read_string_case(const TomlSection& s, StringsCase::StringOrigin& origin, c
     // A built-in case's name, or a one-string case file beside this one (or a built-in data path).
     const std::string text = is_builtin_case(file) ? builtin_case_text(file) : source.data.read(file, s.key_path("case"));
     if (set == nullptr) return parse_case(text, file, source.data);
+    // Every string steps at the strings case's rate for its run length: a string's own would be lost.
+    for (const char* key : {"fs", "duration"})
+        if (set->at_path(std::string("run.") + key))
+            throw InputError(s.key_path("set") + ".run." + key + ": every string runs by the strings case's [run] " + key +
+                             "; set it there");
     std::vector<Override> overrides;
     list_overrides(*set, "", overrides);
     std::stable_sort(overrides.begin(), overrides.end(), [](const Override& a, const Override& b) {
