@@ -32,6 +32,23 @@ void Case::make_lossless() {
     if (std::isfinite(polarisation.damping_scale)) polarisation.damping_scale = 0.0;
 }
 
+void Case::turn_end_for_end() {
+    const double length = string.length_m;
+    const auto turn = [length](double& x) { x = length - x; };
+    // The grid x_i = i L / (Nm + 1) maps onto itself in reverse order.
+    std::reverse(obstacle_height_m.begin(), obstacle_height_m.end());
+    for (PointObstacle& p : point_obstacles) turn(p.x_m);
+    // sin(j pi (L - x) / L) = -(-1)^j sin(j pi x / L): the even modes change sign.
+    for (std::vector<double>* q : {&initial_displacement, &initial_velocity})
+        for (std::size_t j = 1; j < q->size(); j += 2) (*q)[j] = -(*q)[j];
+    for (double& x : observation_points_m) turn(x);
+    for (double& x : fret_positions_m) turn(x);
+    std::reverse(fret_positions_m.begin(), fret_positions_m.end());
+    for (FingerSpec& f : fingers) turn(f.position_m);
+    for (ForceSpec& f : forces) turn(f.position_m);
+    for (PluckSpec& p : plucks) turn(p.position_m);
+}
+
 ModeTable Case::y_modes() const {
     if (polarisation.table.size() > 0) return polarisation.table;
     ModeTable y = modes;

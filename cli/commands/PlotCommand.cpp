@@ -1,6 +1,7 @@
 // `fretbuzz plot DIR`: figures (PNG, PDF or SVG) of a run (signal with zooms and energy, spectrogram,
 // energy balance, contactogram, string snapshots) and, when the run stored snapshots, an
-// animation of the string over the obstacle. The drawing is done by the embedded Python
+// animation of the string over the obstacle; of a run of strings on a bridge, each string's
+// energy and the bridge's over time. The drawing is done by the embedded Python
 // script; this command checks the input and runs it.
 #include <memory>
 #include <stdexcept>
@@ -26,6 +27,8 @@ void require_results(const fs::path& dir) {
                          ": holds a sweep (sweep.toml, the table in results.csv and results.h5), not a run's "
                          "results: plot one run of it (`fretbuzz run` its case with the run's values, --out DIR), "
                          "or read the table in Python with fretbuzz.read_table(\"" + dir.string() + "\")");
+    // A run of strings on a bridge: its strings.csv (the energy passing between the strings).
+    if (!fs::is_regular_file(dir / "results.h5", ec) && fs::is_regular_file(dir / "strings.csv", ec)) return;
     if (!fs::is_regular_file(dir / "results.h5", ec))
         throw InputError("DIR " + dir.string() + ": holds no results.h5 (write one with `fretbuzz run CASE --out " +
                          dir.string() + "`)");

@@ -150,6 +150,8 @@ int run_strings_command(const RunArguments& a, const CaseText& text) {
         std::cerr << "fretbuzz: " << run.steps << " steps in " << run.wall_seconds << " s ("
                   << run.wall_seconds / sc.run.duration_s << " s per simulated second); worst relative balance "
                   << run.worst_balance << "; outputs in " << dir.string() << "\n";
+    if (a.report) return make_report(dir, a.quiet);
+    if (!a.quiet) std::cerr << "fretbuzz: the strings' energies plotted and an HTML report: fretbuzz report " << dir.string() << "\n";
     return 0;
 }
 

@@ -164,6 +164,9 @@ struct Case {
 
     // Removes all losses (sigma_j = 0), for energy-conservation studies.
     void make_lossless();
+    // The same string seen from its other end (x -> L - x): its obstacle, frets, fingers,
+    // gestures, observation points and initial shape mirrored; its modes unchanged.
+    void turn_end_for_end();
     // Adds a finger with the default parameters just behind fret k (1-based); `key` names the
     // setting in messages ("fret", "--fret"). Throws InputError on a case without that fret.
     void add_fret_finger(std::size_t k, const std::string& key);
@@ -200,6 +203,15 @@ struct StringsCase {
     std::vector<BridgeModeSpec> bridge;
     RunSettings run;
     std::string source_text;
+    // How each string was made from the case it names (what `fretbuzz show` tells).
+    struct StringOrigin {
+        std::string case_file;               // the [[string]]'s case = "..."
+        bool turned = false;                 // mirror = true
+        bool at_rest = false;
+        double pitch_ratio = 1.0;
+        std::vector<std::string> overrides;  // "key = value", one per key of its [string.set]
+    };
+    std::vector<StringOrigin> origins;
 
     // A bound on the strings of one case (a sitar's main strings and taraf fit well within it).
     static constexpr std::size_t kMaxStrings = 24;

@@ -16,6 +16,8 @@ Writes into DIR:
   contactogram.png       x against t, coloured by the contact force (fingers' and gestures' pads marked)
   snapshots.png          string shapes over the obstacle, with the fingers and pluckers (when the run stored snapshots)
   animation.gif / .mp4   the string moving over the obstacle (when the run stored snapshots)
+or, for a run of strings on a bridge (strings.csv, no results.h5):
+  strings_energy.png     each string's energy and the bridge's over time, and the balance
 
 `fretbuzz plot DIR` runs this script with Debian's /usr/bin/python3 (numpy, matplotlib, h5py).
 """
@@ -120,11 +122,12 @@ FORMATS = ["png"]
 OPTIONS = {"zoom": None, "db_range": DB_RANGE, "max_frequency": MAX_FREQUENCY}
 
 
-def save(fig, directory, name, written):
+def save(fig, directory, name, written, description=None):
+    """Saves fig as name in every format asked for; description (text) goes into a PNG's metadata."""
     stem = os.path.splitext(name)[0]
     for form in FORMATS:
         path = os.path.join(directory, f"{stem}.{form}")
-        fig.savefig(path, dpi=110)
+        fig.savefig(path, dpi=110, metadata={"Description": description} if description and form == "png" else None)
         written.append(path)
 
 
@@ -492,6 +495,45 @@ def plot_directory(directory, animation="none", formats=("png",), quiet=True, zo
     return written
 
 
+def plot_strings(directory, formats=("png",), quiet=True):
+    """strings_energy.png of a run of strings on a bridge (strings.csv in `directory`): each
+    string's energy and the bridge's over time, on a log scale (a sympathetic string takes up
+    orders of magnitude less than the one played), and the assembly's balance. Returns the
+    paths written."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    FORMATS[:] = list(formats)
+    path = os.path.join(directory, "strings.csv")
+    with open(path) as f:
+        names = f.readline().strip().split(",")
+    data = np.atleast_2d(np.loadtxt(path, delimiter=",", skiprows=1))
+    column = {name: data[:, i] for i, name in enumerate(names)}
+    strings = [n for n in names if n not in ("t", "bridge", "balance")]
+    fig, (ax, err) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, layout="constrained",
+                                  gridspec_kw={"height_ratios": [3, 1]})
+    for k, name in enumerate(strings):
+        ax.semilogy(column["t"], np.maximum(column[name], 1e-30), label=name, color=f"C{k % 10}",
+                    ls="-" if k < 10 else "--", lw=1.0)
+    ax.semilogy(column["t"], np.maximum(column["bridge"], 1e-30), label="bridge", color="k", lw=1.4)
+    top = max(float(np.max(column[n])) for n in strings + ["bridge"])
+    ax.set_ylim(max(top * 1e-9, 1e-30), top * 3.0)
+    ax.set_ylabel("energy (J)")
+    ax.set_title("energy of each string and of the bridge: the energy passing between the strings")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    err.semilogy(column["t"], np.maximum(np.abs(column["balance"]), 1e-18), color="k", lw=0.8)
+    err.set_ylabel("|balance|")
+    err.set_xlabel("t (s)")
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    written = []
+    save(fig, directory, "strings_energy.png", written, description="curves: " + ", ".join(labels))
+    plt.close(fig)
+    if not quiet:
+        for name in written:
+            print(f"fretbuzz plot: wrote {name}", file=sys.stderr)
+    return written
+
+
 def read_csv_columns(path, np):
     """A numeric CSV written by fretbuzz (header line starting with '#'), as named columns."""
     with open(path) as f:
@@ -600,6 +642,9 @@ def main(argv):
               "(Debian: apt-get install python3-numpy python3-matplotlib python3-h5py)", file=sys.stderr)
         return 1
     matplotlib.use("Agg")
+    if not os.path.isfile(os.path.join(args.dir, "results.h5")) and os.path.isfile(os.path.join(args.dir, "strings.csv")):
+        plot_strings(args.dir, formats=args.formats or ["png"], quiet=args.quiet)
+        return 0
     if not os.path.isfile(os.path.join(args.dir, "results.h5")):
         print(f"fretbuzz plot: DIR {args.dir}: holds no results.h5", file=sys.stderr)
         return 2

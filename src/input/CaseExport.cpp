@@ -45,17 +45,46 @@ std::set<std::string> case_keys_looked_up(std::string_view toml_text, const std:
     return keys;
 }
 
-std::vector<std::filesystem::path> export_builtin_case(std::string_view name, const std::filesystem::path& dir) {
-    const std::string text = builtin_case_text(name);  // InputError listing the names
-    std::set<std::string> data_files;
-    collect_file_names(parse_toml_document(text, std::string(name) + ".toml"), data_files);
-    std::vector<std::filesystem::path> written;
-    written.push_back(dir / (std::string(name) + ".toml"));
+namespace {
+
+// Writes the built-in file `name` (a path under cases/) as DIR/name, then every built-in data
+// file its text names, each file once.
+void write_with_data(const std::filesystem::path& dir, const std::string& name, std::string_view text,
+                     std::set<std::string>& done, std::vector<std::filesystem::path>& written) {
+    if (!done.insert(name).second) return;
+    written.push_back(dir / name);
     write_file(written.back(), text);
-    for (const std::string& file : data_files) {
-        written.push_back(dir / file);
-        write_file(written.back(), *find_builtin_file(file));
+    std::set<std::string> data_files;
+    collect_file_names(parse_toml_document(text, name), data_files);
+    for (const std::string& file : data_files)
+        if (done.insert(file).second) {
+            written.push_back(dir / file);
+            write_file(written.back(), *find_builtin_file(file));
+        }
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> export_builtin_case(std::string_view name, const std::filesystem::path& dir) {
+    std::vector<std::filesystem::path> written;
+    std::set<std::string> done;
+    const std::string file = std::string(name) + ".toml";
+    const auto strings = find_builtin_file("bridges/" + file);
+    if (!strings || !parse_toml_document(*strings, file).contains("bridge")) {
+        write_with_data(dir, file, builtin_case_text(name), done, written);  // InputError listing the names
+        return written;
     }
+    // Strings on a bridge: the case as written beside each one-string case its strings name
+    // (at the paths they name them by, so the folder runs as it is) and their data files.
+    written.push_back(dir / file);
+    write_file(written.back(), *strings);
+    const toml::table root = parse_toml_document(*strings, "bridges/" + file);
+    if (const toml::array* list = root["string"].as_array())
+        for (const toml::node& s : *list) {
+            const std::string named = s.at_path("case").value_or(std::string());
+            const std::string path = is_builtin_case(named) ? named + ".toml" : named;
+            if (const auto text = find_builtin_file(path)) write_with_data(dir, path, *text, done, written);
+        }
     return written;
 }
 

@@ -43,6 +43,9 @@ constexpr Figure kFigures[] = {
                                              "coloured by the largest contact force in each output interval."},
     {"snapshots.png", "fig-snapshots", "String shapes over the obstacle at a few instants."},
     {"animation.gif", "fig-animation", "Animation of the string over the obstacle."},
+    {"strings_energy.png", "fig-strings-energy", "Strings on a bridge: the energy of each string (its contacts and its "
+                                                 "end's share with it) and of the bridge over time, the energy passing "
+                                                 "between the strings; below, the balance of the whole assembly."},
 };
 
 std::string read_binary(const fs::path& path) {
@@ -75,6 +78,11 @@ std::string format_number(double v) {
     return text;
 }
 
+void write_player(std::ostream& html, const fs::path& path, const std::string& caption) {
+    html << "<figure class=\"audio\"><figcaption>" << html_escape(caption) << "</figcaption>\n<audio controls "
+         << "preload=\"metadata\" src=\"" << data_uri(path, "audio/wav") << "\"></audio></figure>\n";
+}
+
 void write_audio_section(std::ostream& html, const fs::path& dir, const std::vector<double>& points) {
     html << "<section id=\"audio\"><h2>Listen</h2>\n";
     int players = 0;
@@ -84,13 +92,22 @@ void write_audio_section(std::ostream& html, const fs::path& dir, const std::vec
             const fs::path path = dir / names[p];
             if (!fs::is_regular_file(path)) continue;
             const char* what = signal == AudioSignal::velocity ? "Velocity (magnetic pickup)" : "Displacement";
-            html << "<figure class=\"audio\"><figcaption>" << what << " at x = " << format_number(points[p]) << " m ("
-                 << html_escape(names[p]) << ")</figcaption>\n<audio controls preload=\"metadata\" src=\""
-                 << data_uri(path, "audio/wav") << "\"></audio></figure>\n";
+            write_player(html, path, std::string(what) + " at x = " + format_number(points[p]) + " m (" + names[p] + ")");
             ++players;
         }
     }
     if (players == 0) html << "<p>No audio files in this directory.</p>\n";
+    html << "</section>\n";
+}
+
+// A run of strings on a bridge: the bridge's sound, then each string's pickup.
+void write_strings_audio_section(std::ostream& html, const fs::path& dir, const std::vector<std::string>& strings) {
+    html << "<section id=\"audio\"><h2>Listen</h2>\n";
+    if (fs::is_regular_file(dir / "bridge.wav"))
+        write_player(html, dir / "bridge.wav", "The bridge's speed: the instrument's sound (bridge.wav)");
+    for (const std::string& name : strings)
+        if (const fs::path path = dir / ("pickup_" + name + ".wav"); fs::is_regular_file(path))
+            write_player(html, path, "String " + name + " at its pickup (" + path.filename().string() + ")");
     html << "</section>\n";
 }
 
@@ -159,6 +176,9 @@ constexpr SummaryRow kSummaryRows[] = {
     {"mean_points_solved_per_step", "Contact solves per step (mean)", ""},
     {"free_flight_fraction", "Share of steps in free flight", ""},
     {"observation_points_m", "Observation points", "m"},
+    {"strings", "Strings on the bridge", ""},
+    {"bridge_modes", "Bridge modes", ""},
+    {"worst_relative_balance", "Largest balance error of the strings and bridge, relative", ""},
     {"warnings", "Warnings", ""},
 };
 
@@ -234,6 +254,10 @@ void write_provenance_section(std::ostream& html, const nlohmann::ordered_json& 
 
 void write_case_section(std::ostream& html, const fs::path& dir) {
     const fs::path results = dir / "results.h5";
+    if (const fs::path written = dir / "case.toml"; !fs::is_regular_file(results) && fs::is_regular_file(written)) {
+        html << "<section id=\"case\"><h2>Case file</h2>\n<pre>" << html_escape(read_binary(written)) << "</pre></section>\n";
+        return;
+    }
     if (!fs::is_regular_file(results)) return;
     html << "<section id=\"case\"><h2>Case file</h2>\n<pre>" << html_escape(read_case_text(results)) << "</pre></section>\n";
 }
@@ -274,7 +298,10 @@ std::string render_html_report(const fs::path& dir) {
     html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>fretbuzz: "
          << html_escape(case_name) << "</title>\n<style>" << kStyle << "</style></head>\n<body>\n<h1 id=\"title\">fretbuzz: "
          << html_escape(case_name) << "</h1>\n";
-    write_audio_section(html, dir, points);
+    if (summary.contains("strings"))
+        write_strings_audio_section(html, dir, summary["strings"].get<std::vector<std::string>>());
+    else
+        write_audio_section(html, dir, points);
     write_figures_section(html, dir);
     write_summary_section(html, summary);
     write_provenance_section(html, summary);

@@ -1,5 +1,7 @@
 #include "fretbuzz/output/StringsOutputs.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
 #include "fretbuzz/output/OutputDirectory.hpp"
@@ -29,6 +31,17 @@ std::filesystem::path write_strings_outputs(const std::filesystem::path& dir, co
     for (std::size_t s = 0; s < sc.string_names.size(); ++s)
         write_normalised_audio(out.staged("pickup_" + sc.string_names[s] + ".wav"), run.pickup_audio[s], run.audio_rate_hz);
     write_text_file(out.staged("case.toml"), sc.source_text);
+    // What report.html tabulates and how it finds each string's file.
+    const nlohmann::ordered_json summary = {{"case", sc.name},
+                                            {"fs", sc.run.sample_rate_hz},
+                                            {"duration", sc.run.duration_s},
+                                            {"steps", run.steps},
+                                            {"output_rate", run.output_rate_hz},
+                                            {"wall_seconds", run.wall_seconds},
+                                            {"strings", sc.string_names},
+                                            {"bridge_modes", sc.bridge.size()},
+                                            {"worst_relative_balance", run.worst_balance}};
+    write_text_file(out.staged("summary.json"), summary.dump(2) + "\n");
     out.commit();
     return out.path();
 }

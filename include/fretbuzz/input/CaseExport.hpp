@@ -13,7 +13,10 @@ namespace fretbuzz {
 
 // Writes built-in case `name` as DIR/NAME.toml with every built-in data file its text
 // names (at the same relative paths, e.g. DIR/data/...), ready to edit and run: the written
-// case parses to the same Case. Creates DIR; returns the paths written, the case first.
+// case parses to the same Case. A built-in strings case (cases/bridges/NAME.toml) is written as
+// it is, beside each one-string case its [[string]] tables name (at the paths they name them
+// by: DIR/sitar.toml, DIR/bridges/taraf-string.toml) with their data files: the folder runs as
+// it is. Creates DIR; returns the paths written, the case first.
 // InputError for an unknown name; std::runtime_error when a file cannot be written.
 std::vector<std::filesystem::path> export_builtin_case(std::string_view name, const std::filesystem::path& dir);
 

@@ -15,6 +15,10 @@ namespace fretbuzz {
 // [bridge] table; nothing for any other name (a one-string case).
 std::optional<CaseText> read_strings_case_text(const std::string& name_or_path);
 StringsCase parse_strings_case(const CaseText& source);
+// What `fretbuzz show` adds to a strings case's text, as TOML comments: the bridge's modes and
+// each string with the case it names, how it was changed (mirror, set keys, at rest, pitch
+// ratio) and its first partial as read.
+std::string describe_strings_case(const StringsCase& sc);
 // The built-in strings cases' names.
 std::vector<BuiltinCaseInfo> builtin_strings_cases();
 

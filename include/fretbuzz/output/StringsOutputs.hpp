@@ -1,7 +1,8 @@
 #pragma once
 // The files of a run of strings on a bridge (StringsRun), all or nothing: strings.csv (t, each
 // string's energy by its name, the bridge's, the balance), bridge.wav (the bridge's speed) and
-// one pickup_<name>.wav per string, and the case file as read.
+// one pickup_<name>.wav per string, the case file as read, and summary.json (what report.html
+// tabulates: the case, rates, steps, the strings' names, the worst balance).
 #include <filesystem>
 #include <string>
 #include <vector>
