@@ -95,22 +95,8 @@ double BridgeEngine::sample() const {
 void BridgeEngine::step_sample(Decimator& decimator) {
     for (int k = 0; k < factor_; ++k) {
         assembly_->step();
-        if (settle_at_ == assembly_->string(0).step_index()) settle();
         decimator.push(sample());
     }
-}
-
-void BridgeEngine::settle_after(long steps) {
-    settle_at_ = std::max(settle_at_, assembly_->string(0).step_index() + steps);
-}
-
-void BridgeEngine::settle() {
-    // Round-off aside, the balance has drifted from what was put in only by the bridge's
-    // missed pull of the last two steps: count it as input.
-    const double drift = ledger() - guard_.injected();
-    guard_.restart(ledger());
-    settled_ += std::abs(drift);
-    settle_at_ = -1;
 }
 
 void BridgeEngine::process(std::span<float> out) {
@@ -135,7 +121,6 @@ void BridgeEngine::render_internal(std::span<double> out) {
     const FlushDenormals ftz;
     for (double& u : out) {
         assembly_->step();
-        if (settle_at_ == assembly_->string(0).step_index()) settle();
         u = sample();
     }
 }
@@ -147,20 +132,18 @@ void BridgeEngine::change(Change&& f) {
 }
 
 void BridgeEngine::guard() {
-    if (settle_at_ >= 0 || guard_.holds(ledger(), work())) return;
+    if (guard_.holds(ledger(), work())) return;
     ++health_.resets;
     silence();
 }
 
 void BridgeEngine::silence() {
     for (std::size_t s = 0; s < hands_.size(); ++s) {
-        VibratingString& string = assembly_->string(s);
-        hands_[s].take_off(string);
-        string.silence();
+        hands_[s].take_off(assembly_->string(s));
+        assembly_->silence(s);
     }
     decimator_.reset();
     guard_.restart(ledger());
-    settle_after(2);
 }
 
 void BridgeEngine::stop() { silence(); }
@@ -176,8 +159,7 @@ void BridgeEngine::strike(std::size_t string, const Strike& s) {
     std::vector<double>& push = push_[string];
     add_strike(s, cases_[string], *plans_[string], row_[string], push, health_.clamped);
     const std::vector<double>& zero = zero_[string];
-    change([&] { assembly_->string(string).perturb(s.displacement ? push : zero, s.displacement ? zero : push); });
-    settle_after(2);
+    change([&] { assembly_->perturb(string, s.displacement ? push : zero, s.displacement ? zero : push); });
     guard_.struck(energy());
     std::fill(push.begin(), push.end(), 0.0);
 }

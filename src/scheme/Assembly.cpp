@@ -37,6 +37,16 @@ void Assembly::step_on_bridge() {
     }
 }
 
+void Assembly::perturb(std::size_t s, std::span<const double> displacement, std::span<const double> velocity) {
+    strings_[s].perturb(displacement, velocity);
+    if (bridge_) ends_[s].retake(strings_[s].modes());
+}
+
+void Assembly::silence(std::size_t s) {
+    strings_[s].silence();
+    if (bridge_) ends_[s].retake(strings_[s].modes());
+}
+
 double Assembly::string_energy(std::size_t s) const {
     const VibratingString& string = strings_[s];
     if (!bridge_) return string.energy();

@@ -53,6 +53,12 @@ void BridgeEnd::keep(const ModalState& modes) {
     y_[2] = now[1];
 }
 
+void BridgeEnd::retake(const ModalState& modes) {
+    const std::size_t n = g_.size();
+    kernels::dot_current_previous(g_.data(), modes.q().data(), modes.d().data(), n, x_[2], x_[1]);
+    if (!g_loss_.empty()) kernels::dot_current_previous(g_loss_.data(), modes.q().data(), modes.d().data(), n, y_[2], y_[1]);
+}
+
 double BridgeEnd::pull(const VibratingString& string, double w_now, double w_before) const {
     double free = 0.0;
     if (forecast_.step == string.step_index() && forecast_.revision == string.revision()) {

@@ -25,13 +25,9 @@
 //
 // The audio path (process and every event) allocates nothing and takes no lock. The guard is
 // Engine's: the assembly's H + dissipated - W (strings, their ends' links, the bridge, the
-// fingers) may not exceed the energy the events put in. A strike or a silence changes a
-// string's modal state between steps; the bridge end keeps the projections g . q' of the two
-// last steps (BridgeEnd), which the Assembly gives no way to take again, so for two steps the
-// bridge's pull misses the change (an impulse of mu g . dv on the bridge). What that puts in
-// or takes out is counted as input once the two steps are over (health().settled sums its
-// size; tests/realtime bound it); an Assembly that re-took the end's projections would make it
-// exact.
+// fingers) may not exceed the energy the events put in. A strike or a silence goes through the
+// assembly (Assembly::perturb, silence), which takes the string's bridge end anew, so the
+// balance stays exact across it.
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -82,9 +78,6 @@ public:
     // Every string at rest at once (the bridge rings out its own motion).
     void stop();
 
-    // What the settling after strikes and silences counted as input (sum of |J|).
-    double settled() const { return settled_; }
-
     std::size_t string_count() const { return cases_.size(); }
     const std::string& string_name(std::size_t s) const { return names_[s]; }
     const Case& string_case(std::size_t s) const { return cases_[s]; }
@@ -118,8 +111,6 @@ private:
     void guard();
     void silence();
     bool valid(std::size_t s);
-    void settle_after(long steps);
-    void settle();
 
     BridgeEngineOptions options_;
     int factor_ = 1;
@@ -134,8 +125,6 @@ private:
     Decimator decimator_;
     EnergyGuard guard_;
     EngineHealth health_;
-    long settle_at_ = -1;  // the step at which the pending settling is counted; -1: none
-    double settled_ = 0.0;
 };
 
 }  // namespace fretbuzz

@@ -43,6 +43,12 @@ public:
         for (VibratingString& s : strings_) s.step();
     }
 
+    // Changes of string s's state between steps (a strike: VibratingString::perturb; a silence),
+    // its end's projections of the state taken again, so that the bridge's next pull sees the
+    // change and the balance stays exact from the next step on.
+    void perturb(std::size_t s, std::span<const double> displacement, std::span<const double> velocity);
+    void silence(std::size_t s);
+
     const Bridge* bridge() const { return bridge_ ? &*bridge_ : nullptr; }
     // String s's energy H^{n-1/2} with its end's link energy (its contacts and played parts too).
     double string_energy(std::size_t s) const;

@@ -41,6 +41,9 @@ public:
     void step(VibratingString& string, double w_now, double w_before);
     // After the string's first step: g . q'^1 kept.
     void keep(const ModalState& modes);
+    // After a change of the string's state between steps (a strike, a silence): g . q'^n and
+    // g . q'^{n-1} (and the lossy part's) taken again from it.
+    void retake(const ModalState& modes);
     // Before the step n -> n + 1 (string at n, the end at w^n and w^{n-1}): the string's pull on
     // the bridge without its stiffness term, -mu/dt^2 g . (free q'^{n+1} + bridge load - 2 q'^n + q'^{n-1}).
     double pull(const VibratingString& string, double w_now, double w_before) const;
