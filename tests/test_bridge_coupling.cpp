@@ -343,6 +343,41 @@ TEST(BridgeCoupling, ASecondPolarisationRestsOnAnEndTheBridgeDoesNotMove) {
     EXPECT_GT(y_share, 0.1);  // y holds its part of the energy
 }
 
+// A string's damping changed while the assembly runs (a voice's mute): its plan takes the new
+// damping and its end's loads, which hold the modes' decay, are formed again. From the change
+// on, strings + bridge + links lose exactly their dampings again, and the driven string's one
+// pass is still its three-phase step.
+TEST(BridgeCoupling, ADampingChangedMidRunKeepsTheBalanceExact) {
+    const std::string far = "type = \"flat\"\nheight = -20e-3\nstart = 0.1\nend = 0.5";
+    const std::vector<BridgeModeSpec> bridge = {BridgeModeSpec{0.005, 300.0, 0.05, {1.0, 0.7}}};
+    Pair driven(pair_string(true), pair_string(true), 1.0, 0.0, bridge);
+    Pair general(pair_string(true), pair_string(true, far), 1.0, 0.0, bridge);
+    std::vector<double> a, b;
+    double after = 0.0, worst = 0.0;
+    for (long n = 0; n < 12000; ++n) {
+        if (n == 4000) {
+            for (Pair* p : {&driven, &general}) {
+                std::vector<double> sigma = p->c2.modes.sigma_per_s;
+                for (double& x : sigma) x = 40.0 * x + 30.0;  // a hand laid on the string
+                p->plan2.set_damping(sigma);
+                p->assembly.damping_changed(1);
+            }
+            after = driven.assembly.energy() + driven.assembly.dissipated();
+        }
+        driven.assembly.step();
+        general.assembly.step();
+        for (std::size_t j = 0; j < 8; ++j) {
+            a.push_back(driven.assembly.string(1).modes().q()[j]);
+            b.push_back(general.assembly.string(1).modes().q()[j]);
+        }
+        if (n >= 4000) worst = std::max(worst, std::abs(driven.assembly.energy() + driven.assembly.dissipated() - after) / after);
+    }
+    const double difference = testing::relative_l2(a, b);
+    std::printf("damping changed mid-run: balance after it %.3e, one pass against three phases %.3e\n", worst, difference);
+    EXPECT_LT(worst, 1e-12);
+    EXPECT_LT(difference, 1e-12);
+}
+
 // The energy a string at rest (tuned by its tension to `ratio` times the plucked string's f1)
 // takes up from a plucked one through the bridge: its largest over the run.
 double sympathetic_uptake(double ratio, double bridge_mass) {

@@ -69,10 +69,13 @@ BridgeEngine::BridgeEngine(const StringsCase& sc, const BridgeEngineOptions& opt
         pickups_.push_back(plans_[s]->basis().mode_shapes_at(x));
         plans_[s]->orient(pickups_.back());
         assembly_->string(s).pickups().observe(pickups_.back().data(), assembly_->string(s).modes());
+        base_sigma_.push_back(c.modes.sigma_per_s);
+        sigma_.push_back(c.modes.sigma_per_s);
         row_.emplace_back(c.mode_count(), 0.0);
         push_.emplace_back(c.mode_count(), 0.0);
         zero_.emplace_back(c.mode_count(), 0.0);
     }
+    muted_.assign(S, 0);
     guard_.start(ledger());
     decimator_ = Decimator(factor_, options.engine.taps_per_phase);
 }
@@ -147,6 +150,25 @@ void BridgeEngine::silence() {
 }
 
 void BridgeEngine::stop() { silence(); }
+
+void BridgeEngine::set_damping_scale(double scale) {
+    damping_scale_ = clamp_counted(scale, 0.0, 1000.0, health_.clamped);
+    for (std::size_t s = 0; s < cases_.size(); ++s) apply_damping(s);
+}
+
+void BridgeEngine::mute(std::size_t string, bool on) {
+    if (!valid(string) || (muted_[string] != 0) == on) return;
+    muted_[string] = on ? 1 : 0;
+    apply_damping(string);
+}
+
+void BridgeEngine::apply_damping(std::size_t s) {
+    voice_damping(base_sigma_[s], damping_scale_, muted_[s] != 0, sigma_[s]);
+    change([&] {
+        plans_[s]->set_damping(sigma_[s]);
+        assembly_->damping_changed(s);
+    });
+}
 
 bool BridgeEngine::valid(std::size_t s) {
     if (s < cases_.size()) return true;

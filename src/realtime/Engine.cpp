@@ -205,9 +205,13 @@ void Engine::mute(bool on) {
     apply_damping();
 }
 
+void voice_damping(std::span<const double> base, double scale, bool muted, std::span<double> sigma) {
+    for (std::size_t j = 0; j < sigma.size(); ++j)
+        sigma[j] = muted ? base[j] * scale * Engine::kMuteScale + kMuteFloor : base[j] * scale;
+}
+
 void Engine::apply_damping() {
-    for (std::size_t j = 0; j < sigma_.size(); ++j)
-        sigma_[j] = muted_ ? base_sigma_[j] * damping_scale_ * kMuteScale + kMuteFloor : base_sigma_[j] * damping_scale_;
+    voice_damping(base_sigma_, damping_scale_, muted_, sigma_);
     change([&] {
         plan_->set_damping(sigma_);
         if (flight_) flight_->update(plan_->propagator());

@@ -47,6 +47,11 @@ void Assembly::silence(std::size_t s) {
     if (bridge_) ends_[s].retake(strings_[s].modes());
 }
 
+void Assembly::damping_changed(std::size_t s) {
+    strings_[s].restart();
+    if (bridge_) ends_[s].reform(strings_[s]);
+}
+
 double Assembly::string_energy(std::size_t s) const {
     const VibratingString& string = strings_[s];
     if (!bridge_) return string.energy();

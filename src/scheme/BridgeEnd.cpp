@@ -7,7 +7,9 @@ namespace fretbuzz {
 BridgeEnd::BridgeEnd(const Plan& plan, const StringProperties& string)
     : plan_(&plan),
       g_(plan.mode_count()),
+      shapes_(2, std::vector<double>(plan.mode_count(), 0.0)),
       first_gesture_(plan.forces().size()),
+      g_loss_(plan.mode_count(), 0.0),
       mu_(plan.linear_density()),
       dt_(plan.dt()),
       stiffness_(string.tension_n / string.length_m),
@@ -19,28 +21,36 @@ BridgeEnd::BridgeEnd(const Plan& plan, const StringProperties& string)
     for (std::size_t i = 0; i < n; ++i) psi[i] = static_cast<double>(i + 1) * basis.grid_step() / basis.length();
     basis.to_modes(psi, g_);
     g_norm2_ = kernels::dot(g_.data(), g_.data(), n);
-    const ModalPropagator& prop = plan.propagator();
-    const double k = plan.force_to_displacement();
-    std::vector<double> now(n), before(n);
+    form_loads();
+}
+
+void BridgeEnd::form_loads() {
+    // In place (a damping changed while a voice plays allocates nothing).
+    const std::size_t n = g_.size();
+    const ModalPropagator& prop = plan_->propagator();
+    const double k = plan_->force_to_displacement();
+    lossy_ = !prop.lossless();
     for (std::size_t j = 0; j < n; ++j) {
-        const double loss = 1.0 - prop.decay()[j];
-        now[j] = g_[j] * (prop.beta()[j] + loss) / k;  // 2 - A = beta + 1 - e
-        before[j] = g_[j] * loss / k;
+        const double loss = lossy_ ? 1.0 - prop.decay()[j] : 0.0;
+        shapes_[0][j] = g_[j] * (prop.beta()[j] + loss) / k;  // 2 - A = beta + 1 - e
+        shapes_[1][j] = g_[j] * loss / k;
+        g_loss_[j] = g_[j] * loss;
     }
-    load_now_ = k * kernels::dot(g_.data(), now.data(), n);
-    load_before_ = k * kernels::dot(g_.data(), before.data(), n);
-    shapes_.push_back(std::move(now));
-    if (!prop.lossless()) {
-        shapes_.push_back(std::move(before));
-        for (std::size_t j = 0; j < n; ++j) g_loss_.push_back(g_[j] * (1.0 - prop.decay()[j]));
-        loss_norm_ = kernels::dot(g_loss_.data(), g_.data(), n);
-        loss_now_ = k * kernels::dot(g_loss_.data(), shapes_[0].data(), n);
-        loss_before_ = k * kernels::dot(g_loss_.data(), shapes_[1].data(), n);
-    }
+    load_now_ = k * kernels::dot(g_.data(), shapes_[0].data(), n);
+    load_before_ = k * kernels::dot(g_.data(), shapes_[1].data(), n);
+    loss_norm_ = kernels::dot(g_loss_.data(), g_.data(), n);
+    loss_now_ = k * kernels::dot(g_loss_.data(), shapes_[0].data(), n);
+    loss_before_ = k * kernels::dot(g_loss_.data(), shapes_[1].data(), n);
+}
+
+void BridgeEnd::reform(VibratingString& string) {
+    form_loads();
+    for (std::size_t i = 0; i < shapes_.size(); ++i) string.gestures().reshape_driven(first_gesture_ + i, shapes_[i]);
+    retake(string.modes());
 }
 
 void BridgeEnd::keep(const ModalState& modes) {
-    const bool lossy = !g_loss_.empty();
+    const bool lossy = lossy_;
     const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
     double now[2] = {0.0, 0.0};
     kernels::dot_rows(rows, lossy ? 2 : 1, modes.q().data(), g_.size(), now);  // one pass for both
@@ -56,7 +66,7 @@ void BridgeEnd::keep(const ModalState& modes) {
 void BridgeEnd::retake(const ModalState& modes) {
     const std::size_t n = g_.size();
     kernels::dot_current_previous(g_.data(), modes.q().data(), modes.d().data(), n, x_[2], x_[1]);
-    if (!g_loss_.empty()) kernels::dot_current_previous(g_loss_.data(), modes.q().data(), modes.d().data(), n, y_[2], y_[1]);
+    if (lossy_) kernels::dot_current_previous(g_loss_.data(), modes.q().data(), modes.d().data(), n, y_[2], y_[1]);
 }
 
 double BridgeEnd::pull(const VibratingString& string, double w_now, double w_before) const {
@@ -79,7 +89,7 @@ void BridgeEnd::step(VibratingString& string, double w_now, double w_before) {
         return;
     }
     // q'^{n+1} = free q'^{n+1} + the load's impulse, so g . q'^{n+1} needs no pass of its own.
-    const bool lossy = !g_loss_.empty();
+    const bool lossy = lossy_;
     double free[2] = {forecast_.g, forecast_.loss};
     if (forecast_.step != string.step_index() || forecast_.revision != string.revision()) {
         const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
@@ -101,7 +111,7 @@ void BridgeEnd::step(VibratingString& string, double w_now, double w_before) {
 
 void BridgeEnd::correct_damping(double w_step2) {
     // sum_j (1 - e_j) [(s_j - g_j D)^2 - s_j^2], s_j = q'^{n+1}_j - q'^{n-1}_j, D = w^{n+1} - w^{n-1}.
-    if (g_loss_.empty()) return;
+    if (!lossy_) return;
     damping_ += plan_->modal_loss_scale() * (w_step2 * w_step2 * loss_norm_ - 2.0 * w_step2 * (y_[2] - y_[0]));
 }
 

@@ -12,11 +12,19 @@ ForceGestures::ForceGestures(const Plan& plan, std::span<const std::vector<doubl
     for (const std::vector<double>& shape : driven) gestures_.emplace_back(shape, plan.basis());
     load_.assign(gestures_.size(), 0.0);
     rows_.assign(gestures_.size(), nullptr);
+    row_.assign(plan.mode_count(), 0.0);
     coefficients_.assign(gestures_.size(), 0.0);
     const PointContact& points = plan.point_contact();
     for (const ForceProfile& g : gestures_)
         for (std::size_t p = 0; p < points.size(); ++p)
             at_points_.push_back(kernels::dot(g.shape().data(), points.row(p).data(), g.shape().size()));
+}
+
+void ForceGestures::reshape_driven(std::size_t g, std::span<const double> shape) {
+    gestures_[g].reshape(shape, plan_->basis(), row_);
+    const PointContact& points = plan_->point_contact();
+    for (std::size_t p = 0; p < points.size(); ++p)
+        at_points_[g * points.size() + p] = kernels::dot(shape.data(), points.row(p).data(), shape.size());
 }
 
 bool ForceGestures::act_from(long n) const {

@@ -1,5 +1,6 @@
 #include "fretbuzz/scheme/ForceProfile.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -40,6 +41,12 @@ ForceProfile::ForceProfile(std::vector<double> shape, const ModalBasis& basis)
       on_grid_(basis.mode_count(), 0.0),
       driven_(true) {
     basis.to_grid(shape_, on_grid_);
+}
+
+void ForceProfile::reshape(std::span<const double> shape, const ModalBasis& basis, std::span<double> scratch) {
+    std::copy(shape.begin(), shape.end(), shape_.begin());
+    for (std::size_t i = 0; i < on_grid_.size(); ++i)
+        on_grid_[i] = kernels::dot(basis.row(i, scratch).data(), shape_.data(), shape_.size());
 }
 
 void ForceProfile::begin_step(std::span<const double> q, std::span<const double> d) {

@@ -137,6 +137,35 @@ TEST(BridgeEngine, AStrikeAndAStopKeepTheBalanceExact) {
     EXPECT_EQ(sitar.health().resets, 0);
 }
 
+TEST(BridgeEngine, AMutedStringFallsSilentAndTheBalanceHolds) {
+    // The guitar's A string struck, then muted: within 50 ms it holds under a thousandth of its
+    // energy, while a string left alone keeps ringing from what the bridge gave it; the damping
+    // changes are events like any other, so the ledger stays at round-off through them.
+    BridgeEngine guitar(load_strings("guitar-chord"));
+    std::vector<float> block(240);  // 5 ms
+    guitar.strike(1, {0.55, 0.5, 0.01, false});
+    for (int b = 0; b < 4; ++b) guitar.process(block);
+    const double before = guitar.assembly().string_energy(1);
+    guitar.mute(1, true);
+    EXPECT_TRUE(guitar.muted(1));
+    double worst = ledger_error(guitar);
+    for (int b = 0; b < 10; ++b) {
+        guitar.process(block);
+        worst = std::max(worst, ledger_error(guitar));
+    }
+    const double muted = guitar.assembly().string_energy(1);
+    guitar.mute(1, false);
+    guitar.set_damping_scale(0.5);
+    for (int b = 0; b < 4; ++b) {
+        guitar.process(block);
+        worst = std::max(worst, ledger_error(guitar));
+    }
+    std::printf("muted A string: %.3e J -> %.3e J in 50 ms; worst ledger error %.3e\n", before, muted, worst);
+    EXPECT_LT(muted, 1e-3 * before);
+    EXPECT_LT(worst, 1e-10);
+    EXPECT_EQ(guitar.health().resets, 0);
+}
+
 TEST(BridgeEngine, AudioPathNeverAllocates) {
     BridgeEngine guitar(load_strings("guitar-chord"));
     BridgeEngine sitar(load_strings("sitar-taraf"));
@@ -161,6 +190,10 @@ TEST(BridgeEngine, AudioPathNeverAllocates) {
         sitar.strike(0, {0.63, 0.5, 0.01, false});
         sitar.strike(4, {0.2, 0.1, 0.01, false});
         sitar.process(block);
+        sitar.mute(0, true);  // a damping change forms the bridge end's loads again, in place
+        sitar.set_damping_scale(2.0);
+        sitar.process(block);
+        sitar.mute(0, false);
         sitar.finger_down(0, 3);  // no frets: refused
         sitar.stop();
         sitar.process(block);

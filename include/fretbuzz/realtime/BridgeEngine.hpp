@@ -17,11 +17,9 @@
 // velocity is the other choice (output = bridge): the drive of the body, but through the case's
 // few bridge modes only (a mass-like, dull response above them), not a radiated sound.
 //
-// No mute: Engine's mute raises the modes' damping, which here would leave the bridge end's
-// loads (BridgeEnd forms them from the damping at set-up) out of step with the string; a
-// Finger laid on the string as a resting hand, tried instead, is a free mass pressed onto it
-// and rings with it (a 5 g finger on the sitar string at 0.9 L, pressed with 0.05 N over
-// 10 ms, left the string with two orders of magnitude more energy than it took away).
+// Damping and mute as Engine's (voice_damping), per string: the string's plan takes the new
+// damping and the assembly forms its bridge end's loads again (Assembly::damping_changed); the
+// energy the change moves is counted as input, as every event's.
 //
 // The audio path (process and every event) allocates nothing and takes no lock. The guard is
 // Engine's: the assembly's H + dissipated - W (strings, their ends' links, the bridge, the
@@ -77,6 +75,11 @@ public:
     void finger_up(std::size_t string);
     // Every string at rest at once (the bridge rings out its own motion).
     void stop();
+    // Every mode's damping times `scale` (in [0, 1000]) on every string; a muted string's
+    // times Engine::kMuteScale plus a floor (a hand laid on it), until unmuted.
+    void set_damping_scale(double scale);
+    void mute(std::size_t string, bool on);
+    bool muted(std::size_t string) const { return string < muted_.size() && muted_[string] != 0; }
 
     std::size_t string_count() const { return cases_.size(); }
     const std::string& string_name(std::size_t s) const { return names_[s]; }
@@ -111,6 +114,7 @@ private:
     void guard();
     void silence();
     bool valid(std::size_t s);
+    void apply_damping(std::size_t s);
 
     BridgeEngineOptions options_;
     int factor_ = 1;
@@ -122,6 +126,9 @@ private:
     std::vector<FretHand> hands_;  // each string's fretting hand (strings with frets)
     std::vector<std::vector<double>> pickups_;  // per string: the mode shapes at its pickup
     std::vector<std::vector<double>> row_, push_, zero_;  // per string: scratch for strikes
+    std::vector<std::vector<double>> base_sigma_, sigma_;  // per string: the case's damping, and now
+    std::vector<char> muted_;
+    double damping_scale_ = 1.0;
     Decimator decimator_;
     EnergyGuard guard_;
     EngineHealth health_;

@@ -80,6 +80,11 @@ struct EngineHealth {
 // For every other n up to 4096 a transform allocates nothing (tests/realtime checks each).
 bool sine_transform_allocates(std::size_t n);
 
+// A voice's modal damping under its damping scale and mute (Engine::set_damping_scale, mute):
+// sigma = base scale, or, muted, base scale x Engine::kMuteScale plus a floor that damps even a
+// lossless string.
+void voice_damping(std::span<const double> base, double scale, bool muted, std::span<double> sigma);
+
 class Engine {
 public:
     // The costly set-up: plans the case at the internal rate and warms every buffer.

@@ -48,6 +48,9 @@ public:
     // change and the balance stays exact from the next step on.
     void perturb(std::size_t s, std::span<const double> displacement, std::span<const double> velocity);
     void silence(std::size_t s);
+    // String s's plan changed its damping (Plan::set_damping): the string restarted and its
+    // end's loads, which hold the modes' decay, formed again. Allocates nothing.
+    void damping_changed(std::size_t s);
 
     const Bridge* bridge() const { return bridge_ ? &*bridge_ : nullptr; }
     // String s's energy H^{n-1/2} with its end's link energy (its contacts and played parts too).

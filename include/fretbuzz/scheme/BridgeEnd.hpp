@@ -44,6 +44,10 @@ public:
     // After a change of the string's state between steps (a strike, a silence): g . q'^n and
     // g . q'^{n-1} (and the lossy part's) taken again from it.
     void retake(const ModalState& modes);
+    // After the string's plan changed its damping (Plan::set_damping) and the string restarted:
+    // the loads (they hold the modes' decay) formed again, in the string's gestures too, and
+    // the projections taken anew. Allocates nothing.
+    void reform(VibratingString& string);
     // Before the step n -> n + 1 (string at n, the end at w^n and w^{n-1}): the string's pull on
     // the bridge without its stiffness term, -mu/dt^2 g . (free q'^{n+1} + bridge load - 2 q'^n + q'^{n-1}).
     double pull(const VibratingString& string, double w_now, double w_before) const;
@@ -59,14 +63,17 @@ private:
     template <class Gestures>
     void drive(Gestures& gestures, double w_now, double w_before) const {
         gestures.drive(first_gesture_, w_now);
-        if (shapes_.size() > 1) gestures.drive(first_gesture_ + 1, -w_before);
+        gestures.drive(first_gesture_ + 1, lossy_ ? -w_before : 0.0);
     }
 
     const Plan* plan_;
     std::vector<double> g_;
-    std::vector<std::vector<double>> shapes_;
+    std::vector<std::vector<double>> shapes_;  // the loads of w^n and w^{n-1} (the second 0 without losses)
     std::size_t first_gesture_;
-    std::vector<double> g_loss_;  // g_j (1 - e_j) (lossy strings)
+    void form_loads();
+
+    std::vector<double> g_loss_;  // g_j (1 - e_j) (0 without losses)
+    bool lossy_ = false;
     double mu_, dt_, stiffness_, g_norm2_;
     double load_now_ = 0.0, load_before_ = 0.0;  // g . (the bridge load's shape), per unit of w^n and w^{n-1}
     double loss_now_ = 0.0, loss_before_ = 0.0;  // the same with g_loss

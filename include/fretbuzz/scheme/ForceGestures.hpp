@@ -29,6 +29,8 @@ public:
     double load_of(std::size_t g) const { return load_[g]; }
     // Sets driven gesture g's load for the steps to come.
     void drive(std::size_t g, double load) { gestures_[g].drive(load); }
+    // Driven gesture g's shape changed (same size), with its values at the exact points.
+    void reshape_driven(std::size_t g, std::span<const double> shape);
     // The shift of the free prediction (m) the step's loads make at grid point i / exact point p.
     double at_grid(std::size_t i) const;
     double at_point(std::size_t p) const;
@@ -51,6 +53,7 @@ private:
     std::vector<double> at_points_;  // s_g . phi(x_p), gesture by gesture, point by point
     std::vector<const double*> rows_;  // the pass's push rows and coefficients (push_rows)
     std::vector<double> coefficients_;
+    std::vector<double> row_;  // scratch: one row of S (reshape_driven)
 };
 
 }  // namespace fretbuzz

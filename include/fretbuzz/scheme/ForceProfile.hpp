@@ -34,6 +34,10 @@ public:
     ForceProfile(std::vector<double> shape, const ModalBasis& basis);
 
     // f^n: the load per unit of shape at step n (0 where it does not act).
+    // A driven load's shape changed (same size), in place: its grid values row by row (scratch:
+    // one row), as a real-time voice may call it (a transform of some sizes allocates).
+    void reshape(std::span<const double> shape, const ModalBasis& basis, std::span<double> scratch);
+
     double at_step(long n) const { return driven_ ? drive_ : along_ * force_.at(static_cast<double>(n) * dt_); }
     void drive(double load) { drive_ = load; }
     bool driven() const { return driven_; }
