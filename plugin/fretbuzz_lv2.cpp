@@ -9,8 +9,9 @@
 // guitar-chord: six strings), over BridgeEngine, one voice of every string: a note is played on
 // the highest string whose open note is at most the note and whose frets reach it (the sitar's
 // strings have none: each string is the key of its own open note), the finger put down behind
-// the fret first; note-off lifts that finger (an open string rings on: the bridge voice has no
-// mute, see realtime/BridgeEngine.hpp). Its one control is the pluck position.
+// the fret first; note-off lifts that finger and mutes the string, as the one-string voices'
+// note-off does (the other strings ring on, the taraf with what the bridge gave them). Its one
+// control is the pluck position.
 //
 // The work of a block is bounded whatever the host sends: at most kVoices voices sound at once
 // (a note beyond them takes the voice released longest ago, or else the one held longest,
@@ -351,6 +352,7 @@ struct Strings {
     void note_on(int note, int velocity, float where) {
         const auto s = static_cast<std::size_t>(string_of(note));
         const int fret = note - open_note[s];
+        engine->mute(s, false);
         if (engine->fret_count(s) > 0) engine->finger_down(s, fret);  // 0 lifts it
         const double stop = engine->fret_position_m(s, fret);
         engine->strike(s, {stop + where * (engine->length_m(s) - stop), kFullStrength * velocity / 127.0, 0.01, false});
@@ -361,6 +363,7 @@ struct Strings {
         const auto s = static_cast<std::size_t>(string_of(note));
         if (playing[s] != note) return;
         engine->finger_up(s);
+        engine->mute(s, true);
         playing[s] = -1;
     }
 

@@ -461,6 +461,10 @@ TEST(Lv2Plugin, StringsOnABridgePlayNotesAndChords) {
         EXPECT_EQ(fretbuzz::testing::allocations() - before, 0);
         for (float y : out) ASSERT_TRUE(std::isfinite(y));
         EXPECT_GT(rms(out, 52800, 76800), 1e-4);
+        // Released, every string is muted: 50 ms later the chord has died away.
+        std::printf("guitar-chord: rms %.3e while held, %.3e 50 ms after the release\n", rms(out, 52800, 76800),
+                    rms(out, 79200, 81600));
+        EXPECT_LT(rms(out, 79200, 81600), 0.01 * rms(out, 52800, 76800));
     }
     {
         PluginHost host("urn:fretbuzz:sitar-taraf", rate, 1);
