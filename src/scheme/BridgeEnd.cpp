@@ -50,14 +50,13 @@ void BridgeEnd::reform(VibratingString& string) {
 }
 
 void BridgeEnd::keep(const ModalState& modes) {
-    const bool lossy = lossy_;
-    const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
+    const double* rows[2] = {g_.data(), g_loss_.data()};
     double now[2] = {0.0, 0.0};
-    kernels::dot_rows(rows, lossy ? 2 : 1, modes.q().data(), g_.size(), now);  // one pass for both
+    kernels::dot_rows(rows, lossy_ ? 2 : 1, modes.q().data(), g_.size(), now);  // one pass for both
     x_[0] = x_[1];
     x_[1] = x_[2];
     x_[2] = now[0];
-    if (!lossy) return;
+    if (!lossy_) return;
     y_[0] = y_[1];
     y_[1] = y_[2];
     y_[2] = now[1];
@@ -70,10 +69,8 @@ void BridgeEnd::retake(const ModalState& modes) {
 }
 
 double BridgeEnd::pull(const VibratingString& string, double w_now, double w_before) const {
-    double free = 0.0;
-    if (forecast_.step == string.step_index() && forecast_.revision == string.revision()) {
-        free = forecast_.g;
-    } else {
+    double free = forecast_.g;
+    if (!forecast_holds(string)) {
         const double* row = g_.data();
         string.modes().predict_at(&row, 1, &free);
     }
@@ -89,19 +86,16 @@ void BridgeEnd::step(VibratingString& string, double w_now, double w_before) {
         return;
     }
     // q'^{n+1} = free q'^{n+1} + the load's impulse, so g . q'^{n+1} needs no pass of its own.
-    const bool lossy = lossy_;
+    const double* rows[2] = {g_.data(), g_loss_.data()};
+    const std::size_t m = lossy_ ? 2 : 1;
     double free[2] = {forecast_.g, forecast_.loss};
-    if (forecast_.step != string.step_index() || forecast_.revision != string.revision()) {
-        const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
-        string.modes().predict_at(rows, lossy ? 2 : 1, free);
-    }
-    const double* rows[2] = {g_.data(), lossy ? g_loss_.data() : nullptr};
+    if (!forecast_holds(string)) string.modes().predict_at(rows, m, free);
     double next[2] = {0.0, 0.0};
-    string.step_driven(rows, lossy ? 2 : 1, next);
+    string.step_driven(rows, m, next);
     x_[0] = x_[1];
     x_[1] = x_[2];
     x_[2] = free[0] + load_now_ * w_now - load_before_ * w_before;
-    if (lossy) {
+    if (lossy_) {
         y_[0] = y_[1];
         y_[1] = y_[2];
         y_[2] = free[1] + loss_now_ * w_now - loss_before_ * w_before;

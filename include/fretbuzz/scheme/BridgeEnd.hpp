@@ -71,6 +71,9 @@ private:
     std::vector<std::vector<double>> shapes_;  // the loads of w^n and w^{n-1} (the second 0 without losses)
     std::size_t first_gesture_;
     void form_loads();
+    bool forecast_holds(const VibratingString& string) const {
+        return forecast_.step == string.step_index() && forecast_.revision == string.revision();
+    }
 
     std::vector<double> g_loss_;  // g_j (1 - e_j) (0 without losses)
     bool lossy_ = false;
