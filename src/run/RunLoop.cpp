@@ -30,10 +30,6 @@ PlanOptions with_screening(PlanOptions options, bool screen) {
     return options;
 }
 
-// The initial state along z: all of it with one polarisation, its z share with two.
-std::vector<double> along_z(const std::vector<double>& v, const Case& c) {
-    return c.two_polarisations() ? along_polarisation(v, c.polarisation.angle_deg, false) : v;
-}
 }  // namespace
 
 RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options)
@@ -45,8 +41,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
       screening_(choose_screening(c, options.plan, options.free_flight && output_stride(c) > 1)),
       plan_(c, 1.0 / c.run.sample_rate_hz, with_screening(options.plan, screening_.screen)),
       layout_(layout_of(c)),
-      stepper_(plan_, plan_.oriented(along_z(c.initial_displacement, c)),
-               plan_.oriented(along_z(c.initial_velocity, c))) {
+      stepper_(plan_, plan_.oriented(along_polarisation(c.initial_displacement, c, false)),
+               plan_.oriented(along_polarisation(c.initial_velocity, c, false))) {
     // Signals are linear in q: mirroring their coefficients mirrors them back.
     for (double x : c.observation_points_m) shapes_.push_back(plan_.oriented(plan_.basis().mode_shapes_at(x)));
     bridge_ = plan_.oriented(bridge_force_coefficients(c));
@@ -56,8 +52,8 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     u_.resize(shapes_.size());
     step_u_.resize(shapes_.size());
     if (c.two_polarisations()) {
-        stepper_.add_second_polarisation(along_polarisation(c.initial_displacement, c.polarisation.angle_deg, true),
-                                         along_polarisation(c.initial_velocity, c.polarisation.angle_deg, true));
+        stepper_.add_second_polarisation(along_polarisation(c.initial_displacement, c, true),
+                                         along_polarisation(c.initial_velocity, c, true));
         // y is never mirrored: its shapes are the plain mode shapes.
         for (double x : c.observation_points_m) shapes_y_.push_back(plan_.basis().mode_shapes_at(x));
         y_.resize(shapes_.size());

@@ -27,10 +27,8 @@ StringsRun simulate_strings(const StringsCase& sc) {
         // runs a string's mirror image (an obstacle above it) would turn the bridge over too.
         if (plans.back()->orientation() < 0.0)
             throw InputError("string " + sc.string_names[s] + ": an obstacle above the string is not supported on a bridge (put it below, as the built-in cases do)");
-        z0.push_back(c.two_polarisations() ? along_polarisation(c.initial_displacement, c.polarisation.angle_deg, false)
-                                           : c.initial_displacement);
-        v0.push_back(c.two_polarisations() ? along_polarisation(c.initial_velocity, c.polarisation.angle_deg, false)
-                                           : c.initial_velocity);
+        z0.push_back(along_polarisation(c.initial_displacement, c, false));
+        v0.push_back(along_polarisation(c.initial_velocity, c, false));
     }
     for (std::size_t s = 0; s < S; ++s) on_bridge.push_back({plans[s].get(), sc.strings[s].string, z0[s], v0[s]});
     Assembly assembly(on_bridge, sc.bridge);
@@ -39,8 +37,8 @@ StringsRun simulate_strings(const StringsCase& sc) {
     for (std::size_t s = 0; s < S; ++s) {
         const Case& c = sc.strings[s];
         if (c.two_polarisations())
-            assembly.string(s).add_second_polarisation(along_polarisation(c.initial_displacement, c.polarisation.angle_deg, true),
-                                                       along_polarisation(c.initial_velocity, c.polarisation.angle_deg, true));
+            assembly.string(s).add_second_polarisation(along_polarisation(c.initial_displacement, c, true),
+                                                       along_polarisation(c.initial_velocity, c, true));
     }
     // Each string's pickup (along z): its first observation point, read by the step's own pass.
     std::vector<std::vector<double>> rows;

@@ -241,4 +241,9 @@ std::vector<double> along_polarisation(const std::vector<double>& v, double angl
     return out;
 }
 
+std::vector<double> along_polarisation(const std::vector<double>& v, const Case& c, bool y) {
+    if (c.two_polarisations()) return along_polarisation(v, c.polarisation.angle_deg, y);
+    return y ? std::vector<double>(v.size(), 0.0) : v;
+}
+
 }  // namespace fretbuzz

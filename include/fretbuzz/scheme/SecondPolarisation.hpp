@@ -99,6 +99,8 @@ private:
 // The initial modal displacement or velocity of a case along one polarisation: cos(angle) v
 // along z, sin(angle) v along y (v itself along z with one polarisation, untouched).
 std::vector<double> along_polarisation(const std::vector<double>& v, double angle_deg, bool y);
+// The same for case c's own polarisations and angle: with one polarisation, all of v along z.
+std::vector<double> along_polarisation(const std::vector<double>& v, const Case& c, bool y);
 // cos(angle) (z) or sin(angle) (y), exact (0 or +-1) at multiples of 90 degrees.
 double polarisation_share(double angle_deg, bool y);
 
