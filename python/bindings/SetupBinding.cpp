@@ -374,9 +374,14 @@ std::vector<NoteVerdict> map_verdicts(const Instrument& instrument, const py::it
 std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                    const py::object& strings, const py::object& frets, const std::string& tolerate, bool finger,
                    unsigned jobs) {
-    const AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+    AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    return without_gil([&] { return advice_json(advise(instrument, verdicts, request)); });
+    // In the background (BackgroundRun): Ctrl-C stops the search at its next pluck.
+    BackgroundRun<int> background;
+    request.stop = [&background] { return background.stopping(); };
+    std::string json;
+    background.run([&] { json = advice_json(advise(instrument, verdicts, request)); }, [](int) {});
+    return json;
 }
 
 // What the dress is asked, checked whole before anything is played (a depth of 1e308 is
@@ -403,11 +408,13 @@ DressRequest dress_request(const Instrument& instrument, const std::string& stre
 py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                const py::object& strings, const py::object& frets, const std::string& tolerate,
                const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
-    const DressRequest request =
-        dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs);
+    DressRequest request = dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    const DressResult result =
-        without_gil([&] { return with_python_names([&] { return dress_frets(instrument, verdicts, request); }, kDressNames); });
+    BackgroundRun<int> background;  // as the advice: Ctrl-C stops the search at its next pluck
+    request.play.stop = [&background] { return background.stopping(); };
+    DressResult result;
+    background.run([&] { result = with_python_names([&] { return dress_frets(instrument, verdicts, request); }, kDressNames); },
+                   [](int) {});
     py::dict d = py::module_::import("json").attr("loads")(dress_json(result));
     py::list after;
     for (const NoteVerdict& v : result.after) after.append(verdict_dict(v));

@@ -2,10 +2,11 @@
 exports/) is a symbolic link is refused by `fretbuzz clean` and by the studio, and nothing of
 the link's target is deleted; pruning removes only the WAVs a map wrote; a map that fails on a
 full disk removes its unfinished folder at once, so the next map has the room; Ctrl-C reaches
-fretbuzz.estimate() within a fraction of a second; run() and estimate() on a daemon thread
-never abort the process at the interpreter's end; the bench's lists are bounded and each entry
-counts once; a fret or a member beyond any range, nonsense map rows and a dress depth of 1e308
-are refused naming the argument, before anything is played."""
+fretbuzz.estimate() and the advice's and dress's searches within a fraction of a second;
+run() and estimate() on a daemon thread never abort the process at the interpreter's end;
+the bench's lists are bounded and each entry counts once; a fret or a member beyond any
+range, nonsense map rows and a dress depth of 1e308 are refused naming the argument, before
+anything is played."""
 import errno
 import os
 import shutil
@@ -157,6 +158,25 @@ class SignalsAndThreadsTest(unittest.TestCase):
         self.assertNotIn("finished", out)
         self.assertIn("KeyboardInterrupt", err)
         self.assertLess(latency, 3.0, "Ctrl-C seen only when the estimate ended")
+
+    def test_ctrl_c_reaches_a_search_at_once(self):
+        # The dress's search (its probes are the advice's: NoteTrials) with its map given.
+        p = python_program("""
+        import fretbuzz
+        bench = fretbuzz.Bench('jazz-bass', strengths='medium', ensemble=3, fs=5e5, duration=0.1)
+        notes = bench.map(strings='E')
+        print("go", flush=True)
+        bench.dress(notes, strings='E', depth=0.5)
+        print("finished", flush=True)
+        """)
+        self.assertEqual(p.stdout.readline().strip(), "go")
+        time.sleep(2.0)  # the search plays its probes (about 10 s of them)
+        sent = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=300)
+        self.assertNotIn("finished", out, "the search ended within 2 s: nothing to interrupt")
+        self.assertIn("KeyboardInterrupt", err)
+        self.assertLess(time.monotonic() - sent, 3.0, "Ctrl-C seen only when the search ended")
 
     def test_a_daemon_thread_at_the_interpreters_end_does_not_abort(self):
         for work in ("fretbuzz.run('bass-pop', duration=20)", "fretbuzz.estimate(x, fs, f0=98.0)"):
