@@ -1,5 +1,6 @@
 // Nothing outside its own folders: `fretbuzz export` writes all or nothing and never through
-// a link planted in DIR; `fretbuzz clean` of a missing folder says so; no temporary file
+// a link planted in DIR; `fretbuzz clean` of a missing folder says so, and refuses a sweep's
+// runs/ that is a link; no temporary file
 // outlives the command that made it, however it is killed; a signal while `fretbuzz setup`
 // draws its page interrupts the command (exit 130 or 143, nothing committed); a strings case
 // names only case files by a stated rule and never echoes another file; an instrument's
@@ -188,6 +189,20 @@ TEST(Clean, AMissingFolderExitsTwoNamingIt) {
     EXPECT_NE(r.output.find("no-such-folder: no such folder"), std::string::npos) << r.output;
     std::ofstream(scratch.path() / "a-file") << "x";
     EXPECT_EQ(run_cli("clean " + (scratch.path() / "a-file").string()).exit_code, 2);
+}
+
+TEST(Clean, ASweepWhoseRunsFolderIsALinkIsRefusedAndNothingDeleted) {
+    ScratchDir scratch("clean-sweep-link");
+    const fs::path sweep = scratch.path() / "sweep", victim = scratch.path() / "victim";
+    fs::create_directories(sweep);
+    fs::create_directories(victim);
+    std::ofstream(sweep / "sweep.toml") << "# a sweep's folder\n";
+    std::ofstream(victim / "mine.json.tmp-4242-1") << "mine\n";  // named as a sweep's temporary file
+    fs::create_directory_symlink("../victim", sweep / "runs");
+    const auto r = run_cli("clean " + sweep.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("runs is a symbolic link"), std::string::npos) << r.output;
+    EXPECT_EQ(read_text(victim / "mine.json.tmp-4242-1"), "mine\n");
 }
 
 // --- temporary files and signals around the Python child ------------------------------
