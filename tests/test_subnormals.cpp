@@ -20,7 +20,10 @@ namespace fretbuzz {
 namespace {
 
 // Formed at run time, so the compiler cannot fold the product.
-double product(volatile double a, volatile double b) { return a * b; }
+double product(double a, double b) {
+    volatile double x = a, y = b;
+    return x * y;
+}
 
 bool flushing_supported() {
 #if defined(__x86_64__) || defined(__SSE2__) || defined(__aarch64__)
