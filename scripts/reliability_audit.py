@@ -358,9 +358,13 @@ def py_estimate_ctrlc():
 @check("4 python: run() and estimate() on a daemon thread at exit")
 def py_daemon():
     seen = []
-    for work in ("fretbuzz.run('bass-pop', duration=20)", "fretbuzz.estimate(x, fs, f0=98.0)"):
-        p = python(DECAY + f"th = threading.Thread(target=lambda: {work}, daemon=True)\nth.start()\ntime.sleep(1.5)\n"
-                           "print('alive', th.is_alive())\n")
+    # The run on its slow reference path: still stepping when the interpreter ends.
+    for work in ("fretbuzz.run('bass-pop', duration=3, screen=False, free_flight=False)",
+                 "fretbuzz.estimate(x, fs, f0=98.0)"):
+        # A slow interpreter end (4e6 objects to free): the daemon thread wakes while it ends.
+        p = python(DECAY + "junk = [{'k': i} for i in range(4 * 10**6)]\n"
+                   f"th = threading.Thread(target=lambda: {work}, daemon=True)\nth.start()\ntime.sleep(1.5)\n"
+                   "print('alive', th.is_alive())\n")
         out, err = p.communicate(timeout=120)
         expect("alive True" in out, f"{work}: ended before the interpreter did")
         expect(p.returncode == 0 and "terminate called" not in err, f"{work}: exit {p.returncode}: {err[-200:]}")
