@@ -1,6 +1,7 @@
 #include "PythonScript.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+
+#include "fretbuzz/Error.hpp"
 
 extern char** environ;
 
@@ -23,67 +26,77 @@ std::string interpreter() {
     return chosen != nullptr && *chosen != '\0' ? chosen : "/usr/bin/python3";
 }
 
-// A temporary file holding the script, removed when this goes out of scope.
-class TemporaryScript {
+// The script in an unnamed file (memfd_create): it is in no folder, so nothing can stay
+// behind whichever process is killed when. The interpreter reads it from the descriptor it
+// inherits.
+class ScriptFile {
 public:
-    explicit TemporaryScript(std::string_view text) {
-        path_ = (std::filesystem::temp_directory_path() / "fretbuzz-script-XXXXXX.py").string();
-        const int fd = ::mkstemps(path_.data(), 3);
-        if (fd < 0) throw std::runtime_error("cannot create a temporary file for the plotting script: " + std::string(std::strerror(errno)));
+    explicit ScriptFile(std::string_view text) {
+        fd_ = ::memfd_create("fretbuzz-script.py", MFD_CLOEXEC);
+        if (fd_ < 0) throw std::runtime_error("cannot hold the Python script in memory: " + std::string(std::strerror(errno)));
         std::size_t done = 0;
         while (done < text.size()) {
-            const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+            const ssize_t n = ::write(fd_, text.data() + done, text.size() - done);
+            if (n < 0 && errno == EINTR) continue;
             if (n <= 0) {
-                ::close(fd);
-                ::unlink(path_.c_str());
-                throw std::runtime_error("cannot write the plotting script to " + path_);
+                const int error = errno;
+                ::close(fd_);
+                throw std::runtime_error("cannot hold the Python script in memory: " + std::string(std::strerror(error)));
             }
             done += static_cast<std::size_t>(n);
         }
-        ::close(fd);
+        // The interpreter reads it through this same open file: from its start.
+        if (::lseek(fd_, 0, SEEK_SET) != 0) {
+            const int error = errno;
+            ::close(fd_);
+            throw std::runtime_error("cannot hold the Python script in memory: " + std::string(std::strerror(error)));
+        }
     }
-    ~TemporaryScript() { ::unlink(path_.c_str()); }
-    TemporaryScript(const TemporaryScript&) = delete;
-    TemporaryScript& operator=(const TemporaryScript&) = delete;
-    const std::string& path() const { return path_; }
+    ~ScriptFile() { ::close(fd_); }
+    ScriptFile(const ScriptFile&) = delete;
+    ScriptFile& operator=(const ScriptFile&) = delete;
+    int fd() const { return fd_; }
 
 private:
-    std::string path_;
+    int fd_ = -1;
 };
 
-// The interpreter is given this loader and the script's path: it reads the script and
-// removes its file at once (nothing stays in the temporary folder, whatever becomes of
-// either process later), then runs it as __main__ under the file's name. `-c` would put the
-// current folder first on the module path: the scripts import only the package and the
-// interpreter's own modules.
+// The interpreter is given this loader and the script's descriptor: it reads the script,
+// closes the descriptor (the script's own children do not inherit it), then runs it as
+// __main__. `-c` would put the current folder first on the module path: the scripts import
+// only the package and the interpreter's own modules.
 constexpr std::string_view kLoader =
     "import os, sys\n"
-    "path = sys.argv.pop(1)\n"
-    "with open(path, encoding='utf-8') as f:\n"
+    "fd = int(sys.argv.pop(1))\n"
+    "with open(fd, encoding='utf-8', closefd=True) as f:\n"
     "    source = f.read()\n"
-    "os.unlink(path)\n"
-    "sys.argv[0] = path\n"
+    "sys.argv[0] = 'fretbuzz-script.py'\n"
     "if sys.path and sys.path[0] == '':\n"
     "    del sys.path[0]\n"
-    "exec(compile(source, path, 'exec'), {'__name__': '__main__', '__file__': path, '__builtins__': __builtins__})\n";
+    "exec(compile(source, sys.argv[0], 'exec'), {'__name__': '__main__', '__builtins__': __builtins__})\n";
 
-// While the interpreter runs, Ctrl-C is its to handle (the terminal sends SIGINT to both:
-// this process ignores it and reports the script's own exit, 130 with its message), and a
-// SIGTERM sent to this process alone is passed on to it.
+// While the interpreter runs, Ctrl-C is its to handle (the terminal sends SIGINT to both);
+// a SIGTERM sent to this process alone is passed on to it. Either is also recorded as a stop
+// (request_stop): what the command was doing is interrupted, and a command that would commit
+// its results after the script commits nothing (exit 130 or 143).
 volatile std::sig_atomic_t child_pid = 0;
 extern "C" void forward_signal(int signal) {
+    request_stop(signal);
     if (child_pid > 0) ::kill(static_cast<pid_t>(child_pid), signal);
 }
+extern "C" void record_signal(int signal) { request_stop(signal); }
 
 class SignalsToChild {
 public:
     SignalsToChild() {
-        struct sigaction ignore {}, forward {};
-        ignore.sa_handler = SIG_IGN;
+        struct sigaction record {}, forward {};
+        record.sa_handler = record_signal;
         forward.sa_handler = forward_signal;
-        sigemptyset(&ignore.sa_mask);
+        record.sa_flags = SA_RESTART;
+        forward.sa_flags = SA_RESTART;
+        sigemptyset(&record.sa_mask);
         sigemptyset(&forward.sa_mask);
-        ::sigaction(SIGINT, &ignore, &int_);
+        ::sigaction(SIGINT, &record, &int_);
         ::sigaction(SIGTERM, &forward, &term_);
     }
     ~SignalsToChild() {
@@ -101,7 +114,7 @@ private:
 // fork and exec, with the child bound to this process: the kernel sends it SIGTERM when this
 // process ends, however it ends (SIGKILL included), so no server or plot outlives the
 // command. Returns the child's pid; throws if the interpreter cannot be started.
-pid_t start_child(const std::string& python, std::vector<char*>& argv) {
+pid_t start_child(const std::string& python, std::vector<char*>& argv, int script_fd) {
     int report[2];
     if (::pipe2(report, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start ") + python + ": " + std::strerror(errno));
     struct sigaction defaults {};
@@ -114,6 +127,7 @@ pid_t start_child(const std::string& python, std::vector<char*>& argv) {
         ::close(report[0]);
         ::prctl(PR_SET_PDEATHSIG, SIGTERM);
         if (::getppid() != parent) ::_exit(127);  // this process ended before the line above
+        ::fcntl(script_fd, F_SETFD, 0);  // the interpreter reads the script from it
         // The interpreter starts with the default actions for SIGINT and SIGTERM.
         ::sigaction(SIGINT, &defaults, nullptr);
         ::sigaction(SIGTERM, &defaults, nullptr);
@@ -144,23 +158,26 @@ pid_t start_child(const std::string& python, std::vector<char*>& argv) {
 }  // namespace
 
 int run_python_script(std::string_view script, const std::vector<std::string>& arguments) {
-    const TemporaryScript file(script);  // the loader removes it; this, should the interpreter not get that far
+    const ScriptFile file(script);
     const std::string python = interpreter();
-    std::vector<std::string> words{python, "-c", std::string(kLoader), file.path()};
+    std::vector<std::string> words{python, "-c", std::string(kLoader), std::to_string(file.fd())};
     words.insert(words.end(), arguments.begin(), arguments.end());
     std::vector<char*> argv;
     for (std::string& w : words) argv.push_back(w.data());
     argv.push_back(nullptr);
     const SignalsToChild signals;
     // No shell in between: directory names reach the script verbatim.
-    const pid_t pid = start_child(python, argv);
+    const pid_t pid = start_child(python, argv, file.fd());
     child_pid = pid;
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0) {
         if (errno != EINTR) throw std::runtime_error("waiting for " + python + " failed");
     }
-    if (WIFEXITED(status)) return WEXITSTATUS(status);
-    return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    // A script ended by Ctrl-C or SIGTERM (the signal itself, or Python's 130/143 after its
+    // KeyboardInterrupt) interrupted the command, whichever process the signal reached.
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    if (code == 128 + SIGINT || code == 128 + SIGTERM) request_stop(code - 128);
+    return code;
 }
 
 std::string package_directory() {

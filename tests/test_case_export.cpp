@@ -13,6 +13,7 @@
 #include "TestSupport.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseExport.hpp"
+#include "fretbuzz/output/CaseExportFolder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 
 namespace fretbuzz {

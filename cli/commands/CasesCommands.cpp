@@ -7,7 +7,7 @@
 
 #include "../Commands.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/input/CaseExport.hpp"
+#include "fretbuzz/output/CaseExportFolder.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StringsCaseFile.hpp"

@@ -39,6 +39,18 @@ void add_clean_command(CLI::App& app, Action& action) {
     cmd->callback([dir, keep_maps, &action] {
         action = [dir, keep_maps] {
             std::error_code ec;
+            // A missing DIR may still have the staging folder of a killed first run into it
+            // beside it; with none, a mistyped folder is said so, not passed as a success.
+            const std::filesystem::file_status status = std::filesystem::status(*dir, ec);
+            if (!std::filesystem::exists(status)) {
+                const std::size_t removed = keep_maps->empty() ? remove_stale_staging(*dir) : 0;
+                if (removed == 0)
+                    throw InputError("clean " + *dir + ": no such folder, and no staging folder of a run into it "
+                                     "(give an output directory, a sweep's folder or a study folder)");
+                std::cerr << "fretbuzz: removed " << removed << " stale staging folder" << plural(removed) << "\n";
+                return 0;
+            }
+            if (!std::filesystem::is_directory(status)) throw InputError("clean " + *dir + ": is not a folder");
             if (std::filesystem::is_regular_file(std::filesystem::path(*dir) / kStudyMark, ec)) {
                 std::vector<std::string> words{*dir};
                 if (!keep_maps->empty()) words.insert(words.end(), {"--keep-maps", *keep_maps});

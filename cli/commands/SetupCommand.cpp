@@ -286,6 +286,7 @@ int setup_command(const SetupArguments& a) {
     } catch (const std::runtime_error& e) {
         std::cerr << "fretbuzz: warning: " << e.what() << "\n";
     }
+    throw_if_stopped();  // interrupted while the page was drawn: nothing is committed (exit 130 or 143)
     if (drawn != 0)
         std::cerr << "fretbuzz: warning: buzz_map.html was not drawn (the Python package fretbuzz with Jinja2 is needed: "
                      "apt-get install python3-jinja2); the map is in buzz_map.csv and map.json, draw it later with "

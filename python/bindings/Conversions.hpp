@@ -4,6 +4,7 @@
 // silent 1.0 (True) or a dropped value.
 #include <pybind11/numpy.h>
 
+#include <algorithm>
 #include <limits>
 #include <string>
 #include <vector>
@@ -61,10 +62,51 @@ inline long long to_whole(pybind11::handle value, const std::string& name, long 
     return n.cast<long long>();
 }
 
+// At most this many entries in a list that names notes (frets, strings): an instrument has a
+// few dozen; a longer list asks for the same notes again (or is a mistake).
+inline constexpr std::size_t kMaxListEntries = 1024;
+
+// The entries of a list argument (a list, tuple or other sequence; not a str), at most
+// kMaxListEntries of them: TypeError or InputError naming `name`.
+inline std::vector<pybind11::handle> list_entries(pybind11::handle values, const std::string& name) {
+    namespace py = pybind11;
+    if (py::isinstance<py::str>(values) || py::isinstance<py::bytes>(values) || !py::isinstance<py::sequence>(values))
+        throw py::type_error(name + ": expected a list, got " + type_name(values));
+    const py::sequence sequence = py::reinterpret_borrow<py::sequence>(values);
+    if (sequence.size() > kMaxListEntries)
+        throw InputError(name + ": " + std::to_string(sequence.size()) + " entries; give each one once (at most " +
+                         std::to_string(kMaxListEntries) + ")");
+    std::vector<py::handle> entries;
+    for (py::handle item : sequence) entries.push_back(item);
+    return entries;
+}
+
+// A list of whole numbers in [low, high], each counted once, in the order first given (a
+// repeated fret asks for the same note again): TypeError or InputError naming `name`.
+inline std::vector<std::size_t> to_whole_list(pybind11::handle values, const std::string& name, long long low,
+                                              long long high) {
+    std::vector<std::size_t> out;
+    for (pybind11::handle item : list_entries(values, name)) {
+        const auto n = static_cast<std::size_t>(to_whole(item, name, low, high));
+        if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
+    }
+    return out;
+}
+
 inline std::string to_text(pybind11::handle value, const std::string& name) {
     if (!pybind11::isinstance<pybind11::str>(value))
         throw pybind11::type_error(name + ": expected a str, got " + type_name(value));
     return value.cast<std::string>();
+}
+
+// A list of str, each counted once, in the order first given (TypeError naming `name`).
+inline std::vector<std::string> to_text_list(pybind11::handle values, const std::string& name) {
+    std::vector<std::string> out;
+    for (pybind11::handle item : list_entries(values, name)) {
+        std::string text = to_text(item, name + " entry");
+        if (std::find(out.begin(), out.end(), text) == out.end()) out.push_back(std::move(text));
+    }
+    return out;
 }
 
 // Any 1-D sequence of real numbers, taken whole.

@@ -3,11 +3,13 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <csignal>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "BackgroundRun.hpp"
 #include "Bindings.hpp"
 #include "Conversions.hpp"
 #include "fretbuzz/Error.hpp"
@@ -76,11 +78,14 @@ py::dict estimate(const py::handle& signal, double rate_hz, std::optional<double
     options.partials_per_band = partials_per_band;
     options.max_partials = max_partial;
     options.whiten = whiten;
+    // On a thread of its own (BackgroundRun): Ctrl-C is seen within 0.2 s and stops the
+    // estimate at its next band; at the interpreter's end a daemon thread stops it and ends.
+    BackgroundRun<int> background;
+    options.checkpoint = [&background] {
+        if (background.stopping()) throw Interrupted(SIGINT);
+    };
     ModalEstimate e;
-    {
-        py::gil_scoped_release unlocked;
-        e = ModalEstimation(options).estimate(x, rate_hz);
-    }
+    background.run([&] { e = ModalEstimation(options).estimate(x, rate_hz); }, [](int) {});
     py::dict out;
     out["partials"] = partials_dict(e);
     out["f0_hz"] = e.f0_hz;

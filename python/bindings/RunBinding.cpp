@@ -1,13 +1,13 @@
 // fretbuzz._core.simulate: runs a validated Case, the interpreter lock released while the
 // scheme runs. Optionally writes the command line's output files (through the library's
-// RunOutputs, as `fretbuzz run --out` does) and reports progress. Ctrl-C is checked at
-// each progress report (about twice a second): it raises KeyboardInterrupt, and an output
-// directory then receives no files. The Python-level run() (python/fretbuzz/__init__.py)
+// RunOutputs, as `fretbuzz run --out` does) and reports progress. Ctrl-C is checked every
+// 0.2 s: it raises KeyboardInterrupt, and an output directory then receives no files. The Python-level run() (python/fretbuzz/__init__.py)
 // resolves names and overrides, then calls this.
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "BackgroundRun.hpp"
 #include "Bindings.hpp"
 #include "Conversions.hpp"
 #include "fretbuzz/Error.hpp"
@@ -123,18 +124,20 @@ RecordedRun simulate_case(const Case& c, const py::object& snapshots, bool scree
     RunOptions options;
     options.plan.screen_contacts = screen;
     options.free_flight = free_flight;
-    // Runs with the lock released; takes it back to look for Ctrl-C and to call `progress`.
-    // A Python exception (KeyboardInterrupt, or one the callback raises) unwinds the run.
-    options.progress = [&progress](const Progress& p) {
-        py::gil_scoped_acquire locked;
-        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        if (!progress.is_none()) progress(p);
+    // On a thread of its own (BackgroundRun): this one looks for Ctrl-C every 0.2 s and calls
+    // `progress` with each report; a Python exception (KeyboardInterrupt, or one the callback
+    // raises) stops the run at its next report, and a daemon thread at the interpreter's end
+    // stops it and ends without aborting the process.
+    BackgroundRun<Progress> background;
+    options.progress = [&background](const Progress& p) {
+        if (background.stopping()) throw Interrupted(SIGINT);
+        background.post(p);
     };
     RunSummary summary;
-    {
-        py::gil_scoped_release unlocked;
-        summary = simulate(c, observers, options);
-    }
+    background.run([&] { summary = simulate(c, observers, options); },
+                   [&progress](const Progress& p) {
+                       if (!progress.is_none()) progress(p);
+                   });
     // Every run reports its end, however short: the callback sees 100 %, and what it raises
     // then reaches the caller as it would have mid-run (and `out` receives no files).
     if (!progress.is_none())

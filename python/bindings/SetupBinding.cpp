@@ -115,16 +115,20 @@ double millimetres(py::handle value, const std::string& name) {
 
 // The library's checks are those of `fretbuzz setup`; their messages name the options as the
 // command line spells them. Here they name the arguments as Python spells them.
+using OptionNames = std::vector<std::pair<std::string, std::string>>;
+const OptionNames kSetupNames = {
+    {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
+    {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
+    {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}};
+const OptionNames kDressNames = {{"--dress-depth", "depth"}, {"--crown", "crown"}, {"--fall-away", "fall_away"}};
+
 template <class F>
-auto with_python_names(F&& f) {
+auto with_python_names(F&& f, const OptionNames& names = kSetupNames) {
     try {
         return f();
     } catch (const InputError& e) {
         std::string message = e.what();
-        for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-                 {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
-                 {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
-                 {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}})
+        for (const auto& [from, to] : names)
             for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
                 message.replace(at, from.size(), to);
         throw InputError(message);
@@ -240,12 +244,19 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
     return i;
 }
 
-MapRequest map_request(const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
-                       const std::vector<std::size_t>& frets, bool finger, unsigned jobs) {
+// The strings and frets of a call as Python gives them: lists, each entry counted once, a fret
+// a whole number of the instrument's (any Python int: 2**64 is out of range, named as such).
+std::vector<std::string> string_names(const py::handle& strings) { return to_text_list(strings, "strings"); }
+std::vector<std::size_t> fret_numbers(const Instrument& instrument, const py::handle& frets) {
+    return to_whole_list(frets, "frets", 0, static_cast<long long>(instrument.neck.fret_count));
+}
+
+MapRequest map_request(const Instrument& instrument, const std::string& strengths, const py::handle& strings,
+                       const py::handle& frets, bool finger, unsigned jobs) {
     MapRequest r;
     r.attacks = parse_attacks(strengths, instrument.attack, "strengths");
-    for (const std::string& s : strings) r.strings.push_back(instrument.string_index(s));
-    r.frets = frets;
+    for (const std::string& s : string_names(strings)) r.strings.push_back(instrument.string_index(s));
+    r.frets = fret_numbers(instrument, frets);
     r.finger = finger;
     r.jobs = jobs;
     map_notes(instrument, r);  // checked before anything runs
@@ -255,8 +266,8 @@ MapRequest map_request(const Instrument& instrument, const std::string& strength
 // play_map in the background (BackgroundRun): `progress` gets each finished note on this
 // thread; a callback that raises stops the map and its exception propagates; Ctrl-C stops it
 // with KeyboardInterrupt; `stop()` returning True stops it and returns the notes so far.
-py::list run_map(const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
-                 const std::vector<std::size_t>& frets, bool finger, unsigned jobs, const std::string& audio_dir,
+py::list run_map(const Instrument& instrument, const std::string& strengths, const py::object& strings,
+                 const py::object& frets, bool finger, unsigned jobs, const std::string& audio_dir,
                  const py::object& progress, const py::object& stop) {
     MapRequest request = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, jobs); });
     request.audio_dir = audio_dir;
@@ -275,9 +286,13 @@ py::list run_map(const Instrument& instrument, const std::string& strengths, con
     return notes;
 }
 
-py::dict record(const Instrument& instrument, const std::string& string, std::size_t fret, const std::string& strength,
-                std::size_t member, bool finger) {
+py::dict record(const Instrument& instrument, const std::string& string, const py::object& fret_given,
+                const std::string& strength, const py::object& member_given, bool finger) {
     const std::size_t s = instrument.string_index(string);
+    const auto fret = static_cast<std::size_t>(
+        to_whole(fret_given, "fret", 0, static_cast<long long>(instrument.neck.fret_count)));
+    const auto member = static_cast<std::size_t>(to_whole(
+        member_given, "member (a pluck of the ensemble)", 0, static_cast<long long>(instrument.attack.ensemble) - 1));
     const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
     const PluckOutcome o = without_gil([&] { return record_pluck(instrument, s, fret, attacks.front(), member, finger); });
@@ -306,42 +321,74 @@ py::dict record(const Instrument& instrument, const std::string& string, std::si
 }
 
 // What the advice and the dress answer for, as Python gives it (messages name the arguments).
-AdviceRequest advice_request(const Instrument& instrument, const std::string& strength,
-                             const std::vector<std::string>& strings, const std::vector<std::size_t>& frets,
-                             const std::string& tolerate, bool finger, unsigned jobs) {
+AdviceRequest advice_request(const Instrument& instrument, const std::string& strength, const py::handle& strings,
+                             const py::handle& frets, const std::string& tolerate, bool finger, unsigned jobs) {
     AdviceRequest request;
     const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
     request.attack = attacks.front();
     request.finger = finger;
     request.jobs = jobs;
-    for (const std::string& s : strings) request.strings.push_back(instrument.string_index(s));
+    for (const std::string& s : string_names(strings)) request.strings.push_back(instrument.string_index(s));
     MapRequest check;
-    check.frets = frets;
+    check.frets = fret_numbers(instrument, frets);
     check.attacks = attacks;
     with_python_names([&] { return map_notes(instrument, check); });
-    request.frets = frets;
+    request.frets = check.frets;
     if (!tolerate.empty()) request.tolerate = parse_tolerance(tolerate, instrument.neck.fret_count, "tolerate");
     return request;
 }
 
+// A map's rows as the advice and the dress take them: notes of this instrument, each row a
+// verdict the bench could have given (the searches start from what the rows say).
 std::vector<NoteVerdict> map_verdicts(const Instrument& instrument, const py::iterable& map) {
     std::vector<NoteVerdict> verdicts = verdicts_from(map);
-    for (NoteVerdict& v : verdicts) v.string = instrument.string_index(v.string_name);
+    const std::size_t frets = instrument.neck.fret_count;
+    for (std::size_t k = 0; k < verdicts.size(); ++k) {
+        NoteVerdict& v = verdicts[k];
+        const std::string at = "map row " + std::to_string(k) + ": ";
+        try {
+            v.string = instrument.string_index(v.string_name);
+        } catch (const InputError& e) {
+            throw InputError(at + e.what());
+        }
+        if (v.fret < instrument.neck.capo || v.fret > frets)
+            throw InputError(out_of_range_message(at + "fret", static_cast<double>(v.fret),
+                                                  "must be a fret of " + instrument.name + ", " +
+                                                      std::to_string(instrument.neck.capo) + " to " + std::to_string(frets)));
+        if (v.verdict != "clean" && v.verdict != "marginal" && v.verdict != "buzzes" && !v.verdict.empty())
+            throw InputError(at + "verdict = '" + v.verdict.substr(0, 40) +
+                             "': must be 'clean', 'marginal', 'buzzes' or empty (not played)");
+        if (v.buzz_fret != kNoFret && v.buzz_fret != kBoard && static_cast<std::size_t>(v.buzz_fret) > frets)
+            throw InputError(out_of_range_message(at + "buzz_fret", v.buzz_fret,
+                                                  "must be a fret of " + instrument.name + " (0 to " +
+                                                      std::to_string(frets) + "), \"board\" or None"));
+        if (!(std::isnan(v.clean_up_to) || v.clean_up_to >= 0.0))
+            throw InputError(out_of_range_message(at + "clean_up_to", v.clean_up_to, "must be >= 0 (inf: clean at every size)"));
+        if (std::isfinite(v.buzz_db) && std::abs(v.buzz_db) > 1000.0)
+            throw InputError(out_of_range_message(at + "buzz_dB", v.buzz_db, "must be in [-1000, 1000] dB (or None)"));
+    }
     return verdicts;
 }
 
 std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
-                   const std::vector<std::string>& strings, const std::vector<std::size_t>& frets,
-                   const std::string& tolerate, bool finger, unsigned jobs) {
-    const AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+                   const py::object& strings, const py::object& frets, const std::string& tolerate, bool finger,
+                   unsigned jobs) {
+    AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    return without_gil([&] { return advice_json(advise(instrument, verdicts, request)); });
+    // In the background (BackgroundRun): Ctrl-C stops the search at its next pluck.
+    BackgroundRun<int> background;
+    request.stop = [&background] { return background.stopping(); };
+    std::string json;
+    background.run([&] { json = advice_json(advise(instrument, verdicts, request)); }, [](int) {});
+    return json;
 }
 
-py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
-               const std::vector<std::string>& strings, const std::vector<std::size_t>& frets, const std::string& tolerate,
-               const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
+// What the dress is asked, checked whole before anything is played (a depth of 1e308 is
+// refused at once, not after the map).
+DressRequest dress_request(const Instrument& instrument, const std::string& strength, const py::handle& strings,
+                           const py::handle& frets, const std::string& tolerate, const py::object& depth,
+                           const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
     DressRequest request;
     request.play = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
     if (!depth.is_none()) request.max_depth_m = millimetres(depth, "depth");
@@ -349,18 +396,25 @@ py::dict dress(const Instrument& instrument, const py::iterable& map, const std:
     if (!fall_away.is_none())
         request.fall_away_from = static_cast<std::size_t>(
             to_whole(fall_away, "fall_away (the fret the fall-away starts from)", 0, 1 << 20));
+    with_python_names(
+        [&] {
+            check_dress_request(instrument, request);
+            return true;
+        },
+        kDressNames);
+    return request;
+}
+
+py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
+               const py::object& strings, const py::object& frets, const std::string& tolerate,
+               const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
+    DressRequest request = dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    const DressResult result = without_gil([&] {
-        try {
-            return dress_frets(instrument, verdicts, request);
-        } catch (const InputError& e) {
-            std::string message = e.what();
-            for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-                     {"--dress-depth", "depth"}, {"--crown", "crown"}, {"--fall-away", "fall_away"}})
-                if (message.starts_with(from)) message.replace(0, from.size(), to);
-            throw InputError(message);
-        }
-    });
+    BackgroundRun<int> background;  // as the advice: Ctrl-C stops the search at its next pluck
+    request.play.stop = [&background] { return background.stopping(); };
+    DressResult result;
+    background.run([&] { result = with_python_names([&] { return dress_frets(instrument, verdicts, request); }, kDressNames); },
+                   [](int) {});
     py::dict d = py::module_::import("json").attr("loads")(dress_json(result));
     py::list after;
     for (const NoteVerdict& v : result.after) after.append(verdict_dict(v));
@@ -437,8 +491,8 @@ void bind_setup(py::module_& m) {
     }, "The built-in instruments: {name: description}.");
     m.def("_setup_map", &run_map, py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"),
           py::arg("finger"), py::arg("jobs"), py::arg("audio_dir"), py::arg("progress"), py::arg("stop"));
-    m.def("_setup_check", [](const Instrument& instrument, const std::string& strengths, const std::vector<std::string>& strings,
-                             const std::vector<std::size_t>& frets, bool finger) {
+    m.def("_setup_check", [](const Instrument& instrument, const std::string& strengths, const py::object& strings,
+                             const py::object& frets, bool finger) {
               const MapRequest r = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, 0); });
               return map_notes(instrument, r).size() * r.attacks.size();
           },
@@ -463,6 +517,15 @@ void bind_setup(py::module_& m) {
     m.def("_setup_dress", &dress, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
           py::arg("frets"), py::arg("tolerate"), py::arg("depth"), py::arg("crown"), py::arg("fall_away"),
           py::arg("finger"), py::arg("jobs"));
+    m.def("_setup_dress_check",
+          [](const Instrument& instrument, const std::string& strength, const py::object& strings, const py::object& frets,
+             const std::string& tolerate, const py::object& depth, const py::object& crown, const py::object& fall_away,
+             bool finger) {
+              dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, 0);
+          },
+          py::arg("instrument"), py::arg("strength"), py::arg("strings"), py::arg("frets"), py::arg("tolerate"),
+          py::arg("depth"), py::arg("crown"), py::arg("fall_away"), py::arg("finger"),
+          "InputError, before anything is played, for what _setup_dress would refuse of its arguments.");
     m.def("_setup_tolerance", [](const Instrument& instrument, const std::string& text) {
               return text.empty() ? std::string() : parse_tolerance(text, instrument.neck.fret_count, "tolerate").text();
           },

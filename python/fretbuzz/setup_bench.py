@@ -342,8 +342,10 @@ class Bench:
         fall_away: first a fall-away over the frets past this one. strength, strings, frets,
         tolerate and map as advise()."""
         attack = strength or self.strengths.split(",")[-1]
+        # Every argument refused before anything is played.
+        _core._setup_dress_check(self.instrument, attack, _names(strings), _frets(frets), tolerate, depth, crown,
+                                 fall_away, self.finger)
         if map is None:
-            _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
             map = self.map(strings=strings, frets=frets, strengths=attack)
         out = _core._setup_dress(self.instrument, _records(map), attack, _names(strings), _frets(frets), tolerate,
                                  depth, crown, fall_away, self.finger, self.jobs)

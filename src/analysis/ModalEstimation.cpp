@@ -153,6 +153,7 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
     std::map<std::size_t, std::vector<EstimatedPartial>> found;
     std::size_t empty_bands = 0;
     for (std::size_t j1 = 1; j1 <= o.max_partials; j1 += o.partials_per_band) {
+        if (o.checkpoint) o.checkpoint();
         const std::size_t j2 = std::min(o.max_partials, j1 + o.partials_per_band - 1);
         const double below = j1 > 1 ? law.frequency_hz(j1) - law.frequency_hz(j1 - 1) : law.frequency_hz(1);
         const double above = law.frequency_hz(j2 + 1) - law.frequency_hz(j2);
@@ -240,6 +241,7 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
                          number_text(result.band_low_hz) + ", " + number_text(result.band_high_hz) +
                          "] Hz (check --f0 and --band)");
     for (auto& [j, p] : found) result.partials.insert(result.partials.end(), p.begin(), p.end());
+    if (o.checkpoint) o.checkpoint();
     result.rejected_poles += resolve_doublets(result.partials, DecaySpectrum(filter.spectrum(), filter.size()), rate_hz, law, o);
     if (result.partials.empty())
         throw InputError("recording: no partial of f0 = " + number_text(law.f0_hz) + " Hz confirmed by the fit of the "

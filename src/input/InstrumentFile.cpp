@@ -135,6 +135,10 @@ ReliefMeasure read_relief(Reader& r, TomlSection& s, std::size_t frets, double s
     const bool gap = s.has("gap"), curve = s.has("curve");
     if (gap && curve)
         throw InputError(s.key_path("gap") + " and " + s.key_path("curve") + " are both given: give one");
+    // fret says where the gap is measured: without the gap it says nothing (not an unknown key).
+    if (!gap && s.has("fret"))
+        throw InputError(s.key_path("fret") + " is the fret the relief gap is measured at: give " + s.key_path("gap") +
+                         " with it (e.g. gap = \"0.3 mm\")" + (curve ? ", or the curve alone" : ""));
     if (gap) {
         relief.form = ReliefMeasure::Form::gap;
         relief.gap_m = r.quantity(s, "gap", Quantity::length, mm(-2.0, 2.0, false, false));

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "CaseDocument.hpp"
+#include "CaseReference.hpp"
 #include "TomlSection.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
@@ -122,8 +123,8 @@ std::string where_in_string(std::string message, const TomlSection& s, const std
 Case read_string_case(const TomlSection& s, StringsCase::StringOrigin& origin, const toml::table* set,
                       const CaseText& source) {
     const std::string& file = origin.case_file;
-    // A built-in case's name, or a one-string case file beside this one (or a built-in data path).
-    const std::string text = is_builtin_case(file) ? builtin_case_text(file) : source.data.read(file, s.key_path("case"));
+    // A built-in case's name, or a one-string case file in this one's folder (CaseReference.hpp).
+    const std::string text = read_case_reference(file, s.key_path("case"), source.data);
     if (set == nullptr) return parse_case(text, file, source.data);
     // Every string steps at the strings case's rate for its run length: a string's own would be lost.
     for (const char* key : {"fs", "duration"})

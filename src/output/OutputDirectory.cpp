@@ -55,17 +55,17 @@ std::string shortened(const std::string& text) { return text.size() <= 64 ? text
 
 // Names are limited by the file system: a run that could not write its last file is refused
 // before it computes anything, not after (ENAMETOOLONG from deep inside a writer).
-void check_name_lengths(const std::string& given, const fs::path& dir, const NameLimits& limits) {
+void check_name_lengths(const std::string& label, const fs::path& dir, const NameLimits& limits) {
     for (const fs::path& part : dir)
         if (part.string().size() > limits.name)
-            throw InputError("--out " + shortened(given) + ": the name '" + part.string().substr(0, 32) + "...' is " +
+            throw InputError(label + ": the name '" + part.string().substr(0, 32) + "...' is " +
                              std::to_string(part.string().size()) + " bytes long; names there may have at most " +
                              std::to_string(limits.name) + " bytes");
 }
 
-void check_path_length(const std::string& given, const fs::path& path, const NameLimits& limits) {
+void check_path_length(const std::string& label, const fs::path& path, const NameLimits& limits) {
     if (path.string().size() > limits.path)
-        throw InputError("--out " + shortened(given) + ": too long: a file of the run could be " + path.string().substr(0, 32) +
+        throw InputError(label + ": too long: a file of the run could be " + path.string().substr(0, 32) +
                          "..." + path.filename().string() + ", " + std::to_string(path.string().size()) +
                          " bytes; paths there may have at most " + std::to_string(limits.path) + " bytes");
 }
@@ -194,33 +194,34 @@ std::string foreign_entry(const fs::directory_entry& e) {
     return "is a special file";
 }
 
-[[noreturn]] void refuse_entry(const std::string& given, const fs::path& entry, const std::string& why) {
-    throw InputError("--out " + given + ": " + entry.string() + " " + why +
+[[noreturn]] void refuse_entry(const std::string& label, const fs::path& entry, const std::string& why) {
+    throw InputError(label + ": " + entry.string() + " " + why +
                      "; the output directory is replaced as a whole and fretbuzz never deletes what it did not write: "
                      "move it away, or give a new folder, an empty one or an earlier output directory");
 }
 }  // namespace
 
-OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
-    if (dir.empty()) throw InputError("--out: the output directory name is empty");
-    const std::string given = shortened(dir.string());
+OutputDirectory::OutputDirectory(const fs::path& dir, const std::string& what)
+    : dir_(dir), label_(what + " " + shortened(dir.string())) {
+    if (dir.empty()) throw InputError(what + ": the output directory name is empty");
+    const std::string& given = label_;
     std::error_code ec;
     // A symbolic link stands for the folder it points to (canonical() below): that folder gets
     // the results, the link stays as it is. A link to nothing is refused, not replaced.
     const fs::file_status status = fs::status(dir_, ec);
     if (fs::is_symlink(fs::symlink_status(dir_, ec)) && !fs::exists(status))
-        throw InputError("--out " + given + ": is a symbolic link to " + fs::read_symlink(dir_, ec).string() +
+        throw InputError(given + ": is a symbolic link to " + fs::read_symlink(dir_, ec).string() +
                          ", which does not exist; create that folder or give another --out");
     if (fs::exists(status) && !fs::is_directory(status))
-        throw InputError("--out " + given + ": exists and is not a directory");
+        throw InputError(given + ": exists and is not a directory");
     const bool exists = fs::exists(status);
     target_ = exists ? fs::canonical(dir_, ec) : fs::absolute(dir_, ec).lexically_normal();
     if (!target_.has_filename()) target_ = target_.parent_path();
     if (ec || target_ == target_.root_path())
-        throw InputError("--out " + given + ": cannot be used as an output directory");
+        throw InputError(given + ": cannot be used as an output directory");
     const fs::path cwd = fs::current_path(ec);
     if (exists && !ec && (cwd == target_ || cwd.string().starts_with(target_.string() + "/")))
-        throw InputError("--out " + given +
+        throw InputError(given +
                          ": is the current directory or one of its parents; the output directory is replaced as a "
                          "whole, give a folder of its own");
 
@@ -241,7 +242,7 @@ OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     if (exists) {
         // (Unlisted, its content could not be kept: refused.)
         fs::directory_iterator entries(target_, ec);
-        if (ec) throw InputError("--out " + given + ": cannot be read (" + ec.message() + "); its content would be lost");
+        if (ec) throw InputError(given + ": cannot be read (" + ec.message() + "); its content would be lost");
         for (const fs::directory_entry& e : entries)
             if (const std::string why = foreign_entry(e); !why.empty()) refuse_entry(given, e.path(), why);
         struct stat st {};
@@ -258,13 +259,13 @@ OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     for (const fs::path& p : missing) {
         if (!fs::create_directory(p, ec) && ec) {
             discard();
-            throw InputError("--out " + given + ": cannot create the output directory (" + ec.message() + ")");
+            throw InputError(given + ": cannot create the output directory (" + ec.message() + ")");
         }
         created_.push_back(p);
     }
     if (!fs::is_directory(parent, ec)) {
         discard();
-        throw InputError("--out " + given + ": " + parent.string() + " is not a directory");
+        throw InputError(given + ": " + parent.string() + " is not a directory");
     }
 
     remove_stale_in(parent);
@@ -275,7 +276,7 @@ OutputDirectory::OutputDirectory(const fs::path& dir) : dir_(dir) {
     if (!locked || !fs::create_directory(staging_, ec) || ec) {
         const std::string reason = !locked ? system_message(errno) : ec.message();
         discard();
-        throw InputError("--out " + given + ": the output directory is not writable (" + reason + ")");
+        throw InputError(given + ": the output directory is not writable (" + reason + ")");
     }
     if (kept_) keep_owner(given);
 }
@@ -288,7 +289,7 @@ void OutputDirectory::keep_owner(const std::string& given) {
     if (!owned && ::chown(staging_.c_str(), kept_->uid, kept_->gid) != 0) {
         const int error = errno;
         discard();
-        throw InputError("--out " + given + ": belongs to user " + std::to_string(kept_->uid) + " and group " +
+        throw InputError(given + ": belongs to user " + std::to_string(kept_->uid) + " and group " +
                          std::to_string(kept_->gid) + ", which this user cannot give the folder that replaces it (" +
                          system_message(error) + "); run as its owner or give a folder of your own");
     }
@@ -315,22 +316,32 @@ void OutputDirectory::discard() noexcept {
 }
 
 fs::path OutputDirectory::staged(const std::string& name) {
-    if (name.size() > limits_.name)
-        throw InputError("--out " + shortened(dir_.string()) + ": the file name " + name.substr(0, 32) + "... is " +
-                         std::to_string(name.size()) + " bytes long; names there may have at most " +
-                         std::to_string(limits_.name) + " bytes");
-    check_path_length(shortened(dir_.string()), widest_staging_ / name, limits_);
-    check_path_length(shortened(dir_.string()), target_ / name, limits_);
-    names_.push_back(name);
-    return staging_ / name;
+    // A name with folders (bridges/taraf-string.toml) gets them inside the staging folder.
+    const fs::path relative = fs::path(name).lexically_normal();
+    if (name.empty() || relative.is_absolute() || *relative.begin() == "..")
+        throw InputError(label_ + ": " + name + " is not a name inside the output directory");
+    for (const fs::path& part : relative)
+        if (part.string().size() > limits_.name)
+            throw InputError(label_ + ": the file name " + part.string().substr(0, 32) + "... is " +
+                             std::to_string(part.string().size()) + " bytes long; names there may have at most " +
+                             std::to_string(limits_.name) + " bytes");
+    check_path_length(label_, widest_staging_ / relative, limits_);
+    check_path_length(label_, target_ / relative, limits_);
+    names_.push_back(relative.begin()->string());
+    if (relative.has_parent_path()) {
+        std::error_code ec;
+        fs::create_directories(staging_ / relative.parent_path(), ec);
+        if (ec) io_failure("create", staging_ / relative.parent_path(), ec.value());
+    }
+    return staging_ / relative;
 }
 
 void OutputDirectory::commit() {
     throw_if_stopped();
     std::error_code ec;
     // Every byte on disk before the swap: a crash afterwards cannot expose a torn file.
-    for (const fs::directory_entry& e : fs::directory_iterator(staging_))
-        if (e.is_regular_file()) fsync_path(e.path(), false);
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(staging_))
+        if (e.is_regular_file() || e.is_directory()) fsync_path(e.path(), e.is_directory());
     // Files fretbuzz never writes stay with the directory (hard links: the old set is untouched until the swap).
     if (fs::is_directory(target_, ec)) {
         const std::set<std::string> staged_names(names_.begin(), names_.end());
@@ -338,7 +349,7 @@ void OutputDirectory::commit() {
             const std::string name = e.path().filename().string();
             if (staged_names.contains(name) || is_fretbuzz_folder(name)) continue;
             // Checked again: something may have appeared since the run started.
-            if (const std::string why = foreign_entry(e); !why.empty()) refuse_entry(shortened(dir_.string()), e.path(), why);
+            if (const std::string why = foreign_entry(e); !why.empty()) refuse_entry(label_, e.path(), why);
             if (is_run_output_name(name)) continue;
             if (e.is_symlink(ec)) {
                 fs::copy_symlink(e.path(), staging_ / name, ec);

@@ -112,6 +112,15 @@ std::vector<MapNote> map_notes(const Instrument& instrument, const MapRequest& r
                                                           std::to_string(instrument.strings.size()) + " strings"));
         return request.notes;
     }
+    // A string or fret named twice is one note: each is played once.
+    const auto once = [](std::vector<std::size_t>& v) {
+        std::vector<std::size_t> kept;
+        for (std::size_t x : v)
+            if (std::find(kept.begin(), kept.end(), x) == kept.end()) kept.push_back(x);
+        v = std::move(kept);
+    };
+    once(strings);
+    once(frets);
     std::vector<MapNote> notes;
     for (std::size_t s : strings)
         for (std::size_t k : frets) notes.push_back({s, k});

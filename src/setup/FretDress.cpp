@@ -1,6 +1,7 @@
 #include "fretbuzz/setup/FretDress.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -188,8 +189,10 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
     after.attacks = {request.play.attack};
     after.finger = request.play.finger;
     after.jobs = request.play.jobs;
+    after.stop = request.play.stop;
     ++d.maps;
     d.after = play_map(d.dressed, after).notes;
+    if (request.play.stop && request.play.stop()) throw Interrupted(SIGINT);
     d.clean = std::all_of(d.after.begin(), d.after.end(), [&](const NoteVerdict& v) { return trials.passes(v); });
     // What still fails, in words (a probe may have passed it where the whole map does not).
     for (const NoteVerdict& v : d.after)

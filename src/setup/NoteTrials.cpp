@@ -1,6 +1,7 @@
 #include "NoteTrials.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -85,8 +86,10 @@ std::vector<NoteVerdict> NoteTrials::play(const Instrument& instrument, const st
     r.jobs = request_.jobs;
     r.clean_up_to = false;  // a probe asks only whether the notes pass
     r.stop_when = bad;
+    r.stop = request_.stop;
     if (maps_) ++*maps_;
     const BuzzMapResult played = play_map(instrument, r);
+    if (request_.stop && request_.stop()) throw Interrupted(SIGINT);  // a probe cut short answers nothing
     for (std::size_t i = 0; i < unknown.size(); ++i)
         for (const NoteVerdict& v : played.notes)
             if (v.string == unknown[i].string && v.fret == unknown[i].fret) {

@@ -77,11 +77,23 @@ std::size_t remove_temporaries_in(const fs::path& dir) {
     std::size_t removed = 0;
     std::error_code ec;
     for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
-        if (entry.is_regular_file(ec) && entry.path().filename().string().find(kTemporaryMark) != std::string::npos &&
-            fs::remove(entry.path(), ec))
+        if (fs::is_regular_file(entry.symlink_status(ec)) &&
+            entry.path().filename().string().find(kTemporaryMark) != std::string::npos && fs::remove(entry.path(), ec))
             ++removed;
     }
     return removed;
+}
+
+// The sweep's runs/ folder is its own: a symbolic link there is refused, never written
+// through nor cleaned.
+void refuse_linked_runs(const fs::path& dir) {
+    std::error_code ec;
+    const fs::file_status runs = fs::symlink_status(dir / "runs", ec);
+    if (fs::is_symlink(runs) || (fs::exists(runs) && !fs::is_directory(runs)))
+        throw InputError("--out " + dir.string() + ": " + (dir / "runs").string() + " is " +
+                         (fs::is_symlink(runs) ? "a symbolic link" : "not a folder") +
+                         "; a sweep keeps its runs in a folder of its own and neither follows nor deletes a link there: "
+                         "move it away, or give another folder");
 }
 
 std::string shortest(double v) { return std::isfinite(v) ? sweep_number_text(v) : std::string(); }
@@ -129,6 +141,7 @@ std::shared_ptr<SweepStore::Lock> SweepStore::lock(const fs::path& dir) {
 
 std::size_t SweepStore::remove_stale_files(const fs::path& dir) {
     const std::shared_ptr<Lock> held = lock(dir);
+    refuse_linked_runs(dir);
     return remove_temporaries_in(dir) + remove_temporaries_in(dir / "runs");
 }
 
@@ -137,6 +150,7 @@ SweepStore::SweepStore(const SweepSpec& spec, fs::path dir, bool resume) : spec_
     std::error_code ec;
     if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
         throw InputError("--out " + dir_.string() + ": exists and is not a directory");
+    refuse_linked_runs(dir_);
     fs::create_directories(dir_ / "runs", ec);
     if (ec) throw InputError("--out " + dir_.string() + ": cannot create the output directory (" + ec.message() + ")");
     lock_ = lock(dir_);  // before anything in it is read or written

@@ -10,6 +10,7 @@
 // settled on the whole decay's spectrum (DoubletResolution): one partial, a resolved
 // doublet or a merged one, with Cramer-Rao standard deviations and a reliability flag.
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -35,6 +36,9 @@ struct EstimationOptions {
     double reliable_sigma_sd = 0.03;
     bool whiten = true;
     std::optional<double> full_scale;      // for files: 1; enables the clipping and silence levels
+    // Called between bands (a fraction of a second apart): a caller that must be able to stop
+    // the estimate (Ctrl-C in Python) throws from it, and the estimate ends with that exception.
+    std::function<void()> checkpoint;
 };
 
 struct EstimatedPartial {

@@ -1,7 +1,6 @@
 #pragma once
 // Case files in and out: a built-in case written out with its data files, and the set of
 // keys the parser looks up (to check the case-format reference against).
-#include <filesystem>
 #include <set>
 #include <string>
 #include <string_view>
@@ -11,14 +10,19 @@
 
 namespace fretbuzz {
 
-// Writes built-in case `name` as DIR/NAME.toml with every built-in data file its text
-// names (at the same relative paths, e.g. DIR/data/...), ready to edit and run: the written
-// case parses to the same Case. A built-in strings case (cases/bridges/NAME.toml) is written as
-// it is, beside each one-string case its [[string]] tables name (at the paths they name them
-// by: DIR/sitar.toml, DIR/bridges/taraf-string.toml) with their data files: the folder runs as
-// it is. Creates DIR; returns the paths written, the case first.
-// InputError for an unknown name; std::runtime_error when a file cannot be written.
-std::vector<std::filesystem::path> export_builtin_case(std::string_view name, const std::filesystem::path& dir);
+// A file of an exported case: its path relative to the folder it is written into, and its text.
+struct ExportedFile {
+    std::string path;
+    std::string text;
+};
+
+// Built-in case `name` as NAME.toml with every built-in data file its text names (at the same
+// relative paths, e.g. data/...), ready to edit and run: the written case parses to the same
+// Case. A built-in strings case (cases/bridges/NAME.toml) comes as it is, beside each
+// one-string case its [[string]] tables name (at the paths they name them by: sitar.toml,
+// bridges/taraf-string.toml) with their data files: the folder runs as it is. The case first.
+// InputError for an unknown name. (output/CaseExportFolder.hpp writes them out.)
+std::vector<ExportedFile> builtin_case_files(std::string_view name);
 
 // Every key path (e.g. "string.L", "obstacle.frets.count") that parse_case looks up while
 // parsing this text, whether the text has it or not: the schema the parser enforces.

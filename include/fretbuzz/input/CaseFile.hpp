@@ -16,6 +16,8 @@ public:
     static DataSource directory(std::filesystem::path dir);  // relative to a case file
     static DataSource builtin();                              // the compiled-in cases/ folder
     std::string read(const std::string& relative_path, const std::string& key) const;
+    bool is_builtin() const { return builtin_; }
+    const std::filesystem::path& directory() const { return dir_; }  // of a case file (empty: the current one)
 
 private:
     bool builtin_ = false;

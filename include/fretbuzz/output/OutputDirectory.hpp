@@ -21,15 +21,16 @@ namespace fretbuzz {
 
 class OutputDirectory {
 public:
-    // Checks dir (InputError naming --out: a file in the way, a name too long, a folder that
-    // fretbuzz did not write inside it, not writable) and creates the staging folder and any
-    // missing parents of dir.
-    explicit OutputDirectory(const std::filesystem::path& dir);
+    // Checks dir (InputError naming `what`, the option or argument that gave it: a file in the
+    // way, a name too long, a folder that fretbuzz did not write inside it, not writable) and
+    // creates the staging folder and any missing parents of dir.
+    explicit OutputDirectory(const std::filesystem::path& dir, const std::string& what = "--out");
     ~OutputDirectory();  // discards the staged files unless commit() ran
     OutputDirectory(const OutputDirectory&) = delete;
     OutputDirectory& operator=(const OutputDirectory&) = delete;
 
-    // Where a writer should write `name` (inside the staging folder).
+    // Where a writer should write `name` (inside the staging folder); a name with folders
+    // ("bridges/taraf-string.toml") gets them created there.
     std::filesystem::path staged(const std::string& name);
     // Makes the staged files the directory's content at once. Throws (runtime_error naming
     // the file, or Interrupted before the swap) and leaves the old content intact on failure.
@@ -53,6 +54,7 @@ private:
     };
 
     std::filesystem::path dir_;      // as given
+    std::string label_;              // what gave it, and the name as given: starts every message
     std::filesystem::path target_;   // absolute, symbolic links followed: what gets swapped
     std::filesystem::path staging_;  // sibling of target_
     std::filesystem::path widest_staging_;  // as long as any run's staging folder: what names are checked in

@@ -23,6 +23,7 @@
 // a fret it is told to tolerate. The searches play only what they must (NoteTrials: a note
 // that passed stays passing where every fret lies further from its string).
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -58,6 +59,9 @@ struct AdviceRequest {
     std::vector<std::size_t> strings;  // empty: all
     std::vector<std::size_t> frets;    // the notes answered for (empty: every fret)
     AdviceTolerance tolerate;
+    // Asked before each pluck of a probe: true ends the search with Interrupted (Ctrl-C in
+    // Python, whose signal handler cannot reach the library's stop flag).
+    std::function<bool()> stop;
 };
 
 // The notes of a string the advice answers for (its frets, less the tolerated ones).

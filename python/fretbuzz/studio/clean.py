@@ -1,7 +1,8 @@
 """`fretbuzz clean STUDY [--keep-maps N]` on a studio's study folder: removes the maps a killed
 studio left unfinished and, with --keep-maps, all but the newest N finished maps (their
-reports in exports/ stay: each holds its own sounds). Refused, exit 1 naming its process,
-while a studio works in the folder."""
+reports in exports/ stay: each holds its own sounds). Only the WAVs a map wrote are removed,
+and a map's folder only once empty. Refused, exit 1 naming its process, while a studio works
+in the folder; exit 2 when maps/ or exports/ is a symbolic link (it is never followed)."""
 from __future__ import annotations
 
 import argparse
@@ -9,6 +10,7 @@ import os
 import sys
 from typing import List, Optional
 
+from ..setup_bench import InputError
 from . import _count
 from .study import lock_folder, prune_maps
 
@@ -25,6 +27,9 @@ def main(argv: Optional[List[str]] = None) -> int:
             unfinished, old = prune_maps(folder, args.keep_maps)
         finally:
             os.close(fd)
+    except InputError as e:  # a link where the study keeps its own folder: refused, nothing removed
+        print(f"fretbuzz clean: {e}", file=sys.stderr)
+        return 2
     except OSError as e:  # StudyBusy among them, naming the studio's process
         print(f"fretbuzz clean: {e}", file=sys.stderr)
         return 1

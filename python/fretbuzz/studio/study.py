@@ -14,7 +14,7 @@ import errno
 import fcntl
 import os
 import re
-import shutil
+import stat
 import threading
 import time
 from dataclasses import dataclass, field
@@ -35,8 +35,9 @@ SERVED_SUFFIXES = {".wav": "audio/wav", ".html": "text/html; charset=utf-8"}
 # when that process ends, however it ends); it holds that studio's process id.
 LOCK_NAME = ".fretbuzz-studio.lock"
 # A map is played into maps/NNN.partial and renamed maps/NNN once every note is written: a
-# folder named maps/NNN is a whole map. A studio killed mid-map leaves a .partial folder,
-# removed by the next studio in that folder (or `fretbuzz clean`).
+# folder named maps/NNN is a whole map. A map that fails (a full disk) or is stopped removes
+# its .partial folder at once; a studio killed mid-map leaves it, removed by the next studio
+# in that folder (or `fretbuzz clean`).
 PARTIAL = ".partial"
 MAP_FOLDER = re.compile(r"([0-9]{3,})(\.partial)?")
 
@@ -69,22 +70,110 @@ def lock_folder(folder: str) -> int:
     return fd
 
 
+# What a map writes into its folder: each note's WAV, and while one is written its temporary
+# file beside it (".note-....tmp-PID-N.wav"). Pruning removes these and nothing else.
+MAP_FILE = re.compile(r"\.?note-[^/]*\.wav")
+# The study's own folders: a symbolic link (or anything but a folder) in their place is refused,
+# never followed.
+OWN_FOLDERS = ("maps", "exports")
+
+
+class StudyLayoutError(InputError):
+    """A study folder holding something other than a folder where the studio keeps its own."""
+
+
+def _open_own_folder(folder_fd: int, name: str, folder: str) -> Optional[int]:
+    """The study's own subfolder `name`, opened without following a link (None when missing)."""
+    try:
+        return os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC, dir_fd=folder_fd)
+    except FileNotFoundError:
+        return None
+    except OSError as e:
+        if e.errno not in (errno.ELOOP, errno.ENOTDIR):
+            raise
+        what = "a symbolic link" if os.path.islink(os.path.join(folder, name)) else "not a folder"
+        raise StudyLayoutError(f"{os.path.join(folder, name)} is {what}: the studio keeps its {name} in a folder of its "
+                               "own inside the study folder and neither follows nor deletes a link there; move it "
+                               "away, or give another study folder") from None
+
+
+def check_own_folders(folder: str) -> None:
+    """StudyLayoutError unless each of the study's own folders is a real folder or missing."""
+    folder_fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        for name in OWN_FOLDERS:
+            fd = _open_own_folder(folder_fd, name, folder)
+            if fd is not None:
+                os.close(fd)
+    finally:
+        os.close(folder_fd)
+
+
+def _remove_map(maps_fd: int, name: str) -> bool:
+    """Removes the files a map wrote in maps/<name> and the folder once empty; False (the
+    folder kept, with what fretbuzz did not write) if anything else is in it. Every step is
+    relative to the open folders: a link is removed as a name, never followed."""
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC, dir_fd=maps_fd)
+    except OSError as e:
+        if e.errno in (errno.ELOOP, errno.ENOTDIR, errno.ENOENT):
+            return False  # a link or a file with a map's name: not a map
+        raise
+    try:
+        for entry in os.listdir(fd):
+            if MAP_FILE.fullmatch(entry) and stat.S_ISREG(os.stat(entry, dir_fd=fd, follow_symlinks=False).st_mode):
+                os.unlink(entry, dir_fd=fd)
+    finally:
+        os.close(fd)
+    try:
+        os.rmdir(name, dir_fd=maps_fd)
+    except OSError as e:
+        if e.errno in (errno.ENOTEMPTY, errno.EEXIST):
+            return False
+        raise
+    return True
+
+
 def prune_maps(folder: str, keep: Optional[int] = None) -> tuple:
     """Removes the unfinished maps of a study folder (maps/NNN.partial) and, with keep, all
-    but the newest `keep` finished ones; the caller holds the folder's lock. Returns (the
-    unfinished removed, the finished removed)."""
-    maps = os.path.join(folder, "maps")
-    if not os.path.isdir(maps):
+    but the newest `keep` finished ones; the caller holds the folder's lock. Only what a map
+    writes is removed (its WAVs): a map folder holding anything else keeps it, and stays.
+    StudyLayoutError if maps/ is a symbolic link or not a folder. Returns (the unfinished
+    removed, the finished removed)."""
+    check_own_folders(folder)
+    folder_fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        maps_fd = _open_own_folder(folder_fd, "maps", folder)
+    finally:
+        os.close(folder_fd)
+    if maps_fd is None:
         return 0, 0
-    partial, whole = [], []
-    for name in os.listdir(maps):
-        m = MAP_FOLDER.fullmatch(name)
-        if m and os.path.isdir(os.path.join(maps, name)) and not os.path.islink(os.path.join(maps, name)):
-            (partial if m.group(2) else whole).append((int(m.group(1)), name))
-    old = sorted(whole)[:max(len(whole) - keep, 0)] if keep is not None else []
-    for _, name in partial + old:
-        shutil.rmtree(os.path.join(maps, name))
-    return len(partial), len(old)
+    try:
+        partial, whole = [], []
+        for name in os.listdir(maps_fd):
+            m = MAP_FOLDER.fullmatch(name)
+            if m and stat.S_ISDIR(os.stat(name, dir_fd=maps_fd, follow_symlinks=False).st_mode):
+                (partial if m.group(2) else whole).append((int(m.group(1)), name))
+        old = sorted(whole)[:max(len(whole) - keep, 0)] if keep is not None else []
+        return (sum(_remove_map(maps_fd, name) for _, name in partial),
+                sum(_remove_map(maps_fd, name) for _, name in old))
+    finally:
+        os.close(maps_fd)
+
+
+def remove_partial(folder: str, relative: str) -> None:
+    """Removes what a map that failed or was stopped wrote into its unfinished folder
+    (maps/NNN.partial): it would take the disk's room from every map after it."""
+    folder_fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        maps_fd = _open_own_folder(folder_fd, "maps", folder)
+    finally:
+        os.close(folder_fd)
+    if maps_fd is not None:
+        try:
+            _remove_map(maps_fd, os.path.basename(relative) + PARTIAL)
+        finally:
+            os.close(maps_fd)
 
 
 class FieldErrors(InputError):
@@ -172,7 +261,7 @@ class Study:
         self._lock_fd: Optional[int] = lock_folder(self.folder)
         try:
             self.pruned = prune_maps(self.folder, keep_maps)
-        except OSError:
+        except BaseException:
             self._unlock()
             raise
         self.lock = threading.Condition()
@@ -416,6 +505,11 @@ class Study:
                     record.whole = True
                 except OSError as e:
                     status, error = "failed", f"cannot keep the map's sounds: {e}"
+            if status != "done":
+                try:  # its sounds would take the disk's room from every map after it
+                    remove_partial(self.folder, record.folder)
+                except OSError as e:
+                    error += f" (its unfinished sounds stay in {record.folder + PARTIAL}: {e})"
             record.status, record.error = status, error
             record.seconds = time.monotonic() - started
             if status == "done":
