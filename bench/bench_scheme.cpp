@@ -12,6 +12,10 @@
 //                    (no closed form in long flights: how outputs were written before).
 //   Played           the open pop and the pop stopped at fret 5 by a finger (popped at 20 ms), whole runs
 //                    of the same length side by side (the finger's cost on the fast path).
+//   Decayed          the bass pop's string stepped from a fully decayed state (every coordinate
+//                    subnormal, as its high modes are after a second or two), plain and with
+//                    subnormals flushed as every run does: the cost of subnormal arithmetic on
+//                    this processor (none on some, about a hundred cycles a product on others).
 // Run with --benchmark_repetitions=5 (the default here) to get medians; the summary at the
 // end gives microseconds per step, simulated seconds per wall second and the ratios.
 // `fretbuzz_bench --scaling` instead prints the per-step cost against the mode count N,
@@ -35,6 +39,7 @@
 #include <tuple>
 #include <vector>
 
+#include "fretbuzz/SubnormalFlush.hpp"
 #include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/output/RunOutputs.hpp"
@@ -155,6 +160,35 @@ void per_step(benchmark::State& state, BenchCase b, long warmup_steps, long step
                                                            benchmark::Counter::kInvert);
 }
 
+// 20 000 steps of the bass pop's string (862 modes, 4 MHz) from a state whose every coordinate
+// is subnormal: the pass over the modes on subnormal inputs, plain or flushed.
+void decayed(benchmark::State& state, bool flushed) {
+    const Case c = load_case("bass-pop");
+    const Plan plan(c, 1.0 / c.run.sample_rate_hz);
+    std::vector<double> q0(c.mode_count()), v0(c.mode_count(), 0.0);
+    for (std::size_t j = 0; j < q0.size(); ++j) q0[j] = 1e-310 * std::cos(0.7 * static_cast<double>(j));
+    Stepper start(plan, q0, v0);
+    start.step();
+    constexpr long kSteps = 20000;
+    std::size_t subnormal = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        Stepper string = start;
+        state.ResumeTiming();
+        if (flushed) {
+            const SubnormalFlush guard;
+            for (long n = 0; n < kSteps; ++n) string.step();
+        } else {
+            for (long n = 0; n < kSteps; ++n) string.step();
+        }
+        subnormal = string.subnormal_coordinates();
+    }
+    state.counters["subnormal_coordinates"] = static_cast<double>(subnormal);
+    state.counters["us_per_step"] = benchmark::Counter(static_cast<double>(kSteps) * 1e-6,
+                                                       benchmark::Counter::kIsIterationInvariantRate |
+                                                           benchmark::Counter::kInvert);
+}
+
 // Collects the medians to print the side-by-side summary.
 class SummaryReporter : public benchmark::ConsoleReporter {
 public:
@@ -210,6 +244,10 @@ public:
         if (!std::isnan(open_us) && !std::isnan(fretted_us))
             std::printf("  played, %.1f s at %.0f Hz: open pop %.4f us/step, fretted pop (fret 5) %.4f us/step: %.1fx the open pop's time\n",
                         kPlayed[0].duration, kPlayed[0].fs, open_us, fretted_us, fretted_us / open_us);
+        const auto plain = median_us_.find("Decayed/bass-pop/plain"), flushed = median_us_.find("Decayed/bass-pop/flushed");
+        if (plain != median_us_.end() && flushed != median_us_.end())
+            std::printf("  decayed state (every coordinate subnormal), bass pop's string: plain %.4f us/step, flushed %.4f us/step: %.2fx\n",
+                        plain->second, flushed->second, plain->second / flushed->second);
     }
 
 private:
@@ -556,6 +594,8 @@ int main(int argc, char** argv) {
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)
             ->UseRealTime();
+    for (const auto& [name, flushed] : {std::pair{"Decayed/bass-pop/plain", false}, std::pair{"Decayed/bass-pop/flushed", true}})
+        benchmark::RegisterBenchmark(name, decayed, flushed)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
     for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--scaling") return print_scaling_table();
         if (std::string(argv[i]) == "--contact")

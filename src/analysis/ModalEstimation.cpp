@@ -13,6 +13,7 @@
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
 #include "fretbuzz/analysis/SubbandFilter.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
@@ -116,6 +117,7 @@ struct Candidate {
 ModalEstimation::ModalEstimation(EstimationOptions options) : options_(std::move(options)) {}
 
 ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double rate_hz) const {
+    const SubnormalFlush flushed;  // the filters' and the fits' decaying tails, on this thread
     const EstimationOptions& o = options_;
     double peak = 0.0;
     check_signal(signal, rate_hz, o, peak);

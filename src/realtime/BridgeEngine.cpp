@@ -121,7 +121,7 @@ void BridgeEngine::process(std::span<float> out) {
 }
 
 void BridgeEngine::render_internal(std::span<double> out) {
-    const FlushDenormals ftz;
+    const SubnormalFlush flushed;
     for (double& u : out) {
         assembly_->step();
         u = sample();

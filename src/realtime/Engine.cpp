@@ -127,7 +127,7 @@ void Engine::process(std::span<float> out) {
 }
 
 void Engine::render_internal(std::span<double> out) {
-    const FlushDenormals ftz;
+    const SubnormalFlush flushed;
     for (double& u : out) {
         stepper_->step();
         u = stepper_->observation();

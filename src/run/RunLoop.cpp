@@ -8,6 +8,7 @@
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
@@ -80,6 +81,7 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
 }
 
 RunSummary RunLoop::run() {
+    const SubnormalFlush flushed;  // for every step of the run, on whichever thread runs it
     connect_observers();
     plan_free_flight();
     report_observation();
@@ -379,6 +381,7 @@ void RunLoop::finish_summary() {
     summary_.max_newton_iterations = stats.max_newton_iterations;
     summary_.mean_points_solved = layout_.steps > 0 ? stats.points_solved / steps : 0.0;
     summary_.free_flight_fraction = layout_.steps > 0 ? static_cast<double>(stats.free_flight_steps) / steps : 0.0;
+    summary_.subnormal_coordinates = stepper_.subnormal_coordinates();
     summary_.wall_seconds = std::chrono::duration<double>(Clock::now() - start_).count();
     summary_.steps_per_second = summary_.wall_seconds > 0.0 ? steps / summary_.wall_seconds : 0.0;
 }

@@ -10,10 +10,12 @@
 #include "fretbuzz/scheme/Assembly.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
 StringsRun simulate_strings(const StringsCase& sc) {
+    const SubnormalFlush flushed;  // for every step of the run, on whichever thread runs it
     const auto started = std::chrono::steady_clock::now();
     const double fs = sc.run.sample_rate_hz, dt = 1.0 / fs;
     const std::size_t S = sc.strings.size();
@@ -98,6 +100,7 @@ StringsRun simulate_strings(const StringsCase& sc) {
     }
     flush(true);
     run.steps = steps;
+    run.subnormal_coordinates = assembly.subnormal_coordinates();
     run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return run;
 }

@@ -1,4 +1,5 @@
 #include "fretbuzz/run/WriteQueue.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 #include <utility>
 
@@ -37,6 +38,7 @@ void WriteQueue::drain() {
 }
 
 void WriteQueue::work() {
+    const SubnormalFlush flushed;  // the jobs filter decaying signals
     std::unique_lock lock(mutex_);
     while (true) {
         changed_.wait(lock, [this] { return !jobs_.empty() || stopping_; });

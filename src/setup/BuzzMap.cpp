@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
@@ -212,6 +213,7 @@ BuzzMapResult play_map(const Instrument& instrument, const MapRequest& request) 
     std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     const auto worker = [&] {
+        const SubnormalFlush flushed;  // each note's run and its listening, on this worker
         for (std::size_t t = next++; t < playable.size(); t = next++) {
             try {
                 {

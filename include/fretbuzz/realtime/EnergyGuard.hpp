@@ -3,33 +3,16 @@
 // the guard: without input it can only decrease, so if H + dissipated - W ever exceeds the
 // energy the events put in (each event's change of H + dissipated - W counted), the voice is
 // silenced. And the block loop that steps M internal samples per host sample into the
-// decimator, with denormals flushed to zero while it runs.
+// decimator, with subnormals flushed to zero while it runs.
 #include <algorithm>
 #include <cmath>
 #include <span>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 #include "fretbuzz/realtime/Decimator.hpp"
 
-#if defined(__x86_64__) || defined(__SSE2__)
-#include <xmmintrin.h>
-#define FRETBUZZ_HAS_MXCSR 1
-#endif
-
 namespace fretbuzz {
-
-// Flushes denormals to zero (and treats denormal inputs as zero) while it lives: a decaying
-// string would otherwise slow to a crawl as its modes sink below 1e-308.
-class FlushDenormals {
-public:
-#ifdef FRETBUZZ_HAS_MXCSR
-    FlushDenormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
-    ~FlushDenormals() { _mm_setcsr(saved_); }
-
-private:
-    unsigned saved_;
-#endif
-};
 
 class EnergyGuard {
 public:
@@ -68,7 +51,7 @@ private:
 // block is then zeros: the caller silences the voice).
 template <class Sample>
 bool render_block(std::span<float> out, Decimator& decimator, int factor, double gain, bool sounding, Sample&& sample) {
-    const FlushDenormals ftz;
+    const SubnormalFlush flushed;
     if (!sounding) {
         for (float& y : out) {
             for (int k = 0; k < factor; ++k) decimator.push(0.0);

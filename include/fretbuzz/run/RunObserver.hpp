@@ -65,6 +65,9 @@ struct RunSummary {
     double damping_y_j = 0.0;          // damping losses of the y modes
     double friction_j = 0.0;           // friction dissipation (>= 0)
     int max_friction_iterations = 0;
+    // Coordinates of the modal state (q, q^n - q^{n-1}, v0; both polarisations) subnormal at the
+    // end: 0, since the run flushes them (SubnormalFlush).
+    std::size_t subnormal_coordinates = 0;
     // Doubts found reading and planning the case (e.g. modes above fs/2), one line each.
     std::vector<std::string> warnings;
 };

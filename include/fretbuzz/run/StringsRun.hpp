@@ -24,6 +24,9 @@ struct StringsRun {
     long steps = 0;
     double wall_seconds = 0.0;
     double worst_balance = 0.0;
+    // Coordinates of every string's and the bridge's modal state subnormal at the end: 0, since
+    // the run flushes them (SubnormalFlush).
+    std::size_t subnormal_coordinates = 0;
 };
 
 // Rows of strings.csv per second when the case gives no output_rate.

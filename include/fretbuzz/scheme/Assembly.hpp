@@ -53,6 +53,12 @@ public:
     void damping_changed(std::size_t s);
 
     const Bridge* bridge() const { return bridge_ ? &*bridge_ : nullptr; }
+    // Every string's and the bridge's modal coordinates that are subnormal (ModalState's).
+    std::size_t subnormal_coordinates() const {
+        std::size_t n = bridge_ ? bridge_->subnormal_coordinates() : 0;
+        for (const VibratingString& s : strings_) n += s.subnormal_coordinates();
+        return n;
+    }
     // String s's energy H^{n-1/2} with its end's link energy (its contacts and played parts too).
     double string_energy(std::size_t s) const;
     // The whole assembly's balance terms: energy, what damping and contacts took, what gestures

@@ -41,6 +41,7 @@ public:
     double energy() const;
     double dissipated() const { return damping_; }
     double velocity() const;
+    std::size_t subnormal_coordinates() const { return state_.subnormal_coordinates(); }
 
 private:
     // Fixed once built and shared by copies (a copied bridge steps on from the same state).

@@ -13,6 +13,7 @@
 #include "fretbuzz/numerics/CacheAligned.hpp"
 #include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
@@ -55,6 +56,10 @@ public:
     void step_modes(std::size_t first, std::size_t count);
     // The discrete modal energy times 2 dt^2 / mu (ModalPropagator::scaled_modal_energy).
     double scaled_energy() const { return propagator_->scaled_modal_energy(q_, d_); }
+    // Coordinates (q, d, v0) that are subnormal: none where the stepping loop flushes them.
+    std::size_t subnormal_coordinates() const {
+        return subnormal_count(q_) + subnormal_count(d_) + subnormal_count(v0_);
+    }
 
 private:
     const ModalPropagator* propagator_;  // the plan's (its damping may change between steps)

@@ -25,6 +25,7 @@
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/PointFriction.hpp"
 #include "fretbuzz/numerics/TimeProfile.hpp"
+#include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {
 
@@ -51,6 +52,10 @@ public:
     void silence();
 
     std::span<const double> modal_displacement() const { return q_; }
+    // Coordinates (q, d, v0) that are subnormal (ModalState::subnormal_coordinates).
+    std::size_t subnormal_coordinates() const {
+        return subnormal_count(q_) + subnormal_count(d_) + subnormal_count(v0_);
+    }
     double displacement(std::span<const double> mode_shapes) const;
     double velocity(std::span<const double> mode_shapes) const;
     // Energy terms of the interval (t_{n-1}, t_n) (J), n >= 1.

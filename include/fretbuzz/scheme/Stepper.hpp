@@ -85,6 +85,7 @@ public:
     double time() const { return static_cast<double>(step_index()) * string().plan().dt(); }
     std::span<const double> modal_displacement() const { return string().modes().q(); }  // q^n
     std::span<const double> modal_difference() const { return string().modes().d(); }    // q^n - q^{n-1}
+    std::size_t subnormal_coordinates() const { return string().subnormal_coordinates(); }
     // u(x, t_n) = phi(x) . q^n
     double displacement(std::span<const double> mode_shapes) const { return string().modes().at(mode_shapes.data()); }
     // (u(x, t_n) - u(x, t_{n-1})) / dt

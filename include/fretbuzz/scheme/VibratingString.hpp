@@ -57,6 +57,10 @@ public:
     const Plan& plan() const { return *plan_; }
     long step_index() const { return n_; }
     const ModalState& modes() const { return modes_; }
+    // Of both polarisations (ModalState::subnormal_coordinates).
+    std::size_t subnormal_coordinates() const {
+        return modes_.subnormal_coordinates() + (y_ ? y_->subnormal_coordinates() : 0);
+    }
     const ContactSet& contacts() const { return contacts_; }
     ContactSet& contacts() { return contacts_; }
     const ForceGestures& gestures() const { return gestures_; }
