@@ -45,7 +45,7 @@
 #include "fretbuzz/output/RunOutputs.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"

@@ -16,6 +16,7 @@ import sys
 # Bottom to top. Folders on one floor do not include each other.
 FLOORS = [
     ["base"],                 # Error.hpp, Version.hpp
+    ["numerics"],             # sine transform, modal basis, kernels, root finders, time profiles
     ["model", "geometry"],    # string models, obstacle shapes
     ["case"],                 # Case.hpp: one run's description
     ["scheme"],               # the modal scheme: plan, stepper, contact, played parts

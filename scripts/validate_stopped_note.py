@@ -154,7 +154,7 @@ def stand_in(path, frets):
 
 
 def pad_points(centre, width, dx, n):
-    """The grid points x_i = (i + 1) dx within width / 2 of centre (scheme/TimeProfile.hpp)."""
+    """The grid points x_i = (i + 1) dx within width / 2 of centre (numerics/TimeProfile.hpp)."""
     return [i for i in range(n) if abs((i + 1) * dx - centre) <= 0.5 * width * (1 + 1e-12)]
 
 

@@ -19,7 +19,7 @@
 #include "../src/run/PerStepQueue.hpp"
 #include "TestSupport.hpp"
 #include "fretbuzz/run/Resampler.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 
 namespace fretbuzz {

@@ -12,7 +12,7 @@
 #include "fretbuzz/geometry/InitialShape.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -308,7 +308,7 @@ TEST(ContactScheduling, TransformThresholdFollowsThePlannedCost) {
 }
 
 
-// The arrays the kernels sweep at every step start on a cache line (scheme/CacheAligned.hpp):
+// The arrays the kernels sweep at every step start on a cache line (numerics/CacheAligned.hpp):
 // with malloc's 16-byte alignment a step's vector loads straddled two lines or not as the
 // heap's layout fell, which moved the bass pop's speed between builds.
 TEST(ContactScheduling, TheArraysTheKernelsSweepStartOnACacheLine) {

@@ -13,7 +13,7 @@
 #include "fretbuzz/input/CsvTable.hpp"
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/scheme/DenseMatrixScheme.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 

@@ -16,7 +16,7 @@
 #include "TwoPolarisations.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/PointFriction.hpp"
 #include "fretbuzz/scheme/SecondPolarisation.hpp"

@@ -6,7 +6,7 @@
 
 #include "fretbuzz/geometry/InitialShape.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "TestSupport.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 namespace fretbuzz {
 namespace {

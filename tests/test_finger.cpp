@@ -13,7 +13,7 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 #include "SmallBass.hpp"

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "Equivalence.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "../src/scheme/MonotoneRoot.hpp"
+#include "../src/numerics/MonotoneRoot.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "fretbuzz/model/PinnedStringShape.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 using namespace fretbuzz;
 

@@ -18,7 +18,7 @@
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
 #include "fretbuzz/scheme/HeldString.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 #include "fretbuzz/model/StringDispersion.hpp"
 
 namespace fretbuzz {

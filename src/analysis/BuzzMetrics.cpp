@@ -7,8 +7,8 @@
 #include <numbers>
 
 #include "fretbuzz/Case.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 namespace fretbuzz {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "FastLength.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 namespace fretbuzz {
 

@@ -7,7 +7,7 @@
 #include "CaseSections.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/InitialShape.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 namespace fretbuzz {
 

@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

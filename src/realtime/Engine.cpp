@@ -7,8 +7,8 @@
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/realtime/InternalRate.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 
 namespace fretbuzz {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "fretbuzz/scheme/Finger.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 namespace fretbuzz::reference {
 

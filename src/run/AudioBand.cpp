@@ -4,10 +4,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "../scheme/Multiversion.hpp"
+#include "../numerics/Multiversion.hpp"
 #include "PerStepQueue.hpp"
 #include "fretbuzz/run/Resampler.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

@@ -1,6 +1,6 @@
 #include "fretbuzz/scheme/BridgeEnd.hpp"
 
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "MonotoneRoot.hpp"
+#include "../numerics/MonotoneRoot.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {

@@ -6,7 +6,7 @@
 #include <utility>
 #include <numbers>
 
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <numbers>
 
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

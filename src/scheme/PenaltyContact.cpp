@@ -5,7 +5,7 @@
 #include <limits>
 #include <sstream>
 
-#include "Multiversion.hpp"
+#include "../numerics/Multiversion.hpp"
 #include "fretbuzz/Error.hpp"
 
 namespace fretbuzz {

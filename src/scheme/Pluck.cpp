@@ -5,9 +5,9 @@
 #include <limits>
 #include <sstream>
 
-#include "MonotoneRoot.hpp"
+#include "../numerics/MonotoneRoot.hpp"
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace fretbuzz {
 

@@ -10,7 +10,7 @@
 #include <Eigen/Dense>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 
 namespace fretbuzz {

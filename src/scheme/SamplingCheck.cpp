@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fretbuzz/Error.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 namespace fretbuzz {
 

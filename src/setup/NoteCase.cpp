@@ -13,7 +13,7 @@
 #include "fretbuzz/model/ModeTableAssembly.hpp"
 #include "fretbuzz/model/WavenumberDamping.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
 namespace fretbuzz {

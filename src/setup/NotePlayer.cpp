@@ -10,7 +10,7 @@
 #include "fretbuzz/analysis/BuzzMetrics.hpp"
 #include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

@@ -19,7 +19,7 @@
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/run/ResultRecorder.hpp"
 #include "fretbuzz/run/Simulation.hpp"
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 namespace fretbuzz {
 namespace {

@@ -1,5 +1,5 @@
 // The kernels of one instruction-set level (tests/CMakeLists.txt builds this program with
-// src/scheme/Kernels.cpp once per level: baseline x86-64, x86-64-v3 (AVX2) and x86-64-v4
+// src/numerics/Kernels.cpp once per level: baseline x86-64, x86-64-v3 (AVX2) and x86-64-v4
 // (AVX-512), each a program of its own, so that no code of one level runs on a processor without
 // it). It writes every kernel's results over the same random inputs (`kernel_variant > file`);
 // `kernel_variant --compare BASE OTHER` then says, kernel by kernel, how far the other level's
@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 namespace {
 using namespace fretbuzz::kernels;

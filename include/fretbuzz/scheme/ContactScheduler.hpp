@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "fretbuzz/scheme/CacheAligned.hpp"
+#include "fretbuzz/numerics/CacheAligned.hpp"
 
 #include "fretbuzz/scheme/Plan.hpp"
 

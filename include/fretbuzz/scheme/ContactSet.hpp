@@ -17,7 +17,7 @@
 #include "fretbuzz/scheme/ExactPoints.hpp"
 #include "fretbuzz/scheme/ForceGestures.hpp"
 #include "fretbuzz/scheme/GridContact.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/ModalState.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/PlayedParts.hpp"

@@ -35,7 +35,7 @@
 #include "fretbuzz/scheme/ImpactLaw.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/PlayedPart.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 namespace fretbuzz {
 

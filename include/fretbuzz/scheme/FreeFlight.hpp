@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "fretbuzz/scheme/CacheAligned.hpp"
+#include "fretbuzz/numerics/CacheAligned.hpp"
 
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "fretbuzz/scheme/CacheAligned.hpp"
+#include "fretbuzz/numerics/CacheAligned.hpp"
 
 #include "fretbuzz/model/ModeTable.hpp"
 

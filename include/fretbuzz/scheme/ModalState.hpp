@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "fretbuzz/scheme/CacheAligned.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/CacheAligned.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/SubnormalFlush.hpp"
 

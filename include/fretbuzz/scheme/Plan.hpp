@@ -14,8 +14,8 @@
 
 #include "fretbuzz/Case.hpp"
 #include "fretbuzz/scheme/Friction.hpp"
-#include "fretbuzz/scheme/Kernels.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/ModalPropagator.hpp"
 #include "fretbuzz/scheme/PenaltyContact.hpp"
 #include "fretbuzz/scheme/PointContact.hpp"

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/ContactForceLaw.hpp"
 
 namespace fretbuzz {

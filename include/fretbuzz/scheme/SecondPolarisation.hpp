@@ -24,7 +24,7 @@
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 #include "fretbuzz/scheme/PointFriction.hpp"
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 #include "fretbuzz/SubnormalFlush.hpp"
 
 namespace fretbuzz {

@@ -1,4 +1,4 @@
-#include "fretbuzz/scheme/ModalBasis.hpp"
+#include "fretbuzz/numerics/ModalBasis.hpp"
 
 #include <cmath>
 #include <numbers>

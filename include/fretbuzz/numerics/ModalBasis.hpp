@@ -9,9 +9,9 @@
 #include <span>
 #include <vector>
 
-#include "fretbuzz/scheme/CacheAligned.hpp"
+#include "fretbuzz/numerics/CacheAligned.hpp"
 
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 namespace fretbuzz {
 

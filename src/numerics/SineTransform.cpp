@@ -1,4 +1,4 @@
-#include "fretbuzz/scheme/SineTransform.hpp"
+#include "fretbuzz/numerics/SineTransform.hpp"
 
 #include <fftw3.h>
 

@@ -1,4 +1,4 @@
-#include "fretbuzz/scheme/TimeProfile.hpp"
+#include "fretbuzz/numerics/TimeProfile.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "fretbuzz/scheme/Kernels.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 
 #include <algorithm>
 
