@@ -28,7 +28,7 @@ FLOORS = [
     ["cli", "python", "plugin"],  # front ends
 ]
 FLOOR_OF = {name: level for level, names in enumerate(FLOORS) for name in names}
-TOP_LEVEL = {"Error.hpp": "base", "Version.hpp": "base", "SubnormalFlush.hpp": "base", "Case.hpp": "case", "Case.cpp": "case", "Error.cpp": "base"}
+TOP_LEVEL = {"Error.hpp": "base", "Version.hpp": "base", "SubnormalFlush.hpp": "base", "Case.hpp": "case", "RunBounds.hpp": "case", "Case.cpp": "case", "Error.cpp": "base"}
 INCLUDE = re.compile(r'\s*#\s*include\s+"([^"]+)"')
 
 

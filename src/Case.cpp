@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/RunBounds.hpp"
 #include "fretbuzz/model/PinnedStringShape.hpp"
 
 namespace fretbuzz {
@@ -388,6 +389,25 @@ FingerSpec finger_behind_fret(double fret_m, double spacing_m) {
     return f;
 }
 
+void check_run_bounds(const RunSettings& run, const std::string& audio_key) {
+    require_positive("run.fs (sample rate, Hz)", run.sample_rate_hz);
+    require_positive("run.duration (s)", run.duration_s);
+    // Counted as the run counts them (rounded): with none nothing runs, and 4e9 are days of work.
+    const double steps = run.sample_rate_hz * run.duration_s;
+    if (!(std::round(steps) >= 1.0 && steps <= 4e9))
+        throw InputError(out_of_range_message("run.fs * run.duration (number of steps)", steps, "must be in [1, 4e9]"));
+    if (run.output_rate_hz) {
+        require_positive("run.output_rate (Hz)", *run.output_rate_hz);
+        if (*run.output_rate_hz > run.sample_rate_hz)
+            throw InputError(out_of_range_message("run.output_rate (Hz)", *run.output_rate_hz,
+                                                  "must not exceed run.fs = " + std::to_string(run.sample_rate_hz) +
+                                                      " Hz (set a lower output rate, or \"native\")"));
+    }
+    // The resampler's and the audio files' range (what libsoxr and WAV players take).
+    if (!(run.audio_rate_hz >= 8000.0 && run.audio_rate_hz <= 384000.0))
+        throw InputError(out_of_range_message(audio_key + " (Hz)", run.audio_rate_hz, "must be in [8000, 384000]"));
+}
+
 void Case::validate() const {
     require_positive("string.L (length, m)", string.length_m);
     require_positive("string.T (tension, N)", string.tension_n);
@@ -420,21 +440,7 @@ void Case::validate() const {
     if (contact.exponent > kMaxExponent)
         throw InputError(out_of_range_message("contact.alpha (penalty exponent)", contact.exponent,
                                               "must be in [1, " + std::to_string(static_cast<int>(kMaxExponent)) + "]"));
-    require_positive("run.fs (sample rate, Hz)", run.sample_rate_hz);
-    require_positive("run.duration (s)", run.duration_s);
-    if (run.sample_rate_hz * run.duration_s > 4e9)
-        throw InputError(out_of_range_message("run.fs * run.duration (number of steps)",
-                                              run.sample_rate_hz * run.duration_s, "must be <= 4e9"));
-    if (run.output_rate_hz) {
-        require_positive("run.output_rate (Hz)", *run.output_rate_hz);
-        if (*run.output_rate_hz > run.sample_rate_hz)
-            throw InputError(out_of_range_message("run.output_rate (Hz)", *run.output_rate_hz,
-                                                  "must not exceed run.fs = " + std::to_string(run.sample_rate_hz) +
-                                                      " Hz (set a lower output rate, or \"native\")"));
-    }
-    require_positive("audio.rate (Hz)", run.audio_rate_hz);
-    if (run.audio_rate_hz < 8000.0 || run.audio_rate_hz > 384000.0)
-        throw InputError(out_of_range_message("audio.rate (Hz)", run.audio_rate_hz, "must be in [8000, 384000]"));
+    check_run_bounds(run);
     if (observation_points_m.empty()) throw InputError("observe: at least one observation point is required");
     for (double x : observation_points_m) {
         require_finite("observation point x (m)", x);
@@ -466,10 +472,12 @@ void Case::validate() const {
 namespace fretbuzz {
 
 void StringsCase::validate() const {
+    check_run_bounds(run, "run.audio_rate");
     if (strings.empty()) throw InputError("string: a case with a bridge needs at least one [[string]]");
     if (strings.size() > kMaxStrings)
         throw InputError("string: " + std::to_string(strings.size()) + " strings; at most " +
                          std::to_string(kMaxStrings) + " rest on one bridge");
+    for (const Case& c : strings) c.validate();
     if (bridge.empty()) throw InputError("bridge.mode: a bridge needs at least one [[bridge.mode]]");
     if (bridge.size() > kMaxBridgeModes)
         throw InputError("bridge.mode: " + std::to_string(bridge.size()) + " modes; at most " +
@@ -499,6 +507,9 @@ void StringsCase::validate() const {
         if (strings[s].run.sample_rate_hz != run.sample_rate_hz)
             throw InputError("string[" + std::to_string(s) + "].run.fs: strings on one bridge share one rate (" +
                              std::to_string(run.sample_rate_hz) + " Hz)");
+        if (strings[s].run.duration_s != run.duration_s)
+            throw InputError("string[" + std::to_string(s) + "].run.duration: strings on one bridge share one run length (" +
+                             std::to_string(run.duration_s) + " s)");
     }
 }
 

@@ -162,7 +162,7 @@ TEST_F(CaseFormatDoc, EveryObstacleAndExcitationTypeHasARunningExample) {
             sc.run.duration_s = 0.002;
             const StringsRun run = simulate_strings(sc);
             EXPECT_GT(run.energy.front().front(), 0.0) << e.text;
-            EXPECT_LE(run.worst_balance, 1e-9) << e.text;
+            EXPECT_LE(run.max_relative_balance_error, 1e-9) << e.text;
             continue;
         }
         const Case c = parse_case(complete(e), "doc.toml", DataSource::directory(dir_.path()));

@@ -26,8 +26,12 @@
 #include "TestSupport.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
+#include "fretbuzz/input/StringsCaseFile.hpp"
+#include "fretbuzz/output/AudioWriter.hpp"
+#include "fretbuzz/output/CsvWriters.hpp"
 #include "fretbuzz/output/OutputDirectory.hpp"
 #include "fretbuzz/run/Simulation.hpp"
+#include "fretbuzz/run/StringsRun.hpp"
 
 extern char** environ;
 
@@ -305,6 +309,131 @@ TEST(Reliability, DerivedQuantitiesAreCheckedBeforeTheRun) {
         EXPECT_NE(result.output.find(r.must_mention), std::string::npos) << r.arguments << ": " << result.output;
         EXPECT_FALSE(fs::exists(out));
     }
+}
+
+// --- Strings on a bridge: bounded and streamed as a one-string run ------------------
+
+// Two pair-strings on one bridge mode, with `run_extra` added to its [run]: the case's path.
+fs::path two_strings_case(const ScratchDir& scratch, const std::string& duration, const std::string& run_extra) {
+    fs::copy_file(fs::path(FRETBUZZ_SOURCE_DIR) / "cases/bridges/pair-string.toml", scratch.path() / "p.toml",
+                  fs::copy_options::overwrite_existing);
+    // A file of its own for each, so that several can be written before any is run.
+    const fs::path path = scratch.path() / ("s-" + std::to_string(std::hash<std::string>{}(duration + run_extra)) + ".toml");
+    std::ofstream(path) << "name = \"x\"\n[run]\nfs = 96000\nduration = " << duration << "\n" << run_extra
+                        << "\n[bridge]\n[[bridge.mode]]\nmass_kg = 0.005\nfrequency_hz = 300.0\nparticipation = [1.0, 1.0]\n"
+                           "[[string]]\nname = \"a\"\ncase = \"p.toml\"\n[[string]]\nname = \"b\"\ncase = \"p.toml\"\n";
+    return path;
+}
+
+// The run's length and rates are checked as a one-string run's are, after every override and
+// before anything is written: audio_rate 1e300 crashed libsoxr, 1e-300 and 1e12 spun, 3e9
+// took gigabytes; --duration 1e300 ran "-9223372036854775808 steps", 1e-7 ran none, 1e5 ran
+// 9.6e9 steps.
+TEST(Reliability, StringsRunLengthAndRatesAreBoundedAfterEveryOverride) {
+    const ScratchDir scratch("strings-bounds");
+    const fs::path out = scratch.path() / "out";
+    struct Refused {
+        std::string arguments, must_mention;
+    };
+    std::vector<Refused> refused;
+    for (const char* rate : {"1e300", "1e-300", "1e12", "3e9", "1e7", "1", "7999"})
+        refused.push_back({two_strings_case(scratch, "0.05", std::string("audio_rate = ") + rate).string(), "run.audio_rate"});
+    refused.push_back({two_strings_case(scratch, "0.05", "output_rate = 1e6").string(), "run.output_rate"});
+    for (const char* duration : {"1e300", "1e-7", "1e5"})
+        refused.push_back({std::string("strings-on-a-bridge --duration ") + duration, "number of steps"});
+    refused.push_back({"strings-on-a-bridge --audio-rate 1e300", "run.audio_rate"});
+    refused.push_back({"strings-on-a-bridge --fs 1e12", "number of steps"});
+    refused.push_back({"strings-on-a-bridge --output-rate 1e9", "run.output_rate"});
+    // An option a strings case does not take is named rather than ignored.
+    refused.push_back({"strings-on-a-bridge --K 1e12 --duration 0.01", "--K"});
+    // The same bound below for one string: no run of no step.
+    refused.push_back({"bass-pop --duration 1e-7", "number of steps"});
+    for (const Refused& r : refused) {
+        const auto started = std::chrono::steady_clock::now();
+        const auto result = run_cli("run " + r.arguments + " --out " + out.string() + " -q");
+        EXPECT_EQ(result.exit_code, 2) << r.arguments << ": " << result.output;
+        EXPECT_NE(result.output.find(r.must_mention), std::string::npos) << r.arguments << ": " << result.output;
+        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 10.0) << r.arguments;
+        EXPECT_FALSE(fs::exists(out)) << r.arguments;
+    }
+    // What the bounds allow runs: the shortest run (one step) and the outer audio rates (at
+    // 384 kHz without bridge.ogg, which Vorbis does not encode: it failed the run after computing).
+    for (const std::string& arguments : {two_strings_case(scratch, "1.05e-5", "audio_rate = 8000").string(),
+                                        two_strings_case(scratch, "0.002", "audio_rate = 384000").string()}) {
+        const auto result = run_cli("run " + arguments + " --out " + out.string() + " -q");
+        EXPECT_EQ(result.exit_code, 0) << arguments << ": " << result.output;
+    }
+    EXPECT_EQ(nlohmann::json::parse(read_text(out / "summary.json"))["steps"], 192);
+    EXPECT_TRUE(fs::is_regular_file(out / "bridge.wav"));
+    EXPECT_FALSE(fs::exists(out / "bridge.ogg"));
+}
+
+long resident_kb(pid_t pid) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.starts_with("VmRSS:")) return std::stol(line.substr(6));
+    return -1;
+}
+
+// A strings run writes its rows and its sound as they come: its memory stays flat however
+// long it runs (it grew some 50 MB per second of computing at a row per step), and Ctrl-C
+// leaves nothing.
+TEST(Reliability, AStringsRunStreamsItsRowsAndSound) {
+    const ScratchDir scratch("strings-stream");
+    const fs::path out = scratch.path() / "out";
+    const Child run({"run", two_strings_case(scratch, "41666", "output_rate = 96000").string(), "--out", out.string(), "-q"},
+                    scratch.path() / "log");
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    const long first = resident_kb(run.pid());
+    std::this_thread::sleep_for(std::chrono::seconds(3));
+    const long second = resident_kb(run.pid());
+    run.signal(SIGINT);
+    EXPECT_EQ(run.wait(), 130) << read_text(scratch.path() / "log");
+    ASSERT_GT(first, 0);
+    std::printf("a strings run at a row per step: resident %.1f MB at 2 s, %.1f MB at 5 s\n", static_cast<double>(first) / 1024.0,
+                static_cast<double>(second) / 1024.0);
+    EXPECT_LT(second - first, 8 * 1024) << "rows or sound kept in memory";
+    EXPECT_FALSE(fs::exists(out));
+    expect_no_staging(scratch.path());
+}
+
+// The streamed files are those of the run kept in memory: strings.csv row for row, every WAV
+// file byte for byte as write_normalised_audio makes it of the whole signal; the summary names
+// the balance as a one-string run's does.
+TEST(Reliability, AStringsRunsStreamedFilesAreThoseOfTheRunKeptInMemory) {
+    const ScratchDir scratch("strings-files");
+    const fs::path out = scratch.path() / "out";
+    const fs::path path = two_strings_case(scratch, "0.3", "output_rate = 12000");
+    const auto result = run_cli("run " + path.string() + " --out " + out.string() + " -q");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const StringsCase sc = parse_strings_case(*read_strings_case_text(path.string()));
+    const StringsRun kept = simulate_strings(sc);
+    std::string csv = "t,a,b,bridge,balance\n";
+    for (std::size_t r = 0; r < kept.t.size(); ++r) {
+        for (const double v : {kept.t[r], kept.energy[0][r], kept.energy[1][r], kept.bridge_energy[r], kept.balance[r]}) {
+            append_number(csv, v);
+            csv += ',';
+        }
+        csv.back() = '\n';
+    }
+    EXPECT_EQ(read_text(out / "strings.csv"), csv);
+    const struct {
+        const char* file;
+        const std::vector<double>& signal;
+    } sounds[] = {{"bridge.wav", kept.bridge_audio}, {"pickup_a.wav", kept.pickup_audio[0]}, {"pickup_b.wav", kept.pickup_audio[1]}};
+    for (const auto& s : sounds) {
+        ASSERT_GT(s.signal.size(), 14000u);  // 0.3 s at 48 kHz
+        write_normalised_audio(scratch.path() / s.file, s.signal, kept.audio_rate_hz);
+        EXPECT_EQ(read_text(out / s.file), read_text(scratch.path() / s.file)) << s.file;
+    }
+    const auto summary = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(summary["max_relative_energy_increase"], kept.max_relative_energy_increase);
+    EXPECT_EQ(summary["max_relative_energy_balance_error"], kept.max_relative_balance_error);
+    EXPECT_LT(kept.max_relative_balance_error, 1e-11);  // the balance to round-off, damping included
+    EXPECT_FALSE(summary.contains("worst_relative_balance"));
+    EXPECT_EQ(names_in(out), (std::set<std::string>{"strings.csv", "bridge.wav", "bridge.ogg", "pickup_a.wav",
+                                                    "pickup_b.wav", "case.toml", "summary.json"}));
 }
 
 // A state gone to infinity or NaN stops the run (SolverError: exit 3) naming the first bad

@@ -49,6 +49,7 @@ struct RunArguments {
     bool dense_contact_map = false;
     bool quiet = false;
     AudioFades fades;
+    std::vector<std::string> one_string_only;  // given options that a strings case does not take
 };
 
 double parse_rate(const std::string& text) {
@@ -132,26 +133,49 @@ void keep_modes_in_band(const RunArguments& a, Case& c) {
                          "; --allow-aliasing keeps them all, aliased under contact)");
 }
 
-// Strings on a bridge: the whole assembly in one run (the one-string options do not apply).
+// The options a strings case takes: its [run]'s (for the case and every string), and the
+// outputs'. The others are each string's own business, set in its case (set.KEY).
+void apply_strings_overrides(const RunArguments& a, StringsCase& sc) {
+    if (!a.one_string_only.empty())
+        throw InputError(a.one_string_only.front() + ": applies to one-string cases; " + a.case_name +
+                         " is strings on a bridge (set it in a [[string]]'s case or its set table)");
+    if (a.fs) {
+        sc.run.sample_rate_hz = *a.fs;
+        for (Case& c : sc.strings) c.run.sample_rate_hz = *a.fs;
+    }
+    if (a.duration) set_duration(sc, *a.duration);
+    if (a.audio_rate) sc.run.audio_rate_hz = *a.audio_rate;
+    if (a.output_rate) sc.run.output_rate_hz = *a.output_rate == "native" ? sc.run.sample_rate_hz : parse_rate(*a.output_rate);
+    for (Case& c : sc.strings) {
+        if (a.allow_aliasing) c.run.allow_aliasing = true;
+        if (a.lossless) c.make_lossless();
+    }
+    if (a.lossless)  // as the case's run.lossless
+        for (BridgeModeSpec& m : sc.bridge) m.damping_ratio = 0.0;
+}
+
+// Strings on a bridge: the whole assembly in one run, its rows and sound written as they come.
 int run_strings_command(const RunArguments& a, const CaseText& text) {
     StringsCase sc = parse_strings_case(text);
-    if (a.duration) {
-        require_positive("--duration (s)", *a.duration);
-        sc.run.duration_s = *a.duration;
-    }
+    apply_strings_overrides(a, sc);
+    sc.validate();  // after every override, before anything is created on disk
     for (const Case& c : sc.strings)
         if (contact_possible(c)) require_sampling(c.modes, c.run.sample_rate_hz, c.run.allow_aliasing);
+    for (std::size_t s = 0; s < sc.strings.size(); ++s)
+        for (const std::string& w : sc.strings[s].warnings)
+            std::cerr << "fretbuzz: warning: string " << sc.string_names[s] << ": " << w << "\n";
     if (!a.quiet)
         std::cerr << "fretbuzz: " << sc.name << ": " << sc.strings.size() << " strings on a bridge of "
                   << sc.bridge.size() << " modes, fs = " << sc.run.sample_rate_hz << " Hz, " << sc.run.duration_s << " s\n";
-    const StringsRun run = simulate_strings(sc);
-    const std::filesystem::path dir = write_strings_outputs(a.out, sc, run);
+    StringsOutputs outputs(a.out, sc);
+    const StringsSummary run = simulate_strings(sc, outputs);
+    outputs.commit(run);
     if (!a.quiet)
         std::cerr << "fretbuzz: " << run.steps << " steps in " << run.wall_seconds << " s ("
-                  << run.wall_seconds / sc.run.duration_s << " s per simulated second); worst relative balance "
-                  << run.worst_balance << "; outputs in " << dir.string() << "\n";
-    if (a.report) return make_report(dir, a.quiet);
-    if (!a.quiet) std::cerr << "fretbuzz: the strings' energies plotted and an HTML report: fretbuzz report " << dir.string() << "\n";
+                  << run.wall_seconds / sc.run.duration_s << " s per simulated second); largest relative balance error "
+                  << run.max_relative_balance_error << "; outputs in " << outputs.path().string() << "\n";
+    if (a.report) return make_report(outputs.path(), a.quiet);
+    if (!a.quiet) std::cerr << "fretbuzz: the strings' energies plotted and an HTML report: fretbuzz report " << outputs.path().string() << "\n";
     return 0;
 }
 
@@ -249,7 +273,13 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_flag("--dense-contact-map", args->dense_contact_map,
                   "Also store the contact map densely in results.h5 (/contact/max_force_dense), to check readers");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
-    cmd->callback([args, &action] { action = [args] { return run_command(*args); }; });
+    cmd->callback([cmd, args, &action] {
+        for (const char* name : {"--K", "--alpha", "--observe", "--fret", "--polarisations", "--angle",
+                                 "--pickup-angle", "--fade-in", "--fade-out", "--velocity-audio", "--snapshots",
+                                 "--snapshot-until", "--no-screen", "--no-free-flight", "--dense-contact-map"})
+            if (cmd->count(name) > 0) args->one_string_only.emplace_back(name);
+        action = [args] { return run_command(*args); };
+    });
 }
 
 }  // namespace fretbuzz::cli

@@ -30,4 +30,9 @@ void set_duration(Case& c, double duration_s) {
     });
 }
 
+void set_duration(StringsCase& sc, double duration_s) {
+    sc.run.duration_s = duration_s;
+    for (Case& c : sc.strings) set_duration(c, duration_s);
+}
+
 }  // namespace fretbuzz

@@ -242,7 +242,6 @@ StringsCase parse_strings_case(const CaseText& source) {
     }
     bridge.finish();
     top.finish();
-    for (std::size_t s = 0; s < sc.strings.size(); ++s) sc.strings[s].validate();
     sc.validate();
     return sc;
 }

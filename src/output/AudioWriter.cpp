@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "../FileDescriptor.hpp"
+#include "StreamedAudio.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
 #include "fretbuzz/output/PickupHighPass.hpp"
 
@@ -101,6 +102,37 @@ int format_of(const std::filesystem::path& path, int bits) {
 }  // namespace
 
 namespace {
+// Writes a signal, block by block as `fill` gives it (n values from `first`, already scaled),
+// as `path`'s extension names; libsndfile's error, the disk's or the close's named with it.
+template <class Fill>
+void write_blocks(const std::filesystem::path& path, std::size_t size, double rate_hz, int bits, double vbr_quality,
+                  Fill&& fill) {
+    SF_INFO info{};
+    info.samplerate = static_cast<int>(std::lround(rate_hz));
+    info.channels = 1;
+    info.format = format_of(path, bits);
+    // Opened by the system and handed to libsndfile: libsndfile keeps a path it opens in a
+    // buffer of its own (about 1 kB), and only the kernel's limits (checked up front) apply.
+    FileDescriptor fd(::open(path.c_str(), O_CREAT | O_WRONLY | O_TRUNC | O_CLOEXEC, 0666));
+    if (fd.get() < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+    SNDFILE* file = sf_open_fd(fd.get(), SFM_WRITE, &info, SF_FALSE);
+    if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
+    if (vbr_quality >= 0.0) sf_command(file, SFC_SET_VBR_ENCODING_QUALITY, &vbr_quality, sizeof vbr_quality);
+    std::vector<double> block(std::min(size, kBlockFrames));
+    std::string write_error;
+    for (std::size_t first = 0; first < size && write_error.empty(); first += block.size()) {
+        const std::size_t n = std::min(block.size(), size - first);
+        fill(first, std::span<double>(block.data(), n));
+        if (sf_write_double(file, block.data(), static_cast<sf_count_t>(n)) != static_cast<sf_count_t>(n))
+            write_error = sf_strerror(file);
+    }
+    // sf_close writes the header's final sizes: a full disk can fail it alone.
+    const int close_error = sf_close(file);
+    if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
+    if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
+    if (fd.close() != 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+}
+
 double write_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz, int bits,
                    std::size_t fade_in, std::size_t fade_out, double vbr_quality) {
     const std::size_t size = signal.size();
@@ -117,32 +149,10 @@ double write_audio(const std::filesystem::path& path, std::span<const double> si
     PickupHighPass pickup(rate_hz);
     for (std::size_t i = 0; i < size; ++i) peak = std::max(peak, std::abs(faded(pickup, i)));
     const double gain = peak > 0.0 ? 0.99 / peak : 1.0;
-
-    SF_INFO info{};
-    info.samplerate = static_cast<int>(std::lround(rate_hz));
-    info.channels = 1;
-    info.format = format_of(path, bits);
-    // Opened by the system and handed to libsndfile: libsndfile keeps a path it opens in a
-    // buffer of its own (about 1 kB), and only the kernel's limits (checked up front) apply.
-    FileDescriptor fd(::open(path.c_str(), O_CREAT | O_WRONLY | O_TRUNC | O_CLOEXEC, 0666));
-    if (fd.get() < 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
-    SNDFILE* file = sf_open_fd(fd.get(), SFM_WRITE, &info, SF_FALSE);
-    if (file == nullptr) throw std::runtime_error("cannot write " + path.string() + ": " + sf_strerror(nullptr));
-    if (vbr_quality >= 0.0) sf_command(file, SFC_SET_VBR_ENCODING_QUALITY, &vbr_quality, sizeof vbr_quality);
-    std::vector<double> block(std::min(size, kBlockFrames));
-    std::string write_error;
     pickup = PickupHighPass(rate_hz);
-    for (std::size_t first = 0; first < size && write_error.empty(); first += block.size()) {
-        const std::size_t n = std::min(block.size(), size - first);
-        for (std::size_t k = 0; k < n; ++k) block[k] = faded(pickup, first + k) * gain;
-        if (sf_write_double(file, block.data(), static_cast<sf_count_t>(n)) != static_cast<sf_count_t>(n))
-            write_error = sf_strerror(file);
-    }
-    // sf_close writes the header's final sizes: a full disk can fail it alone.
-    const int close_error = sf_close(file);
-    if (!write_error.empty()) throw std::runtime_error("cannot write " + path.string() + ": " + write_error);
-    if (close_error != 0) throw std::runtime_error("cannot write " + path.string() + ": " + sf_error_number(close_error));
-    if (fd.close() != 0) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+    write_blocks(path, size, rate_hz, bits, vbr_quality, [&](std::size_t first, std::span<double> block) {
+        for (std::size_t k = 0; k < block.size(); ++k) block[k] = faded(pickup, first + k) * gain;
+    });
     return 1.0 / gain;
 }
 }  // namespace
@@ -163,6 +173,61 @@ void write_compact_audio(const std::filesystem::path& path, std::span<const doub
 double write_normalised_audio(const std::filesystem::path& path, std::span<const double> signal, double rate_hz,
                               int bits) {
     return write_faded_audio(path, signal, rate_hz, bits, 0, 0);
+}
+
+StreamedAudio::StreamedAudio(const std::filesystem::path& scratch, double rate_hz)
+    : scratch_(scratch), pickup_(rate_hz), rate_(rate_hz) {
+    // Named only while it is opened: removed at once, it goes with its descriptor, whatever
+    // ends the process.
+    fd_ = ::open(scratch.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (fd_ < 0) throw std::runtime_error("cannot write " + scratch.string() + ": " + std::strerror(errno));
+    ::unlink(scratch.c_str());
+    block_.reserve(kBlockFrames);
+}
+
+StreamedAudio::~StreamedAudio() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void StreamedAudio::push(double x) {
+    const double v = pickup_(x);
+    peak_ = std::max(peak_, std::abs(v));
+    block_.push_back(v);
+    if (block_.size() == kBlockFrames) spill();
+}
+
+void StreamedAudio::spill() {
+    const auto* bytes = reinterpret_cast<const char*>(block_.data());
+    std::size_t left = block_.size() * sizeof(double);
+    while (left > 0) {
+        const ssize_t n = ::write(fd_, bytes, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw std::runtime_error("cannot write " + scratch_.string() + ": " + std::strerror(errno));
+        bytes += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    count_ += block_.size();
+    block_.clear();
+}
+
+double StreamedAudio::write(const std::filesystem::path& path, int bits) {
+    if (!block_.empty()) spill();
+    const double gain = peak_ > 0.0 ? 0.99 / peak_ : 1.0;
+    write_blocks(path, count_, rate_, bits, -1.0, [&](std::size_t first, std::span<double> block) {
+        auto* bytes = reinterpret_cast<char*>(block.data());
+        std::size_t left = block.size() * sizeof(double);
+        auto at = static_cast<off_t>(first * sizeof(double));
+        while (left > 0) {
+            const ssize_t n = ::pread(fd_, bytes, left, at);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) throw std::runtime_error("cannot read back " + scratch_.string() + ": " + (n < 0 ? std::strerror(errno) : "cut short"));
+            bytes += n;
+            at += n;
+            left -= static_cast<std::size_t>(n);
+        }
+        for (double& v : block) v *= gain;
+    });
+    return 1.0 / gain;
 }
 
 }  // namespace fretbuzz

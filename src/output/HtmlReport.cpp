@@ -178,7 +178,6 @@ constexpr SummaryRow kSummaryRows[] = {
     {"observation_points_m", "Observation points", "m"},
     {"strings", "Strings on the bridge", ""},
     {"bridge_modes", "Bridge modes", ""},
-    {"worst_relative_balance", "Largest balance error of the strings and bridge, relative", ""},
     {"warnings", "Warnings", ""},
 };
 

@@ -158,10 +158,12 @@ bool is_run_output_name(const std::string& name) {
         "report.html",     "signal.png",  "signal_all_points.png", "spectrogram.png", "energy.png",
         "contactogram.png", "snapshots.png", "animation.gif",       "animation.mp4",
         // a set-up study's files
-        "buzz_map.csv",    "buzz_map.html", "map.json", "compare.csv", "advice.json", "advice.txt"};
+        "buzz_map.csv",    "buzz_map.html", "map.json", "compare.csv", "advice.json", "advice.txt",
+        // a run of strings on a bridge
+        "strings.csv", "bridge.wav", "bridge.ogg", "case.toml", "strings_energy.png"};
     if (fixed.contains(name)) return true;
-    return name.ends_with(".wav") &&
-           (name.starts_with("audio") || name.starts_with("velocity") || name.starts_with("note-"));
+    return name.ends_with(".wav") && (name.starts_with("audio") || name.starts_with("velocity") ||
+                                      name.starts_with("note-") || name.starts_with("pickup_"));
 }
 
 std::size_t remove_stale_staging(const fs::path& dir) {

@@ -26,6 +26,7 @@ public:
         const double reference = scale > 0.0 ? scale : 1.0;
         largest_rise_ = std::max(largest_rise_, h - work - previous_);
         s.max_relative_energy_increase = largest_rise_ / reference;
+        balance_ = (h - work + dissipated - s.energy_initial_j) / reference;
         largest_error_ = std::max(largest_error_, std::abs(h - work + dissipated - s.energy_initial_j));
         s.max_relative_balance_error = largest_error_ / reference;
         previous_ = h - work;
@@ -33,8 +34,12 @@ public:
         s.dissipated_j = dissipated;
     }
 
+    // (H - W + D - H^{1/2}) at the last sample, relative as above: what a row of the balance shows.
+    double relative_balance() const { return balance_; }
+
 private:
     bool started_ = false;
+    double balance_ = 0.0;
     double previous_ = 0.0;  // H - W at the last sample
     double largest_work_ = 0.0;
     double largest_rise_ = 0.0;

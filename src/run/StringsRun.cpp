@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "EnergyAudit.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/run/Resampler.hpp"
 #include "fretbuzz/scheme/Assembly.hpp"
@@ -14,7 +15,7 @@
 
 namespace fretbuzz {
 
-StringsRun simulate_strings(const StringsCase& sc) {
+StringsSummary simulate_strings(const StringsCase& sc, StringsObserver& observer) {
     const SubnormalFlush flushed;  // for every step of the run, on whichever thread runs it
     const auto started = std::chrono::steady_clock::now();
     const double fs = sc.run.sample_rate_hz, dt = 1.0 / fs;
@@ -43,38 +44,36 @@ StringsRun simulate_strings(const StringsCase& sc) {
                                                        along_polarisation(c.initial_velocity, c, true));
     }
     // Each string's pickup (along z): its first observation point, read by the step's own pass.
-    std::vector<std::vector<double>> rows;
+    std::vector<std::vector<double>> shapes;
     for (std::size_t s = 0; s < S; ++s) {
         const Case& c = sc.strings[s];
         const double x = c.observation_points_m.empty() ? 0.9 * c.string.length_m : c.observation_points_m.front();
-        rows.push_back(plans[s]->basis().mode_shapes_at(x));
-        assembly.string(s).pickups().observe(rows[s].data(), assembly.string(s).modes());
+        shapes.push_back(plans[s]->basis().mode_shapes_at(x));
+        assembly.string(s).pickups().observe(shapes[s].data(), assembly.string(s).modes());
     }
     const auto pickup = [&](std::size_t s) {
         return assembly.string(s).pickups().observation(plans[s]->options().fused_step, assembly.string(s).modes());
     };
 
-    StringsRun run;
-    run.output_rate_hz = sc.run.output_rate_hz.value_or(kStringsRowsPerSecond);
-    run.audio_rate_hz = sc.run.audio_rate_hz;
-    run.energy.assign(S, {});
-    run.pickup_audio.assign(S, {});
+    StringsSummary summary;
+    summary.output_rate_hz = sc.run.output_rate_hz.value_or(kStringsRowsPerSecond);
+    summary.audio_rate_hz = sc.run.audio_rate_hz;
     const long steps = std::lround(sc.run.duration_s * fs);
-    const long stride = std::max(1L, std::lround(fs / run.output_rate_hz));
-    Resampler resampler(fs, run.audio_rate_hz, S + 1);
+    // In double, so that an output rate far below 1/duration gives one row (the first), not an overflow.
+    const auto stride = static_cast<long>(std::clamp(std::round(fs / summary.output_rate_hz), 1.0, static_cast<double>(steps)));
+    Resampler resampler(fs, summary.audio_rate_hz, S + 1);
     constexpr std::size_t kBlock = 4096;
-    std::vector<double> frames, audio;
+    std::vector<double> frames, audio, row(S + 3);
     frames.reserve(kBlock * (S + 1));
     const auto flush = [&](bool last) {
         audio.clear();
         resampler.process(frames, audio, last);
         frames.clear();
-        for (std::size_t k = 0; k + S < audio.size(); k += S + 1) {
-            run.bridge_audio.push_back(audio[k]);
-            for (std::size_t s = 0; s < S; ++s) run.pickup_audio[s].push_back(audio[k + 1 + s]);
-        }
+        if (!audio.empty()) observer.audio(audio);
     };
-    double first = 0.0, largest_work = 0.0;
+    // The balance judged as a one-string run's is (EnergyAudit), from the energy after the first step.
+    EnergyAudit audit;
+    RunSummary audited;
     for (long n = 1; n <= steps; ++n) {
         assembly.step();
         frames.push_back(n == 1 ? 0.0 : assembly.bridge()->velocity());
@@ -83,25 +82,60 @@ StringsRun simulate_strings(const StringsCase& sc) {
             flush(false);
             throw_if_stopped();
         }
-        if (n == 1) first = assembly.energy();
         if (n % stride != 0 && n != 1) continue;
-        largest_work = std::max(largest_work, std::abs(assembly.work()));
-        run.t.push_back(static_cast<double>(n) * dt);
-        for (std::size_t s = 0; s < S; ++s) run.energy[s].push_back(assembly.string_energy(s));
-        run.bridge_energy.push_back(assembly.bridge()->energy());
-        const double total = assembly.energy() + assembly.dissipated() - assembly.work();
-        // Relative to the energy at the start or, for strings played from rest (pluckers, fingers),
-        // to the largest work put in so far (as a one-string run's audit judges it).
-        const double scale = std::max(first, largest_work);
-        const double residual = scale > 0.0 ? (total - first) / scale : 0.0;
-        if (!std::isfinite(total)) throw SolverError("strings on a bridge: the energy is not finite at t = " + std::to_string(static_cast<double>(n) * dt) + " s");
-        run.balance.push_back(residual);
-        run.worst_balance = std::max(run.worst_balance, std::abs(residual));
+        const double t = static_cast<double>(n) * dt;
+        if (!std::isfinite(assembly.energy() + assembly.dissipated() - assembly.work()))
+            throw SolverError("strings on a bridge: the energy is not finite at t = " + std::to_string(t) + " s");
+        audit.record(assembly.energy(), assembly.dissipated(), audited, assembly.work());
+        row[0] = t;
+        for (std::size_t s = 0; s < S; ++s) row[1 + s] = assembly.string_energy(s);
+        row[S + 1] = assembly.bridge()->energy();
+        row[S + 2] = audit.relative_balance();
+        observer.row(row);
     }
     flush(true);
-    run.steps = steps;
-    run.subnormal_coordinates = assembly.subnormal_coordinates();
-    run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    summary.steps = steps;
+    summary.max_relative_energy_increase = audited.max_relative_energy_increase;
+    summary.max_relative_balance_error = audited.max_relative_balance_error;
+    summary.subnormal_coordinates = assembly.subnormal_coordinates();
+    summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return summary;
+}
+
+namespace {
+
+// Keeps every row and frame (StringsRun).
+class StringsRecorder : public StringsObserver {
+public:
+    StringsRecorder(StringsRun& run, std::size_t strings) : run_(run) {
+        run_.energy.assign(strings, {});
+        run_.pickup_audio.assign(strings, {});
+    }
+    void row(std::span<const double> values) override {
+        const std::size_t S = run_.energy.size();
+        run_.t.push_back(values[0]);
+        for (std::size_t s = 0; s < S; ++s) run_.energy[s].push_back(values[1 + s]);
+        run_.bridge_energy.push_back(values[S + 1]);
+        run_.balance.push_back(values[S + 2]);
+    }
+    void audio(std::span<const double> frames) override {
+        const std::size_t S = run_.pickup_audio.size();
+        for (std::size_t k = 0; k + S < frames.size(); k += S + 1) {
+            run_.bridge_audio.push_back(frames[k]);
+            for (std::size_t s = 0; s < S; ++s) run_.pickup_audio[s].push_back(frames[k + 1 + s]);
+        }
+    }
+
+private:
+    StringsRun& run_;
+};
+
+}  // namespace
+
+StringsRun simulate_strings(const StringsCase& sc) {
+    StringsRun run;
+    StringsRecorder recorder(run, sc.strings.size());
+    static_cast<StringsSummary&>(run) = simulate_strings(sc, recorder);
     return run;
 }
 

@@ -11,5 +11,8 @@ namespace fretbuzz {
 // and c.warnings says so. A duration that is not a positive number is set as it is, for
 // Case::validate to refuse.
 void set_duration(Case& c, double duration_s);
+// The same for strings on a bridge: the case's [run] and every string's (their profiles cut,
+// their warnings in each string's Case). StringsCase::validate checks the result.
+void set_duration(StringsCase& sc, double duration_s);
 
 }  // namespace fretbuzz
