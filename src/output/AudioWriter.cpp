@@ -176,17 +176,15 @@ double write_normalised_audio(const std::filesystem::path& path, std::span<const
 }
 
 StreamedAudio::StreamedAudio(const std::filesystem::path& scratch, double rate_hz)
-    : scratch_(scratch), pickup_(rate_hz), rate_(rate_hz) {
+    : scratch_(scratch),
+      pickup_(rate_hz),
+      rate_(rate_hz),
+      fd_(::open(scratch.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC | O_NOFOLLOW, 0600)) {
+    if (fd_.get() < 0) throw std::runtime_error("cannot write " + scratch.string() + ": " + std::strerror(errno));
     // Named only while it is opened: removed at once, it goes with its descriptor, whatever
     // ends the process.
-    fd_ = ::open(scratch.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC | O_NOFOLLOW, 0600);
-    if (fd_ < 0) throw std::runtime_error("cannot write " + scratch.string() + ": " + std::strerror(errno));
     ::unlink(scratch.c_str());
     block_.reserve(kBlockFrames);
-}
-
-StreamedAudio::~StreamedAudio() {
-    if (fd_ >= 0) ::close(fd_);
 }
 
 void StreamedAudio::push(double x) {
@@ -197,15 +195,8 @@ void StreamedAudio::push(double x) {
 }
 
 void StreamedAudio::spill() {
-    const auto* bytes = reinterpret_cast<const char*>(block_.data());
-    std::size_t left = block_.size() * sizeof(double);
-    while (left > 0) {
-        const ssize_t n = ::write(fd_, bytes, left);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw std::runtime_error("cannot write " + scratch_.string() + ": " + std::strerror(errno));
-        bytes += n;
-        left -= static_cast<std::size_t>(n);
-    }
+    if (const int error = write_fully(fd_.get(), block_.data(), block_.size() * sizeof(double)); error != 0)
+        throw std::runtime_error("cannot write " + scratch_.string() + ": " + std::strerror(error));
     count_ += block_.size();
     block_.clear();
 }
@@ -214,17 +205,9 @@ double StreamedAudio::write(const std::filesystem::path& path, int bits) {
     if (!block_.empty()) spill();
     const double gain = peak_ > 0.0 ? 0.99 / peak_ : 1.0;
     write_blocks(path, count_, rate_, bits, -1.0, [&](std::size_t first, std::span<double> block) {
-        auto* bytes = reinterpret_cast<char*>(block.data());
-        std::size_t left = block.size() * sizeof(double);
-        auto at = static_cast<off_t>(first * sizeof(double));
-        while (left > 0) {
-            const ssize_t n = ::pread(fd_, bytes, left, at);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) throw std::runtime_error("cannot read back " + scratch_.string() + ": " + (n < 0 ? std::strerror(errno) : "cut short"));
-            bytes += n;
-            at += n;
-            left -= static_cast<std::size_t>(n);
-        }
+        const int error = read_fully_at(fd_.get(), block.data(), block.size() * sizeof(double),
+                                        static_cast<off_t>(first * sizeof(double)));
+        if (error != 0) throw std::runtime_error("cannot read back " + scratch_.string() + ": " + std::strerror(error));
         for (double& v : block) v *= gain;
     });
     return 1.0 / gain;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "../FileDescriptor.hpp"
 #include "fretbuzz/output/PickupHighPass.hpp"
 
 namespace fretbuzz {
@@ -17,9 +18,6 @@ class StreamedAudio {
 public:
     // Throws runtime_error naming `scratch` if it cannot be created.
     StreamedAudio(const std::filesystem::path& scratch, double rate_hz);
-    ~StreamedAudio();
-    StreamedAudio(const StreamedAudio&) = delete;
-    StreamedAudio& operator=(const StreamedAudio&) = delete;
 
     void push(double x);
     // The file (WAV, FLAC or Ogg Vorbis by its extension) of every sample pushed so far; may be
@@ -32,7 +30,7 @@ private:
     std::filesystem::path scratch_;
     PickupHighPass pickup_;
     double rate_;
-    int fd_ = -1;
+    FileDescriptor fd_;
     double peak_ = 0.0;
     std::size_t count_ = 0;  // samples in the scratch file
     std::vector<double> block_;
