@@ -24,13 +24,7 @@ namespace {
 void write_new_file(const fs::path& path, std::string_view text) {
     FileDescriptor fd(::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
     if (fd.get() < 0) io_failure("create", path, errno);
-    std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd.get(), text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) io_failure("write", path, errno);
-        done += static_cast<std::size_t>(n);
-    }
+    if (const int error = write_fully(fd.get(), text.data(), text.size()); error != 0) io_failure("write", path, error);
     if (fd.close() != 0) io_failure("write", path, errno);
 }
 

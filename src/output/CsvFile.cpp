@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "../FileDescriptor.hpp"
 #include "fretbuzz/output/CsvWriters.hpp"
 
 namespace fretbuzz {
@@ -141,16 +142,8 @@ void CsvFile::start_tail_writeback() {
 }
 
 void CsvFile::write_all(const char* data, std::size_t size) {
-    while (size > 0) {
-        const ssize_t n = ::write(fd_, data, size);
-        if (n <= 0) {
-            if (n < 0 && errno == EINTR) continue;
-            write_failure(path_, n < 0 ? errno : EIO);
-        }
-        data += n;
-        size -= static_cast<std::size_t>(n);
-        written_ += n;
-    }
+    if (const int error = write_fully(fd_, data, size); error != 0) write_failure(path_, error);
+    written_ += static_cast<long long>(size);
 }
 
 }  // namespace fretbuzz

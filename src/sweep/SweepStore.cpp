@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "../FileDescriptor.hpp"
 #include "../output/Hdf5Objects.hpp"
 #include "fretbuzz/Error.hpp"
 
@@ -52,12 +53,9 @@ void write_atomically(const fs::path& path, const std::string& text) {
         ::unlink(tmp.c_str());
         throw std::runtime_error(system_error_text(what, path, error));
     };
-    std::size_t written = 0;
-    while (written < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) fail("cannot write");
-        written += static_cast<std::size_t>(n);
+    if (const int error = write_fully(fd, text.data(), text.size()); error != 0) {
+        errno = error;
+        fail("cannot write");
     }
     if (::fsync(fd) != 0) fail("cannot flush");
     if (::close(fd) != 0) {
