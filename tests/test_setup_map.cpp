@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <algorithm>
+#include <iostream>
 #include <limits>
 
 #include "SetupTestSupport.hpp"
@@ -154,6 +155,40 @@ TEST(SetupNotes, EnsemblesAreDeterministicAndCentredOnTheAttack) {
         EXPECT_LE(std::abs(a[m].scale - 1.0), bass.attack.strength_spread);
         EXPECT_LE(std::abs(a[m].turn_deg), bass.attack.angle_spread_deg);
     }
+}
+
+// The held string's modes are kept for the process (a studio or a Python session plays one
+// instrument after another), and only they: two instruments that differ in their contact law
+// alone play their notes each with its own. Each is heard first on its own (a held string no
+// other note of the process has: a grid of its own, and for the second instrument a tension
+// one part in 1e16 off, which moves its modes below what a level shows), then after the other.
+TEST(SetupNotes, EachInstrumentsNotesKeepTheirOwnContactLaw) {
+    const auto bass_with = [](double k, bool own_modes) {
+        Instrument bass = quick_bass(1);
+        bass.bench.grid_step_m = 2.05e-3;  // no other test's grid
+        bass.bench.contact_stiffness = k;
+        if (own_modes)
+            for (InstrumentString& s : bass.strings) s.tension_n = std::nextafter(s.tension_n, 2.0 * s.tension_n);
+        return bass;
+    };
+    const auto level = [](const Instrument& bass) {
+        const NoteMaker maker(bass, 0);
+        NotePlayer player(maker, 12, false, listening_settings(bass.bench));
+        const Attack hard = pluck_of(bass, "hard");
+        const PluckOutcome o = player.play(hard, hard.size, 0, ensemble(bass.attack, 0, 12, 1).front());
+        EXPECT_TRUE(o.touched);
+        EXPECT_EQ(maker.stopped(12).contact.stiffness, bass.bench.contact_stiffness);
+        return o.buzz_db;
+    };
+    const Instrument stiff = bass_with(1e13, false), soft = bass_with(1e10, false);
+    const double stiff_alone = level(stiff);
+    const double soft_alone = level(bass_with(1e10, true));
+    const double soft_after = level(soft), stiff_after = level(stiff);
+    std::cout << "E12 hard: K 1e13 " << stiff_alone << " dB alone, " << stiff_after << " dB after K 1e10; K 1e10 "
+              << soft_alone << " dB alone, " << soft_after << " dB after K 1e13\n";
+    EXPECT_GT(std::abs(stiff_alone - soft_alone), 3.0);  // the law is heard: the test can tell them apart
+    EXPECT_NEAR(soft_after, soft_alone, 0.1);
+    EXPECT_NEAR(stiff_after, stiff_alone, 1e-9);
 }
 
 // The two models of a stopped note agree where the answer is clear: with fret 9 of the

@@ -31,32 +31,55 @@ std::size_t grid_points(double length, double step) {
     return static_cast<std::size_t>(std::max(2L, std::lround(length / step) - 1));
 }
 
-// stopped_string of an obstacle-free open string, kept for the process: the held string's modes
+// stopped_string of an obstacle-free open string, its held modes kept for the process: they
 // cost tens of ms per note and do not change with the set-up (relief, action, frets), so a
 // what-if after a map, or a search playing the same string again and again, finds them here.
-// Keyed by everything they come from: the open string's modes and length, the stop, the count.
+// Only what the key says is kept: the modes (and a measured second polarisation's), from the
+// open string's modes and length, tension and density, the stop and the count. Everything
+// else of the stopped string (its contact law, friction, run, names) is the caller's own
+// `bare`, so two instruments with other contact laws in one process play each with its own.
 Case held_string(const Case& bare, double stop, std::size_t modes) {
     struct Key {
         std::vector<double> values;
         bool operator==(const Key&) const = default;
     };
+    struct Held {
+        ModeTable modes, second;
+    };
     static std::mutex mutex;
-    static std::vector<std::pair<Key, std::shared_ptr<const Case>>> kept;
+    static std::vector<std::pair<Key, std::shared_ptr<const Held>>> kept;
     constexpr std::size_t kMaxKept = 512;
     Key key{{bare.string.length_m, bare.string.tension_n, bare.string.linear_density, stop,
-             static_cast<double>(modes), static_cast<double>(bare.mode_count())}};
-    key.values.insert(key.values.end(), bare.modes.frequency_hz.begin(), bare.modes.frequency_hz.end());
-    key.values.insert(key.values.end(), bare.modes.sigma_per_s.begin(), bare.modes.sigma_per_s.end());
+             static_cast<double>(modes), static_cast<double>(bare.mode_count()),
+             static_cast<double>(bare.polarisation.table.size())}};
+    for (const ModeTable* t : {&bare.modes, &bare.polarisation.table}) {
+        key.values.insert(key.values.end(), t->frequency_hz.begin(), t->frequency_hz.end());
+        key.values.insert(key.values.end(), t->sigma_per_s.begin(), t->sigma_per_s.end());
+    }
+    const auto made_of = [&](const Held& held) {
+        Case c = bare;
+        c.string.length_m = bare.string.length_m - stop;
+        c.modes = held.modes;
+        c.polarisation.table = held.second;
+        const std::size_t n = c.mode_count();
+        c.initial_displacement.assign(n, 0.0);
+        c.initial_velocity.assign(n, 0.0);
+        c.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
+        return c;
+    };
     {
         std::lock_guard lock(mutex);
-        for (const auto& [k, c] : kept)
-            if (k == key) return *c;
+        for (const auto& [k, held] : kept)
+            if (k == key) return made_of(*held);
     }
-    auto c = std::make_shared<const Case>(stopped_string(bare, stop, modes));
-    std::lock_guard lock(mutex);
-    if (kept.size() >= kMaxKept) kept.clear();
-    kept.emplace_back(std::move(key), c);
-    return *c;
+    const Case stopped = stopped_string(bare, stop, modes);
+    auto held = std::make_shared<const Held>(Held{stopped.modes, stopped.polarisation.table});
+    {
+        std::lock_guard lock(mutex);
+        if (kept.size() >= kMaxKept) kept.clear();
+        kept.emplace_back(std::move(key), held);
+    }
+    return made_of(*held);
 }
 
 }  // namespace
