@@ -302,9 +302,11 @@ double RunLoop::audit_energy() {
     const double h = stepper_.energy();
     check_state(h);
     if (!stepper_.played()) {
-        audit_.record(h, stepper_.dissipated(), summary_);
+        audit_.record(h, stepper_.dissipated());
+        audit_.write_to(summary_);
     } else {
-        audit_.record(h, stepper_.dissipated(), summary_, stepper_.work());
+        audit_.record(h, stepper_.dissipated(), stepper_.work());
+        audit_.write_to(summary_);
         summary_.work_j = stepper_.work();
         summary_.finger_energy_final_j = stepper_.finger_energy();
         summary_.finger_loss_j = stepper_.finger_loss();

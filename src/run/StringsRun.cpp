@@ -73,7 +73,6 @@ StringsSummary simulate_strings(const StringsCase& sc, StringsObserver& observer
     };
     // The balance judged as a one-string run's is (EnergyAudit), from the energy after the first step.
     EnergyAudit audit;
-    RunSummary audited;
     for (long n = 1; n <= steps; ++n) {
         assembly.step();
         frames.push_back(n == 1 ? 0.0 : assembly.bridge()->velocity());
@@ -86,7 +85,7 @@ StringsSummary simulate_strings(const StringsCase& sc, StringsObserver& observer
         const double t = static_cast<double>(n) * dt;
         if (!std::isfinite(assembly.energy() + assembly.dissipated() - assembly.work()))
             throw SolverError("strings on a bridge: the energy is not finite at t = " + std::to_string(t) + " s");
-        audit.record(assembly.energy(), assembly.dissipated(), audited, assembly.work());
+        audit.record(assembly.energy(), assembly.dissipated(), assembly.work());
         row[0] = t;
         for (std::size_t s = 0; s < S; ++s) row[1 + s] = assembly.string_energy(s);
         row[S + 1] = assembly.bridge()->energy();
@@ -95,8 +94,8 @@ StringsSummary simulate_strings(const StringsCase& sc, StringsObserver& observer
     }
     flush(true);
     summary.steps = steps;
-    summary.max_relative_energy_increase = audited.max_relative_energy_increase;
-    summary.max_relative_balance_error = audited.max_relative_balance_error;
+    summary.max_relative_energy_increase = audit.max_relative_energy_increase();
+    summary.max_relative_balance_error = audit.max_relative_balance_error();
     summary.subnormal_coordinates = assembly.subnormal_coordinates();
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return summary;
