@@ -27,6 +27,15 @@ std::vector<double> Case::obstacle_on_grid() const {
     return g;
 }
 
+ContactLawKind contact_law_named(const std::string& word, const std::string& key) {
+    if (word == "penalty") return ContactLawKind::penalty;
+    if (word == "impact") return ContactLawKind::impact;
+    throw InputError(key + " = \"" + word + "\": must be \"penalty\" (K [eta]_+^alpha) or \"impact\" (Newton's law, "
+                     "with restitution in [0, 1])");
+}
+
+const char* contact_law_name(ContactLawKind law) { return law == ContactLawKind::impact ? "impact" : "penalty"; }
+
 void Case::make_lossless() {
     std::fill(modes.sigma_per_s.begin(), modes.sigma_per_s.end(), 0.0);
     std::fill(polarisation.table.sigma_per_s.begin(), polarisation.table.sigma_per_s.end(), 0.0);
@@ -342,6 +351,23 @@ void check_polarisations(const Case& c) {
     if (p.pickup_angle_given) throw needs_two("audio.pickup_angle");
 }
 
+// The impact law steps the string alone against rigid obstacles (NewtonImpact): parts with
+// contacts of their own (fingers, pluckers) and forces would need their pads or loads inside its
+// complementarity problem, and y its friction cone, which it does not have yet.
+void refuse_beside_impact(const Case& c) {
+    const auto refuse = [](const std::string& key, const std::string& why) {
+        return InputError(key + " cannot be used with contact.law = \"impact\": " + why +
+                          " (use contact.law = \"penalty\")");
+    };
+    if (!c.fingers.empty())
+        throw refuse(c.fingers[0].key, "a finger's pad is a penalty contact of its own, not yet in the impact solve");
+    if (!c.plucks.empty())
+        throw refuse(c.plucks[0].key, "a plucker's pad is a penalty contact of its own, not yet in the impact solve");
+    if (!c.forces.empty()) throw refuse(c.forces[0].key, "force gestures are not yet stepped by the impact law");
+    if (c.two_polarisations())
+        throw refuse("string.polarisations = 2", "the impact law has no friction cone for y yet");
+}
+
 }  // namespace
 
 std::vector<double> find_frets(const std::vector<double>& heights, double dx) {
@@ -440,6 +466,10 @@ void Case::validate() const {
     if (contact.exponent > kMaxExponent)
         throw InputError(out_of_range_message("contact.alpha (penalty exponent)", contact.exponent,
                                               "must be in [1, " + std::to_string(static_cast<int>(kMaxExponent)) + "]"));
+    if (!(contact.restitution >= 0.0 && contact.restitution <= 1.0))
+        throw InputError(out_of_range_message("contact.restitution (Newton's coefficient)", contact.restitution,
+                                              "must be in [0, 1]"));
+    if (contact.law == ContactLawKind::impact) refuse_beside_impact(*this);
     check_run_bounds(run);
     if (observation_points_m.empty()) throw InputError("observe: at least one observation point is required");
     for (double x : observation_points_m) {
@@ -477,7 +507,14 @@ void StringsCase::validate() const {
     if (strings.size() > kMaxStrings)
         throw InputError("string: " + std::to_string(strings.size()) + " strings; at most " +
                          std::to_string(kMaxStrings) + " rest on one bridge");
-    for (const Case& c : strings) c.validate();
+    for (std::size_t s = 0; s < strings.size(); ++s) {
+        strings[s].validate();
+        // Each string's end is a load known before its step (BridgeEnd), which the impact law's
+        // complementarity problem does not take yet.
+        if (strings[s].contact.law == ContactLawKind::impact)
+            throw InputError("string[" + std::to_string(s) + "] contact.law = \"impact\": strings on a bridge step "
+                             "the penalty law only (use contact.law = \"penalty\")");
+    }
     if (bridge.empty()) throw InputError("bridge.mode: a bridge needs at least one [[bridge.mode]]");
     if (bridge.size() > kMaxBridgeModes)
         throw InputError("bridge.mode: " + std::to_string(bridge.size()) + " modes; at most " +

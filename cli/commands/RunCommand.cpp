@@ -30,7 +30,8 @@ namespace {
 
 struct RunArguments {
     std::string case_name;
-    std::optional<double> fs, duration, stiffness, exponent;
+    std::optional<double> fs, duration, stiffness, exponent, restitution;
+    std::optional<std::string> law;
     bool lossless = false;
     bool allow_aliasing = false;
     std::vector<double> observe;
@@ -67,6 +68,14 @@ void apply_overrides(const RunArguments& a, Case& c) {
     if (a.duration) set_duration(c, *a.duration);  // the finger and gesture profiles cut to the run
     if (a.stiffness) c.contact.stiffness = *a.stiffness;
     if (a.exponent) c.contact.exponent = *a.exponent;
+    if (a.law) c.contact.law = contact_law_named(*a.law, "--law");
+    if (a.restitution) {
+        if (c.contact.law != ContactLawKind::impact)
+            throw InputError("--restitution needs the impact law (--law impact, or contact.law = \"impact\")");
+        if (!(*a.restitution >= 0.0 && *a.restitution <= 1.0))
+            throw InputError(out_of_range_message("--restitution", *a.restitution, "must be in [0, 1]"));
+        c.contact.restitution = *a.restitution;
+    }
     if (a.audio_rate) c.run.audio_rate_hz = *a.audio_rate;
     if (a.lossless) c.make_lossless();
     if (a.allow_aliasing) c.run.allow_aliasing = true;
@@ -241,6 +250,8 @@ void add_run_command(CLI::App& app, Action& action) {
     cmd->add_option("--duration", args->duration, "Simulated duration in s");
     cmd->add_option("--K", args->stiffness, "Penalty stiffness K");
     cmd->add_option("--alpha", args->exponent, "Penalty exponent alpha (>= 1)");
+    cmd->add_option("--law", args->law, "Contact law at the obstacle: penalty or impact (Newton's, rigid)");
+    cmd->add_option("--restitution", args->restitution, "Impact law: Newton's restitution coefficient e in [0, 1]");
     cmd->add_flag("--lossless", args->lossless, "Remove all damping (sigma_j = 0)");
     cmd->add_flag("--allow-aliasing", args->allow_aliasing,
                   "Run even when modes lie so close to a multiple of fs that contact results are wrong "
@@ -274,7 +285,7 @@ void add_run_command(CLI::App& app, Action& action) {
                   "Also store the contact map densely in results.h5 (/contact/max_force_dense), to check readers");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
     cmd->callback([cmd, args, &action] {
-        for (const char* name : {"--K", "--alpha", "--observe", "--fret", "--polarisations", "--angle",
+        for (const char* name : {"--K", "--alpha", "--law", "--restitution", "--observe", "--fret", "--polarisations", "--angle",
                                  "--pickup-angle", "--fade-in", "--fade-out", "--velocity-audio", "--snapshots",
                                  "--snapshot-until", "--no-screen", "--no-free-flight", "--dense-contact-map"})
             if (cmd->count(name) > 0) args->one_string_only.emplace_back(name);

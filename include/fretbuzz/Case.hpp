@@ -18,10 +18,19 @@ struct StringProperties {
     double linear_density = 0.0;    // mu, kg/m
 };
 
-// Penalty contact law f(eta) = K [eta]_+^alpha, eta = g - u (penetration).
+// Which law acts at the obstacle: the penalty K [eta]_+^alpha, or its rigid limit, Newton's
+// impact law (no penetration at the velocity level, restitution e; scheme/NewtonImpact.hpp).
+enum class ContactLawKind { penalty, impact };
+// "penalty" or "impact"; anything else is an InputError naming `key` and the two names.
+ContactLawKind contact_law_named(const std::string& word, const std::string& key);
+const char* contact_law_name(ContactLawKind law);
+
+// Penalty contact law f(eta) = K [eta]_+^alpha, eta = g - u (penetration), or the impact law.
 struct ContactLaw {
     double stiffness = 1e13;  // K
     double exponent = 1.5;    // alpha >= 1
+    ContactLawKind law = ContactLawKind::penalty;
+    double restitution = 0.0;  // e in [0, 1]: normal velocity after an impact = -e x before (impact law)
 };
 
 // A lumped finger (or thumb) on the far side of the string from the fretboard: a mass that

@@ -82,7 +82,8 @@ def _progress_callback(progress: Union[bool, Callable[[Progress], Any], None], d
 
 def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float] = None,
         observe: Optional[Any] = None, output_rate: Union[float, str, None] = None, lossless: bool = False,
-        K: Optional[float] = None, alpha: Optional[float] = None, snapshots: float = 0.0,
+        K: Optional[float] = None, alpha: Optional[float] = None, law: Optional[str] = None,
+        restitution: Optional[float] = None, snapshots: float = 0.0,
         snapshot_until: Optional[float] = None, screen: bool = True, free_flight: bool = True,
         out: Union[str, "os.PathLike[str]", None] = None, velocity_audio: bool = False,
         progress: Union[bool, Callable[[Progress], Any]] = False, fade_in: Optional[float] = None,
@@ -92,6 +93,8 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
     case: a built-in name (see cases()), a path to a .toml file, or a Case (not modified).
     fs, duration, K, alpha, output_rate ('native' for every step), observe (observation
     points in m, replacing the case's): override the case's values, checked together.
+    law: the contact law at the obstacle, "penalty" or "impact" (Newton's, rigid), with
+    restitution e in [0, 1] for the impact law.
     lossless: remove all damping. snapshots: also record the string shape at this rate (Hz),
     up to snapshot_until (s). screen, free_flight: the fast paths (False: the reference paths).
     out: also write the files of `fretbuzz run --out DIR` there (CSV, WAV, results.h5,
@@ -112,6 +115,7 @@ def run(case: CaseLike, *, fs: Optional[float] = None, duration: Optional[float]
             raise TypeError(f"{name}: expected a bool, got {type(flag).__name__}")
     c = _resolve(case)
     overrides = {key: value for key, value in (("fs", fs), ("duration", duration), ("K", K), ("alpha", alpha),
+                                               ("law", law), ("restitution", restitution),
                                                ("observe", observe), ("output_rate", output_rate))
                  if value is not None}
     if overrides:

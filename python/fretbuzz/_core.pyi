@@ -28,6 +28,8 @@ class Case:
     initial_velocity: npt.NDArray[np.float64]
     K: float
     alpha: float
+    law: str
+    restitution: float
     fs: float
     duration: float
     output_rate: Optional[float]

@@ -46,9 +46,21 @@ namespace {
 constexpr std::string_view kCaseSuffix = ".toml";
 
 void read_contact_section(TomlSection s, Case& c) {
-    c.contact.stiffness = s.positive("K");
-    c.contact.exponent = s.number("alpha");
+    c.contact.law = contact_law_named(s.optional_text("law").value_or("penalty"), s.key_path("law"));
+    // The impact law has no stiffness: K and alpha stay as given (or the defaults) for a later
+    // switch back to the penalty.
+    const bool impact = c.contact.law == ContactLawKind::impact;
+    c.contact.stiffness = impact ? s.optional_positive("K").value_or(c.contact.stiffness) : s.positive("K");
+    c.contact.exponent = impact ? s.number_or("alpha", c.contact.exponent) : s.number("alpha");
     require_at_least(s.key_path("alpha"), c.contact.exponent, 1.0);
+    if (const auto e = s.optional_number("restitution")) {
+        if (!impact)
+            throw InputError(s.key_path("restitution") + " needs " + s.key_path("law") +
+                             " = \"impact\" (the penalty's losses come from its exponent and the modes' damping)");
+        if (!(*e >= 0.0 && *e <= 1.0))
+            throw InputError(out_of_range_message(s.key_path("restitution"), *e, "must be in [0, 1]"));
+        c.contact.restitution = *e;
+    }
     read_friction(s, c);
     s.finish();
 }

@@ -64,6 +64,12 @@ std::string summary_json(const RunSummary& s, const std::vector<double>& observa
         json["finger_loss_J"] = s.finger_loss_j;
         json["damping_dissipated_J"] = s.dissipated_j - s.finger_loss_j - s.friction_j;  // along z and y
     }
+    if (s.contact_law == "impact") {  // dissipated_J holds the impacts' losses too
+        json["contact_law"] = s.contact_law;
+        json["restitution"] = s.restitution;
+        json["impact_loss_J"] = s.impact_loss_j;
+        json["damping_dissipated_J"] = s.dissipated_j - s.impact_loss_j;
+    }
     if (s.polarisations == 2) {  // energy_final_J and dissipated_J hold these terms too
         json["polarisations"] = 2;
         json["energy_z_final_J"] = s.energy_final_j - s.energy_y_final_j - s.finger_energy_final_j;  // with contact

@@ -12,7 +12,6 @@
 
 namespace fretbuzz {
 
-namespace {
 RunLayout layout_of(const Case& c) {
     RunLayout layout;
     layout.source = &c;
@@ -25,6 +24,25 @@ RunLayout layout_of(const Case& c) {
     layout.polarisations = c.polarisation.count;
     return layout;
 }
+
+RunSummary summary_of(const Case& c, const Plan& plan, const RunLayout& layout) {
+    RunSummary s;
+    s.case_name = c.name;
+    s.sample_rate_hz = c.run.sample_rate_hz;
+    s.duration_s = static_cast<double>(layout.steps) / c.run.sample_rate_hz;
+    s.steps = layout.steps;
+    s.modes = c.mode_count();
+    s.output_rate_hz = layout.output_rate_hz;
+    s.lossless = plan.propagator().lossless();
+    s.mode_choice = c.mode_choice.empty() ? "as the case gives" : c.mode_choice;
+    s.warnings = c.warnings;
+    s.warnings.insert(s.warnings.end(), plan.warnings().begin(), plan.warnings().end());
+    s.contact_law = contact_law_name(plan.law());
+    s.restitution = plan.restitution();
+    return s;
+}
+
+namespace {
 
 PlanOptions with_screening(PlanOptions options, bool screen) {
     options.screen_contacts = screen;
@@ -64,20 +82,13 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
     grid_u_.resize(c.mode_count());
     for (std::size_t i = 0; i < grid_x_.size(); ++i) grid_x_[i] = plan_.basis().grid_point(i);
 
-    summary_.case_name = c.name;
-    summary_.sample_rate_hz = c.run.sample_rate_hz;
-    summary_.duration_s = static_cast<double>(layout_.steps) / c.run.sample_rate_hz;
-    summary_.steps = layout_.steps;
-    summary_.modes = c.mode_count();
-    summary_.output_rate_hz = layout_.output_rate_hz;
-    summary_.lossless = plan_.propagator().lossless();
+    const int polarisations = summary_.polarisations;
+    summary_ = summary_of(c, plan_, layout_);
+    summary_.polarisations = polarisations;
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
-    summary_.mode_choice = c.mode_choice.empty() ? "as the case gives" : c.mode_choice;
     summary_.fingers = c.fingers.size();
     summary_.gestures = c.forces.size() + c.plucks.size();
-    summary_.warnings = c.warnings;
-    summary_.warnings.insert(summary_.warnings.end(), plan_.warnings().begin(), plan_.warnings().end());
 }
 
 RunSummary RunLoop::run() {

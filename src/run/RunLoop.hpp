@@ -18,6 +18,11 @@
 
 namespace fretbuzz {
 
+// What a run of the case lays out for its observers, and its summary's opening fields (both
+// laws' runs).
+RunLayout layout_of(const Case& c);
+RunSummary summary_of(const Case& c, const Plan& plan, const RunLayout& layout);
+
 class RunLoop {
 public:
     RunLoop(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options);

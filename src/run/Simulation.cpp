@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ImpactRun.hpp"
 #include "RunLoop.hpp"
 
 namespace fretbuzz {
@@ -14,6 +15,8 @@ long output_stride(const Case& c) {
 
 RunSummary simulate(const Case& c, std::span<RunObserver* const> observers, const RunOptions& options) {
     c.validate();
+    // The law is chosen once, here: the penalty's run loop or the impact law's.
+    if (c.contact.law == ContactLawKind::impact) return run_impact(c, observers, options);
     return RunLoop(c, observers, options).run();
 }
 

@@ -40,6 +40,8 @@ Plan::Plan(const Case& c, double dt, PlanOptions options)
       propagator_(c.modes, dt),
       step_kernel_(step_kernel_for(propagator_)),
       contact_(c.contact.stiffness, c.contact.exponent, options.closed_form_contact),
+      law_(c.contact.law),
+      restitution_(c.contact.restitution),
       friction_(c.polarisation.friction, c.polarisation.friction_velocity),
       obstacle_(c.obstacle_height_m),
       fingers_(c.fingers),

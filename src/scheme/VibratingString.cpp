@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "fretbuzz/Error.hpp"
+
 namespace fretbuzz {
 
 VibratingString::VibratingString(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
@@ -15,7 +17,15 @@ VibratingString::VibratingString(const Plan& plan, std::span<const double> q0, s
       gestures_(plan, driven),
       contacts_(plan, gestures_),
       screening_(plan),
-      ledger_(plan) {}
+      ledger_(plan) {
+    // The penalty scheme's string: a plan for the impact law is stepped by NewtonImpact, which
+    // simulate() runs; the parts built on this string (the real-time engines, strings on a
+    // bridge) do not run that law yet.
+    if (plan.law() == ContactLawKind::impact)
+        throw InputError("contact.law = \"impact\" is run by simulate() (fretbuzz run, sweeps, the set-up bench) "
+                         "only: the real-time engine and strings on a bridge step the penalty law (use "
+                         "contact.law = \"penalty\")");
+}
 
 void VibratingString::add_second_polarisation(std::span<const double> q0, std::span<const double> v0) {
     if (n_ != 0 || !plan_->two_polarisations())

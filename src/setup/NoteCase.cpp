@@ -109,7 +109,7 @@ NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
     open_.fret_positions_m = find_frets(open_.obstacle_height_m, open_.grid_step());
     open_.initial_displacement.assign(n, 0.0);
     open_.initial_velocity.assign(n, 0.0);
-    open_.contact = {b.contact_stiffness, b.contact_exponent};
+    open_.contact = {b.contact_stiffness, b.contact_exponent, b.contact_law, b.restitution};
     open_.run.sample_rate_hz = b.sample_rate_hz;
     open_.run.duration_s = b.duration_s;
     open_.run.output_rate_hz = b.output_rate_hz;

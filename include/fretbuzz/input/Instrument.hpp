@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fretbuzz/Case.hpp"
 #include "fretbuzz/geometry/NeckBeam.hpp"
 
 namespace fretbuzz {
@@ -138,6 +139,8 @@ struct BenchSettings {
     double fret_friction = 0.0;        // Coulomb coefficient at the frets (the y polarisation's drag)
     double contact_stiffness = 1e13;   // K
     double contact_exponent = 1.5;     // alpha
+    ContactLawKind contact_law = ContactLawKind::penalty;  // [contact] law, and its restitution
+    double restitution = 0.0;
     double damping_eta0 = 0.0;         // sigma_j = eta0 + eta2 (j pi / L)^2
     double damping_eta2 = 0.0;
     // Stopped notes' modes: false, the string held on the fret (the library's stopped_string);

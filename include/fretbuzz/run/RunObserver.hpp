@@ -65,6 +65,11 @@ struct RunSummary {
     double damping_y_j = 0.0;          // damping losses of the y modes
     double friction_j = 0.0;           // friction dissipation (>= 0)
     int max_friction_iterations = 0;
+    // The law at the obstacle ("penalty" or "impact") and, for the impact law, its restitution and
+    // the energy its impacts took (in dissipated_j too; 0 at e = 1).
+    std::string contact_law = "penalty";
+    double restitution = 0.0;
+    double impact_loss_j = 0.0;
     // Coordinates of the modal state (q, q^n - q^{n-1}, v0; both polarisations) subnormal at the
     // end: 0, since the run flushes them (SubnormalFlush).
     std::size_t subnormal_coordinates = 0;

@@ -74,6 +74,10 @@ public:
     // codelets of an FFTW plan.
     kernels::StepKernel step_kernel() const { return step_kernel_; }
     const PenaltyContact& contact() const { return contact_; }
+    // The law at the obstacle (the case's contact.law), chosen once for the run: the penalty
+    // (Stepper) or Newton's impact law with restitution e (NewtonImpact).
+    ContactLawKind law() const { return law_; }
+    double restitution() const { return restitution_; }
     // The second polarisation (y), planned only for a case with two: its exact per-mode
     // propagator and the friction law at the contacts (see SecondPolarisation).
     bool two_polarisations() const { return propagator_y_.has_value(); }
@@ -170,6 +174,8 @@ private:
     ModalPropagator propagator_;
     kernels::StepKernel step_kernel_;
     PenaltyContact contact_;
+    ContactLawKind law_;
+    double restitution_;
     std::optional<ModalPropagator> propagator_y_;
     Friction friction_;
     std::vector<double> obstacle_;

@@ -1,0 +1,197 @@
+#include "fretbuzz/scheme/NewtonImpact.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fretbuzz/Error.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
+
+namespace fretbuzz {
+
+namespace {
+// Free modes decay: tighten the screening's speed bound this often even when nothing touches.
+constexpr long kRefreshSteps = 1L << 14;
+
+std::vector<std::size_t> obstacle_points_of(const Plan& plan) {
+    std::vector<std::size_t> points = plan.obstacle_points();
+    for (std::size_t p = 0; p < plan.point_contact().size(); ++p) points.push_back(plan.mode_count() + p);
+    return points;
+}
+}  // namespace
+
+NewtonImpact::NewtonImpact(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
+    : plan_(&plan),
+      modes_(plan.propagator(), q0, v0),
+      scheduler_(plan),
+      // The joint problem holds at most every obstacle point; only exact points need it.
+      lemke_(plan.point_contact().size() > 0 ? obstacle_points_of(plan).size() : 0),
+      step_(&NewtonImpact::first_step),
+      restitution_(plan.restitution()),
+      screen_(plan.options().screen_contacts) {
+    if (plan.law() != ContactLawKind::impact)
+        throw InputError("contact.law: the impact scheme was asked to step a case planned with the penalty law");
+    if (!plan.fingers().empty() || !plan.plucks().empty() || !plan.forces().empty() || plan.two_polarisations())
+        throw InputError("contact.law = \"impact\" steps a string alone, in one polarisation: no fingers, "
+                         "pluckers, force gestures or second polarisation (use contact.law = \"penalty\")");
+    plan.prepare_rows();
+    const std::size_t points = plan.screened_points(), n = plan.mode_count();
+    is_awake_.assign(points, 0);
+    for (auto* v : {&awake_, &due_, &active_}) v->reserve(2 * points + 16);
+    active_rows_.reserve(points);
+    for (auto* v : {&predicted_, &before_, &free_step_, &lambda_, &lcp_q_, &after_}) v->reserve(points);
+    forces_.reserve(points);
+    delassus_.reserve(lemke_.capacity() * lemke_.capacity());
+    impulse_.assign(n, 0.0);
+}
+
+void NewtonImpact::first_step() {
+    modes_.first_step();
+    n_ = 1;
+    // Every obstacle point is looked at once, then sleeps where the screening allows.
+    scheduler_.update_speed(modes_.q(), modes_.d());
+    next_refresh_ = n_ + kRefreshSteps;
+    for (std::size_t i : obstacle_points_of(*plan_)) {
+        awake_.push_back(i);
+        is_awake_[i] = 1;
+    }
+    step_ = &NewtonImpact::contact_step;
+    predicted_.clear();
+    for (std::size_t i : awake_) predicted_.push_back(modes_.at(plan_->screened_row(i).data()));
+    put_to_sleep();
+}
+
+void NewtonImpact::look_at_points() {
+    if (screen_) {
+        due_.clear();
+        scheduler_.pop_due(due_);
+        for (std::size_t i : due_) {
+            if (is_awake_[i]) continue;
+            is_awake_[i] = 1;
+            awake_.push_back(i);
+        }
+    }
+    active_rows_.clear();
+    for (std::size_t i : awake_) active_rows_.push_back(plan_->screened_row(i).data());
+    predicted_.resize(awake_.size());
+    modes_.predict_at(active_rows_.data(), awake_.size(), predicted_.data());
+    points_checked_ += static_cast<long>(awake_.size());
+}
+
+void NewtonImpact::contact_step() {
+    look_at_points();
+    active_.clear();
+    active_rows_.clear();
+    before_.clear();
+    free_step_.clear();
+    for (std::size_t k = 0; k < awake_.size(); ++k) {
+        const std::size_t i = awake_[k];
+        if (predicted_[k] - plan_->screened_height(i) > 0.0) continue;
+        const double* row = plan_->screened_row(i).data();
+        double now = 0.0, previous = 0.0;
+        modes_.at_both(row, now, previous);
+        active_.push_back(i);
+        active_rows_.push_back(row);
+        before_.push_back(now - previous);         // u^-: the point's displacement over the last step
+        free_step_.push_back(predicted_[k] - now);  // its free displacement over this one
+    }
+    forces_.clear();
+    kernels::StepPass pass;
+    if (!active_.empty()) {
+        solve_impulses();
+        // Only the points that push: their rows and impulses, inline up to a pass's rows.
+        std::size_t pushing = 0;
+        for (std::size_t c = 0; c < active_.size(); ++c) {
+            if (!(lambda_[c] > 0.0)) continue;
+            active_rows_[pushing] = active_rows_[c];
+            lambda_[pushing] = lambda_[c];
+            before_[pushing] = before_[c];
+            active_[pushing] = active_[c];
+            ++pushing;
+        }
+        active_rows_.resize(pushing);
+        if (pushing <= kernels::kMaxPassRows) {
+            pass.push_rows = active_rows_.data();
+            pass.push_coefficients = lambda_.data();
+            pass.pushes = pushing;
+        } else {
+            std::fill(impulse_.begin(), impulse_.end(), 0.0);
+            for (std::size_t c = 0; c < pushing; ++c)
+                for (std::size_t j = 0; j < impulse_.size(); ++j) impulse_[j] += lambda_[c] * active_rows_[c][j];
+            pass.impulse = impulse_.data();
+        }
+    }
+    damping_ += plan_->modal_loss_scale() * modes_.advance(plan_->step_kernel(), pass);
+    ++n_;
+    const std::size_t pushed = active_rows_.size();
+    if (pushed > 0) {
+        // The impulses' work, mu/(2 dt^2) sum_c lambda_c (u_c^+ + u_c^-), from the state itself.
+        const double force_scale = plan_->linear_density() / (plan_->dt() * plan_->dt() * plan_->basis().grid_step());
+        double work = 0.0;
+        for (std::size_t c = 0; c < pushed; ++c) {
+            const double after = kernels::dot(active_rows_[c], modes_.d().data(), modes_.size());
+            work += lambda_[c] * (after + before_[c]);
+            forces_.emplace_back(active_[c], force_scale * lambda_[c]);
+        }
+        impact_loss_ -= plan_->modal_energy_scale() * work;
+        ++contact_steps_;
+        if (screen_) scheduler_.motion_changed(modes_.q(), modes_.d());
+    }
+    if (!screen_) return;
+    scheduler_.end_step();
+    if (n_ >= next_refresh_) {
+        scheduler_.motion_changed(modes_.q(), modes_.d());  // the modes have decayed: a tighter bound
+        next_refresh_ = n_ + kRefreshSteps;
+    }
+    // The gaps at n + 1: the predictions plus the pushes. On the grid a push moves its own point
+    // only, by lambda / dx (S S^T = I / dx); exact points couple, so there they are formed again.
+    if (pushed > 0 && plan_->point_contact().size() > 0) {
+        for (std::size_t k = 0; k < awake_.size(); ++k) predicted_[k] = modes_.at(plan_->screened_row(awake_[k]).data());
+    } else if (pushed > 0) {
+        const double dx = plan_->basis().grid_step();
+        for (std::size_t k = 0, c = 0; k < awake_.size() && c < pushed; ++k)
+            if (awake_[k] == active_[c]) predicted_[k] += lambda_[c++] / dx;
+    }
+    put_to_sleep();
+}
+
+void NewtonImpact::solve_impulses() {
+    const std::size_t m = active_.size();
+    const std::size_t n = plan_->mode_count();
+    const double e = restitution_;
+    lcp_q_.resize(m);
+    lambda_.resize(m);
+    for (std::size_t c = 0; c < m; ++c) lcp_q_[c] = free_step_[c] + e * before_[c];
+    const bool all_on_grid = std::all_of(active_.begin(), active_.end(), [n](std::size_t i) { return i < n; });
+    if (all_on_grid) {
+        // Rows of S are orthogonal, S S^T = I / dx: one scalar problem per point.
+        const double dx = plan_->basis().grid_step();
+        for (std::size_t c = 0; c < m; ++c) lambda_[c] = std::max(0.0, -lcp_q_[c] * dx);
+        return;
+    }
+    delassus_.resize(m * m);
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t b = a; b < m; ++b)
+            delassus_[a * m + b] = delassus_[b * m + a] = kernels::dot(active_rows_[a], active_rows_[b], n);
+    if (!lemke_.solve(delassus_, lcp_q_, m, lambda_))
+        throw SolverError("the impact law's complementarity problem at t = " + std::to_string(time()) +
+                          " s has no solution by Lemke's method (" + std::to_string(m) + " points in contact)");
+    max_pivots_ = std::max(max_pivots_, lemke_.pivots());
+}
+
+void NewtonImpact::put_to_sleep() {
+    if (!screen_) return;
+    scheduler_.refresh(modes_.q(), modes_.d());
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < awake_.size(); ++k) {
+        const std::size_t i = awake_[k];
+        const double gap = predicted_[k] - plan_->screened_height(i);
+        if (gap > 0.0 && scheduler_.sleep(i, gap)) {
+            is_awake_[i] = 0;
+            continue;
+        }
+        awake_[kept++] = i;
+    }
+    awake_.resize(kept);
+}
+
+}  // namespace fretbuzz
