@@ -42,6 +42,17 @@ class Editing(unittest.TestCase):
         c.update({"K": 2e12, "alpha": 2.0})
         self.assertEqual((c.K, c.alpha), (2e12, 2.0))
 
+    def test_the_impact_law_is_a_field_and_a_run_option(self):
+        c = fretbuzz.load_case("bass-pop")
+        with self.assertRaisesRegex(ValueError, "law"):
+            c.update({"law": "rigid"})
+        with self.assertRaisesRegex(ValueError, "restitution"):
+            c.update({"law": "impact", "restitution": 1.5})
+        self.assertEqual(c.law, "penalty")
+        r = fretbuzz.run("bass-pop", fs=FS, duration=0.004, law="impact", restitution=0.5)
+        self.assertEqual(r.summary["contact_law"], "impact")
+        self.assertEqual(r.summary["restitution"], 0.5)
+
     def test_a_bad_single_value_is_rejected_and_leaves_the_field(self):
         c = fretbuzz.load_case("bass-pop")
         with self.assertRaisesRegex(ValueError, "fs"):

@@ -1,0 +1,76 @@
+#!/usr/bin/python3
+"""The penalty against its rigid limit on the bass pop: `fretbuzz run bass-pop` with the penalty
+at K = 1e9 ... 1e17 (alpha 1.5) and with Newton's impact law (e = 0 and e = 1), at 4 MHz over
+the paper's 0.3 s window; prints the relative L2 distance of each penalty run's observation
+(x = 0.854 m, 48 kHz rows) to the impact runs', and their contact times (first and last contact,
+steps in contact). Then (unless --no-speed) the paired speed of the 3 s pop, impact law against
+penalty, medians of --reps runs each, alternated in one session.
+Usage: validate_penalty_impact.py [--duration 0.3] [--reps 3] [--no-speed]"""
+import argparse
+import json
+import platform
+import statistics
+import subprocess
+
+import numpy as np
+
+from validation_common import fretbuzz, read_csv, scratch_dir
+
+
+def processor():
+    for line in subprocess.run(["lscpu"], text=True, capture_output=True).stdout.splitlines():
+        if line.startswith("Model name:"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown processor"
+
+
+def run(out, *options):
+    fretbuzz("run", "bass-pop", "-q", "--out", out, *options)
+    summary = json.loads((out / "summary.json").read_text())
+    _, data = read_csv(out / "observation.csv")
+    return data[:, 1], summary
+
+
+def relative_l2(a, b):
+    n = min(len(a), len(b))
+    return float(np.linalg.norm(a[:n] - b[:n]) / np.linalg.norm(b[:n]))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--duration", default="0.3")
+    parser.add_argument("--reps", type=int, default=3)
+    parser.add_argument("--no-speed", action="store_true")
+    args = parser.parse_args()
+    out = scratch_dir("penalty-impact")
+    impact = {e: run(out / f"impact-{e}", "--duration", args.duration, "--law", "impact", "--restitution", e)
+              for e in ("0", "1")}
+    rows = []
+    for k in ("1e9", "1e11", "1e13", "1e15", "1e17"):
+        u, s = run(out / f"K{k}", "--duration", args.duration, "--K", k)
+        rows.append((k, relative_l2(u, impact["0"][0]), relative_l2(u, impact["1"][0]), s))
+    fs = float(impact["0"][1]["fs"])
+    print(f"\nbass pop, {args.duration} s at {fs / 1e6:g} MHz, 862 modes; observation at 0.854 m (48 kHz rows)")
+    print("| law | relative L2 to impact e = 0 | to impact e = 1 | first contact (ms) | last contact (ms) | "
+          "steps in contact |")
+    print("|---|---|---|---|---|---|")
+    for k, to0, to1, s in rows:
+        print(f"| penalty K = {k} | {to0:.3g} | {to1:.3g} | {1e3 * s['first_contact_s']:.4f} | "
+              f"{1e3 * s['last_contact_s']:.3f} | {s['contact_steps']} |")
+    print(f"| impact e = 1 (against e = 0) | {relative_l2(impact['1'][0], impact['0'][0]):.3g} | | | | |")
+    for e, (_, s) in impact.items():
+        print(f"| impact e = {e} | | | {1e3 * s['first_contact_s']:.4f} | {1e3 * s['last_contact_s']:.3f} | "
+              f"{s['contact_steps']} |")
+    if args.no_speed:
+        return
+    walls = {"penalty": [], "impact": []}
+    for _ in range(args.reps):  # alternated, so that both laws see the same machine state
+        walls["penalty"].append(run(out / "speed-penalty", "--duration", "3")[1]["wall_seconds"])
+        walls["impact"].append(run(out / "speed-impact", "--duration", "3", "--law", "impact")[1]["wall_seconds"])
+    penalty, impact_wall = statistics.median(walls["penalty"]), statistics.median(walls["impact"])
+    print(f"\n3 s bass pop at 4 MHz, run wall time, median of {args.reps} alternated runs on {processor()}: "
+          f"penalty {penalty:.2f} s, impact (e = 0) {impact_wall:.2f} s: {impact_wall / penalty:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
