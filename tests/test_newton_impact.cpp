@@ -17,6 +17,8 @@
 #include "TestSupport.hpp"
 
 #include "fretbuzz/Error.hpp"
+#include "fretbuzz/run/ResultRecorder.hpp"
+#include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/NewtonImpact.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
 
@@ -228,6 +230,43 @@ TEST(NewtonImpact, TheImpactLawRefusesWhatItCannotStep) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("contact.restitution"), std::string::npos) << e.what();
     }
+}
+
+// The sound a run hands out at 48 kHz.
+class Sound : public RunObserver {
+public:
+    AudioRequest audio_request() const override { return {48000.0}; }
+    void audio(long, std::span<const double> s) override { samples.insert(samples.end(), s.begin(), s.end()); }
+    std::vector<double> samples;
+};
+
+TEST(NewtonImpact, AFreeFlightRunIsTheSteppedRunToRoundOff) {
+    // Between contacts the run jumps whole output intervals in closed form, its sound from the
+    // modes below 0.6 x 48 kHz stepped one by one: the outputs of the run that steps everything.
+    const Case c = impact_bass(400000.0, 0.1, 2e-3, 0.0);
+    RecordedRun runs[2];
+    std::vector<double> sounds[2];
+    for (int flying = 0; flying < 2; ++flying) {
+        ResultRecorder recorder;
+        Sound sound;
+        RunObserver* observers[] = {&recorder, &sound};
+        RunOptions options;
+        options.free_flight = flying == 1;
+        simulate(c, observers, options);
+        runs[flying] = recorder.take();
+        sounds[flying] = sound.samples;
+    }
+    const RunSummary& flown = runs[1].summary;
+    std::cout << "free flight " << flown.free_flight_fraction << " of the steps; observation "
+              << testing::relative_l2(runs[1].observation, runs[0].observation) << ", sound "
+              << testing::relative_l2(sounds[1], sounds[0]) << " apart\n";
+    EXPECT_GT(flown.free_flight_fraction, 0.3);
+    EXPECT_EQ(runs[0].summary.free_flight_fraction, 0.0);
+    EXPECT_EQ(flown.contact_steps, runs[0].summary.contact_steps);
+    EXPECT_GT(flown.contact_steps, 20);
+    EXPECT_LT(testing::relative_l2(runs[1].observation, runs[0].observation), 1e-11);
+    EXPECT_LT(testing::relative_l2(sounds[1], sounds[0]), 1e-4);  // the resampler's stop band
+    EXPECT_LT(flown.max_relative_balance_error, 1e-12);
 }
 
 TEST(NewtonImpact, TheProgramRunsTheImpactLawAndRefusesBadLawsNamingTheKey) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -11,7 +12,9 @@
 #include "RunLoop.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/SubnormalFlush.hpp"
+#include "fretbuzz/numerics/Kernels.hpp"
 #include "fretbuzz/scheme/BridgeForce.hpp"
+#include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/NewtonImpact.hpp"
 
 namespace fretbuzz {
@@ -49,21 +52,38 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
 
     RunSummary summary = summary_of(c, plan, layout);
     summary.screened = plan.options().screen_contacts;
-    summary.screening = summary.screened ? "on (impact law: points woken by the speed bound, no free flight)"
+    summary.screening = summary.screened ? "on (impact law: points woken by the speed bound, free flight between contacts)"
                                          : "off (asked for)";
 
     for (RunObserver* o : observers) o->begin(layout);
     AudioStreams audio(observers, c.run.sample_rate_hz, shapes.size(), 1);
+    // Free flight over whole output intervals: the modes below 0.6 x the audio rate step one by
+    // one for the sound (the resampler removes the others), the rest jump in closed form. The
+    // sound comes from those modes at every step, flown or not, so it has no seam at a flight's
+    // ends; the output rows read every mode.
+    std::optional<FreeFlight> flight;
+    std::size_t sound_modes = c.mode_count();
+    if (options.free_flight && plan.options().screen_contacts && layout.output_stride > 1) {
+        const double band_hz = audio.empty() ? 0.0 : 0.6 * audio.lowest_rate_hz();
+        sound_modes = 0;
+        while (sound_modes < c.mode_count() && c.modes.frequency_hz[sound_modes] < band_hz) ++sound_modes;
+        flight.emplace(plan.propagator(), layout.output_stride, sound_modes);
+    }
     const bool velocity = audio.wants_velocity();
-    std::vector<double> u(shapes.size()), v(velocity ? shapes.size() : 0), previous(shapes.size());
+    std::vector<double> u(shapes.size()), sound(shapes.size()), v(velocity ? shapes.size() : 0), before(shapes.size());
+    std::vector<double> flown_rows;
     std::vector<std::pair<std::size_t, double>> forces;
     EnergyAudit audit;
-    long n = 0;
-    const auto observe = [&] {
-        for (std::size_t p = 0; p < shapes.size(); ++p) {
-            previous[p] = u[p];
-            u[p] = string.displacement(shapes[p]);
-        }
+    long n = 0, flown_steps = 0;
+    const auto deliver = [&] {  // one frame of sound, its velocity from the last one
+        for (std::size_t p = 0; p < v.size(); ++p) v[p] = n > 0 ? (sound[p] - before[p]) / layout.dt : 0.0;
+        audio.frame(sound, v);
+        before = sound;
+    };
+    const auto hear = [&] {
+        for (std::size_t p = 0; p < shapes.size(); ++p)
+            sound[p] = kernels::dot(shapes[p].data(), string.modal_displacement().data(), sound_modes);
+        deliver();
     };
     const auto report_output = [&] {
         const double h = string.energy(), dissipated = string.dissipated();
@@ -74,20 +94,35 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
         audit.write_to(summary);
         if (n % layout.output_stride != 0) return;
         const double t = string.time();
+        for (std::size_t p = 0; p < shapes.size(); ++p) u[p] = string.displacement(shapes[p]);
         for (RunObserver* o : observers) o->observation(t, u);
         const double force = string.displacement(bridge);
         for (RunObserver* o : observers) o->bridge_force(t, force);
         for (RunObserver* o : observers) o->energy((static_cast<double>(n) - 0.5) * layout.dt, h, 0.0, dissipated);
     };
-    observe();
+    for (std::size_t p = 0; p < shapes.size(); ++p) u[p] = string.displacement(shapes[p]);
     for (RunObserver* o : observers) o->observation(0.0, u);
     for (RunObserver* o : observers) o->bridge_force(0.0, string.displacement(bridge));
-    if (!audio.empty()) audio.frame(u, v);
+    if (!audio.empty()) hear();
     while (n < layout.steps) {
         throw_if_stopped();
+        if (flight && n > 1 && n % layout.output_stride == 0 && n + layout.output_stride <= layout.steps) {
+            const std::span<const std::vector<double>> probes =
+                audio.empty() ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes);
+            if (const long flown = string.free_flight(*flight, probes, flown_rows); flown > 0) {
+                for (long m = 0; m < flown && !audio.empty(); ++m) {
+                    ++n;
+                    std::copy_n(flown_rows.begin() + m * static_cast<long>(shapes.size()), shapes.size(), sound.begin());
+                    deliver();
+                }
+                n = string.step_index();
+                flown_steps += flown;
+                report_output();
+                continue;
+            }
+        }
         string.step();
         ++n;
-        observe();
         if (string.touched_obstacle()) {
             if (summary.first_contact_s < 0.0) summary.first_contact_s = string.time();
             summary.last_contact_s = string.time();
@@ -95,10 +130,7 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
             for (const auto& [i, f] : string.forces()) forces.emplace_back(reported[i], plan.oriented(f));
             for (RunObserver* o : observers) o->contacts(string.time(), forces);
         }
-        if (!audio.empty()) {
-            for (std::size_t p = 0; p < v.size(); ++p) v[p] = (u[p] - previous[p]) / layout.dt;
-            audio.frame(u, v);
-        }
+        if (!audio.empty()) hear();
         if (n == 1 || n % layout.output_stride == 0 || n == layout.steps) report_output();
         if ((n & 0xfff) == 0 && options.progress) {
             const auto now = Clock::now();
@@ -110,6 +142,8 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
             }
         }
     }
+    summary.free_flight_fraction =
+        layout.steps > 0 ? static_cast<double>(flown_steps) / static_cast<double>(layout.steps) : 0.0;
     if (!audio.empty()) audio.finish(summary.duration_s);
     summary.contact_steps = string.contact_steps();
     summary.impact_loss_j = string.impact_loss();

@@ -2,8 +2,8 @@
 // The run of a case whose obstacle acts by Newton's impact law (scheme/NewtonImpact.hpp): the
 // same observers and outputs as the penalty's run loop (observation and bridge-force rows and the
 // audited energy at the output rate, the contacts of every step, the audio from the per-step
-// signal), every step stepped (the impact law has no free flight yet). Snapshots of the string's
-// shape are not taken.
+// signal, free flight over output intervals between contacts). Snapshots of the string's shape
+// are not taken.
 #include <span>
 
 #include "fretbuzz/Case.hpp"

@@ -60,6 +60,31 @@ void NewtonImpact::first_step() {
     put_to_sleep();
 }
 
+long NewtonImpact::free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes,
+                               std::vector<double>& rows) {
+    const long steps = flight.steps();
+    if (n_ < 1 || !screen_ || !awake_.empty() || !(scheduler_.quiet_for(steps) || scheduler_.park_due(steps))) return 0;
+    const double before = energy();
+    const std::size_t head = flight.first(), width = probes.size();
+    rows.resize(static_cast<std::size_t>(steps) * width);
+    for (long m = 0; m < steps; ++m) {
+        modes_.step_modes(0, head);
+        for (std::size_t p = 0; p < width; ++p)
+            rows[static_cast<std::size_t>(m) * width + p] = kernels::dot(probes[p].data(), modes_.q().data(), head);
+    }
+    flight.jump(modes_.q(), modes_.d(), head);
+    // Free motion loses only to damping: what the energy lost over the flight.
+    damping_ += before - energy();
+    n_ += steps;
+    forces_.clear();
+    scheduler_.end_steps(steps);
+    if (n_ >= next_refresh_) {
+        scheduler_.motion_changed(modes_.q(), modes_.d());
+        next_refresh_ = n_ + kRefreshSteps;
+    }
+    return steps;
+}
+
 void NewtonImpact::look_at_points() {
     if (screen_) {
         due_.clear();

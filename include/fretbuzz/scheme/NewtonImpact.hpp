@@ -25,6 +25,7 @@
 
 #include "fretbuzz/numerics/Lcp.hpp"
 #include "fretbuzz/scheme/ContactScheduler.hpp"
+#include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/ModalState.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
 
@@ -38,6 +39,13 @@ public:
 
     // n -> n + 1 (the first step is the exact free motion, as the penalty scheme's).
     void step() { (this->*step_)(); }
+
+    // Free flight over the next flight.steps() steps, when no point is in contact and the
+    // screening proves none can be (flight maps modes [head, N), head = flight.first()): the
+    // first `head` modes step one by one, each step's row products probes . q over them going to
+    // `rows` (probes.size() values a step), and the others jump in closed form at the end.
+    // Returns the steps flown: 0 (nothing done) where a flight cannot start.
+    long free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes, std::vector<double>& rows);
 
     const Plan& plan() const { return *plan_; }
     long step_index() const { return n_; }
