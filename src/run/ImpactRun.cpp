@@ -67,6 +67,8 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
         const double band_hz = audio.empty() ? 0.0 : 0.6 * audio.lowest_rate_hz();
         sound_modes = 0;
         while (sound_modes < c.mode_count() && c.modes.frequency_hz[sound_modes] < band_hz) ++sound_modes;
+        // (at least the modes a flight's look at a point needs)
+        sound_modes = std::max(sound_modes, std::min(kMinimumFlightModes, c.mode_count()));
         flight.emplace(plan.propagator(), layout.output_stride, sound_modes);
     }
     const bool velocity = audio.wants_velocity();

@@ -9,9 +9,6 @@
 namespace fretbuzz {
 
 namespace {
-// Free modes decay: tighten the screening's speed bound this often even when nothing touches.
-constexpr long kRefreshSteps = 1L << 14;
-
 std::vector<std::size_t> obstacle_points_of(const Plan& plan) {
     std::vector<std::size_t> points = plan.obstacle_points();
     for (std::size_t p = 0; p < plan.point_contact().size(); ++p) points.push_back(plan.mode_count() + p);
@@ -22,7 +19,7 @@ std::vector<std::size_t> obstacle_points_of(const Plan& plan) {
 NewtonImpact::NewtonImpact(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
     : plan_(&plan),
       modes_(plan.propagator(), q0, v0),
-      scheduler_(plan),
+      screening_(plan),
       // The joint problem holds at most every obstacle point; only exact points need it.
       lemke_(plan.point_contact().size() > 0 ? obstacle_points_of(plan).size() : 0),
       step_(&NewtonImpact::first_step),
@@ -48,8 +45,7 @@ void NewtonImpact::first_step() {
     modes_.first_step();
     n_ = 1;
     // Every obstacle point is looked at once, then sleeps where the screening allows.
-    scheduler_.update_speed(modes_.q(), modes_.d());
-    next_refresh_ = n_ + kRefreshSteps;
+    screening_.start(modes_, n_);
     for (std::size_t i : obstacle_points_of(*plan_)) {
         awake_.push_back(i);
         is_awake_[i] = 1;
@@ -62,33 +58,31 @@ void NewtonImpact::first_step() {
 
 long NewtonImpact::free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes,
                                std::vector<double>& rows) {
-    const long steps = flight.steps();
-    if (n_ < 1 || !screen_ || !awake_.empty() || !(scheduler_.quiet_for(steps) || scheduler_.park_due(steps))) return 0;
+    if (n_ < 1 || !screen_ || !awake_.empty()) return 0;
+    ContactScheduler& scheduler = screening_.scheduler();
+    scheduler.refresh_amplitudes(modes_.q(), modes_.d());  // the head changes below: the tail is summed anew
     const double before = energy();
-    const std::size_t head = flight.first(), width = probes.size();
-    rows.resize(static_cast<std::size_t>(steps) * width);
-    for (long m = 0; m < steps; ++m) {
-        modes_.step_modes(0, head);
-        for (std::size_t p = 0; p < width; ++p)
-            rows[static_cast<std::size_t>(m) * width + p] = kernels::dot(probes[p].data(), modes_.q().data(), head);
+    const std::size_t head = flight.first();
+    const long flown = screening_.fly_head(modes_, flight.steps(), head, probes, rows, nullptr);
+    if (flown == flight.steps()) {
+        flight.jump(modes_.q(), modes_.d(), head);
+    } else {
+        for (long m = 0; m < flown; ++m) modes_.step_modes(head, modes_.size() - head);  // cut short
     }
-    flight.jump(modes_.q(), modes_.d(), head);
+    scheduler.set_head_modes(0);
+    if (flown == 0) return 0;
     // Free motion loses only to damping: what the energy lost over the flight.
     damping_ += before - energy();
-    n_ += steps;
+    n_ += flown;
     forces_.clear();
-    scheduler_.end_steps(steps);
-    if (n_ >= next_refresh_) {
-        scheduler_.motion_changed(modes_.q(), modes_.d());
-        next_refresh_ = n_ + kRefreshSteps;
-    }
-    return steps;
+    screening_.refresh_after_flight(modes_, n_);
+    return flown;
 }
 
 void NewtonImpact::look_at_points() {
     if (screen_) {
         due_.clear();
-        scheduler_.pop_due(due_);
+        screening_.scheduler().pop_due(due_);
         for (std::size_t i : due_) {
             if (is_awake_[i]) continue;
             is_awake_[i] = 1;
@@ -159,14 +153,11 @@ void NewtonImpact::contact_step() {
         }
         impact_loss_ -= plan_->modal_energy_scale() * work;
         ++contact_steps_;
-        if (screen_) scheduler_.motion_changed(modes_.q(), modes_.d());
+        if (screen_) screening_.scheduler().motion_changed(modes_.q(), modes_.d());
     }
     if (!screen_) return;
-    scheduler_.end_step();
-    if (n_ >= next_refresh_) {
-        scheduler_.motion_changed(modes_.q(), modes_.d());  // the modes have decayed: a tighter bound
-        next_refresh_ = n_ + kRefreshSteps;
-    }
+    screening_.scheduler().end_step();
+    screening_.refresh_after_step(modes_, n_);  // the modes decay: from time to time a tighter bound
     // The gaps at n + 1: the predictions plus the pushes. On the grid a push moves its own point
     // only, by lambda / dx (S S^T = I / dx); exact points couple, so there they are formed again.
     if (pushed > 0 && plan_->point_contact().size() > 0) {
@@ -205,12 +196,13 @@ void NewtonImpact::solve_impulses() {
 
 void NewtonImpact::put_to_sleep() {
     if (!screen_) return;
-    scheduler_.refresh(modes_.q(), modes_.d());
+    ContactScheduler& scheduler = screening_.scheduler();
+    scheduler.refresh(modes_.q(), modes_.d());
     std::size_t kept = 0;
     for (std::size_t k = 0; k < awake_.size(); ++k) {
         const std::size_t i = awake_[k];
         const double gap = predicted_[k] - plan_->screened_height(i);
-        if (gap > 0.0 && scheduler_.sleep(i, gap)) {
+        if (gap > 0.0 && scheduler.sleep(i, gap)) {
             is_awake_[i] = 0;
             continue;
         }

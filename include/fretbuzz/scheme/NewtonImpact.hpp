@@ -24,10 +24,10 @@
 #include <vector>
 
 #include "fretbuzz/numerics/Lcp.hpp"
-#include "fretbuzz/scheme/ContactScheduler.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/ModalState.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
+#include "fretbuzz/scheme/Screening.hpp"
 
 namespace fretbuzz {
 
@@ -40,11 +40,12 @@ public:
     // n -> n + 1 (the first step is the exact free motion, as the penalty scheme's).
     void step() { (this->*step_)(); }
 
-    // Free flight over the next flight.steps() steps, when no point is in contact and the
-    // screening proves none can be (flight maps modes [head, N), head = flight.first()): the
-    // first `head` modes step one by one, each step's row products probes . q over them going to
-    // `rows` (probes.size() values a step), and the others jump in closed form at the end.
-    // Returns the steps flown: 0 (nothing done) where a flight cannot start.
+    // Free flight over at most flight.steps() steps, while no point is awake and the screening
+    // proves none can touch (Screening::fly_head: the points it wakes are looked at on the
+    // first `head` modes plus a bound on the rest; flight maps modes [head, N), head =
+    // flight.first() >= kMinimumFlightModes): the head modes step one by one, each step's row
+    // products probes . q over them going to `rows` (probes.size() values a step), the others
+    // jump in closed form at the end (or step, a flight cut short). Returns the steps flown.
     long free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes, std::vector<double>& rows);
 
     const Plan& plan() const { return *plan_; }
@@ -83,7 +84,7 @@ private:
 
     const Plan* plan_;
     ModalState modes_;
-    ContactScheduler scheduler_;
+    Screening screening_;  // its scheduler wakes the points; its flights step the head modes
     LemkeSolver lemke_;
     StepFunction step_;
     double restitution_;
@@ -100,7 +101,6 @@ private:
     std::vector<std::pair<std::size_t, double>> forces_;
     double damping_ = 0.0, impact_loss_ = 0.0;
     long contact_steps_ = 0, points_checked_ = 0;
-    long next_refresh_ = 0;
     int max_pivots_ = 0;
 };
 
