@@ -241,8 +241,8 @@ public:
 };
 
 TEST(NewtonImpact, AFreeFlightRunIsTheSteppedRunToRoundOff) {
-    // Between contacts the run jumps whole output intervals in closed form, its sound from the
-    // modes below 0.6 x 48 kHz stepped one by one: the outputs of the run that steps everything.
+    // Between contacts the run jumps whole output intervals in closed form, its sound written in
+    // closed form too (AudioBand): the outputs of the run that steps everything.
     const Case c = impact_bass(400000.0, 0.1, 2e-3, 0.0);
     RecordedRun runs[2];
     std::vector<double> sounds[2];

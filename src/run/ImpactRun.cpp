@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "AudioBand.hpp"
 #include "AudioStreams.hpp"
 #include "EnergyAudit.hpp"
 #include "RunLoop.hpp"
@@ -57,35 +58,35 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
 
     for (RunObserver* o : observers) o->begin(layout);
     AudioStreams audio(observers, c.run.sample_rate_hz, shapes.size(), 1);
-    // Free flight over whole output intervals: the modes below 0.6 x the audio rate step one by
-    // one for the sound (the resampler removes the others), the rest jump in closed form. The
-    // sound comes from those modes at every step, flown or not, so it has no seam at a flight's
-    // ends; the output rows read every mode.
+    // Free flight over whole output intervals between contacts, as the penalty's run flies: the
+    // modes below 0.6 x the audio rate (the sound's; the resampler removes the others) step one by
+    // one, or with the closed-form sound (AudioBand) only the few a look at a point needs; the
+    // others jump in closed form.
     std::optional<FreeFlight> flight;
-    std::size_t sound_modes = c.mode_count();
+    std::optional<AudioBand> band;
+    std::size_t head = 0, check_head = 0;
     if (options.free_flight && plan.options().screen_contacts && layout.output_stride > 1) {
         const double band_hz = audio.empty() ? 0.0 : 0.6 * audio.lowest_rate_hz();
-        sound_modes = 0;
-        while (sound_modes < c.mode_count() && c.modes.frequency_hz[sound_modes] < band_hz) ++sound_modes;
-        // (at least the modes a flight's look at a point needs)
-        sound_modes = std::max(sound_modes, std::min(kMinimumFlightModes, c.mode_count()));
-        flight.emplace(plan.propagator(), layout.output_stride, sound_modes);
+        while (head < c.mode_count() && c.modes.frequency_hz[head] < band_hz) ++head;
+        check_head = std::min(kMinimumFlightModes, c.mode_count());
+        head = std::max(head, check_head);
+        flight.emplace(plan.propagator(), layout.output_stride);
+        if (options.closed_form_audio && !audio.empty() &&
+            AudioBand::applies(audio, plan.propagator(), head, layout.output_stride))
+            band.emplace(audio, plan.propagator(), head, shapes, layout.output_stride);
     }
     const bool velocity = audio.wants_velocity();
-    std::vector<double> u(shapes.size()), sound(shapes.size()), v(velocity ? shapes.size() : 0), before(shapes.size());
+    std::vector<double> u(shapes.size()), sound(shapes.size()), v(velocity ? shapes.size() : 0);
     std::vector<double> flown_rows;
     std::vector<std::pair<std::size_t, double>> forces;
     EnergyAudit audit;
     long n = 0, flown_steps = 0;
-    const auto deliver = [&] {  // one frame of sound, its velocity from the last one
-        for (std::size_t p = 0; p < v.size(); ++p) v[p] = n > 0 ? (sound[p] - before[p]) / layout.dt : 0.0;
+    const auto hear = [&] {  // the step's frame: u^n and (u^n - u^{n-1}) / dt at the points
+        for (std::size_t p = 0; p < shapes.size(); ++p) sound[p] = string.displacement(shapes[p]);
+        for (std::size_t p = 0; p < v.size(); ++p)
+            v[p] = n > 0 ? kernels::dot(shapes[p].data(), string.modal_difference().data(), c.mode_count()) / layout.dt
+                         : 0.0;
         audio.frame(sound, v);
-        before = sound;
-    };
-    const auto hear = [&] {
-        for (std::size_t p = 0; p < shapes.size(); ++p)
-            sound[p] = kernels::dot(shapes[p].data(), string.modal_displacement().data(), sound_modes);
-        deliver();
     };
     const auto report_output = [&] {
         const double h = string.energy(), dissipated = string.dissipated();
@@ -102,6 +103,33 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
         for (RunObserver* o : observers) o->bridge_force(t, force);
         for (RunObserver* o : observers) o->energy((static_cast<double>(n) - 0.5) * layout.dt, h, 0.0, dissipated);
     };
+    const auto fly = [&] {  // the steps flown (0: none), their sound handed on
+        const std::span<const double> q = string.modal_displacement(), d = string.modal_difference();
+        const bool in_band = band && band->in_band();
+        if (band && !in_band) band->flight_start(q, d);  // the band makes the flight's frames
+        const std::span<const std::vector<double>> probes =
+            audio.empty() || band ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes);
+        const long flown = string.free_flight(*flight, in_band ? check_head : head, probes, flown_rows);
+        if (flown == 0) return flown;
+        const bool complete = flown == layout.output_stride;
+        const long end = string.step_index();
+        if (in_band && complete) {
+            band->flown(end, true, q, d);
+        } else if (in_band) {
+            band->resume(end, q, d);  // cut short: contact may come, the per-step sound resumes
+        } else if (band) {
+            band->flight_frames(flown);
+            band->flown(end, complete, q, d);
+        } else {
+            for (long m = 0; m < flown && !audio.empty(); ++m) {
+                const auto row = flown_rows.begin() + m * static_cast<long>(shapes.size());
+                for (std::size_t p = 0; p < v.size(); ++p) v[p] = (row[static_cast<long>(p)] - sound[p]) / layout.dt;
+                std::copy_n(row, shapes.size(), sound.begin());
+                audio.frame(sound, v);
+            }
+        }
+        return flown;
+    };
     for (std::size_t p = 0; p < shapes.size(); ++p) u[p] = string.displacement(shapes[p]);
     for (RunObserver* o : observers) o->observation(0.0, u);
     for (RunObserver* o : observers) o->bridge_force(0.0, string.displacement(bridge));
@@ -109,22 +137,17 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
     while (n < layout.steps) {
         throw_if_stopped();
         if (flight && n > 1 && n % layout.output_stride == 0 && n + layout.output_stride <= layout.steps) {
-            const std::span<const std::vector<double>> probes =
-                audio.empty() ? std::span<const std::vector<double>>() : std::span<const std::vector<double>>(shapes);
-            if (const long flown = string.free_flight(*flight, probes, flown_rows); flown > 0) {
-                for (long m = 0; m < flown && !audio.empty(); ++m) {
-                    ++n;
-                    std::copy_n(flown_rows.begin() + m * static_cast<long>(shapes.size()), shapes.size(), sound.begin());
-                    deliver();
-                }
+            if (const long flown = fly(); flown > 0) {
                 n = string.step_index();
                 flown_steps += flown;
                 report_output();
                 continue;
             }
         }
+        if (band) band->resume(n, string.modal_displacement(), string.modal_difference());
         string.step();
         ++n;
+        if (band) band->stepped(n);
         if (string.touched_obstacle()) {
             if (summary.first_contact_s < 0.0) summary.first_contact_s = string.time();
             summary.last_contact_s = string.time();
@@ -144,6 +167,8 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
             }
         }
     }
+    // The last segment ends at the run's end, as a single stream would.
+    if (band) band->resume(n, string.modal_displacement(), string.modal_difference());
     summary.free_flight_fraction =
         layout.steps > 0 ? static_cast<double>(flown_steps) / static_cast<double>(layout.steps) : 0.0;
     if (!audio.empty()) audio.finish(summary.duration_s);

@@ -56,13 +56,12 @@ void NewtonImpact::first_step() {
     put_to_sleep();
 }
 
-long NewtonImpact::free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes,
+long NewtonImpact::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                                std::vector<double>& rows) {
     if (n_ < 1 || !screen_ || !awake_.empty()) return 0;
     ContactScheduler& scheduler = screening_.scheduler();
     scheduler.refresh_amplitudes(modes_.q(), modes_.d());  // the head changes below: the tail is summed anew
     const double before = energy();
-    const std::size_t head = flight.first();
     const long flown = screening_.fly_head(modes_, flight.steps(), head, probes, rows, nullptr);
     if (flown == flight.steps()) {
         flight.jump(modes_.q(), modes_.d(), head);

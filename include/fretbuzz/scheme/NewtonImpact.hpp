@@ -42,11 +42,12 @@ public:
 
     // Free flight over at most flight.steps() steps, while no point is awake and the screening
     // proves none can touch (Screening::fly_head: the points it wakes are looked at on the
-    // first `head` modes plus a bound on the rest; flight maps modes [head, N), head =
-    // flight.first() >= kMinimumFlightModes): the head modes step one by one, each step's row
-    // products probes . q over them going to `rows` (probes.size() values a step), the others
-    // jump in closed form at the end (or step, a flight cut short). Returns the steps flown.
-    long free_flight(const FreeFlight& flight, std::span<const std::vector<double>> probes, std::vector<double>& rows);
+    // first `head` >= kMinimumFlightModes modes plus a bound on the rest): the head modes step
+    // one by one, each step's row products probes . q over them going to `rows` (probes.size()
+    // values a step), the others jump in closed form at the end (flight maps them from mode 0;
+    // a flight cut short steps them). Returns the steps flown.
+    long free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
+                     std::vector<double>& rows);
 
     const Plan& plan() const { return *plan_; }
     long step_index() const { return n_; }
