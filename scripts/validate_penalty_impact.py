@@ -4,17 +4,19 @@ at K = 1e9 ... 1e17 (alpha 1.5) and with Newton's impact law (e = 0 and e = 1), 
 the paper's 0.3 s window; prints the relative L2 distance of each penalty run's observation
 (x = 0.854 m, 48 kHz rows) to the impact runs', and their contact times (first and last contact,
 steps in contact). Then (unless --no-speed) the paired speed of the 3 s pop, impact law against
-penalty, medians of --reps runs each, alternated in one session.
+penalty, medians of --reps runs each, alternated in one session; and the rigid pop's energy
+figure, docs/figures/bass-rigid-frets-energy.png.
 Usage: validate_penalty_impact.py [--duration 0.3] [--reps 3] [--no-speed]"""
 import argparse
 import json
 import platform
+import shutil
 import statistics
 import subprocess
 
 import numpy as np
 
-from validation_common import fretbuzz, read_csv, scratch_dir
+from validation_common import FIGURES, fretbuzz, read_csv, scratch_dir
 
 
 def processor():
@@ -61,6 +63,10 @@ def main():
     for e, (_, s) in impact.items():
         print(f"| impact e = {e} | | | {1e3 * s['first_contact_s']:.4f} | {1e3 * s['last_contact_s']:.3f} | "
               f"{s['contact_steps']} |")
+    # The rigid pop's energy: each slap on a fret takes its step (docs/figures/bass-rigid-frets-energy.png).
+    fretbuzz("run", "bass-rigid-frets", "-q", "--duration", "0.05", "--out", out / "figure")
+    fretbuzz("plot", out / "figure")
+    shutil.copy(out / "figure" / "energy.png", FIGURES / "bass-rigid-frets-energy.png")
     if args.no_speed:
         return
     walls = {"penalty": [], "impact": []}

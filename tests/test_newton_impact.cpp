@@ -294,6 +294,7 @@ TEST(NewtonImpact, TheProgramRunsTheImpactLawAndRefusesBadLawsNamingTheKey) {
              {"bass-pop --restitution 0.5", "--restitution"},
              {"bass-pop --law impact --fret 5", "--fret"},
              {"bass-pop --law impact --polarisations 2", "string.polarisations"},
+             {"bass-pop --law impact --snapshots 1000", "--snapshots"},
              {write_case("law.toml", "law = \"impact\"", "law = \"rigid\"") + "", "contact.law"},
              {write_case("e.toml", "restitution = 0", "restitution = 1.2"), "contact.restitution"},
          }) {

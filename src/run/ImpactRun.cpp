@@ -56,6 +56,10 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
     summary.screening = summary.screened ? "on (impact law: points woken by the speed bound, free flight between contacts)"
                                          : "off (asked for)";
 
+    for (RunObserver* o : observers)
+        if (o->snapshot_rate_hz() > 0.0)
+            throw InputError("snapshots (--snapshots): the impact law's run takes no snapshots of the string's shape "
+                             "yet (contact.law = \"penalty\" does)");
     for (RunObserver* o : observers) o->begin(layout);
     AudioStreams audio(observers, c.run.sample_rate_hz, shapes.size(), 1);
     // Free flight over whole output intervals between contacts, as the penalty's run flies: the

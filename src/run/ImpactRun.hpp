@@ -3,7 +3,7 @@
 // same observers and outputs as the penalty's run loop (observation and bridge-force rows and the
 // audited energy at the output rate, the contacts of every step, the audio from the per-step
 // signal, free flight over output intervals between contacts). Snapshots of the string's shape
-// are not taken.
+// are refused (InputError).
 #include <span>
 
 #include "fretbuzz/Case.hpp"
