@@ -304,5 +304,20 @@ TEST(NewtonImpact, TheProgramRunsTheImpactLawAndRefusesBadLawsNamingTheKey) {
     }
 }
 
+TEST(NewtonImpact, ASweepNamesTheLawAndStepsItsRestitution) {
+    testing::ScratchDir dir("impact-sweep");
+    std::ofstream(dir.path() / "sweep.toml") << "[sweep]\ncase = \"bass-pop\"\n[set]\n\"run.duration\" = 0.005\n"
+                                                "\"run.fs\" = 1000000\n\"contact.law\" = \"impact\"\n"
+                                                "[[parameter]]\nkey = \"contact.restitution\"\nvalues = [0.0, 1.0]\n";
+    const auto r = testing::run_cli("sweep " + (dir.path() / "sweep.toml").string() + " --out " + dir.str() + "/out");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(dir.path() / "out" / "results.csv");
+    std::string header, line;
+    std::getline(in, header);
+    int ok = 0;
+    while (std::getline(in, line)) ok += line.find(",ok,") != std::string::npos ? 1 : 0;
+    EXPECT_EQ(ok, 2) << r.output;
+}
+
 }  // namespace
 }  // namespace fretbuzz
