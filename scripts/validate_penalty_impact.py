@@ -38,6 +38,18 @@ def relative_l2(a, b):
     return float(np.linalg.norm(a[:n] - b[:n]) / np.linalg.norm(b[:n]))
 
 
+BANDS = ((0.0, 1000.0), (1000.0, 5000.0), (5000.0, 24000.0))  # Hz
+
+
+def band_distances(a, b, rate):
+    """Relative L2 distance of the magnitude spectra of a and b in each of BANDS."""
+    n = min(len(a), len(b))
+    sa, sb = np.abs(np.fft.rfft(a[:n])), np.abs(np.fft.rfft(b[:n]))
+    f = np.fft.rfftfreq(n, 1.0 / rate)
+    return [float(np.linalg.norm((sa - sb)[(f >= lo) & (f < hi)]) / np.linalg.norm(sb[(f >= lo) & (f < hi)]))
+            for lo, hi in BANDS]
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--duration", default="0.3")
@@ -50,19 +62,27 @@ def main():
     rows = []
     for k in ("1e9", "1e11", "1e13", "1e15", "1e17"):
         u, s = run(out / f"K{k}", "--duration", args.duration, "--K", k)
-        rows.append((k, relative_l2(u, impact["0"][0]), relative_l2(u, impact["1"][0]), s))
+        rows.append((k, relative_l2(u, impact["0"][0]), relative_l2(u, impact["1"][0]), s,
+                     band_distances(u, impact["0"][0], float(s["output_rate"]))))
     fs = float(impact["0"][1]["fs"])
     print(f"\nbass pop, {args.duration} s at {fs / 1e6:g} MHz, 862 modes; observation at 0.854 m (48 kHz rows)")
     print("| law | relative L2 to impact e = 0 | to impact e = 1 | first contact (ms) | last contact (ms) | "
           "steps in contact |")
     print("|---|---|---|---|---|---|")
-    for k, to0, to1, s in rows:
+    for k, to0, to1, s, _ in rows:
         print(f"| penalty K = {k} | {to0:.3g} | {to1:.3g} | {1e3 * s['first_contact_s']:.4f} | "
               f"{1e3 * s['last_contact_s']:.3f} | {s['contact_steps']} |")
     print(f"| impact e = 1 (against e = 0) | {relative_l2(impact['1'][0], impact['0'][0]):.3g} | | | | |")
     for e, (_, s) in impact.items():
         print(f"| impact e = {e} | | | {1e3 * s['first_contact_s']:.4f} | {1e3 * s['last_contact_s']:.3f} | "
               f"{s['contact_steps']} |")
+    print("\nmagnitude spectra against impact e = 0, relative L2 in each band:")
+    print("| law | " + " | ".join(f"{lo / 1e3:g}-{hi / 1e3:g} kHz" for lo, hi in BANDS) + " |")
+    print("|---|" + "---|" * len(BANDS))
+    for k, _, _, _, bands in rows:
+        print(f"| penalty K = {k} | " + " | ".join(f"{d:.3g}" for d in bands) + " |")
+    e1 = band_distances(impact["1"][0], impact["0"][0], float(impact["1"][1]["output_rate"]))
+    print("| impact e = 1 | " + " | ".join(f"{d:.3g}" for d in e1) + " |")
     # The rigid pop's energy: each slap on a fret takes its step (docs/figures/bass-rigid-frets-energy.png).
     fretbuzz("run", "bass-rigid-frets", "-q", "--duration", "0.05", "--out", out / "figure")
     fretbuzz("plot", out / "figure")
