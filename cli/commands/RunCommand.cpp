@@ -231,7 +231,8 @@ int run_command(const RunArguments& a) {
         std::cerr << "fretbuzz: " << s.steps << " steps in " << s.wall_seconds << " s ("
                   << s.wall_seconds / s.duration_s << " s per simulated second); " << s.contact_steps
                   << " steps with contact; energy " << s.energy_initial_j << " J -> " << s.energy_final_j
-                  << " J; outputs in " << outputs.path().string() << "\n";
+                  << " J" << (s.contact_law == "impact" ? "; the impacts took " + std::to_string(s.impact_loss_j) + " J" : "")
+                  << "; outputs in " << outputs.path().string() << "\n";
     }
     if (a.report) return make_report(outputs.path(), a.quiet);
     if (!a.quiet)
