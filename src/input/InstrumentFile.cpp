@@ -609,11 +609,9 @@ void read_physics_tables(Reader& r, TomlSection& top, Instrument& inst) {
         b.contact_stiffness = Reader::number_in(*c, "K", {0.0, 1e16, true, false, "N/m^(alpha+1)", 1.0});
         b.contact_exponent = Reader::number_in(*c, "alpha", {1.0, 3.0, false, false, "", 1.0});
         b.contact_law = contact_law_named(c->optional_text("law").value_or("penalty"), c->key_path("law"));
-        if (!c->has("restitution")) {
-            // e = 0 unless given
-        } else if (b.contact_law != ContactLawKind::impact) {
-            throw InputError(c->key_path("restitution") + " needs " + c->key_path("law") + " = \"impact\"");
-        } else {
+        if (c->has("restitution")) {  // e = 0 unless given
+            if (b.contact_law != ContactLawKind::impact)
+                throw InputError(c->key_path("restitution") + " needs " + c->key_path("law") + " = \"impact\"");
             b.restitution = Reader::number_in(*c, "restitution", {0.0, 1.0, false, false, "", 1.0});
         }
         c->finish();

@@ -32,6 +32,7 @@ RunSummary summary_of(const Case& c, const Plan& plan, const RunLayout& layout) 
     s.duration_s = static_cast<double>(layout.steps) / c.run.sample_rate_hz;
     s.steps = layout.steps;
     s.modes = c.mode_count();
+    s.polarisations = c.two_polarisations() ? 2 : 1;
     s.output_rate_hz = layout.output_rate_hz;
     s.lossless = plan.propagator().lossless();
     s.mode_choice = c.mode_choice.empty() ? "as the case gives" : c.mode_choice;
@@ -76,15 +77,12 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
         // y is never mirrored: its shapes are the plain mode shapes.
         for (double x : c.observation_points_m) shapes_y_.push_back(plan_.basis().mode_shapes_at(x));
         y_.resize(shapes_.size());
-        summary_.polarisations = 2;
     }
     grid_x_.resize(c.mode_count());
     grid_u_.resize(c.mode_count());
     for (std::size_t i = 0; i < grid_x_.size(); ++i) grid_x_[i] = plan_.basis().grid_point(i);
 
-    const int polarisations = summary_.polarisations;
     summary_ = summary_of(c, plan_, layout_);
-    summary_.polarisations = polarisations;
     summary_.screened = screening_.screen;
     summary_.screening = screening_.reason;
     summary_.fingers = c.fingers.size();
