@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "TestSupport.hpp"
@@ -75,6 +76,30 @@ TEST(SetupCommand, AMapWritesItsFiles) {
     for (std::size_t i = wav.samples.size() - 20; i < wav.samples.size(); ++i) tail = std::max(tail, std::abs(wav.samples[i]));
     EXPECT_GT(peak, 0.5);
     EXPECT_LT(tail, 1e-3 * peak);
+}
+
+// A what-if in an inch file: a bare number is inches, each value is said back as it was read,
+// and the map is of the neck so changed (relief 0.012 in = 0.3048 mm under the first string).
+TEST(SetupCommand, AWhatIfReadsTheFilesUnitsAndSaysWhatItRead) {
+    ScratchDir dir("setup-units");
+    std::string text = read_file(std::filesystem::path(FRETBUZZ_SOURCE_DIR) / "cases/instruments/jazz-bass.toml");
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"nut = \"0.75 mm\"", "nut = \"0.030 in\""},
+                                   {"action12 = \"2.7 mm\"", "action12 = \"7/64 in\""}})
+        text.replace(text.find(from), from.size(), to);
+    const auto file = dir.path() / "inch-bass.toml";
+    std::ofstream(file) << text;
+    const std::string out = (dir.path() / "map").string();
+    const auto r = run_cli("setup " + file.string() + " --out " + out + kQuick +
+                           " --relief 0.012 --action 17:G=3/32in --saddle-change E=-10thou");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const char* said : {"fretbuzz: relief: 0.012 in (0.305 mm)", "fretbuzz: action at fret 17, G: 3/32 in (2.381 mm)",
+                             "fretbuzz: saddle change, E: -10 thou (-0.254 mm)"})
+        EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
+    std::smatch m;
+    const std::string json = read_file(dir.path() / "map" / "map.json");
+    ASSERT_TRUE(std::regex_search(json, m, std::regex("\"relief_gap_m\": ?([-0-9.eE+]+)"))) << json.substr(0, 2000);
+    EXPECT_NEAR(std::stod(m[1].str()), 0.012 * 0.0254, 1e-12);
+    EXPECT_NE(json.find("--action 17:G=3/32in"), std::string::npos);
 }
 
 // --advice writes its searches as JSON and text; --compare marks the notes that changed.
@@ -151,7 +176,15 @@ TEST(SetupCommand, BadOptionsAreRefusedAndNothingIsWritten) {
         {"--strings E,Q", {"string \"Q\"", "E, A, D, G"}},
         {"--relief 5", {"--relief", "[-2, 2] mm"}},
         {"--action12 E=0.01", {"--action12 E", "fret"}},
-        {"--action12 E", {"--action12", "NAME=MM"}},
+        {"--action12 E", {"--action12", "STRING=LENGTH"}},
+        {"--action 17E=3/32in", {"--action", "FRET:STRING=LENGTH"}},
+        {"--action 21:E=3/32in", {"--action 21", "[2, 20]"}},
+        {"--action 17:E=3/32furlong", {"--action 17:E", "units"}},
+        {"--saddle-change E=-9mm", {"--saddle-change E", "[-5, 5] mm"}},
+        {"--saddle-change E=-0.25mm --saddle E=10mm", {"--saddle-change E", "--saddle E", "give one"}},
+        {"--relief-change 5mm", {"--relief-change", "[-1, 1] mm"}},
+        {"--relief 0.3 --relief-change 0.1mm", {"--relief", "--relief-change", "give one"}},
+        {"--nut-change E=x", {"--nut-change E", "units"}},
         {"--fret-offset 25=0.1", {"--fret-offset", "[1, 20]"}},
         {"--fret-offset 5=3", {"--fret-offset 5", "[-1, 1] mm"}},
         {"--jobs 0", {"--jobs", "[1, 256]"}},

@@ -226,7 +226,7 @@ TEST(InstrumentFile, RangesAreTheWhatIfsAndMessagesShowTheValueGiven) {
     expect_instrument_refused(replaced(base, "nut = \"0.75 mm\"", "nut = \"0.001 mm\""), "string[0].nut", "[0.01, 5] mm");
     const Instrument bass = parse_instrument(base, "t.toml", DataSource::builtin());
     SetupChange tiny_action, tiny_nut, low_nut;
-    tiny_action.action12_m = {{"E", 1e-323}};
+    tiny_action.action_m = {{"E", 12, 1e-323}};
     tiny_nut.nut_m = {{"E", 1e-6}};
     low_nut.nut_m = {{"E", 1e-5}};
     for (const auto& [change, key] : std::vector<std::pair<SetupChange, std::string>>{{tiny_action, "--action12 E"},

@@ -78,7 +78,7 @@ TEST(SetupNotes, PlucksShownClearTouchNothing) {
 // played, and reports no buzz; so does every note of a string set far above the frets.
 TEST(SetupNotes, NotesNothingCanTouchReportNoBuzz) {
     SetupChange high;
-    high.action12_m = {{"E", 9e-3}};
+    high.action_m = {{"E", 12, 9e-3}};
     const Instrument bass = apply_change(quick_bass(40), high);
     MapRequest request;
     request.attacks = parse_attacks("medium", bass.attack);

@@ -71,7 +71,7 @@ TEST(SetupWhatIf, EachChangeMovesWhatItShouldAndNothingElse) {
     EXPECT_GT(looser.gap(12), before.gap(12));                            // the frets sink under the string
 
     SetupChange action;
-    action.action12_m = {{"E", 2.2e-3}};
+    action.action_m = {{"E", 12, 2.2e-3}};
     const StringNeck lower(apply_change(bass, action), 0);
     EXPECT_NEAR(lower.gap(12), 2.2e-3, 1e-15);
     EXPECT_NEAR(lower.nut_height(), before.nut_height(), 1e-15);
@@ -162,7 +162,7 @@ TEST(SetupWhatIf, LoweringTheActionNeverCleansTheMap) {
     const Instrument bass = quick_bass();
     SetupChange lower;
     for (std::size_t s = 0; s < bass.strings.size(); ++s)
-        lower.action12_m.push_back({bass.strings[s].name, StringNeck(bass, s).gap(12) - 0.4e-3});
+        lower.action_m.push_back({bass.strings[s].name, 12, StringNeck(bass, s).gap(12) - 0.4e-3});
     std::vector<std::size_t> frets;
     for (std::size_t k = 0; k <= 20; k += 2) frets.push_back(k);
     const auto before = buzz(play(bass, "soft,medium,hard", frets));
@@ -182,7 +182,7 @@ TEST(SetupAdvice, TheLowestActionIsCleanAndTheStepBelowIsNot) {
     EXPECT_NEAR(std::remainder(a.lowest_clean_m, kActionStep), 0.0, 1e-12);
     const auto at = [&](double action) {
         SetupChange c;
-        c.action12_m = {{"G", action}};
+        c.action_m = {{"G", 12, action}};
         return apply_change(bass, c);
     };
     for (const NoteVerdict& v : play(at(a.lowest_clean_m), "medium", {}, {3}))
@@ -354,7 +354,7 @@ TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
     const ActionAdvice a = lowest_clean_action(bass, 3, request);
     ASSERT_TRUE(std::isfinite(a.lowest_clean_m)) << a.below;
     SetupChange c;
-    c.action12_m = {{"G", a.lowest_clean_m}};
+    c.action_m = {{"G", 12, a.lowest_clean_m}};
     EXPECT_NEAR(a.saddle_change_m,
                 StringNeck(apply_change(bass, c), 3).saddle_height() - StringNeck(bass, 3).saddle_height(), 1e-12);
     // Nut pinned: the saddle moves twice what the gap over fret 12 (half way) does.

@@ -36,9 +36,9 @@ namespace {
 
 struct SetupArguments {
     std::string instrument, out;
-    std::string relief, strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration, string_set;
+    std::string strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
     std::string tolerate, dress_depth, crown, fall_away;
-    std::vector<std::string> action12, nut, saddle, fret_offsets, tune;
+    WhatIfWords what_if;
     bool finger = false, advice = false, dress = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
 };
 
@@ -51,17 +51,6 @@ std::vector<std::string> split(const std::string& text, char separator) {
         start = at == std::string::npos ? text.size() + 1 : at + 1;
     }
     return parts;
-}
-
-// A whole number in [low, high], read without ever allocating by its size.
-std::size_t whole_number(const std::string& text, const std::string& option, std::size_t low, std::size_t high,
-                         const std::string& what) {
-    std::size_t v = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (error != std::errc() || end != text.data() + text.size() || text.empty() || v < low || v > high)
-        throw InputError(option + " " + text + ": " + what + " must be a whole number in [" + std::to_string(low) + ", " +
-                         std::to_string(high) + "]");
-    return v;
 }
 
 // "0-20", "0,5,7", "12": frets in [0, last].
@@ -77,56 +66,6 @@ std::vector<std::size_t> parse_frets(const std::string& text, std::size_t last) 
     }
     std::sort(frets.begin(), frets.end());
     return frets;
-}
-
-std::pair<std::string, std::string> name_value(const std::string& text, const std::string& option) {
-    const std::size_t eq = text.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-        throw InputError(option + " " + text + ": give NAME=MM, e.g. " + option + " E=2.2");
-    return {text.substr(0, eq), text.substr(eq + 1)};
-}
-
-SetupChange parse_change(const SetupArguments& a, const Instrument& instrument) {
-    SetupChange change;
-    if (!a.relief.empty()) change.relief_m = parse_quantity_or(a.relief, Quantity::length, "mm", "--relief");
-    const auto ends = [&](const std::vector<std::string>& given, const std::string& option,
-                          std::vector<std::pair<std::string, double>>& into) {
-        for (const std::string& item : given) {
-            const auto [name, value] = name_value(item, option);
-            instrument.string_index(name);  // names the strings if it is not one
-            into.emplace_back(name, parse_quantity_or(value, Quantity::length, "mm", option + " " + name));
-        }
-    };
-    ends(a.action12, "--action12", change.action12_m);
-    ends(a.nut, "--nut", change.nut_m);
-    ends(a.saddle, "--saddle", change.saddle_m);
-    if (!a.string_set.empty()) change.string_set = a.string_set;
-    for (const std::string& item : a.tune) {
-        const auto [name, value] = name_value(item, "--tune");
-        instrument.string_index(name);
-        change.pitch_hz.emplace_back(name, parse_quantity_or(value, Quantity::frequency, "Hz", "--tune " + name));
-    }
-    for (const std::string& item : a.fret_offsets) {
-        const auto [fret, value] = name_value(item, "--fret-offset");
-        FretChange f;
-        f.fret = whole_number(fret, "--fret-offset", 1, instrument.neck.fret_count,
-                              "the fret (1 to the last fret, " + std::to_string(instrument.neck.fret_count) + ")");
-        if (value != "level") f.by_m = parse_quantity_or(value, Quantity::length, "mm", "--fret-offset " + fret);
-        change.frets.push_back(f);
-    }
-    return change;
-}
-
-std::vector<std::string> change_words(const SetupArguments& a) {
-    std::vector<std::string> words;
-    if (!a.string_set.empty()) words.push_back("--set " + a.string_set);
-    for (const auto& v : a.tune) words.push_back("--tune " + v);
-    if (!a.relief.empty()) words.push_back("--relief " + a.relief);
-    for (const auto& v : a.action12) words.push_back("--action12 " + v);
-    for (const auto& v : a.nut) words.push_back("--nut " + v);
-    for (const auto& v : a.saddle) words.push_back("--saddle " + v);
-    for (const auto& v : a.fret_offsets) words.push_back("--fret-offset " + v);
-    return words;
 }
 
 void apply_settings(const SetupArguments& a, Instrument& instrument) {
@@ -178,7 +117,9 @@ int setup_command(const SetupArguments& a) {
     for (const std::string& w : instrument.warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     apply_settings(a, instrument);
     const Instrument as_found = instrument;
-    instrument = apply_change(instrument, parse_change(a, instrument));
+    const WhatIfReading what_if = read_what_ifs(a.what_if, instrument);
+    for (const std::string& value : what_if.as_read) std::cerr << "fretbuzz: " << value << "\n";
+    instrument = apply_change(instrument, what_if.change);
     if (const auto pull = pull_change(as_found, instrument))
         std::cerr << std::fixed << std::setprecision(1) << "fretbuzz: the strings pull " << pull->after_n << " N (" << pull->before_n
                   << " N when the relief was set): the neck bows " << std::setprecision(3) << std::abs(pull->bow_m) * 1e3
@@ -247,7 +188,7 @@ int setup_command(const SetupArguments& a) {
 
     MapDocument doc;
     doc.command = command_line();
-    doc.changes = change_words(a);
+    doc.changes = a.what_if.words();
     doc.attacks = request.attacks;
     doc.finger = a.finger;
     doc.notes = map.notes;
@@ -319,22 +260,43 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--strength", args->strength,
                     "Attacks: soft,medium,hard (finger plucks, the default), pick, pop, slap, a finger pluck's amplitude "
                     "(1.2mm) or a slap's speed (3m/s)");
-    cmd->add_option("--relief", args->relief, "What-if: the truss rod set for this relief (mm, the luthier's gap)");
-    cmd->add_option("--action12", args->action12, "What-if: STRING=MM, that string's gap over fret 12 (repeatable)")
+    // Lengths: with a unit (mm, in, 3/32in, 5/64", 12thou), or bare in the instrument file's units.
+    WhatIfWords& w = args->what_if;
+    cmd->add_option("--relief", w.relief,
+                    "What-if: the truss rod set for this relief gap (under the first string, at the relief fret; a "
+                    "length: mm, in, 12thou, or bare in the instrument file's units)");
+    cmd->add_option("--relief-change", w.relief_change,
+                    "What-if: the truss rod turned so that the relief gap changes by this much (+0.002in: looser; after "
+                    "--set and --tune)");
+    cmd->add_option("--action12", w.action12, "What-if: STRING=LENGTH, that string's gap over fret 12 (repeatable)")
         ->allow_extra_args(false);
-    cmd->add_option("--nut", args->nut, "What-if: STRING=MM, that string's gap over fret 1 (repeatable)")
+    cmd->add_option("--action", w.action,
+                    "What-if: FRET:STRING=LENGTH (17:E=3/32in), that string's gap over that fret: its saddle raised or "
+                    "lowered, nut and neck held, by about scale/(fret's distance from the nut) times the gap's change "
+                    "(repeatable)")
         ->allow_extra_args(false);
-    cmd->add_option("--saddle", args->saddle,
-                    "What-if: STRING=MM, that string's saddle height above the fret plane (repeatable)")
+    cmd->add_option("--nut", w.nut, "What-if: STRING=LENGTH, that string's gap over fret 1 (repeatable)")
         ->allow_extra_args(false);
-    cmd->add_option("--fret-offset", args->fret_offsets,
-                    "What-if: K=MM raises (or, negative, lowers) fret K; K=level dresses it to its neighbours (repeatable)")
+    cmd->add_option("--nut-change", w.nut_change,
+                    "What-if: STRING=LENGTH, that string's nut slot lowered (-, filed) or raised (+, shimmed) by this "
+                    "much (repeatable)")
         ->allow_extra_args(false);
-    cmd->add_option("--tune", args->tune,
+    cmd->add_option("--saddle", w.saddle,
+                    "What-if: STRING=LENGTH, that string's saddle height above the fret plane (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--saddle-change", w.saddle_change,
+                    "What-if: STRING=LENGTH, that string's saddle raised (+) or lowered (-) by this much, e.g. "
+                    "E=-0.25mm (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--fret-offset", w.fret_offsets,
+                    "What-if: K=LENGTH raises (or, negative, lowers) fret K; K=level dresses it to its neighbours "
+                    "(repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--tune", w.tune,
                     "What-if: STRING=PITCH retunes that string (a note or Hz, e.g. E=D2 for drop D; repeatable); the neck "
                     "bows with the strings' pull")
         ->allow_extra_args(false);
-    cmd->add_option("--set", args->string_set,
+    cmd->add_option("--set", w.string_set,
                     "What-if: the strings replaced by a named set's at the same pitches (cases/strings/sets.toml); the "
                     "neck bows with the strings' pull");
     cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");

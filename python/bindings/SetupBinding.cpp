@@ -158,7 +158,9 @@ Instrument changed(const Instrument& instrument, const py::object& relief, const
             into.emplace_back(string, millimetres(value, name + "['" + string + "']"));
         }
     };
-    ends(action12, "action12", change.action12_m);
+    std::vector<std::pair<std::string, double>> at12;
+    ends(action12, "action12", at12);
+    for (const auto& [string, gap] : at12) change.action_m.push_back({string, 12, gap});
     ends(nut, "nut", change.nut_m);
     ends(saddle, "saddle", change.saddle_m);
     for (const auto& [key, value] : fret_offsets) {

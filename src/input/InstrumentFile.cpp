@@ -307,6 +307,15 @@ StringEnd read_nut(Reader& r, TomlSection& s, bool profile) {
 }
 
 StringEnd read_bridge_end(Reader& r, TomlSection& s, std::size_t frets, bool profile) {
+    // "action17" is no key: the action at a fret other than 12 is action with action_fret.
+    for (const std::string& key : s.keys()) {
+        const std::string_view fret = std::string_view(key).substr(std::min<std::size_t>(key.size(), 6));
+        if (key.starts_with("action") && key != "action12" && !fret.empty() &&
+            std::all_of(fret.begin(), fret.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            throw InputError("unknown key " + s.key_path(key) + ": the gap over fret " + std::string(fret) +
+                             " is written action = \"...\" with action_fret = " + std::string(fret) +
+                             " (action12 is the shorthand for fret 12)");
+    }
     const int given = int(s.has("action12")) + int(s.has("action")) + int(s.has("saddle_height"));
     if (profile && given == 0) return {StringEnd::Form::as_measured, 0.0, 0};
     if (given != 1)
@@ -398,7 +407,8 @@ void read_stiffness(Reader& r, TomlSection& s, const StringSetEntry* from_set, I
 }
 
 // The unit a string's gaps are written in (its nut and action values, as read): 64ths of an
-// inch ("5/64 in", "4.5/64\""), thousandths ("0.094 in"), or mm; nothing when it gives no gap.
+// inch, or any fraction of one ("5/64 in", "4.5/64\"", "3/32 in": a gauge's reading),
+// thousandths ("0.094 in", "24 thou"), or mm; nothing when it gives no gap.
 std::optional<ShopUnits> written_units(TomlSection& s) {
     for (std::string_view key : {"action12", "action", "nut", "saddle_height", "nut_height"}) {
         if (!s.has(key)) continue;
@@ -406,8 +416,9 @@ std::optional<ShopUnits> written_units(TomlSection& s) {
         const auto* str = n ? n->as_string() : nullptr;
         if (str == nullptr) continue;
         const std::string& text = str->get();
-        if (text.find("/64") != std::string::npos) return ShopUnits::sixty_fourths;
-        if (text.find("in") != std::string::npos || text.find('"') != std::string::npos) return ShopUnits::thousandths;
+        const bool inches = text.find("in") != std::string::npos || text.find('"') != std::string::npos;
+        if (inches && text.find('/') != std::string::npos) return ShopUnits::sixty_fourths;
+        if (inches || text.find("thou") != std::string::npos) return ShopUnits::thousandths;
         return ShopUnits::mm;
     }
     return std::nullopt;

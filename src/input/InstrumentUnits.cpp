@@ -2,6 +2,7 @@
 
 #include <array>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <optional>
 #include <span>
@@ -24,7 +25,8 @@ struct Unit {
 };
 
 std::span<const Unit> units_of(Quantity kind) {
-    static constexpr std::array length{Unit{"m", 1.0}, Unit{"cm", 1e-2}, Unit{"mm", 1e-3}, Unit{"in", kInch}};
+    static constexpr std::array length{Unit{"m", 1.0}, Unit{"cm", 1e-2}, Unit{"mm", 1e-3}, Unit{"in", kInch},
+                                       Unit{"thou", kInch * 1e-3}};
     static constexpr std::array force{Unit{"N", 1.0}, Unit{"lb", kPoundForce}};
     static constexpr std::array frequency{Unit{"Hz", 1.0}, Unit{"kHz", 1e3}, Unit{"MHz", 1e6}};
     static constexpr std::array density{Unit{"kg/m", 1.0}, Unit{"g/m", 1e-3}, Unit{"lb/in", kPound / kInch}};
@@ -60,8 +62,8 @@ std::optional<double> leading_number(std::string_view& s) {
     return v;
 }
 
-// "2.4", "5/64", "4.5/64", "1 3/16" at the start of s (fractions and mixed numbers as
-// luthiers write inches: a half 64th is "4.5/64").
+// "2.4", "5/64", "3/32", "4.5/64", "1 3/16" at the start of s (fractions in any whole
+// denominator and mixed numbers as luthiers write inches: a half 64th is "4.5/64").
 std::optional<double> leading_value(std::string_view& s) {
     std::string_view rest = s;
     auto a = leading_number(rest);
@@ -92,7 +94,8 @@ std::optional<double> leading_value(std::string_view& s) {
 
 std::string example(Quantity kind) {
     switch (kind) {
-        case Quantity::length: return "\"2.4 mm\", \"0.094 in\", \"5/64 in\", \"4.5/64 in\", \"1 3/16 in\", '5/64\"'";
+        case Quantity::length:
+            return "\"2.4 mm\", \"0.094 in\", \"5/64 in\", \"3/32 in\", \"4.5/64 in\", \"1 3/16 in\", '5/64\"', \"12 thou\"";
         case Quantity::force: return "\"191.6 N\" or \"43.1 lb\"";
         case Quantity::frequency: return "\"98 Hz\" or a note such as \"G2\"";
         case Quantity::linear_density: return "\"6.69 g/m\" or \"0.000374 lb/in\"";
@@ -106,33 +109,37 @@ std::string example(Quantity kind) {
     return {};
 }
 
-double parse(std::string_view text, Quantity kind, std::optional<std::string_view> default_unit,
+// A value read: in SI units, the number as typed and the name of the unit it was read in.
+struct Parsed {
+    double si = 0.0;
+    std::string_view number, unit;
+};
+
+Parsed parse(std::string_view text, Quantity kind, std::optional<std::string_view> default_unit,
              const std::string& key) {
     const std::string_view whole = trim_blanks(text);
-    const auto refuse = [&](const std::string& why) -> double {
+    const auto refuse = [&](const std::string& why) -> Parsed {
         throw InputError(key + " = \"" + std::string(text) + "\": " + why + " (e.g. " + example(kind) +
                          "; units: " + unit_names(kind) + ")");
     };
     if (kind == Quantity::frequency && !whole.empty() && whole.front() >= 'A' && whole.front() <= 'G')
-        return note_frequency(whole, key);
+        return {note_frequency(whole, key), whole, "Hz"};
     std::string_view rest = whole;
     const auto value = leading_value(rest);
     if (!value) return refuse("not a number with its unit");
-    const std::string_view unit = trim_blanks(rest);
+    const std::string_view number = trim_blanks(whole.substr(0, whole.size() - rest.size()));
+    const std::string_view written = trim_blanks(rest);
+    const std::string_view unit = written.empty() ? default_unit.value_or("") : written == "\"" && kind == Quantity::length
+                                                                                  ? std::string_view("in")  // 5/64"
+                                                                                  : written;
+    if (unit.empty()) return refuse("say its unit");
     double factor = 0.0;
-    if (unit.empty()) {
-        if (!default_unit) return refuse("say its unit");
-        for (const Unit& u : units_of(kind))
-            if (u.name == *default_unit) factor = u.factor;
-    } else {
-        for (const Unit& u : units_of(kind))
-            if (u.name == unit) factor = u.factor;
-        if (kind == Quantity::length && unit == "\"") factor = kInch;  // the inch mark: 5/64"
-        if (factor == 0.0) return refuse("unknown unit \"" + std::string(unit) + "\"");
-    }
+    for (const Unit& u : units_of(kind))
+        if (u.name == unit) factor = u.factor;
+    if (factor == 0.0) return refuse("unknown unit \"" + std::string(unit) + "\"");
     const double si = *value * factor;
     if (!std::isfinite(si)) return refuse("not a finite number");
-    return si;
+    return {si, number, unit};
 }
 
 }  // namespace
@@ -148,11 +155,32 @@ std::string unit_names(Quantity kind) {
 }
 
 double parse_quantity(std::string_view text, Quantity kind, const std::string& key) {
-    return parse(text, kind, std::nullopt, key);
+    return parse(text, kind, std::nullopt, key).si;
 }
 
 double parse_quantity_or(std::string_view text, Quantity kind, std::string_view default_unit, const std::string& key) {
-    return parse(text, kind, default_unit, key);
+    return parse(text, kind, default_unit, key).si;
+}
+
+LengthAsRead read_length(std::string_view text, std::string_view bare_unit, const std::string& key) {
+    const Parsed p = parse(text, Quantity::length, bare_unit, key);
+    std::string as_read = std::string(p.number) + " " + std::string(p.unit);
+    if (p.unit != "mm") {
+        char mm[48];
+        std::snprintf(mm, sizeof mm, " (%.3f mm)", p.si * 1e3);
+        as_read += mm;
+    }
+    return {p.si, as_read};
+}
+
+std::size_t whole_number(std::string_view text, const std::string& option, std::size_t low, std::size_t high,
+                         const std::string& what) {
+    std::size_t v = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || v < low || v > high)
+        throw InputError(option + " " + std::string(text) + ": " + what + " must be a whole number in [" +
+                         std::to_string(low) + ", " + std::to_string(high) + "]");
+    return v;
 }
 
 double note_frequency(std::string_view name, const std::string& key) {

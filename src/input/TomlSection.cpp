@@ -138,6 +138,12 @@ bool TomlSection::has(std::string_view key) const {
     return table_->contains(key);
 }
 
+std::vector<std::string> TomlSection::keys() const {
+    std::vector<std::string> out;
+    for (const auto& [key, value] : *table_) out.emplace_back(key.str());
+    return out;
+}
+
 namespace {
 // Edit distance between two short keys, to point at a likely typo.
 std::size_t edit_distance(std::string_view a, std::string_view b) {

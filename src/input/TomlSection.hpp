@@ -38,6 +38,8 @@ public:
     const std::string& path() const { return path_; }
     std::string key_path(std::string_view key) const;
     bool has(std::string_view key) const;
+    // The table's keys, in its order (not logged as looked up).
+    std::vector<std::string> keys() const;
 
     double number(std::string_view key);
     std::optional<double> optional_number(std::string_view key);

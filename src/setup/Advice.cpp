@@ -44,7 +44,7 @@ ActionAdvice action_search(const Instrument& instrument, std::size_t string, con
     }
     const auto at = [&](long i) {
         SetupChange change;
-        change.action12_m = {{name, static_cast<double>(i) * kActionStep}};
+        change.action_m = {{name, 12, static_cast<double>(i) * kActionStep}};
         return changed_or_none(instrument, change);
     };
     const long top = std::lround(kHighestAction / kActionStep);
@@ -109,7 +109,7 @@ std::optional<FallAwayAdvice> fall_away_prediction(const Instrument& instrument,
     const std::string& name = instrument.strings[string].name;
     const auto at = [&](double action_m, std::size_t from, double depth) {
         SetupChange change;
-        change.action12_m = {{name, action_m}};
+        change.action_m = {{name, 12, action_m}};
         if (depth > 0.0) {
             const StringNeck neck(instrument, string);
             const std::size_t last = neck.fret_count();

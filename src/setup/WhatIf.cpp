@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
+#include "fretbuzz/input/InstrumentUnits.hpp"
 #include "fretbuzz/model/SteelWire.hpp"
 #include "fretbuzz/model/TautString.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
@@ -73,7 +75,103 @@ void change_strings(Instrument& out, const SetupChange& change) {
     }
 }
 
+// "E=2.2mm" as NAME and VALUE; InputError naming the option and the form it takes.
+std::pair<std::string, std::string> name_value(const std::string& text, const std::string& option,
+                                               const std::string& form) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+        throw InputError(option + " " + text + ": give " + form);
+    return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+// The string called `name`; InputError naming the option and the strings there are if none is.
+void check_string(const Instrument& instrument, const std::string& name, const std::string& option) {
+    try {
+        instrument.string_index(name);
+    } catch (const InputError& e) {
+        throw InputError(option + ": " + e.what());
+    }
+}
+
 }  // namespace
+
+std::vector<std::string> WhatIfWords::words() const {
+    std::vector<std::string> out;
+    const auto add = [&](const std::string& option, const std::vector<std::string>& values) {
+        for (const std::string& v : values) out.push_back(option + " " + v);
+    };
+    if (!string_set.empty()) out.push_back("--set " + string_set);
+    add("--tune", tune);
+    if (!relief.empty()) out.push_back("--relief " + relief);
+    if (!relief_change.empty()) out.push_back("--relief-change " + relief_change);
+    add("--action12", action12);
+    add("--action", action);
+    add("--nut", nut);
+    add("--nut-change", nut_change);
+    add("--saddle", saddle);
+    add("--saddle-change", saddle_change);
+    add("--fret-offset", fret_offsets);
+    return out;
+}
+
+WhatIfReading read_what_ifs(const WhatIfWords& w, const Instrument& instrument) {
+    WhatIfReading r;
+    SetupChange& c = r.change;
+    const std::string bare = written_length_unit(instrument.units);
+    const std::string units = " (a length with its unit: mm, in, 3/32in, 5/64\", 12thou; a bare number is in " + bare +
+                              ", the instrument file's units)";
+    const auto length = [&](const std::string& text, const std::string& option, const std::string& what) {
+        const LengthAsRead l = read_length(text, bare, option);
+        r.as_read.push_back(what + ": " + l.as_read);
+        return l.metres;
+    };
+    if (!w.string_set.empty()) c.string_set = w.string_set;
+    for (const std::string& item : w.tune) {
+        const auto [name, value] = name_value(item, "--tune", "STRING=PITCH, e.g. --tune E=D2 or E=41.2Hz");
+        check_string(instrument, name, "--tune " + item);
+        c.pitch_hz.emplace_back(name, parse_quantity_or(value, Quantity::frequency, "Hz", "--tune " + name));
+    }
+    if (!w.relief.empty()) c.relief_m = length(w.relief, "--relief", "relief");
+    if (!w.relief_change.empty()) c.relief_change_m = length(w.relief_change, "--relief-change", "relief change");
+    const auto per_string = [&](const std::vector<std::string>& given, const std::string& option, const std::string& what,
+                                const std::string& example, auto&& add) {
+        for (const std::string& item : given) {
+            const auto [name, value] = name_value(item, option, "STRING=LENGTH, e.g. " + option + " " + example + units);
+            check_string(instrument, name, option + " " + item);
+            add(name, length(value, option + " " + name, what + ", " + name));
+        }
+    };
+    per_string(w.action12, "--action12", "action at fret 12", "E=2.2mm",
+               [&](const std::string& name, double m) { c.action_m.push_back({name, 12, m}); });
+    for (const std::string& item : w.action) {
+        const std::string form = "FRET:STRING=LENGTH, e.g. --action 17:E=3/32in" + units;
+        const auto [where, value] = name_value(item, "--action", form);
+        const std::size_t colon = where.find(':');
+        if (colon == std::string::npos || colon == 0 || colon + 1 == where.size())
+            throw InputError("--action " + item + ": give " + form);
+        const std::string name = where.substr(colon + 1);
+        const std::size_t fret = whole_number(where.substr(0, colon), "--action", 2, instrument.neck.fret_count,
+                                              "the fret (2 to the last fret, " +
+                                                  std::to_string(instrument.neck.fret_count) + "; fret 1 is --nut)");
+        check_string(instrument, name, "--action " + item);
+        c.action_m.push_back(
+            {name, fret, length(value, "--action " + where, "action at fret " + std::to_string(fret) + ", " + name)});
+    }
+    const auto into = [](auto& list) { return [&list](const std::string& name, double m) { list.emplace_back(name, m); }; };
+    per_string(w.nut, "--nut", "nut (gap over fret 1)", "E=0.5mm", into(c.nut_m));
+    per_string(w.nut_change, "--nut-change", "nut change", "E=-0.1mm", into(c.nut_change_m));
+    per_string(w.saddle, "--saddle", "saddle", "E=12mm", into(c.saddle_m));
+    per_string(w.saddle_change, "--saddle-change", "saddle change", "E=-0.25mm", into(c.saddle_change_m));
+    for (const std::string& item : w.fret_offsets) {
+        const auto [fret, value] = name_value(item, "--fret-offset", "FRET=LENGTH or FRET=level, e.g. --fret-offset 15=0.08mm" + units);
+        FretChange f;
+        f.fret = whole_number(fret, "--fret-offset", 1, instrument.neck.fret_count,
+                              "the fret (1 to the last fret, " + std::to_string(instrument.neck.fret_count) + ")");
+        if (value != "level") f.by_m = length(value, "--fret-offset " + fret, "fret " + fret + " offset");
+        c.frets.push_back(f);
+    }
+    return r;
+}
 
 std::optional<PullChange> pull_change(const Instrument& before, const Instrument& after) {
     const double was = strings_pull(before), now = strings_pull(after);
@@ -125,14 +223,24 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
     Instrument out = with_pinned_string_ends(instrument);
     NeckDescription& neck = out.neck;
     change_strings(out, change);
-    if (change.relief_m) {
+    if (change.relief_m || change.relief_change_m) {
+        if (change.relief_m && change.relief_change_m)
+            throw InputError("--relief and --relief-change both set the truss rod: give one of them");
         const std::size_t m = relief_fret(out);
-        require_mm("--relief (the gap at fret " + std::to_string(m) + ")", *change.relief_m, -2e-3, 2e-3);
-        if (neck.fret_count < 3) throw InputError("--relief: the neck needs at least 3 frets to measure relief");
+        if (neck.fret_count < 3)
+            throw InputError(std::string(change.relief_m ? "--relief" : "--relief-change") +
+                             ": the neck needs at least 3 frets to measure relief");
         // The gap is linear in the truss rod's bow: one look at the current gap does it.
         const StringNeck now(out, 0);
-        neck.truss_rod_bow_m += (*change.relief_m - now.relief_gap(m)) / relief_gap_per_bow(now, m);
-        check_strings(out, "--relief");
+        const double gap = now.relief_gap(m);
+        if (change.relief_change_m) require_mm("--relief-change", *change.relief_change_m, -1e-3, 1e-3);
+        const double target = change.relief_m ? *change.relief_m : gap + *change.relief_change_m;
+        require_mm(change.relief_m ? "--relief (the gap at fret " + std::to_string(m) + ")"
+                                   : "--relief-change (the gap at fret " + std::to_string(m) + " after it, " + mm(gap) +
+                                         " mm now)",
+                   target, -2e-3, 2e-3);
+        neck.truss_rod_bow_m += (target - gap) / relief_gap_per_bow(now, m);
+        check_strings(out, change.relief_m ? "--relief" : "--relief-change");
     }
     for (const FretChange& f : change.frets) {
         const std::string option = "--fret-offset " + std::to_string(f.fret);
@@ -159,24 +267,58 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
         neck.fret_offset_m[f.fret] = offset;
         check_strings(out, option);
     }
-    const auto set_end = [&](const std::string& option, const std::string& name, auto&& set) {
+    // Each string end is set by one option at most; the option that set it, by string.
+    std::map<std::size_t, std::string> nut_by, saddle_by;
+    const auto set_end = [&](std::map<std::size_t, std::string>& by, const std::string& option, const std::string& name,
+                             auto&& set) {
         const std::size_t s = out.string_index(name);
-        set(out.strings[s]);
-        check_strings(out, option + " " + name);
+        if (const auto was = by.find(s); was != by.end())
+            throw InputError(option + ": " + was->second + " already sets string " + name + "'s " +
+                             (&by == &nut_by ? "nut" : "saddle") + ": give one of them");
+        by.emplace(s, option);
+        set(out.strings[s], StringNeck(out, s));
+        check_strings(out, option);
     };
-    for (const auto& [name, value] : change.action12_m) {
-        if (neck.fret_count < 12) throw InputError("--action12: the neck has only " + std::to_string(neck.fret_count) + " frets");
-        require_mm("--action12 " + name, value, 1e-5, 10e-3);
-        set_end("--action12", name, [gap = value](InstrumentString& s) { s.bridge = {StringEnd::Form::gap_over_fret, gap, 12}; });
+    for (const ActionChange& a : change.action_m) {
+        const std::string option =
+            a.fret == 12 ? "--action12 " + a.string : "--action " + std::to_string(a.fret) + ":" + a.string;
+        if (a.fret < 2 || a.fret > neck.fret_count)
+            throw InputError(option + ": the action is set at a fret from 2 to the last, " +
+                             std::to_string(neck.fret_count) + " (the gap over fret 1 is --nut)");
+        require_mm(option, a.gap_m, 1e-5, 10e-3);
+        set_end(saddle_by, option, a.string, [&a](InstrumentString& s, const StringNeck&) {
+            s.bridge = {StringEnd::Form::gap_over_fret, a.gap_m, a.fret};
+        });
     }
+    // A relative move: a nut's or a saddle's height above the fret plane changed by an amount.
+    const auto move_end = [&](bool nut, const std::vector<std::pair<std::string, double>>& moves, double most,
+                              double highest) {
+        const std::string end = nut ? "nut" : "saddle";
+        for (const auto& [name, by] : moves) {
+            const std::string option = "--" + end + "-change " + name;
+            require_mm(option, by, -most, most);
+            set_end(nut ? nut_by : saddle_by, option, name, [&, by = by](InstrumentString& s, const StringNeck& now) {
+                const double height = nut ? now.nut_height() : now.saddle_height();
+                require_mm(option + " (the " + end + "'s height after it, " + mm(height) + " mm now)", height + by, 1e-5,
+                           highest);
+                (nut ? s.nut : s.bridge) = {StringEnd::Form::height, height + by, 0};
+            });
+        }
+    };
     for (const auto& [name, value] : change.nut_m) {
         require_mm("--nut " + name, value, 1e-5, 5e-3);
-        set_end("--nut", name, [gap = value](InstrumentString& s) { s.nut = {StringEnd::Form::gap_over_fret, gap, 1}; });
+        set_end(nut_by, "--nut " + name, name, [gap = value](InstrumentString& s, const StringNeck&) {
+            s.nut = {StringEnd::Form::gap_over_fret, gap, 1};
+        });
     }
+    move_end(true, change.nut_change_m, 2e-3, 10e-3);
     for (const auto& [name, value] : change.saddle_m) {
         require_mm("--saddle " + name, value, 1e-5, 30e-3);
-        set_end("--saddle", name, [height = value](InstrumentString& s) { s.bridge = {StringEnd::Form::height, height, 0}; });
+        set_end(saddle_by, "--saddle " + name, name, [height = value](InstrumentString& s, const StringNeck&) {
+            s.bridge = {StringEnd::Form::height, height, 0};
+        });
     }
+    move_end(false, change.saddle_change_m, 5e-3, 30e-3);
     return out;
 }
 

@@ -153,6 +153,10 @@ struct BenchSettings {
 // thousandths of an inch ("0.094 in": feeler gauges).
 enum class ShopUnits { mm, sixty_fourths, thousandths };
 
+// The unit a bare number stands for in a what-if on such a file: "mm", or "in" (64ths and
+// thousandths are inches: a bare 0.012 is 0.012 in, a bare 3/32 is 3/32 in).
+inline const char* written_length_unit(ShopUnits units) { return units == ShopUnits::mm ? "mm" : "in"; }
+
 struct Instrument {
     std::string name;
     std::string description;

@@ -7,8 +7,12 @@
 // heights (StringNeck's nut and saddle heights), then the change is made.
 //  - relief: the truss rod set so that the relief gap (the luthier's measure under the first
 //    string, at the neck's relief fret) is the given one;
-//  - action12 / nut / saddle of one string: its gap over fret 12, over fret 1, or the
-//    saddle's height above the fret plane;
+//  - action of one string at fret K (action12: K = 12): its saddle raised or lowered, the nut
+//    and the neck held, until its gap over fret K is the given one (the saddle moves about
+//    L / x_K times the gap's change: twice at fret 12); nut / saddle of one string: its gap
+//    over fret 1, or the saddle's height above the fret plane;
+//  - relative moves: the relief, a nut or a saddle changed by an amount from where it is
+//    (--relief-change, --nut-change: the nut's height, --saddle-change: the saddle's);
 //  - fret offset: fret k raised (+) or lowered (-) by an amount, or levelled: dressed down
 //    until its top lies on the line through its neighbours' tops under every string;
 //  - strings: a named set's strings at the same pitches, or one string retuned (drop D):
@@ -30,24 +34,53 @@ struct FretChange {
     std::optional<double> by_m;  // nothing: level it
 };
 
+// One string's action: its gap over a fret (2 to the last), set by its saddle.
+struct ActionChange {
+    std::string string;
+    std::size_t fret = 12;
+    double gap_m = 0.0;
+};
+
 struct SetupChange {
-    std::optional<double> relief_m;
-    std::vector<std::pair<std::string, double>> action12_m, nut_m, saddle_m;  // string name, value
+    std::optional<double> relief_m, relief_change_m;
+    std::vector<ActionChange> action_m;
+    std::vector<std::pair<std::string, double>> nut_m, saddle_m;                // string name, value
+    std::vector<std::pair<std::string, double>> nut_change_m, saddle_change_m;  // string name, by how much (+ up)
     std::vector<FretChange> frets;
     std::optional<std::string> string_set;                // the strings replaced by this named set's
     std::vector<std::pair<std::string, double>> pitch_hz;  // string name, its new open pitch
     bool empty() const {
-        return !relief_m && action12_m.empty() && nut_m.empty() && saddle_m.empty() && frets.empty() &&
-               !string_set && pitch_hz.empty();
+        return !relief_m && !relief_change_m && action_m.empty() && nut_m.empty() && saddle_m.empty() &&
+               nut_change_m.empty() && saddle_change_m.empty() && frets.empty() && !string_set && pitch_hz.empty();
     }
 };
+
+// The what-ifs as the command line types them, each as written: "E=2.2mm", "17:E=3/32in",
+// "+0.002in", "7=level". A length takes its unit (mm, in, a fraction of an inch in any
+// denominator: "3/32 in", '5/64"', or thou: 0.001 in); a bare number is in the instrument
+// file's own units (written_length_unit: in for a file that gives its action in inches).
+struct WhatIfWords {
+    std::string relief, relief_change, string_set;
+    std::vector<std::string> action12, action, nut, nut_change, saddle, saddle_change, fret_offsets, tune;
+    // "--relief 0.012", ... in the command's order of kinds, for the map's record.
+    std::vector<std::string> words() const;
+};
+
+// The change the words ask for, and each value as it was read ("relief: 0.012 in (0.305 mm)",
+// "action at fret 17, E: 3/32 in (2.381 mm)"). InputError naming the option and the form it
+// takes if a value is not of it (the ranges are apply_change's).
+struct WhatIfReading {
+    SetupChange change;
+    std::vector<std::string> as_read;
+};
+WhatIfReading read_what_ifs(const WhatIfWords& words, const Instrument& instrument);
 
 // Every string's ends as heights above the fret plane (where they physically are).
 Instrument with_pinned_string_ends(const Instrument& instrument);
 
 // The instrument after the change. InputError naming the option (--relief, --action12,
-// --nut, --saddle, --fret-offset) and its range if a value is out of range or the change
-// would put an open string on a fret.
+// --action, --nut, --saddle, their -change forms, --fret-offset) and its range if a value is
+// out of range, one string end is set twice, or the change would put an open string on a fret.
 Instrument apply_change(const Instrument& instrument, const SetupChange& change);
 
 // How far fret `fret`'s top stands above the line through its neighbours' tops (the last fret:
