@@ -117,7 +117,8 @@ double millimetres(py::handle value, const std::string& name) {
 // command line spells them. Here they name the arguments as Python spells them.
 using OptionNames = std::vector<std::pair<std::string, std::string>>;
 const OptionNames kSetupNames = {
-    {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
+    {"--relief-change", "relief_change"}, {"--nut-change ", "nut_change "}, {"--saddle-change ", "saddle_change "},
+    {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--action ", "action "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
     {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
     {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}};
 const OptionNames kDressNames = {{"--dress-depth", "depth"}, {"--crown", "crown"}, {"--fall-away", "fall_away"}};
@@ -138,7 +139,8 @@ auto with_python_names(F&& f, const OptionNames& names = kSetupNames) {
 // The what-ifs as Python gives them; InputError messages name the Python argument.
 Instrument changed(const Instrument& instrument, const py::object& relief, const py::dict& action12,
                    const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets, const py::dict& tune,
-                   const py::object& string_set) {
+                   const py::object& string_set, const py::object& relief_change, const py::dict& action,
+                   const py::dict& nut_change, const py::dict& saddle_change) {
     SetupChange change;
     if (!string_set.is_none()) change.string_set = to_text(string_set, "string_set");
     for (const auto& [key, value] : tune) {
@@ -150,6 +152,7 @@ Instrument changed(const Instrument& instrument, const py::object& relief, const
                                                  : to_number(value, name));
     }
     if (!relief.is_none()) change.relief_m = millimetres(relief, "relief");
+    if (!relief_change.is_none()) change.relief_change_m = millimetres(relief_change, "relief_change");
     const auto ends = [&](const py::dict& given, const std::string& name,
                           std::vector<std::pair<std::string, double>>& into) {
         for (const auto& [key, value] : given) {
@@ -161,8 +164,20 @@ Instrument changed(const Instrument& instrument, const py::object& relief, const
     std::vector<std::pair<std::string, double>> at12;
     ends(action12, "action12", at12);
     for (const auto& [string, gap] : at12) change.action_m.push_back({string, 12, gap});
+    for (const auto& [key, per_string] : action) {
+        // Out of range, the library's message names the frets there are.
+        const auto fret = static_cast<std::size_t>(to_whole(key, "action (a key: a fret's number)", 0, 1 << 20));
+        if (!py::isinstance<py::dict>(per_string))
+            throw InputError("action[" + std::to_string(fret) + "] must be a dict {string: length}, e.g. "
+                             "action={17: {'E': '3/32 in'}}");
+        std::vector<std::pair<std::string, double>> gaps;
+        ends(per_string.cast<py::dict>(), "action[" + std::to_string(fret) + "]", gaps);
+        for (const auto& [string, gap] : gaps) change.action_m.push_back({string, fret, gap});
+    }
     ends(nut, "nut", change.nut_m);
     ends(saddle, "saddle", change.saddle_m);
+    ends(nut_change, "nut_change", change.nut_change_m);
+    ends(saddle_change, "saddle_change", change.saddle_change_m);
     for (const auto& [key, value] : fret_offsets) {
         FretChange f;
         // Out of range, the library's message names the frets there are.
@@ -468,9 +483,11 @@ void bind_setup(py::module_& m) {
              py::arg("duration") = py::none(), "A copy with these simulation settings (InputError if out of range).")
         .def("with_changes", &changed, py::arg("relief") = py::none(), py::arg("action12") = py::dict(),
              py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
-             py::arg("tune") = py::dict(), py::arg("string_set") = py::none(),
-             "A copy after the what-ifs (mm, or strings with units; fret_offsets {k: mm or 'level'}; tune {string: "
-             "note or Hz}; string_set: a named set's strings at the same pitches).")
+             py::arg("tune") = py::dict(), py::arg("string_set") = py::none(), py::arg("relief_change") = py::none(),
+             py::arg("action") = py::dict(), py::arg("nut_change") = py::dict(), py::arg("saddle_change") = py::dict(),
+             "A copy after the what-ifs (mm, or strings with units: mm, in, 3/32 in, thou; fret_offsets {k: mm or "
+             "'level'}; action {fret: {string: gap}}; relief_change, nut_change and saddle_change: moves from where "
+             "they are; tune {string: note or Hz}; string_set: a named set's strings at the same pitches).")
         .def(py::pickle([](const Instrument& i) { return py::make_tuple(i.source_text, i.name); },
                         [](const py::tuple& t) {
                             return parse_instrument(t[0].cast<std::string>(), t[1].cast<std::string>(), DataSource::builtin());

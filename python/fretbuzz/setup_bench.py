@@ -279,23 +279,34 @@ class Bench:
     def with_changes(self, *, relief: Optional[Millimetres] = None, action12: Optional[Dict[str, Millimetres]] = None,
                      nut: Optional[Dict[str, Millimetres]] = None, saddle: Optional[Dict[str, Millimetres]] = None,
                      fret_offsets: Optional[Dict[int, Union[Millimetres, str]]] = None,
-                     tune: Optional[Dict[str, Union[float, str]]] = None, string_set: Optional[str] = None) -> "Bench":
+                     tune: Optional[Dict[str, Union[float, str]]] = None, string_set: Optional[str] = None,
+                     relief_change: Optional[Millimetres] = None,
+                     action: Optional[Dict[int, Dict[str, Millimetres]]] = None,
+                     nut_change: Optional[Dict[str, Millimetres]] = None,
+                     saddle_change: Optional[Dict[str, Millimetres]] = None) -> "Bench":
         """A new Bench after set-up changes, each leaving the rest where it physically is:
         relief (the truss rod set for this relief gap, mm, nut and saddles staying put);
-        action12 {string: mm} (the saddle set for this gap over fret 12); nut {string: mm} (the
+        action12 {string: mm} (the saddle set for this gap over fret 12) and action {fret:
+        {string: mm}} (the same at any fret, e.g. {17: {"E": "3/32 in"}}); nut {string: mm} (the
         slot filed for this gap over fret 1); saddle {string: mm} (its height above the fret
-        plane); fret_offsets {k: mm} (fret k raised, or lowered if negative, by that much) or
+        plane); relief_change, nut_change {string: mm} and saddle_change {string: mm}: moved by
+        that much from where they are (+ up, e.g. saddle_change={"E": "-0.25 mm"});
+        fret_offsets {k: mm} (fret k raised, or lowered if negative, by that much) or
         {k: "level"} (dressed down to its neighbours); tune {string: note or Hz} (retuned, e.g.
         {"E": "D2"} for drop D) and string_set (a named set's strings at the same pitches): the
-        neck bows with the strings' pull, the truss rod left as it was. InputError names the
-        argument."""
+        neck bows with the strings' pull, the truss rod left as it was. A length is mm, or a
+        string with its unit (mm, in, "3/32 in", "12 thou"). InputError names the argument."""
         # A relief of 0 is a change too; an empty {} is none.
         changes = {k: v for k, v in (("relief", relief), ("action12", action12), ("nut", nut), ("saddle", saddle),
-                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set))
+                                     ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set),
+                                     ("relief_change", relief_change), ("action", action), ("nut_change", nut_change),
+                                     ("saddle_change", saddle_change))
                    if v is not None and not (isinstance(v, (dict, str)) and not v)}
         instrument = self.instrument.with_changes(relief=relief, action12=action12 or {}, nut=nut or {},
                                                   saddle=saddle or {}, fret_offsets=fret_offsets or {}, tune=tune or {},
-                                                  string_set=string_set)
+                                                  string_set=string_set, relief_change=relief_change,
+                                                  action=action or {}, nut_change=nut_change or {},
+                                                  saddle_change=saddle_change or {})
         return self._copy(instrument, changes)
 
     @staticmethod

@@ -50,6 +50,27 @@ class GeometryTest(unittest.TestCase):
         self.assertEqual(len(view["frets"]), 21)
         self.assertGreater(len(view["surface"]), 100)
 
+    def test_the_action_at_any_fret_and_moves_from_where_the_neck_is(self):
+        bench = quick_bench()
+        table = bench.strings_table().set_index("name")
+        at17 = bench.with_changes(action={17: {"E": "3/32 in"}})
+        gaps = at17.geometry()
+        e17 = gaps[(gaps["string"] == "E") & (gaps["fret"] == 17)].iloc[0]
+        self.assertAlmostEqual(e17["gap_m"], 3 / 32 * 0.0254, delta=1e-9)
+        self.assertEqual(at17.changes, {"action": {17: {"E": "3/32 in"}}})
+        moved = bench.with_changes(saddle_change={"E": "-0.25 mm"}, relief_change="+2 thou",
+                                   nut_change={"G": -0.05}).strings_table().set_index("name")
+        self.assertAlmostEqual(moved.loc["E", "saddle_height_m"], table.loc["E", "saddle_height_m"] - 0.25e-3, delta=1e-15)
+        self.assertAlmostEqual(moved.loc["E", "relief_gap_m"], table.loc["E", "relief_gap_m"] + 2e-3 * 0.0254, delta=1e-12)
+        self.assertAlmostEqual(moved.loc["G", "nut_height_m"], table.loc["G", "nut_height_m"] - 0.05e-3, delta=1e-15)
+        for call, says in ((lambda: bench.with_changes(action={25: {"E": 2}}), "action 25:E"),
+                           (lambda: bench.with_changes(action={17: 2}), "action[17]"),
+                           (lambda: bench.with_changes(saddle_change={"E": 9}), "saddle_change E"),
+                           (lambda: bench.with_changes(relief=0.3, relief_change=0.1), "relief_change")):
+            with self.assertRaises(fretbuzz.InputError) as caught:
+                call()
+            self.assertIn(says, str(caught.exception))
+
 
 class MapTest(unittest.TestCase):
     def test_the_map_fills_in_note_by_note(self):
