@@ -24,7 +24,7 @@ int main() {
                 "reference M=8 vs M=16");
     for (const Voice& v : voices) {
         const Case open = load_case(v.name);
-        const Case c = v.fret == 0 ? open : stopped_string(open, fret_position(open.string.length_m, v.fret), open.mode_count());
+        const Case c = v.fret == 0 ? open : stopped_string(open, fret_stop_m(open, v.fret), open.mode_count());
         const Strike strike{v.strike_at * c.string.length_m, 1.0, 0.01, false};
         std::printf("%-16s %4d ", v.name, v.fret);
         for (int m = 1; m < kReference; ++m) {

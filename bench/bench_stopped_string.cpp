@@ -38,7 +38,7 @@ void every_fret(benchmark::State& state, const std::string& name) {
     for (auto _ : state) {
         const double start = thread_seconds();
         for (int k = 1; k <= kFrets; ++k)
-            benchmark::DoNotOptimize(stopped_string(open, fret_position(open.string.length_m, k), open.mode_count()));
+            benchmark::DoNotOptimize(stopped_string(open, fret_stop_m(open, k), open.mode_count()));
         state.SetIterationTime(thread_seconds() - start);
     }
     state.counters["modes"] = static_cast<double>(open.mode_count());

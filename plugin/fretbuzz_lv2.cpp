@@ -282,7 +282,7 @@ LV2_Handle instantiate(const LV2_Descriptor* descriptor, double rate, const char
         // guitar voices of bench/bench_realtime.cpp; docs/performance.md, real time).
         options.max_oversampling = 4;
         for (int k = 0; k < kFrets; ++k) {
-            const Case c = k == 0 ? open : stopped_string(open, fret_position(open.string.length_m, k), open.mode_count());
+            const Case c = k == 0 ? open : stopped_string(open, fret_stop_m(open, k), open.mode_count());
             Voice& v = instrument->voices[static_cast<std::size_t>(k)];
             v.engine = std::make_unique<Engine>(c, options);
             v.applied = {0, 0, -1, -1, 0, 1};  // the engine's own pickup; buzz 0; damping 1

@@ -433,6 +433,28 @@ TEST(StoppedString, HoldsTheSecondPolarisationsOwnTableToo) {
     EXPECT_EQ(stopped_string(open, 0.0, 300).polarisation.table.size(), 300u);
 }
 
+TEST(StoppedString, AFretStopsTheStringWhereTheCaseHasItsFret) {
+    // The plugin and the real-time voices stop a note at the case's own fret, not at the
+    // equal-tempered formula: bass-pop's frets stand where its obstacle has them.
+    const Case open = load_case("bass-pop");
+    const std::size_t frets = open.fret_positions_m.size();
+    ASSERT_GE(frets, 20u);
+    double largest_departure = 0.0;
+    for (std::size_t k = 1; k <= frets; ++k) {
+        const int fret = static_cast<int>(k);
+        EXPECT_EQ(fret_stop_m(open, fret), open.fret_positions_m[k - 1]) << k;
+        largest_departure = std::max(largest_departure, std::abs(fret_stop_m(open, fret) - fret_position(open.string.length_m, fret)));
+    }
+    // The case's frets are not the formula's (else this test could not tell them apart).
+    EXPECT_GT(largest_departure, 1e-6);
+    // Past its last fret, and on a case without frets, the equal-tempered stop.
+    const int past = static_cast<int>(frets) + 1;
+    EXPECT_EQ(fret_stop_m(open, past), fret_position(open.string.length_m, past));
+    Case fretless = open;
+    fretless.fret_positions_m.clear();
+    EXPECT_EQ(fret_stop_m(fretless, 5), fret_position(fretless.string.length_m, 5));
+}
+
 TEST(StoppedString, RefusesAStopOffTheStringNamingIt) {
     const Case open = load_case("bass-neck");
     const auto message = [&](double stop, std::size_t modes) {

@@ -52,6 +52,15 @@ const StringSet* set_of_gauges(const std::vector<int>& thousandths) {
     return nullptr;
 }
 
+TEST(SteelWire, APlainStringsUnitWeightGivesItsGauge) {
+    // D'Addario's plain steel .010 in (PL010) weighs 0.00002215 lb/in: a solid music wire
+    // of that mass per length is 0.2533 mm thick, its gauge 0.254 mm within 0.5 %.
+    const double kLbPerIn = 0.45359237 / kInch;  // kg/m
+    const SteelWire wire = SteelWire::of_linear_density(0.00002215 * kLbPerIn);
+    EXPECT_NEAR(wire.diameter_m, 0.010 * kInch, 0.005 * 0.010 * kInch);
+    EXPECT_NEAR(wire.linear_density(), 0.00002215 * kLbPerIn, 1e-15);
+}
+
 TEST(StringSets, EverySetLoadsAndItsTensionsMatchTheChart) {
     const std::vector<StringSet> sets = builtin_string_sets();
     ASSERT_GE(sets.size(), 8u);

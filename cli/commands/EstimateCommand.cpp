@@ -5,7 +5,6 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "fretbuzz/analysis/EstimateOutput.hpp"
 #include "fretbuzz/analysis/ModalEstimation.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
+#include "fretbuzz/model/SteelWire.hpp"
 #include "fretbuzz/analysis/Recording.hpp"
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/output/OutputDirectory.hpp"
@@ -42,10 +42,6 @@ struct EstimateArguments {
     bool quiet = false;
 };
 
-// Where neither --d nor the case gives the diameter: that of a solid steel string of the
-// given linear density (the air damping grows with d; a wound or nylon string needs --d).
-constexpr double kSteelDensity = 7850.0;  // kg/m^3
-
 double required(const std::optional<double>& value, const std::string& option, const std::string& what) {
     if (!value) throw InputError(option + " is missing: " + what + " (or give --case with a [string] section)");
     return *value;
@@ -65,7 +61,7 @@ int estimate_command(const EstimateArguments& a) {
     std::optional<double> diameter = a.diameter;
     if (!diameter && a.case_name) diameter = case_diameter(*a.case_name);
     if (!diameter) {
-        diameter = std::sqrt(4.0 * string.linear_density / (std::numbers::pi * kSteelDensity));
+        diameter = SteelWire::of_linear_density(string.linear_density).diameter_m;
         if (!a.quiet)
             std::cerr << "fretbuzz: note: no --d and none in the case: d = " << *diameter * 1e3
                       << " mm assumed (a steel string of mu = " << string.linear_density << " kg/m)\n";

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <csignal>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/analysis/ModalEstimation.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
+#include "fretbuzz/model/ModalDamping.hpp"
 
 namespace fretbuzz::python {
 
@@ -28,7 +28,7 @@ py::dict partials_dict(const ModalEstimate& e) {
         mode.push_back(static_cast<double>(p.mode));
         nu.push_back(p.frequency_hz);
         sigma.push_back(p.sigma_per_s);
-        q.push_back(std::numbers::pi * p.frequency_hz / p.sigma_per_s);
+        q.push_back(quality_factor(p.frequency_hz, p.sigma_per_s));
         amplitude.push_back(p.amplitude);
         phase.push_back(p.phase_rad);
         snr.push_back(p.snr_db);

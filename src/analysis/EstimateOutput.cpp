@@ -4,7 +4,6 @@
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -18,7 +17,6 @@ namespace fretbuzz {
 
 namespace {
 
-using std::numbers::pi;
 
 std::ofstream open_for_writing(const std::filesystem::path& path) {
     std::ofstream out(path);
@@ -68,7 +66,7 @@ void write_partials_csv(const std::filesystem::path& path, const ModalEstimate& 
     out << "# mode,frequency_hz,sigma_per_s,quality_factor,amplitude,phase_rad,snr_db,band,reliable,polarisation,"
            "frequency_sd_hz,sigma_sd_per_s,merged\n";
     for (const EstimatedPartial& p : estimate.partials)
-        out << p.mode << ',' << p.frequency_hz << ',' << p.sigma_per_s << ',' << pi * p.frequency_hz / p.sigma_per_s
+        out << p.mode << ',' << p.frequency_hz << ',' << p.sigma_per_s << ',' << quality_factor(p.frequency_hz, p.sigma_per_s)
             << ',' << p.amplitude << ',' << p.phase_rad << ',' << p.snr_db << ',' << p.band << ','
             << (p.reliable ? 1 : 0) << ',' << p.polarisation << ',' << p.frequency_sd_hz << ',' << p.sigma_sd_per_s
             << ',' << (p.merged ? 1 : 0) << '\n';

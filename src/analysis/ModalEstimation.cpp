@@ -12,6 +12,7 @@
 #include "fretbuzz/analysis/DoubletResolution.hpp"
 #include "fretbuzz/analysis/Esprit.hpp"
 #include "fretbuzz/analysis/ModelFit.hpp"
+#include "fretbuzz/model/ModalDamping.hpp"
 #include "fretbuzz/analysis/SubbandFilter.hpp"
 #include "fretbuzz/SubnormalFlush.hpp"
 
@@ -184,7 +185,7 @@ ModalEstimate ModalEstimation::estimate(std::span<const double> signal, double r
             ++result.poles;
             const double sigma = -std::log(std::abs(c.pole)) * baseband.rate_hz;
             const double snr_db = 10.0 * std::log10(c.energy / noise);
-            if (!(sigma > 0.0 && pi * fd / sigma >= o.min_quality_factor && snr_db >= o.min_snr_db)) {
+            if (!(sigma > 0.0 && quality_factor(fd, sigma) >= o.min_quality_factor && snr_db >= o.min_snr_db)) {
                 ++result.rejected_poles;
                 continue;
             }

@@ -70,6 +70,12 @@ Case stopped_string(const Case& open, double stop_m, std::size_t modes, const He
     return stopped_from_zero(open, stop_m, modes, finger);
 }
 
+double fret_stop_m(const Case& open, int fret) {
+    if (fret >= 1 && static_cast<std::size_t>(fret) <= open.fret_positions_m.size())
+        return open.fret_positions_m[static_cast<std::size_t>(fret - 1)];
+    return fret_position(open.string.length_m, fret);
+}
+
 Case stopped_string(const Case& open, double stop_m, std::size_t modes) {
     return stopped_string(open, stop_m, modes, stopping_finger(open, stop_m));
 }

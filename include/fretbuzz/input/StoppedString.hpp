@@ -47,6 +47,10 @@ HeldString::Finger stopping_finger(const Case& open, double stop_m);
 Case stopped_string(const Case& open, double stop_m, std::size_t modes, const HeldString::Finger& finger);
 // With stopping_finger(open, stop_m).
 Case stopped_string(const Case& open, double stop_m, std::size_t modes);
+// Where fret k (k >= 1) stops the open string: the case's own fret k where it has one (its
+// exact position, as its file placed it), past its last fret or on a case without frets the
+// equal-tempered position on the string's length.
+double fret_stop_m(const Case& open, int fret);
 
 
 }  // namespace fretbuzz

@@ -9,6 +9,7 @@
 // string, 6.69 g/m at 1.14 mm, 0.84), less for nylon. plausible_fill() says whether a string
 // is of this kind: well outside, its mass or its gauge is likely wrong (a unit weight entered
 // in the wrong unit is 10 or 1000 times off).
+#include <cmath>
 #include <numbers>
 
 namespace fretbuzz {
@@ -24,6 +25,10 @@ struct SteelWire {
         return kYoungModulus * std::numbers::pi * d * d * d * d / 64.0;
     }
     double linear_density() const { return kDensity * std::numbers::pi * diameter_m * diameter_m / 4.0; }
+    // The solid wire of a given mass per length (kg/m): d = sqrt(4 mu / (pi rho)).
+    static SteelWire of_linear_density(double linear_density) {
+        return {std::sqrt(4.0 * linear_density / (std::numbers::pi * kDensity))};
+    }
     // A string's mass per length over this wire's, as the outer diameter's wire.
     double fill(double string_linear_density) const { return string_linear_density / linear_density(); }
     static constexpr double kPlausibleFillLow = 0.5, kPlausibleFillHigh = 1.2;
