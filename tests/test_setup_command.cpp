@@ -113,6 +113,9 @@ TEST(SetupCommand, AdviceAndComparisonAreWritten) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string advice = read_file(dir.path() / "b" / "advice.txt");
     EXPECT_NE(advice.find("string G: action at fret 12 now"), std::string::npos) << advice;
+    // No --tolerate: as set-ups do, said on the first line.
+    EXPECT_NE(advice.find("frets 0-15, tolerating marginal notes, notes above fret 15 (as set-ups do"), std::string::npos)
+        << advice;
     EXPECT_NE(advice.find("stands proud"), std::string::npos) << advice;  // which ones: SetupAdvice's tests
     EXPECT_NE(advice.find("relief (gap at fret 8) now"), std::string::npos) << advice;
     EXPECT_NE(read_file(dir.path() / "b" / "advice.json").find("\"lowest_clean_action12_mm\""), std::string::npos);

@@ -370,6 +370,62 @@ TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
     EXPECT_NE(advice_text(advice).find(" in ("), std::string::npos);
 }
 
+// Set-up practice when the player says nothing: marginal notes pass, and a bass's notes above
+// fret 15 are not asked to; a guitar's player may use every fret. "none" asks every note.
+TEST(SetupAdvice, SetUpPracticeToleratesMarginalNotesAndABasssTopFrets) {
+    const Instrument bass = load_instrument("jazz-bass");
+    const AdviceTolerance b = tolerance_for(bass, "");
+    EXPECT_TRUE(b.marginal);
+    ASSERT_TRUE(b.above_fret.has_value());
+    EXPECT_EQ(*b.above_fret, 15u);
+    EXPECT_TRUE(b.ignores(16));
+    EXPECT_FALSE(b.ignores(15));
+    EXPECT_NE(b.text().find("as set-ups do"), std::string::npos) << b.text();
+    AdviceRequest request;
+    request.tolerate = b;
+    const std::vector<std::size_t> frets = advice_frets(bass, request);
+    ASSERT_FALSE(frets.empty());
+    EXPECT_EQ(frets.back(), 15u);
+    const Instrument guitar = load_instrument("electric-guitar");
+    const AdviceTolerance g = tolerance_for(guitar, "");
+    EXPECT_TRUE(g.marginal);
+    EXPECT_FALSE(g.above_fret.has_value());
+    const AdviceTolerance strict = tolerance_for(bass, "none");
+    EXPECT_FALSE(strict.marginal);
+    EXPECT_FALSE(strict.above_fret.has_value());
+    EXPECT_EQ(strict.text(), "");
+    // Asked for, it is what was asked: no "as set-ups do".
+    EXPECT_EQ(tolerance_for(bass, "above=17").text(), "notes above fret 17");
+}
+
+// A saddle raised more than a set-up moves (1 mm) is flagged, not recommended: the G string's
+// action dropped 0.6 mm under where it plays clean asks the saddle up about 1.2 mm.
+TEST(SetupAdvice, AMoveBeyondASetUpIsFlaggedNotRecommended) {
+    const Instrument bass = quick_bass(40);
+    AdviceRequest request;
+    request.attack = straight(bass, "1mm").front();
+    const ActionAdvice today = lowest_clean_action(bass, 3, request);
+    ASSERT_TRUE(std::isfinite(today.lowest_clean_m)) << today.below;
+    EXPECT_EQ(today.beyond_setup, std::abs(today.saddle_change_m) > kSetupSaddleMove) << today.saddle_change_m;
+    SetupChange low;
+    low.action_m = {{"G", 12, today.lowest_clean_m - 0.6e-3}};
+    const ActionAdvice a = lowest_clean_action(apply_change(bass, low), 3, request);
+    ASSERT_TRUE(std::isfinite(a.lowest_clean_m)) << a.below;
+    EXPECT_GT(a.saddle_change_m, kSetupSaddleMove);
+    EXPECT_TRUE(a.beyond_setup);
+    Advice advice;
+    advice.attack = request.attack;
+    advice.actions = {a};
+    advice.relief.current_m = 0.3e-3;
+    advice.relief.best_m = 0.7e-3;  // past the 0.5 mm a set-up gives
+    advice.relief.beyond_setup = true;
+    const std::string text = advice_text(advice);
+    EXPECT_NE(text.find("the neck or the playing needs more than a set-up"), std::string::npos) << text;
+    EXPECT_EQ(text.find("raise the saddle"), std::string::npos) << text;
+    EXPECT_NE(text.find("past the 0.5 mm of relief"), std::string::npos) << text;
+    EXPECT_NE(advice_json(advice).find("\"beyond_setup\": true"), std::string::npos);
+}
+
 TEST(SetupCompare, NotesAreMarkedByHowTheyChanged) {
     const auto note = [](std::size_t fret, double fraction, double db, int buzz_fret) {
         NoteVerdict v;

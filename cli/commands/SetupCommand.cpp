@@ -144,7 +144,7 @@ int setup_command(const SetupArguments& a) {
     advice_request.jobs = request.jobs;
     advice_request.strings = request.strings;
     advice_request.frets = request.frets;
-    if (!a.tolerate.empty()) advice_request.tolerate = parse_tolerance(a.tolerate, instrument.neck.fret_count);
+    advice_request.tolerate = tolerance_for(instrument, a.tolerate);
     DressRequest dress_request;
     dress_request.play = advice_request;
     if (!a.dress_depth.empty())
@@ -308,7 +308,8 @@ void add_setup_command(CLI::App& app, Action& action) {
                   "move to it), where a fall-away would help, the proud frets and the relief with the least buzz");
     cmd->add_option("--tolerate", args->tolerate,
                     "What the advice and the dress may let buzz: marginal (marginal notes pass), above=K (notes above "
-                    "fret K), or both: marginal,above=15");
+                    "fret K), both (marginal,above=15), or none; default as set-ups do: marginal notes, and on a bass "
+                    "the notes above fret 15");
     cmd->add_flag("--dress", args->dress,
                   "Also work out the least fret material to take off, fret by fret, so that every note passes at the "
                   "last attack of --strength and this set-up (dress.csv, dress_map.csv: the map after)");

@@ -352,7 +352,7 @@ AdviceRequest advice_request(const Instrument& instrument, const std::string& st
     check.attacks = attacks;
     with_python_names([&] { return map_notes(instrument, check); });
     request.frets = check.frets;
-    if (!tolerate.empty()) request.tolerate = parse_tolerance(tolerate, instrument.neck.fret_count, "tolerate");
+    request.tolerate = tolerance_for(instrument, tolerate, "tolerate");
     return request;
 }
 
@@ -546,7 +546,7 @@ void bind_setup(py::module_& m) {
           py::arg("depth"), py::arg("crown"), py::arg("fall_away"), py::arg("finger"),
           "InputError, before anything is played, for what _setup_dress would refuse of its arguments.");
     m.def("_setup_tolerance", [](const Instrument& instrument, const std::string& text) {
-              return text.empty() ? std::string() : parse_tolerance(text, instrument.neck.fret_count, "tolerate").text();
+              return tolerance_for(instrument, text, "tolerate").text();
           },
           py::arg("instrument"), py::arg("text"), "What the advice tolerates, in words; InputError for a bad value.");
     m.def("_compressed_audio", &compressed_audio, py::arg("wav"), py::arg("out"),

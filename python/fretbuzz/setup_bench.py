@@ -331,8 +331,10 @@ class Bench:
         the fewest failing notes, played; the range predicted clean), 'units' (the instrument
         file's: "mm", "64ths" or "thousandths"). strength: the attack (default the strongest of
         the Bench's); strings, frets: the notes answered for (default all); tolerate:
-        "marginal" (marginal notes pass), "above=K" (notes above fret K may buzz), or both,
-        comma-separated. map: this Bench's map at that attack, with clean_up_to (played if not
+        "marginal" (marginal notes pass), "above=K" (notes above fret K may buzz), both,
+        comma-separated, or "none" (every note must be clean); "" as set-ups do: marginal
+        notes, and on a bass the notes above fret 15. A saddle move over 1 mm or a relief over
+        0.5 mm is flagged 'beyond_setup' (the neck or the playing needs more). map: this Bench's map at that attack, with clean_up_to (played if not
         given): it places the searches."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:

@@ -129,8 +129,14 @@ class MapTest(unittest.TestCase):
         changes = fretbuzz.Bench.compare(after, before).set_index("fret")
         self.assertEqual(changes.loc[6, "change"], "worse")
         advice = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(strength="soft", strings="G")
-        self.assertEqual(set(advice), {"attack", "units", "frets", "tolerated", "step_mm", "lowest_action", "fall_away",
-                                       "proud_frets", "relief", "maps_played", "wall_seconds", "cpu_seconds"})
+        self.assertEqual(set(advice), {"attack", "units", "frets", "tolerated", "step_mm", "setup_limits",
+                                       "lowest_action", "fall_away", "proud_frets", "relief", "maps_played",
+                                       "wall_seconds", "cpu_seconds"})
+        # Said nothing: as set-ups do, marginal notes pass and a bass's notes above fret 15 are not asked.
+        self.assertEqual(advice["frets"], "0-15")
+        self.assertIn("as set-ups do", advice["tolerated"])
+        self.assertEqual(advice["setup_limits"], {"saddle_move_mm": 1.0, "relief_max_mm": 0.5})
+        self.assertIn("beyond_setup", advice["lowest_action"][0])
         self.assertEqual(advice["lowest_action"][0]["string"], "G")
         self.assertEqual(advice["units"], "mm")  # the jazz bass's file gives its gaps in mm
         # The advice answers for the frets asked, and says what it tolerates.

@@ -88,6 +88,7 @@ ActionAdvice action_search(const Instrument& instrument, std::size_t string, con
     passes(lo);  // known already, but for the lowest grid step
     advice.lowest_clean_m = static_cast<double>(hi) * kActionStep;
     advice.saddle_change_m = StringNeck(*at(hi), string).saddle_height() - now.saddle_height();
+    advice.beyond_setup = std::abs(advice.saddle_change_m) > kSetupSaddleMove + 1e-12;
     advice.below = mm_text(static_cast<double>(lo) * kActionStep) + ": " + why[lo];
     if (const auto& f = failed[lo]) {
         advice.limiting_fret = f->fret;
@@ -264,6 +265,7 @@ ReliefAdvice relief_search(const Instrument& instrument, const AdviceRequest& re
     if (played < advice.failing_now || (played == advice.failing_now && best->failing < advice.failing_now)) {
         advice.best_m = static_cast<double>(best->i) * kReliefStep;
         advice.failing_best = played;
+        advice.beyond_setup = advice.best_m > kSetupReliefMax + 1e-12 || advice.best_m < 0.0;
     }
     return advice;
 }
@@ -287,12 +289,31 @@ std::string AdviceTolerance::text() const {
     std::string out;
     if (marginal) out = "marginal notes";
     if (above_fret) out += (out.empty() ? "" : ", ") + std::string("notes above fret ") + std::to_string(*above_fret);
+    if (practice && !out.empty()) out += " (as set-ups do; --tolerate none asks every note)";
     return out;
+}
+
+AdviceTolerance setup_practice_tolerance(const Instrument& instrument) {
+    AdviceTolerance t;
+    t.marginal = true;
+    t.practice = true;
+    double longest = 0.0;  // a multiscale neck's bass side
+    for (const InstrumentString& s : instrument.strings) longest = std::max(longest, s.scale_length_m);
+    if (longest >= kBassScale - 1e-9 && instrument.neck.fret_count > kBassPlayedFrets)
+        t.above_fret = kBassPlayedFrets;
+    return t;
+}
+
+AdviceTolerance tolerance_for(const Instrument& instrument, const std::string& text, const std::string& option) {
+    return text.empty() ? setup_practice_tolerance(instrument)
+                        : parse_tolerance(text, instrument.neck.fret_count, option);
 }
 
 AdviceTolerance parse_tolerance(const std::string& text, std::size_t fret_count, const std::string& option) {
     AdviceTolerance t;
-    const std::string forms = "give marginal (marginal notes pass), above=K (notes above fret K may buzz, K in [0, " +
+    if (text == "none") return t;
+    const std::string forms = "give none (every note must be clean), marginal (marginal notes pass), above=K (notes "
+                              "above fret K may buzz, K in [0, " +
                               std::to_string(fret_count) + "]), or both, e.g. marginal,above=15";
     std::size_t start = 0;
     while (start <= text.size()) {
@@ -399,7 +420,8 @@ std::string advice_json(const Advice& a) {
                                {"saddle_change_in", inches(x.saddle_change_m)},
                                {"one_step_lower", x.below},
                                {"limiting_fret", x.limiting_fret},
-                               {"limiting_against", x.limiting_against < 0 ? Json() : Json(x.limiting_against)}});
+                               {"limiting_against", x.limiting_against < 0 ? Json() : Json(x.limiting_against)},
+                               {"beyond_setup", x.beyond_setup}});
     Json fall = Json::array();
     for (const FallAwayAdvice& f : a.fall_away)
         fall.push_back(Json{{"string", f.string},
@@ -424,6 +446,7 @@ std::string advice_json(const Advice& a) {
                 {"frets", a.frets},
                 {"tolerated", a.tolerated},
                 {"step_mm", kActionStep * 1e3},
+                {"setup_limits", Json{{"saddle_move_mm", kSetupSaddleMove * 1e3}, {"relief_max_mm", kSetupReliefMax * 1e3}}},
                 {"lowest_action", actions},
                 {"fall_away", fall},
                 {"proud_frets", proud},
@@ -436,6 +459,7 @@ std::string advice_json(const Advice& a) {
                       {"best_in", inches(r.best_m)},
                       {"failing_best", r.failing_best},
                       {"played", r.played},
+                      {"beyond_setup", r.beyond_setup},
                       {"predicted_clean_from_mm", number(r.predicted_from_m)},
                       {"predicted_clean_to_mm", number(r.predicted_to_m)},
                       {"searched_mm", Json::array({r.searched_from_m * 1e3, r.searched_to_m * 1e3})}}},
@@ -454,7 +478,12 @@ std::string advice_text(const Advice& a) {
         << std::lround(a.wall_seconds) << " s):\n";
     for (const ActionAdvice& x : a.actions) {
         out << "  string " << x.string << ": action at fret 12 now " << shop(x.current_m) << "; ";
-        if (std::isfinite(x.lowest_clean_m)) {
+        if (std::isfinite(x.lowest_clean_m) && x.beyond_setup) {
+            out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ", a saddle move of "
+                << shop_text(std::abs(x.saddle_change_m), a.units) << ", past the " << mm_text(kSetupSaddleMove)
+                << " a set-up moves: the neck or the playing needs more than a set-up (one step lower, " << x.below
+                << ")\n";
+        } else if (std::isfinite(x.lowest_clean_m)) {
             out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ": "
                 << (x.saddle_change_m < 0.0 ? "lower" : "raise") << " the saddle "
                 << shop_text(std::abs(x.saddle_change_m), a.units) << " (one step lower, " << x.below << ")\n";
@@ -479,7 +508,10 @@ std::string advice_text(const Advice& a) {
     const ReliefAdvice& r = a.relief;
     out << "  relief (gap at fret " << r.fret << ") now " << fine(r.current_m) << " (" << r.failing_now
         << " notes buzz); ";
-    if (r.best_m != r.current_m)
+    if (r.best_m != r.current_m && r.beyond_setup)
+        out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played), past the "
+            << mm_text(kSetupReliefMax) << " of relief a set-up gives: the neck or the playing needs more than a set-up";
+    else if (r.best_m != r.current_m)
         out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played)";
     else
         out << "no relief from 0 to " << mm_text(r.searched_to_m) << " is predicted to buzz less";

@@ -18,7 +18,8 @@
 //  - Relief: the truss-rod setting (the relief gap, 0 to 1 mm on a 0.05 mm grid, nut and
 //    saddles where they are) with the fewest failing notes, as predicted from the notes'
 //    clean_up_to, then played; the range predicted clean, if any.
-// A note passes when its verdict is "clean" (or "marginal" with --tolerate marginal); the
+// A note passes when its verdict is "clean" (or "marginal" when marginal notes are tolerated,
+// as set-ups do unless told "--tolerate none"); the
 // advice answers for the strings and frets asked (--strings, --frets), less the notes above
 // a fret it is told to tolerate. The searches play only what they must (NoteTrials: a note
 // that passed stays passing where every fret lies further from its string).
@@ -44,13 +45,29 @@ inline constexpr std::size_t kUpperFrets = 12;   // notes stopped above this fre
 struct AdviceTolerance {
     bool marginal = false;                  // a marginal note passes
     std::optional<std::size_t> above_fret;  // notes stopped above this fret are not asked to pass
+    bool practice = false;                  // set by set-up practice, not asked for
     bool ignores(std::size_t fret) const { return above_fret && fret > *above_fret; }
     std::string text() const;  // "marginal notes, notes above fret 15"; "" for none
 };
 
-// "--tolerate marginal", "above=15", "marginal,above=15". InputError naming the option and the
-// accepted forms (a fret in [0, fret_count]).
+// What set-ups let buzz when the player says nothing: marginal notes, and on a bass (a scale
+// of 30 in or more) the notes above fret 15, which bass lines seldom reach. A guitar's player
+// may use every fret: only marginal notes.
+inline constexpr double kBassScale = 0.762;         // m: 30 in, the short-scale bass
+inline constexpr std::size_t kBassPlayedFrets = 15;
+AdviceTolerance setup_practice_tolerance(const Instrument& instrument);
+
+// "--tolerate marginal", "above=15", "marginal,above=15", "none" (every note must be clean).
+// InputError naming the option and the accepted forms (a fret in [0, fret_count]).
 AdviceTolerance parse_tolerance(const std::string& text, std::size_t fret_count, const std::string& option = "--tolerate");
+// As a front end reads it: "" is set-up practice, anything else parse_tolerance.
+AdviceTolerance tolerance_for(const Instrument& instrument, const std::string& text,
+                              const std::string& option = "--tolerate");
+
+// Moves beyond what a set-up does: the advice flags them ("the neck or the playing needs more
+// than a set-up") and does not recommend them.
+inline constexpr double kSetupSaddleMove = 1.0e-3;  // m: a saddle raised or lowered further
+inline constexpr double kSetupReliefMax = 0.5e-3;   // m: relief past this (or a back bow)
 
 struct AdviceRequest {
     Attack attack;
@@ -78,6 +95,7 @@ struct ActionAdvice {
     std::string below;
     std::size_t limiting_fret = 0;  // the note that fails one step below (its fret), and
     int limiting_against = -1;      // the fret it buzzes against (-1: none; 0: the board)
+    bool beyond_setup = false;      // the saddle would move more than kSetupSaddleMove
 };
 
 struct FallAwayAdvice {
@@ -106,6 +124,7 @@ struct ReliefAdvice {
     bool played = false;          // best_m was played (not only predicted)
     double predicted_from_m = nan, predicted_to_m = nan;  // the range predicted clean (NaN: none)
     double searched_from_m = 0.0, searched_to_m = 0.0;
+    bool beyond_setup = false;  // best_m lies outside [0, kSetupReliefMax]
 };
 
 struct Advice {
