@@ -6,6 +6,8 @@
 // straight from the board: the level neck plays it clean up to fret 15.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -80,6 +82,28 @@ TEST(SetupDress, ThreeRaisedFretsAreDressedAtThoseFrets) {
     for (const NoteVerdict& v : d.after) EXPECT_EQ(v.verdict, "clean") << "fret " << v.fret;
     const std::string csv = dress_csv(d);
     EXPECT_EQ(csv.substr(0, csv.find('\n')), "fret,remove_mm,remove_thou");
+}
+
+// A fret a little proud (0.008 mm, under what a file takes) comes down by a file's cut,
+// 0.02 mm, not by the 0.01 mm the notes alone would ask: no cut a fret file cannot make.
+TEST(SetupDress, NoCutIsSmallerThanAFretFileTakes) {
+    SetupChange raise;
+    raise.frets = {{9, 0.008e-3}};
+    const Instrument bass = apply_change(testing::quick_bass(40, 0.1), raise);
+    DressRequest request = g_string(bass);
+    request.play.attack = pulled(bass, "0.95mm");
+    request.play.frets = {5, 6, 7, 8};  // the notes below it, which buzz against it
+    const std::vector<NoteVerdict> before = map_of(bass, request);
+    ASSERT_TRUE(std::any_of(before.begin(), before.end(), [](const NoteVerdict& v) { return v.verdict != "clean"; }));
+    const DressResult d = dress_frets(bass, before, request);
+    std::cout << dress_text(d);
+    std::size_t cut = 0;
+    for (std::size_t f = 1; f < d.remove_m.size(); ++f)
+        if (d.remove_m[f] > 0.0) {
+            ++cut;
+            EXPECT_GE(d.remove_m[f], 0.02e-3 - 1e-15) << "fret " << f;  // a file's cut
+        }
+    EXPECT_GT(cut, 0u) << dress_text(d);
 }
 
 // A fall-away takes nothing off up to its fret and off the rest along a line to the last.

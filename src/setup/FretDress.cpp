@@ -134,6 +134,8 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
         for (auto group = against.begin(); group != against.end(); ++group) {
             const std::size_t fret = group->first;
             const std::vector<MapNote>& failing = group->second;
+            // A fret not touched yet takes at least what a fret file takes in one go.
+            const long first = d.remove_m[fret] > 0.0 ? 1 : steps_of(kFileCut);
             const long most = steps_of(room[fret] - d.remove_m[fret]);
             const auto on_this = [f = static_cast<int>(fret)](int buzz_fret) { return buzz_fret == f; };
             const auto with = [&](long i) {
@@ -147,16 +149,19 @@ DressResult dress_frets(const Instrument& instrument, const std::vector<NoteVerd
                 return std::none_of(heard.begin(), heard.end(), [&](const NoteVerdict& v) { return fails_against(v, on_this); });
             };
             // Where the notes' clean_up_to says they would pass (geometry only), to start from.
-            const long guess = lowest_holding(1, most, [&](long i) {
+            const long guess = lowest_holding(first, most, [&](long i) {
                 const Instrument at = lowered(instrument, with(i));
                 for (const MapNote& n : failing)
                     if (forecast.up_to(StringNeck(at, n.string), n.string, n.fret) < 1.0) return false;
                 return true;
             });
-            const long depth = most < 1 ? 1 : lowest_holding(1, most, holds, std::min(guess, most));
+            const long depth = most < first ? most + 1 : lowest_holding(first, most, holds, std::min(guess, most));
             if (depth > most) {  // said once per fret, with the notes of the last round that tried it
                 std::ostringstream why;
-                why << "fret " << fret << ": taking " << mm_text(room[fret]) << " off (the most allowed) does not stop";
+                why << "fret " << fret << ": ";
+                if (d.remove_m[fret] > 0.0)  // what comes off it cleared other notes; these need more
+                    why << mm_text(d.remove_m[fret]) << " comes off it for the notes it clears, but ";
+                why << "taking " << mm_text(room[fret]) << " off (the most allowed) does not stop";
                 for (const MapNote& n : failing) why << " " << instrument.strings[n.string].name << " " << n.fret;
                 why << " buzzing against it";
                 stuck[fret] = why.str();

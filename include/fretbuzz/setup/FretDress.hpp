@@ -8,8 +8,8 @@
 //    nothing at F, the depth at the last fret the shallowest at which no note fails against
 //    a fret past F (bisection on a 0.01 mm grid);
 //  - then round after round: for each fret a failing note buzzes against, up the neck, the
-//    least taken off it (bisection on a 0.01 mm grid, starting where the notes' clean_up_to
-//    predicts) that stops those notes failing against it. Lowering a fret gives the notes
+//    least taken off it (bisection on a 0.01 mm grid, at least kFileCut off a fret not yet
+//    touched, starting where the notes' clean_up_to predicts) that stops those notes failing against it. Lowering a fret gives the notes
 //    stopped below it more room and the note stopped on it less (its string starts lower):
 //    such a note, failing now against a fret further up, joins that fret's turn; the next
 //    round plays every note again on the dressed neck, until every note passes, or no fret a note
@@ -31,6 +31,7 @@
 namespace fretbuzz {
 
 inline constexpr double kDressStep = 0.01e-3;  // m: about what one pass of a levelling beam takes
+inline constexpr double kFileCut = 0.02e-3;    // m: the least a fret file takes off a fret it touches
 
 struct DressRequest {
     AdviceRequest play;
