@@ -304,6 +304,50 @@ class QueueTest(unittest.TestCase):
             studio.close()
 
 
+class OneStringWhatIfTest(unittest.TestCase):
+    """A what-if on one string's action plays that string again and keeps the others' notes
+    (and sounds) from the map before: they are what a full map would find, for less time."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.bench = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05)
+        cls.studio = RunningStudio(bench=cls.bench)
+        cls.first = cls.studio.wait_map(1, timeout=300)
+        status, body = cls.studio.json("POST", "/api/what-if", {"action12": {"E": "2.2"}, "strengths": "medium"})
+        assert status == 202, body
+        cls.second = cls.studio.wait_map(body["id"], timeout=300)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.studio.close()
+
+    def test_only_the_changed_string_is_played_again(self):
+        self.assertIsNone(self.first.replayed)
+        self.assertEqual(self.second.replayed, ["E"])
+        key = StudioMapTest.key
+        full = {key(r): r for r in self.bench.with_changes(action12={"E": "2.2"}).map(strengths="medium")
+                .to_dict("records")}
+        got = {key(n): n for n in self.second.notes}
+        self.assertEqual(set(got), set(full))  # every note, once
+        for k, row in full.items():  # the kept ones too: the same verdicts a full map finds
+            self.assertEqual((got[k]["verdict"], got[k]["buzz_fraction"]), (row["verdict"], row["buzz_fraction"]), k)
+        kept = [n for n in self.second.notes if n["string"] != "E"]
+        self.assertTrue(all(n["change"] == "same" for n in kept), [n["change"] for n in kept])
+        folder = os.path.join(self.studio.study.folder, self.second.folder)
+        for n in self.second.notes:
+            if n["audio"]:
+                self.assertTrue(os.path.isfile(os.path.join(folder, n["audio"])), n["audio"])
+        html = self.studio.request("GET", f"/fragment/maps?map={self.second.id}")[2].decode()
+        self.assertIn("Played again: string E", html)
+
+    def test_a_change_to_the_whole_neck_plays_every_string(self):
+        record = type(self.second)(99, self.bench, "relief", "medium", "maps/099", 84, {"relief": "0.3"})
+        record.before = self.first
+        self.assertIsNone(Study.replayed_strings(record))
+        record.changes, record.strengths = {}, "soft"  # other attacks: nothing to keep either
+        self.assertIsNone(Study.replayed_strings(record))
+
+
 class StudioMapTest(unittest.TestCase):
     """The studio's maps are the library's: its verdicts, its comparison, its WAVs."""
 

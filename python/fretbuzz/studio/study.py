@@ -14,6 +14,7 @@ import errno
 import fcntl
 import os
 import re
+import shutil
 import stat
 import threading
 import time
@@ -39,6 +40,8 @@ LOCK_NAME = ".fretbuzz-studio.lock"
 # its .partial folder at once; a studio killed mid-map leaves it, removed by the next studio
 # in that folder (or `fretbuzz clean`).
 PARTIAL = ".partial"
+# What-ifs that change one string alone: the other strings' notes are those of the map before.
+PER_STRING = ("action12", "nut", "saddle")
 MAP_FOLDER = re.compile(r"([0-9]{3,})(\.partial)?")
 
 
@@ -210,6 +213,7 @@ class MapRecord:
     dress_status: str = ""
     dress_error: str = ""
     whole: bool = False  # its folder renamed from NNN.partial to NNN: every note written
+    replayed: Optional[List[str]] = None  # the strings played again (the others' notes are the map before's); None: all
 
     @property
     def attacks(self) -> List[str]:
@@ -470,6 +474,22 @@ class Study:
                     self.running = None
                     self._changed()
 
+    @staticmethod
+    def replayed_strings(record: MapRecord) -> Optional[List[str]]:
+        """The strings a map must play when it differs from the finished map before it only in
+        per-string settings (action, nut, saddle) at the same attacks: those strings, in the
+        map's order; None when every string must be played."""
+        before = record.before
+        if before is None or before.status != "done" or not before.whole or before.strengths != record.strengths:
+            return None
+        now, was = record.changes, before.changes
+        if any(now.get(k) != was.get(k) for k in set(now) | set(was) if k not in PER_STRING):
+            return None
+        changed = {s for k in PER_STRING for s in set(now.get(k, {})) | set(was.get(k, {}))
+                   if now.get(k, {}).get(s) != was.get(k, {}).get(s)}
+        names = list(dict.fromkeys(n["string"] for n in before.notes))
+        return [s for s in names if s in changed]
+
     def _play(self, record: MapRecord) -> None:
         with self.lock:
             record.before = self.done
@@ -477,6 +497,7 @@ class Study:
             self.latest = record
             self._changed()
         before = list(record.before.notes) if record.before else []
+        replay = record.replayed = self.replayed_strings(record)
         started = time.monotonic()
 
         def progress(note: dict, done: int, total: int) -> None:
@@ -492,8 +513,22 @@ class Study:
 
         partial = os.path.join(self.folder, record.folder + PARTIAL)
         try:
-            record.bench.map(strengths=record.strengths, audio_dir=partial, progress=progress,
-                             stop=lambda: self.closing)
+            if replay is not None:  # the unchanged strings' notes and sounds as the map before has them
+                os.makedirs(partial, exist_ok=True)
+                kept = [{k: v for k, v in n.items() if k not in ("change", "before")}
+                        for n in before if n["string"] not in replay]
+                for n in kept:
+                    if n.get("audio"):
+                        source = os.path.join(self.folder, record.before.folder, n["audio"])
+                        try:
+                            os.link(source, os.path.join(partial, n["audio"]))
+                        except OSError:
+                            shutil.copyfile(source, os.path.join(partial, n["audio"]))
+                for i, n in enumerate(kept):
+                    progress(n, i + 1, record.total)
+            if replay is None or replay:
+                record.bench.map(strings=replay, strengths=record.strengths, audio_dir=partial, progress=progress,
+                                 stop=lambda: self.closing)
             status, error = ("stopped", "") if self.closing else ("done", "")
         except Exception as e:  # shown on the page; the studio keeps serving
             status, error = "failed", f"{type(e).__name__}: {e}" if not isinstance(e, InputError) else str(e)
