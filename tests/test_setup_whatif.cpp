@@ -450,6 +450,21 @@ TEST(SetupCompare, NotesAreMarkedByHowTheyChanged) {
     EXPECT_EQ(c[3].change, "moved");   // as many, against another fret
     EXPECT_EQ(c[4].change, "same");
     EXPECT_EQ(c[5].change, "new");
+    // Each says the rule that decided it, so a page never explains a change by plucks that did not change.
+    EXPECT_EQ(c[0].reason, "plucks");
+    EXPECT_EQ(c[2].reason, "loudness");
+    EXPECT_EQ(c[3].reason, "fret");
+    EXPECT_EQ(c[4].reason, "");
+    // A clean note whose margin shrank: worse with 0 of its plucks buzzing before and after.
+    NoteVerdict was = note(7, 0, NoteVerdict::nan, kNoFret), is = was;
+    was.verdict = is.verdict = "clean";
+    was.clean_up_to = 1.8;
+    is.clean_up_to = 1.2;
+    const std::vector<NoteChange> margin = compare_maps(std::vector<NoteVerdict>{is}, std::vector<NoteVerdict>{was});
+    EXPECT_EQ(margin[0].change, "worse");
+    EXPECT_EQ(margin[0].reason, "margin");
+    is.verdict = "buzzes";
+    EXPECT_EQ(compare_maps(std::vector<NoteVerdict>{is}, std::vector<NoteVerdict>{was})[0].reason, "verdict");
 }
 
 }  // namespace

@@ -524,6 +524,7 @@ void bind_setup(py::module_& m) {
         for (const NoteChange& c : compare_maps(verdicts_from(now), verdicts_from(before))) {
             py::dict d = verdict_dict(c.now);
             d["change"] = c.change;
+            d["reason"] = c.reason;
             d["buzz_fraction_before"] = c.change == "new" ? py::object(py::none()) : py::object(py::float_(c.before.buzz_fraction));
             d["buzz_dB_before"] = number(c.before.buzz_db);
             d["buzz_fret_before"] = fret_value(c.before.buzz_fret);

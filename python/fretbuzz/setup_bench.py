@@ -315,9 +315,12 @@ class Bench:
         read from two buzz_map.csv files): the map's columns and change ("worse": a worse
         verdict, more of its plucks buzz, a clean_up_to 10 % lower, or as many 3 dB louder;
         "better"; "moved": as many, against another fret;
-        "same"; "new": not in `before`), buzz_fraction_before, buzz_dB_before, buzz_fret_before."""
+        "same"; "new": not in `before`), reason (the first of those rules that decided it:
+        "verdict", "plucks", "margin", "loudness", "fret"; "" for same and new),
+        buzz_fraction_before, buzz_dB_before, buzz_fret_before."""
         out = _core._setup_compare(_records(now), _records(before))
-        return _frame(out, MAP_COLUMNS + ("change", "buzz_fraction_before", "buzz_dB_before", "buzz_fret_before"))
+        return _frame(out, MAP_COLUMNS + ("change", "reason", "buzz_fraction_before", "buzz_dB_before",
+                                          "buzz_fret_before"))
 
     def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
                frets: Union[int, Iterable[int], None] = None, tolerate: str = "") -> dict:

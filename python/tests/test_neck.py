@@ -128,6 +128,7 @@ class MapTest(unittest.TestCase):
         after = bench.with_changes(fret_offsets={7: 0.3}).map(strings="G", frets=range(4, 8), strengths="medium")
         changes = fretbuzz.Bench.compare(after, before).set_index("fret")
         self.assertEqual(changes.loc[6, "change"], "worse")
+        self.assertIn(changes.loc[6, "reason"], ("verdict", "plucks", "margin", "loudness"))  # the rule that decided it
         advice = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(strength="soft", strings="G")
         self.assertEqual(set(advice), {"attack", "units", "frets", "tolerated", "step_mm", "setup_limits",
                                        "lowest_action", "fall_away", "proud_frets", "relief", "maps_played",

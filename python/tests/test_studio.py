@@ -379,7 +379,7 @@ class StudioMapTest(unittest.TestCase):
                 self.assertEqual(n["touch_fraction"], row["touch_fraction"], self.key(row))
 
     def test_the_changes_are_the_librarys_comparison_and_are_marked_on_the_map(self):
-        compared = fretbuzz.Bench.compare([{k: v for k, v in n.items() if k not in ("change", "before")}
+        compared = fretbuzz.Bench.compare([{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
                                            for n in self.second.notes], self.first.notes)
         expected = {self.key(r): r["change"] for r in compared.to_dict("records")}
         self.assertEqual({self.key(n): n["change"] for n in self.second.notes}, expected)
@@ -436,7 +436,7 @@ class StudioMapTest(unittest.TestCase):
         wait_for(lambda: self.second.advice_status in ("done", "failed"), 60, "the advice")
         self.assertEqual(self.second.advice_status, "done", self.second.advice_error)
         expected = quick_bench().with_changes(relief="0.2").advise(
-            [{k: v for k, v in n.items() if k not in ("change", "before")} for n in self.second.notes], strength="medium")
+            [{k: v for k, v in n.items() if k not in ("change", "reason", "before")} for n in self.second.notes], strength="medium")
         for key in ("lowest_action", "proud_frets", "relief"):
             self.assertEqual(self.second.advice[key], expected[key])
         html = self.studio.request("GET", f"/fragment/advice?map={self.second.id}")[2].decode()
@@ -454,7 +454,7 @@ class StudioMapTest(unittest.TestCase):
         wait_for(lambda: record.dress_status in ("done", "failed"), 120, "the fret dress")
         self.assertEqual(record.dress_status, "done", record.dress_error)
         expected = record.bench.dress(
-            [{k: v for k, v in n.items() if k not in ("change", "before")} for n in record.notes], strength="medium")
+            [{k: v for k, v in n.items() if k not in ("change", "reason", "before")} for n in record.notes], strength="medium")
         for key in ("frets", "fall_away", "clean", "unresolved"):
             self.assertEqual(record.dress[key], expected[key])
         html = self.studio.request("GET", f"/fragment/dress?map={record.id}")[2].decode()

@@ -169,7 +169,7 @@ std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span
     for (const NoteVerdict& v : before) earlier[{v.string_name, v.fret, v.strength}] = &v;
     std::vector<NoteChange> changes;
     for (const NoteVerdict& v : now) {
-        NoteChange c{v, {}, "new"};
+        NoteChange c{v, {}, "new", ""};
         const auto found = earlier.find({v.string_name, v.fret, v.strength});
         if (found != earlier.end()) {
             c.before = *found->second;
@@ -178,17 +178,22 @@ std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span
             const double a = std::isnan(v.buzz_db) ? -1e9 : v.buzz_db;
             const double b = std::isnan(c.before.buzz_db) ? -1e9 : c.before.buzz_db;
             const double up_to = v.clean_up_to / c.before.clean_up_to;  // NaN or inf/inf: no change read from it
+            const auto decided = [&](bool worse, const char* reason) {
+                c.change = worse ? "worse" : "better";
+                c.reason = reason;
+            };
             if (rank != 0)
-                c.change = rank > 0 ? "worse" : "better";
+                decided(rank > 0, "verdict");
             else if (std::abs(df) > 1e-9)
-                c.change = df > 0 ? "worse" : "better";
+                decided(df > 0, "plucks");
             else if (std::isfinite(up_to) && std::abs(std::log(up_to)) > std::log(kChangeCleanUpTo))
-                c.change = up_to < 1.0 ? "worse" : "better";
+                decided(up_to < 1.0, "margin");
             else if (v.buzz_fraction > 0 && std::abs(a - b) >= kChangeDb)
-                c.change = a > b ? "worse" : "better";
-            else if (v.buzz_fraction > 0 && v.buzz_fret != c.before.buzz_fret)
+                decided(a > b, "loudness");
+            else if (v.buzz_fraction > 0 && v.buzz_fret != c.before.buzz_fret) {
                 c.change = "moved";
-            else
+                c.reason = "fret";
+            } else
                 c.change = "same";
         }
         changes.push_back(std::move(c));
@@ -199,14 +204,14 @@ std::vector<NoteChange> compare_maps(std::span<const NoteVerdict> now, std::span
 void write_comparison_csv(const std::filesystem::path& path, std::span<const NoteChange> changes) {
     std::ofstream out(path, std::ios::binary);
     out << "string,fret,strength,change,verdict_before,verdict,buzz_fraction_before,buzz_fraction,buzz_dB_before,"
-           "buzz_dB,buzz_fret_before,buzz_fret,clean_up_to_before,clean_up_to\n";
+           "buzz_dB,buzz_fret_before,buzz_fret,clean_up_to_before,clean_up_to,reason\n";
     for (const NoteChange& c : changes)
         out << cell(c.now.string_name) << "," << c.now.fret << "," << cell(c.now.strength) << "," << c.change << ","
             << c.before.verdict << "," << c.now.verdict << ","
             << (c.change == "new" ? "" : shortest_text(c.before.buzz_fraction)) << "," << shortest_text(c.now.buzz_fraction)
             << "," << shortest_text(c.before.buzz_db) << "," << shortest_text(c.now.buzz_db) << ","
             << fret_text(c.before.buzz_fret) << "," << fret_text(c.now.buzz_fret) << ","
-            << shortest_text(c.before.clean_up_to) << "," << shortest_text(c.now.clean_up_to) << "\n";
+            << shortest_text(c.before.clean_up_to) << "," << shortest_text(c.now.clean_up_to) << "," << c.reason << "\n";
     out.close();
     if (!out) throw std::runtime_error("cannot write " + path.string());
 }

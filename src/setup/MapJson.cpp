@@ -95,6 +95,7 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
     for (const NoteChange& c : d.comparison) {
         Json row = verdict(c.now);
         row["change"] = c.change;
+        row["reason"] = c.reason;
         row["before"] = c.change == "new" ? Json() : verdict(c.before);
         comparison.push_back(row);
     }

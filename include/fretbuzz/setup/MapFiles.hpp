@@ -33,9 +33,14 @@ std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, co
 // How a note changed between two maps: "worse" (a worse verdict, more of its plucks buzz, a
 // clean_up_to 10 % lower, or as many plucks buzz 3 dB louder), "better" (the reverse), "moved"
 // (as many buzz, against another fret), "same", or "new" (not in the other map).
+// How a note changed against the map before, by the first rule that applies: its verdict
+// ("verdict"), then how many of its plucks buzz ("plucks"), then how much harder it stays
+// clean, by a factor over kChangeCleanUpTo ("margin"), then, buzzing, kChangeDb louder or
+// quieter ("loudness"), then the fret it buzzes against ("fret": moved).
 struct NoteChange {
     NoteVerdict now, before;
-    std::string change;
+    std::string change;  // worse, better, moved, same, new
+    std::string reason;  // the rule that decided it ("" for same and new)
 };
 inline constexpr double kChangeDb = 3.0;
 inline constexpr double kChangeCleanUpTo = 1.1;

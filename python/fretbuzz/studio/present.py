@@ -21,6 +21,19 @@ def _plucks(n: dict) -> str:
     return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
 
 
+def _before(was: dict, reason: str) -> str:
+    """What the note was, by the rule that called it changed (Bench.compare's reason)."""
+    if reason == "verdict":
+        return f"it was {was['verdict']}"
+    if reason == "margin" and was.get("clean_up_to") is not None:
+        return f"clean up to {was['clean_up_to']:.2f}x the attack before"
+    if reason == "loudness" and was.get("buzz_dB") is not None:
+        return f"{was['buzz_dB']:.1f} dB before"
+    if reason == "fret" and was.get("buzz_fret") is not None:
+        return f"against fret {was['buzz_fret']} before"
+    return f"{_plucks(was)} plucks buzzed"
+
+
 def verdict(n: dict) -> str:
     """A note's class: clean, marginal (its plucks cannot tell), buzzes, out (frets out),
     unplayed."""
@@ -73,7 +86,7 @@ def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
     mark = CHANGE_MARKS[change][0] if change else ""
     if change:
         was = n.get("before")
-        label += f" ({CHANGE_MARKS[change][1]}" + (f": {_plucks(was)} plucks buzzed" if was else "") + ")"
+        label += f" ({CHANGE_MARKS[change][1]}" + (f": {_before(was, n.get('reason', ''))}" if was else "") + ")"
     colour = note_colour(n)
     return {"string": string, "fret": fret, "strength": strength, "kind": kind, "text": text, "label": label,
             "colour": colour, "ink": _ink(colour), "change": change, "mark": mark, "audio": n.get("audio") or ""}

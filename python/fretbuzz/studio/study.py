@@ -501,21 +501,22 @@ class Study:
         started = time.monotonic()
 
         def progress(note: dict, done: int, total: int) -> None:
-            change, was = "", None
+            change, reason, was = "", "", None
             if before:
-                change = Bench.compare([dict(note)], before).iloc[0]["change"]
+                compared = Bench.compare([dict(note)], before).iloc[0]
+                change, reason = compared["change"], compared["reason"]
                 was = next(({k: v for k, v in b.items() if k not in ("change", "before")} for b in before
                             if (b["string"], b["fret"], b["strength"]) == (note["string"], note["fret"], note["strength"])),
                            None)
             with self.lock:
-                record.notes.append({**note, "change": change, "before": was})
+                record.notes.append({**note, "change": change, "reason": reason, "before": was})
                 self._changed()
 
         partial = os.path.join(self.folder, record.folder + PARTIAL)
         try:
             if replay is not None:  # the unchanged strings' notes and sounds as the map before has them
                 os.makedirs(partial, exist_ok=True)
-                kept = [{k: v for k, v in n.items() if k not in ("change", "before")}
+                kept = [{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
                         for n in before if n["string"] not in replay]
                 for n in kept:
                     if n.get("audio"):
