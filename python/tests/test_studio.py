@@ -340,6 +340,22 @@ class OneStringWhatIfTest(unittest.TestCase):
         html = self.studio.request("GET", f"/fragment/maps?map={self.second.id}")[2].decode()
         self.assertIn("Played again: string E", html)
 
+    def test_a_link_planted_in_the_map_before_is_not_followed(self):
+        folder = os.path.join(self.studio.study.folder, self.second.folder)
+        victim = next(n for n in self.second.notes if n["string"] == "A" and n["audio"])
+        secret = os.path.join(self.studio.dir, "secret.wav")
+        with open(secret, "wb") as f:
+            f.write(b"SECRET")
+        os.replace(os.path.join(folder, victim["audio"]), os.path.join(folder, "moved.wav"))
+        os.symlink(secret, os.path.join(folder, victim["audio"]))
+        status, body = self.studio.json("POST", "/api/what-if", {"action12": {"E": "2.3"}, "strengths": "medium"})
+        self.assertEqual(status, 202, body)
+        third = self.studio.wait_map(body["id"], timeout=300)
+        self.assertEqual(third.replayed, ["E"])
+        kept = next(n for n in third.notes if StudioMapTest.key(n) == StudioMapTest.key(victim))
+        self.assertEqual(kept["audio"], "")  # kept as a note, without the planted sound
+        self.assertFalse(os.path.lexists(os.path.join(self.studio.study.folder, third.folder, victim["audio"])))
+
     def test_a_change_to_the_whole_neck_plays_every_string(self):
         record = type(self.second)(99, self.bench, "relief", "medium", "maps/099", 84, {"relief": "0.3"})
         record.before = self.first

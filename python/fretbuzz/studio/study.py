@@ -505,7 +505,7 @@ class Study:
             if before:
                 compared = Bench.compare([dict(note)], before).iloc[0]
                 change, reason = compared["change"], compared["reason"]
-                was = next(({k: v for k, v in b.items() if k not in ("change", "before")} for b in before
+                was = next(({k: v for k, v in b.items() if k not in ("change", "reason", "before")} for b in before
                             if (b["string"], b["fret"], b["strength"]) == (note["string"], note["fret"], note["strength"])),
                            None)
             with self.lock:
@@ -521,10 +521,17 @@ class Study:
                 for n in kept:
                     if n.get("audio"):
                         source = os.path.join(self.folder, record.before.folder, n["audio"])
-                        try:
-                            os.link(source, os.path.join(partial, n["audio"]))
+                        try:  # only a regular file the studio wrote: never through a link planted there
+                            regular = stat.S_ISREG(os.lstat(source).st_mode)
                         except OSError:
-                            shutil.copyfile(source, os.path.join(partial, n["audio"]))
+                            regular = False
+                        if not regular:
+                            n["audio"] = ""  # the note is kept, its sound is not
+                            continue
+                        try:
+                            os.link(source, os.path.join(partial, n["audio"]), follow_symlinks=False)
+                        except OSError:
+                            shutil.copyfile(source, os.path.join(partial, n["audio"]), follow_symlinks=False)
                 for i, n in enumerate(kept):
                     progress(n, i + 1, record.total)
             if replay is None or replay:
