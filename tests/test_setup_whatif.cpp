@@ -424,6 +424,16 @@ TEST(SetupAdvice, AMoveBeyondASetUpIsFlaggedNotRecommended) {
     EXPECT_EQ(text.find("raise the saddle"), std::string::npos) << text;
     EXPECT_NE(text.find("past the 0.5 mm of relief"), std::string::npos) << text;
     EXPECT_NE(advice_json(advice).find("\"beyond_setup\": true"), std::string::npos);
+    // Lowered that far, the string has room to spare: not a set-up's move, and not a fault of the neck.
+    ActionAdvice down = a;
+    down.saddle_change_m = -a.saddle_change_m;
+    advice.actions = {down};
+    advice.relief = ReliefAdvice{};
+    const std::string lowered = advice_text(advice);
+    EXPECT_NE(lowered.find("down, past the 1 mm a set-up moves: the string has that much room to spare"), std::string::npos)
+        << lowered;
+    EXPECT_EQ(lowered.find("lower the saddle"), std::string::npos) << lowered;
+    EXPECT_EQ(lowered.find("needs more than a set-up"), std::string::npos) << lowered;
 }
 
 TEST(SetupCompare, NotesAreMarkedByHowTheyChanged) {

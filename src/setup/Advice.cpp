@@ -479,10 +479,14 @@ std::string advice_text(const Advice& a) {
     for (const ActionAdvice& x : a.actions) {
         out << "  string " << x.string << ": action at fret 12 now " << shop(x.current_m) << "; ";
         if (std::isfinite(x.lowest_clean_m) && x.beyond_setup) {
+            // Up that far: the neck or the playing is at fault. Down that far: room to spare, but
+            // not a set-up's move either; neither is recommended.
             out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ", a saddle move of "
-                << shop_text(std::abs(x.saddle_change_m), a.units) << ", past the " << mm_text(kSetupSaddleMove)
-                << " a set-up moves: the neck or the playing needs more than a set-up (one step lower, " << x.below
-                << ")\n";
+                << shop_text(std::abs(x.saddle_change_m), a.units) << (x.saddle_change_m > 0.0 ? " up" : " down")
+                << ", past the " << mm_text(kSetupSaddleMove) << " a set-up moves: "
+                << (x.saddle_change_m > 0.0 ? "the neck or the playing needs more than a set-up"
+                                            : "the string has that much room to spare, more than a set-up takes")
+                << " (one step lower, " << x.below << ")\n";
         } else if (std::isfinite(x.lowest_clean_m)) {
             out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ": "
                 << (x.saddle_change_m < 0.0 ? "lower" : "raise") << " the saddle "
