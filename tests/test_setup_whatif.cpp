@@ -424,6 +424,8 @@ TEST(SetupAdvice, AMoveBeyondASetUpIsFlaggedNotRecommended) {
     EXPECT_EQ(text.find("raise the saddle"), std::string::npos) << text;
     EXPECT_NE(text.find("past the 0.5 mm of relief"), std::string::npos) << text;
     EXPECT_NE(advice_json(advice).find("\"beyond_setup\": true"), std::string::npos);
+    // The pages print the library's words, the same as the text's.
+    EXPECT_NE(advice_json(advice).find("\"beyond_setup_says\": \"up, past the 1 mm a set-up moves"), std::string::npos);
     // Lowered that far, the string has room to spare: not a set-up's move, and not a fault of the neck.
     ActionAdvice down = a;
     down.saddle_change_m = -a.saddle_change_m;

@@ -337,8 +337,9 @@ class Bench:
         "marginal" (marginal notes pass), "above=K" (notes above fret K may buzz), both,
         comma-separated, or "none" (every note must be clean); "" as set-ups do: marginal
         notes, and on a bass the notes above fret 15. A saddle move over 1 mm or a relief over
-        0.5 mm is flagged 'beyond_setup' (the neck or the playing needs more). map: this Bench's map at that attack, with clean_up_to (played if not
-        given): it places the searches."""
+        0.5 mm is flagged 'beyond_setup', what it means in 'beyond_setup_says'. map: this
+        Bench's map at that attack, with clean_up_to (played if not given): it places the
+        searches."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
             _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played

@@ -404,6 +404,22 @@ Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map,
     return advice;
 }
 
+std::string beyond_setup_text(const ActionAdvice& x) {
+    if (!x.beyond_setup) return "";
+    // Up that far: the neck or the playing is at fault. Down that far: room to spare, but not a
+    // set-up's move either.
+    const bool up = x.saddle_change_m > 0.0;
+    return std::string(up ? "up" : "down") + ", past the " + mm_text(kSetupSaddleMove) + " a set-up moves: " +
+           (up ? "the neck or the playing needs more than a set-up"
+               : "the string has that much room to spare, more than a set-up takes");
+}
+
+std::string beyond_setup_text(const ReliefAdvice& r) {
+    if (!r.beyond_setup) return "";
+    return "past the " + mm_text(kSetupReliefMax) +
+           " of relief a set-up gives: the neck or the playing needs more than a set-up";
+}
+
 std::string advice_json(const Advice& a) {
     using Json = nlohmann::ordered_json;
     const auto number = [](double v) { return std::isfinite(v) ? Json(v * 1e3) : Json(); };
@@ -421,7 +437,8 @@ std::string advice_json(const Advice& a) {
                                {"one_step_lower", x.below},
                                {"limiting_fret", x.limiting_fret},
                                {"limiting_against", x.limiting_against < 0 ? Json() : Json(x.limiting_against)},
-                               {"beyond_setup", x.beyond_setup}});
+                               {"beyond_setup", x.beyond_setup},
+                               {"beyond_setup_says", beyond_setup_text(x)}});
     Json fall = Json::array();
     for (const FallAwayAdvice& f : a.fall_away)
         fall.push_back(Json{{"string", f.string},
@@ -460,6 +477,7 @@ std::string advice_json(const Advice& a) {
                       {"failing_best", r.failing_best},
                       {"played", r.played},
                       {"beyond_setup", r.beyond_setup},
+                      {"beyond_setup_says", beyond_setup_text(r)},
                       {"predicted_clean_from_mm", number(r.predicted_from_m)},
                       {"predicted_clean_to_mm", number(r.predicted_to_m)},
                       {"searched_mm", Json::array({r.searched_from_m * 1e3, r.searched_to_m * 1e3})}}},
@@ -479,14 +497,9 @@ std::string advice_text(const Advice& a) {
     for (const ActionAdvice& x : a.actions) {
         out << "  string " << x.string << ": action at fret 12 now " << shop(x.current_m) << "; ";
         if (std::isfinite(x.lowest_clean_m) && x.beyond_setup) {
-            // Up that far: the neck or the playing is at fault. Down that far: room to spare, but
-            // not a set-up's move either; neither is recommended.
             out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ", a saddle move of "
-                << shop_text(std::abs(x.saddle_change_m), a.units) << (x.saddle_change_m > 0.0 ? " up" : " down")
-                << ", past the " << mm_text(kSetupSaddleMove) << " a set-up moves: "
-                << (x.saddle_change_m > 0.0 ? "the neck or the playing needs more than a set-up"
-                                            : "the string has that much room to spare, more than a set-up takes")
-                << " (one step lower, " << x.below << ")\n";
+                << shop_text(std::abs(x.saddle_change_m), a.units) << " " << beyond_setup_text(x) << " (one step lower, "
+                << x.below << ")\n";
         } else if (std::isfinite(x.lowest_clean_m)) {
             out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ": "
                 << (x.saddle_change_m < 0.0 ? "lower" : "raise") << " the saddle "
@@ -512,11 +525,9 @@ std::string advice_text(const Advice& a) {
     const ReliefAdvice& r = a.relief;
     out << "  relief (gap at fret " << r.fret << ") now " << fine(r.current_m) << " (" << r.failing_now
         << " notes buzz); ";
-    if (r.best_m != r.current_m && r.beyond_setup)
-        out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played), past the "
-            << mm_text(kSetupReliefMax) << " of relief a set-up gives: the neck or the playing needs more than a set-up";
-    else if (r.best_m != r.current_m)
-        out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played)";
+    if (r.best_m != r.current_m)
+        out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played)"
+            << (r.beyond_setup ? ", " + beyond_setup_text(r) : "");
     else
         out << "no relief from 0 to " << mm_text(r.searched_to_m) << " is predicted to buzz less";
     if (std::isfinite(r.predicted_from_m))

@@ -64,8 +64,8 @@ AdviceTolerance parse_tolerance(const std::string& text, std::size_t fret_count,
 AdviceTolerance tolerance_for(const Instrument& instrument, const std::string& text,
                               const std::string& option = "--tolerate");
 
-// Moves beyond what a set-up does: the advice flags them ("the neck or the playing needs more
-// than a set-up") and does not recommend them.
+// Moves beyond what a set-up does: the advice flags them (beyond_setup_text) and does not
+// recommend them.
 inline constexpr double kSetupSaddleMove = 1.0e-3;  // m: a saddle raised or lowered further
 inline constexpr double kSetupReliefMax = 0.5e-3;   // m: relief past this (or a back bow)
 
@@ -126,6 +126,14 @@ struct ReliefAdvice {
     double searched_from_m = 0.0, searched_to_m = 0.0;
     bool beyond_setup = false;  // best_m lies outside [0, kSetupReliefMax]
 };
+
+// What the advice says of a move past a set-up's, in place of a recommendation ("" for one
+// within it), the one wording of the text, the JSON and the pages. A saddle: "up, past the
+// 1 mm a set-up moves: the neck or the playing needs more than a set-up", or "down, ...: the
+// string has that much room to spare, more than a set-up takes". A relief: "past the 0.5 mm of
+// relief a set-up gives: the neck or the playing needs more than a set-up".
+std::string beyond_setup_text(const ActionAdvice& advice);
+std::string beyond_setup_text(const ReliefAdvice& advice);
 
 struct Advice {
     Attack attack;

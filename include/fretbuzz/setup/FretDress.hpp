@@ -9,8 +9,8 @@
 //    a fret past F (bisection on a 0.01 mm grid);
 //  - then round after round: for each fret a failing note buzzes against, up the neck, the
 //    least taken off it (bisection on a 0.01 mm grid, at least kFileCut off a fret not yet
-//    touched, starting where the notes' clean_up_to predicts) that stops those notes failing against it. Lowering a fret gives the notes
-//    stopped below it more room and the note stopped on it less (its string starts lower):
+//    touched, starting where the notes' clean_up_to predicts) that stops those notes failing
+//    against it. Lowering a fret gives the notes stopped below it more room and the note stopped on it less (its string starts lower):
 //    such a note, failing now against a fret further up, joins that fret's turn; the next
 //    round plays every note again on the dressed neck, until every note passes, or no fret a note
 //    fails against can go lower (at most max_depth_m off a fret, its crown kept min_crown_m

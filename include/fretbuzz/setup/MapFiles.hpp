@@ -30,13 +30,11 @@ void write_buzz_map_csv(const std::filesystem::path& path, std::span<const NoteV
 // it is missing, too large (64 MiB) or not a buzz map.
 std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, const std::string& option);
 
-// How a note changed between two maps: "worse" (a worse verdict, more of its plucks buzz, a
-// clean_up_to 10 % lower, or as many plucks buzz 3 dB louder), "better" (the reverse), "moved"
-// (as many buzz, against another fret), "same", or "new" (not in the other map).
-// How a note changed against the map before, by the first rule that applies: its verdict
-// ("verdict"), then how many of its plucks buzz ("plucks"), then how much harder it stays
-// clean, by a factor over kChangeCleanUpTo ("margin"), then, buzzing, kChangeDb louder or
-// quieter ("loudness"), then the fret it buzzes against ("fret": moved).
+// How a note changed against the map before: "worse", "better" or "moved" by the first rule
+// that applies (its reason): its verdict ("verdict"), then how many of its plucks buzz
+// ("plucks"), then how much harder it stays clean, by a factor over kChangeCleanUpTo
+// ("margin"), then, buzzing, kChangeDb louder or quieter ("loudness"), then the fret it buzzes
+// against ("fret": moved); else "same", or "new" (not in the map before).
 struct NoteChange {
     NoteVerdict now, before;
     std::string change;  // worse, better, moved, same, new

@@ -243,6 +243,11 @@ def _text(field_name: str, value: Any) -> Optional[str]:
     return text
 
 
+def _as_played(note: dict) -> dict:
+    """A note of a studio map as the library gave it (without the comparison added to it)."""
+    return {k: v for k, v in note.items() if k not in ("change", "reason", "before")}
+
+
 def _per_string(form: dict, key: str) -> dict:
     values = form.get(key) or {}
     if not isinstance(values, dict):
@@ -505,7 +510,7 @@ class Study:
             if before:
                 compared = Bench.compare([dict(note)], before).iloc[0]
                 change, reason = compared["change"], compared["reason"]
-                was = next(({k: v for k, v in b.items() if k not in ("change", "reason", "before")} for b in before
+                was = next((_as_played(b) for b in before
                             if (b["string"], b["fret"], b["strength"]) == (note["string"], note["fret"], note["strength"])),
                            None)
             with self.lock:
@@ -516,8 +521,7 @@ class Study:
         try:
             if replay is not None:  # the unchanged strings' notes and sounds as the map before has them
                 os.makedirs(partial, exist_ok=True)
-                kept = [{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
-                        for n in before if n["string"] not in replay]
+                kept = [_as_played(n) for n in before if n["string"] not in replay]
                 for n in kept:
                     if n.get("audio"):
                         source = os.path.join(self.folder, record.before.folder, n["audio"])
