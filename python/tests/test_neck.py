@@ -103,7 +103,10 @@ class MapTest(unittest.TestCase):
         self.assertEqual(note["audio_rate_hz"], 48000.0)
         self.assertAlmostEqual(len(note["audio"]) / 48000.0, QUICK["duration"], delta=0.002)
         self.assertTrue(note["touched"])
-        self.assertAlmostEqual(note["buzz_dB"], row["pluck_dB"][0], delta=1e-9)
+        # The note's run also writes its 48 kHz sound, so the listener's 96 kHz audio is resampled
+        # step by step there and in closed form over free stretches in the map's run: equal to the
+        # resampler's precision, a few thousandths of a dB on the level.
+        self.assertAlmostEqual(note["buzz_dB"], row["pluck_dB"][0], delta=0.01)
         self.assertEqual(list(note["contacts"].columns), ["time_s", "impulse_n_s", "peak_force_n", "fret"])
         self.assertGreater(len(note["contacts"]), 0)
         self.assertEqual(note["buzz_fret"], row["buzz_fret"])

@@ -199,6 +199,7 @@ AddedLevel Listener::added_level(std::span<const double> played, const Clean& cl
                 loudest_band = b;
             }
         }
+        ratio /= static_cast<double>(count);  // the mean over bands (ITU-R BS.1387-1, the total NMR)
         if (ratio > best) {
             best = ratio;
             result.window_start_s = static_cast<double>(start) * hop_s();

@@ -20,11 +20,25 @@ constexpr double kFadeIn = 0.005;   // s: a plucked string starts displaced
 constexpr double kFadeOut = 0.05;   // s: a note cut at the end of the run must not click
 constexpr double kSoundFadeOut = 0.3;  // s: a note played on for the ear dies away rather than stops
 
+// The case with nothing to touch from grid point `from` on (the clean note's run).
+Case without_obstacle(const Case& c, std::size_t from) {
+    Case free = c;
+    for (std::size_t i = from; i < free.obstacle_height_m.size(); ++i)
+        free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
+    if (from == 0) free.point_obstacles.clear();
+    return free;
+}
+
 }  // namespace
 
 NoteContacts::NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted,
-                           double bin_s, double until_s)
-    : fret_x_(std::move(fret_x)), fret_number_(std::move(fret_number)), fretted_(fretted), bin_s_(bin_s), until_s_(until_s) {}
+                           double bin_s, double until_s, double audio_rate_hz)
+    : fret_x_(std::move(fret_x)),
+      fret_number_(std::move(fret_number)),
+      fretted_(fretted),
+      bin_s_(bin_s),
+      until_s_(until_s),
+      audio_rate_hz_(audio_rate_hz) {}
 
 void NoteContacts::begin(const RunLayout& layout) {
     const Case& c = *layout.source;
@@ -58,12 +72,22 @@ void NoteContacts::begin(const RunLayout& layout) {
     rows_ = static_cast<std::size_t>(steps / layout.output_stride) + 1;
     signal_.clear();
     signal_.reserve(rows_ + 1);
+    points_ = std::max<std::size_t>(layout.observation_points_m.size(), 1);
+    const double run_s = static_cast<double>(layout.steps) * layout.dt;
+    const double heard_s = until_s_ > 0.0 ? std::min(until_s_, run_s) : run_s;
+    heard_rows_ = static_cast<std::size_t>(std::lround(heard_s * audio_rate_hz_)) + 1;
+    heard_.clear();
+    if (audio_rate_hz_ > 0.0) heard_.reserve(heard_rows_);
     stretches_.clear();
     steps_ = 0;
 }
 
 void NoteContacts::observation(double, std::span<const double> u) {
     if (!u.empty() && signal_.size() < rows_) signal_.push_back(u[0]);
+}
+
+void NoteContacts::audio(long, std::span<const double> samples) {
+    for (std::size_t i = 0; i < samples.size() && heard_.size() < heard_rows_; i += points_) heard_.push_back(samples[i]);
 }
 
 void NoteContacts::contacts(double t, std::span<const std::pair<std::size_t, double>> forces) {
@@ -112,14 +136,16 @@ double NotePlayer::touch_free_size(const Attack& attack, const PluckVariation& p
 }
 
 const NotePlayer::Reference* NotePlayer::reference(const Attack& attack, std::size_t member, const Case& played,
-                                                   double share, std::size_t samples) {
-    const double rate = played.run.sample_rate_hz / static_cast<double>(output_stride(played));
+                                                   double share, double judged_s) {
+    // The clean note: the same pluck with nothing to touch, heard through the same audio path.
     const auto clean_of = [&](const Case& c, double z) {
-        Reference r{attack.gesture, member, z, free_motion_at(c, c.observation_points_m[0], 1.0 / rate, samples), {}, {}};
+        Case free = without_obstacle(c, 0);
+        free.run.duration_s = judged_s;
+        Reference r{attack.gesture, member, z, pickup_audio(free, listening_.rate_hz), {}, {}};
         r.clean = listener_->hear_clean(r.u);
         return r;
     };
-    // Linear plucks: the closed form of the member's shape, kept for its other sizes. A pluck
+    // Linear plucks: the clean note of the member's shape, kept for its other sizes. A pluck
     // that rests on a fret when let go (taut_over_obstacle) has a shape of its own.
     Reference* kept = nullptr;
     for (Reference& r : references_)
@@ -168,7 +194,8 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
                                const PluckOptions& options, double judged_s) {
     PluckOutcome o;
     o.size = attack.size;
-    NoteContacts contacts(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_, 5e-4, judged_s);
+    NoteContacts contacts(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_, 5e-4, judged_s,
+                          listening_.rate_hz);
     std::vector<RunObserver*> observers{&contacts};
     std::unique_ptr<AudioWriter> audio;
     if (!options.wav.empty()) {
@@ -192,32 +219,30 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
         o.signal = contacts.signal();
         o.signal_rate_hz = contacts.output_rate_hz();
         o.contacts = contacts.stretches();
+        o.heard = contacts.heard();
+        o.heard_rate_hz = contacts.audio_rate_hz();
         if (audio) {
             o.audio = audio->samples(0);
             o.audio_rate_hz = audio->rate_hz();
         }
     }
     if (!listener_)
-        listener_.emplace(contacts.output_rate_hz(), contacts.signal().size(), maker_.fundamental_hz(fret_), listening_);
+        listener_.emplace(contacts.audio_rate_hz(), contacts.heard().size(), maker_.fundamental_hz(fret_), listening_);
     if (!o.touched) return o;
+    const double judged = judged_s > 0.0 ? judged_s : c.run.duration_s;
     if (finger_ || attack.strike() || options.polarisations == Polarisations::both) {
         // Not linear (a finger, a thumb) or in two polarisations: the same note with nothing to buzz against past the stop.
-        Case free = c;
-        if (judged_s > 0.0) free.run.duration_s = judged_s;
-        for (std::size_t i = finger_ ? first_buzz_point(c) : 0; i < free.obstacle_height_m.size(); ++i)
-            free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
-        NoteContacts quiet(maker_.fret_positions(fret_, finger_), maker_.fret_numbers(fret_), finger_);
-        std::vector<RunObserver*> one{&quiet};
-        simulate(free, one);
-        o.buzz_db = listener_->added_level(contacts.signal(), quiet.signal()).level_db;
+        Case free = without_obstacle(c, finger_ ? first_buzz_point(c) : 0);
+        free.run.duration_s = judged;
+        o.buzz_db = listener_->added_level(contacts.heard(), pickup_audio(free, listening_.rate_hz)).level_db;
         return o;
     }
     const double share = z_share(attack, pluck);
     if (members_at_.size() <= member) members_at_.resize(member + 1);
     members_at_[member] = pluck;
-    const Reference* r = reference(attack, member, c, share, contacts.signal().size());
+    const Reference* r = reference(attack, member, c, share, judged);
     const double ratio = share / r->z_share;
-    o.buzz_db = listener_->added_level(contacts.signal(), r->clean, ratio * ratio).level_db;
+    o.buzz_db = listener_->added_level(contacts.heard(), r->clean, ratio * ratio).level_db;
     return o;
 }
 
@@ -261,6 +286,13 @@ ListeningSettings listening_settings(const BenchSettings& bench) {
     ListeningSettings s;
     s.level_db_spl = bench.listening_level_db_spl;
     return s;
+}
+
+std::vector<double> pickup_audio(const Case& c, double rate_hz) {
+    NoteContacts heard({}, {}, false, 5e-4, 0.0, rate_hz);
+    std::vector<RunObserver*> observers{&heard};
+    simulate(c, observers);
+    return heard.heard();
 }
 
 }  // namespace fretbuzz

@@ -25,9 +25,11 @@
 //  - The level: over every window of `integration_s` (the ear integrates the energy of short
 //    sounds over about 200 ms: Zwicker & Fastl, Psychoacoustics, ch. 4 and 12), the added
 //    energy of each band summed over the window's frames and divided by its threshold over
-//    the same frames, summed over bands (the noise-to-mask ratio of Brandenburg, AES 82nd
-//    Convention, 1987, integrated in time); the largest window's, in dB. 0 dB: just audible.
-//    -inf when the contacts add energy to no band.
+//    the same frames, averaged over the bands (the noise-to-mask ratio of Brandenburg, AES
+//    82nd Convention, 1987, as ITU-R BS.1387-1 computes its total NMR: the mean over bands
+//    of noise over mask, not their sum, which with 25 bands read 14 dB higher), integrated
+//    in time; the largest window's, in dB. 0 dB: just audible. -inf when the contacts add
+//    energy to no band.
 // The listener is planned once for a rate, a frame length and a signal length (FFTW's plan);
 // added_level() may be called from several threads at once.
 #include <cstddef>
@@ -44,6 +46,14 @@ struct ListeningSettings {
     double shortest_frame_s = 0.04;
     double bins_between_partials = 5.0;
     bool velocity = true;         // a magnetic pickup (velocity); false: the displacement (an optical sensor)
+    // The rate its signals come at: the bench hears the pickup band-limited and resampled to
+    // it (the run's libsoxr path), never sampled from the simulation without a filter. 96 kHz,
+    // not 48: in free flight a run feeds its audio only the modes below 0.6 x the audio rate,
+    // and switching the others off and on at a flight's edges leaves a trace in the band; at
+    // 48 kHz it is 2.5e-7 of the note's rms at the pickup (G17 of the quick bass, just
+    // touching), which the listener's interference term hears at -36 dB whatever the touch;
+    // at 96 kHz it is 1.1e-9.
+    double rate_hz = 96000.0;
 };
 
 struct AddedLevel {

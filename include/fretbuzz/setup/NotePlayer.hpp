@@ -47,6 +47,8 @@ struct PluckOutcome {
     double peak_force_n = 0.0;
     std::vector<ContactStretch> contacts;  // kept only when asked (keep_details)
     std::vector<double> signal;            // u at the pickup at the output rate (keep_details)
+    std::vector<double> heard;             // u at the pickup as the listener hears it (keep_details)
+    double heard_rate_hz = 0.0;
     double signal_rate_hz = 0.0;
     std::vector<double> audio;             // the same band-limited to 48 kHz (keep_details with a WAV)
     double audio_rate_hz = 0.0;
@@ -54,7 +56,10 @@ struct PluckOutcome {
 
 // Observes a note's run: the pickup signal and the obstacle's contacts, fret by fret (a
 // contact point belongs to the nearest fret within two grid steps, else to the board or
-// body). Contacts under a finger's or a thumb's pad do not count, nor, on a note fretted by
+// body). With an audio rate, also the pickup's displacement as the listener hears it: the
+// run's own band-limited audio (libsoxr, run/Resampler.hpp), not the observation rows, which
+// sample the run without an anti-alias filter (partials above half the output rate would
+// fold into the band heard). Contacts under a finger's or a thumb's pad do not count, nor, on a note fretted by
 // the finger model (`fretted`), everything up to the stopping fret (first_buzz_point).
 class NoteContacts : public RunObserver {
 public:
@@ -62,13 +67,18 @@ public:
     // until_s: what comes after this time (a run going on for its sound) is not counted: the
     // contacts and the signal are those of a run of that length (0: the whole run).
     NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted, double bin_s = 5e-4,
-                 double until_s = 0.0);
+                 double until_s = 0.0, double audio_rate_hz = 0.0);
     void begin(const RunLayout& layout) override;
+    AudioRequest audio_request() const override { return {audio_rate_hz_, AudioSignal::displacement, 0.0}; }
+    void audio(long first_sample, std::span<const double> samples) override;
     void observation(double t, std::span<const double> u) override;
     void contacts(double t, std::span<const std::pair<std::size_t, double>> forces) override;
 
     const std::vector<double>& signal() const { return signal_; }
     double output_rate_hz() const { return rate_; }
+    // The band-limited displacement at the pickup, at the audio rate (up to until_s).
+    const std::vector<double>& heard() const { return heard_; }
+    double audio_rate_hz() const { return audio_rate_hz_; }
     bool touched() const { return steps_ > 0; }
     double first_contact_s() const { return first_; }
     double peak_force_n() const { return peak_; }
@@ -81,7 +91,10 @@ private:
     bool fretted_;
     double bin_s_;
     double until_s_;
+    double audio_rate_hz_;
     std::size_t rows_ = 0;  // the signal's rows a run of until_s gives
+    std::size_t heard_rows_ = 0, points_ = 1;
+    std::vector<double> heard_;
     double rate_ = 0.0, dx_ = 0.0, dt_ = 0.0;
     std::vector<int> fret_of_point_;  // kNoFret: not counted (the hand)
     std::vector<double> impulse_;     // per fret number (0: board or body)
@@ -124,12 +137,12 @@ private:
         Gesture gesture;
         std::size_t member;
         double z_share;                 // of the run it was made from
-        std::vector<double> u;          // the clean note at the pickup
+        std::vector<double> u;          // the clean note at the pickup, as heard
         Listener::Clean clean;          // its band energies and masked threshold
         std::vector<double> shape;      // the initial modal displacement it was made from
     };
     const Reference* reference(const Attack& attack, std::size_t member, const Case& played, double z_share,
-                               std::size_t samples);
+                               double judged_s);
     PluckOutcome judge(const Case& c, const Attack& attack, std::size_t member, const PluckVariation& pluck,
                        const PluckOptions& options, double judged_s);
 
@@ -151,5 +164,11 @@ PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std:
 
 // How the bench listens (BenchSettings' listening level).
 ListeningSettings listening_settings(const BenchSettings& bench);
+
+// The pickup's displacement of a run of `c` as the bench's listener hears it: the run's own
+// audio, band-limited and resampled to `rate_hz` (libsoxr), round(duration x rate) + 1
+// samples. What a note's clean reference is made of (its obstacle removed), the same path as
+// the note played.
+std::vector<double> pickup_audio(const Case& c, double rate_hz);
 
 }  // namespace fretbuzz
