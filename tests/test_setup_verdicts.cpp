@@ -10,9 +10,13 @@
 //  - a note that buzzes in 14 % of plucks is never called clean (ten seeds), and the rule
 //    behind it holds over a thousand synthetic ensembles;
 //  - the stiffness check names the notes whose verdict turns on the string's bending stiffness;
-//  - the default slap (the thumb as a mass, bass-slap's finger model) makes the upper frets clank.
+//  - the default slap (the thumb as a mass, bass-slap's finger model) makes the upper frets clank;
+//  - each pluck's first touch comes no later when the same pluck is made harder: until it first
+//    touches, the string moves freely, and the free motion is linear in the pluck's size, so a
+//    larger copy of it reaches any fixed gap no later.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -112,6 +116,50 @@ NoteVerdict judged(const Instrument& instrument, std::size_t string, std::size_t
     r.frets = {fret};
     r.clean_up_to = clean_up_to;
     return play_map(instrument, r).notes.front();
+}
+
+TEST(SetupVerdicts, AHarderPluckTouchesNoLater) {
+    const Instrument bass = testing::quick_bass(40, 0.1);
+    const double step = 1.0 / bass.bench.sample_rate_hz;
+    for (const auto& [string, fret] : {std::pair<std::size_t, std::size_t>{3, 17}, {0, 12}}) {
+        MapRequest r;
+        r.attacks = parse_attacks("soft,1.5mm,medium,2.5mm,hard", bass.attack);
+        r.strings = {string};
+        r.frets = {fret};
+        r.clean_up_to = false;
+        const std::vector<NoteVerdict> notes = play_map(bass, r).notes;
+        ASSERT_EQ(notes.size(), 5u);
+        std::size_t compared = 0;
+        for (std::size_t a = 0; a + 1 < notes.size(); ++a) {
+            const NoteVerdict &softer = notes[a], &harder = notes[a + 1];
+            ASSERT_EQ(softer.pluck_touch_s.size(), softer.plucks);
+            for (std::size_t k = 0; k < std::min(softer.pluck_touch_s.size(), harder.pluck_touch_s.size()); ++k) {
+                const double t0 = softer.pluck_touch_s[k], t1 = harder.pluck_touch_s[k];
+                if (std::isnan(t0)) continue;
+                ASSERT_FALSE(std::isnan(t1)) << "member " << k << " touches " << softer.strength << " but not "
+                                             << harder.strength;
+                EXPECT_LE(t1, t0 + step) << softer.string_name << fret << " member " << k;
+                EXPECT_GT(t1, 0.0);
+                ++compared;
+            }
+        }
+        for (const NoteVerdict& v : notes) {
+            std::vector<double> touches;
+            for (double t : v.pluck_touch_s)
+                if (!std::isnan(t)) touches.push_back(t);
+            if (touches.empty()) {
+                EXPECT_TRUE(std::isnan(v.first_touch_s));
+                continue;
+            }
+            std::sort(touches.begin(), touches.end());
+            EXPECT_GE(v.first_touch_s, touches.front());
+            EXPECT_LE(v.first_touch_s, touches.back());
+            EXPECT_LE(v.first_touch_s, bass.bench.duration_s);
+            std::cout << v.string_name << " fret " << fret << ", " << v.strength << ": first touch (median) "
+                      << v.first_touch_s * 1e3 << " ms, earliest " << touches.front() * 1e3 << " ms\n";
+        }
+        EXPECT_GE(compared, 10u) << "too few plucks touch at two sizes to compare";
+    }
 }
 
 TEST(SetupVerdicts, CleanUpToIsCleanWhenReplayedAndFivePercentHarderIsNot) {

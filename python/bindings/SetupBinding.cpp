@@ -62,6 +62,10 @@ py::dict verdict_dict(const NoteVerdict& v) {
     py::list plucks;
     for (double db : v.pluck_db) plucks.append(number(db));
     d["pluck_dB"] = plucks;
+    py::list touches;
+    for (double t : v.pluck_touch_s) touches.append(number(t));
+    d["first_touch_s"] = number(v.first_touch_s);
+    d["pluck_touch_s"] = touches;
     d["audio"] = v.audio;
     return d;
 }

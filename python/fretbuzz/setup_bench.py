@@ -27,7 +27,8 @@ Tables (pandas DataFrames):
   stiffness_sensitive ("" unless asked; "no", or the stiffness factors 0.5 and 1.5 that
   change the verdict), status ("ok", "frets out", "not played: ...", "failed: ..."),
   clearance_mm (the smallest gap between the note's string at rest and a fret past the stop),
-  pluck_dB (each pluck's level), audio (the WAV's name when the map wrote WAVs).
+  pluck_dB (each pluck's level), first_touch_s (when the plucks that touch first do, the median;
+  pluck_touch_s each one's), audio (the WAV's name when the map wrote WAVs).
 - geometry: one row per string and fret (frets 0 .. N, 0 being the nut end of the fret line):
   string, fret, x_m (along the string from its nut), top_m (the fret's top above the fret
   plane), line_m (the fret line, without the fret's own offset), gap_m (the open string's gap
@@ -104,7 +105,7 @@ def _records(table) -> List[dict]:
 
 MAP_COLUMNS = ("string", "fret", "strength", "verdict", "buzz_fraction", "buzz_fraction_low", "buzz_fraction_high",
                "buzz_dB", "buzz_fret", "touch_fraction", "plucks", "clean_up_to", "clean_up_to_value", "unit",
-               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio")
+               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio", "first_touch_s")
 
 
 class Bench:

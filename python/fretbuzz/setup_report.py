@@ -150,6 +150,8 @@ def _cells(doc: dict, notes: List[dict], changes: Dict[tuple, str]) -> List[dict
                          f"{s['name']} fret {k}, {attack}: {n['verdict']}, {round(n['buzz_fraction'] * n['plucks'])}/"
                          f"{n['plucks']} plucks buzz" + (f", median {level}" if level else "") +
                          (f", against fret {n['buzz_fret']}" if n["buzz_fret"] not in (None, "") else "") +
+                         (f", first touch at {n['first_touch_s'] * 1e3:.0f} ms" if n.get("first_touch_s") is not None
+                          else "") +
                          (f"; clean up to {up_to} this attack" if up_to else "") +
                          (f", clearance {n['clearance_mm']:.2f} mm" if n["clearance_mm"] is not None else ""))
                 change = changes.get((s["name"], k, attack), "")

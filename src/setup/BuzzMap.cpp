@@ -45,12 +45,14 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
         return v;
     }
     v.verdict = j.verdict;
-    std::vector<double> levels;
+    std::vector<double> levels, touches;
     std::map<int, std::size_t> audible_frets, touching_frets;
     for (const PluckOutcome& p : j.plucks) {
         if (!p.error.empty()) continue;
         v.pluck_db.push_back(p.buzz_db);
         v.pluck_fret.push_back(p.touched ? p.buzz_fret : kNoFret);
+        v.pluck_touch_s.push_back(p.touched ? p.first_contact_s : NoteVerdict::nan);
+        if (p.touched && std::isfinite(p.first_contact_s)) touches.push_back(p.first_contact_s);
         levels.push_back(p.touched && !std::isnan(p.buzz_db) ? p.buzz_db : kQuietest);
         if (p.touched) ++touching_frets[p.buzz_fret];
         if (p.touched && p.buzz_db >= audible_db) ++audible_frets[p.buzz_fret];
@@ -65,6 +67,11 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
     const double median = levels.empty() ? kQuietest
                                           : levels.size() % 2 ? levels[half] : 0.5 * (levels[half - 1] + levels[half]);
     v.buzz_db = median > kQuietest ? median : NoteVerdict::nan;
+    if (!touches.empty()) {
+        std::sort(touches.begin(), touches.end());
+        const std::size_t mid = touches.size() / 2;
+        v.first_touch_s = touches.size() % 2 ? touches[mid] : 0.5 * (touches[mid - 1] + touches[mid]);
+    }
     const auto& frets = audible_frets.empty() ? touching_frets : audible_frets;
     std::size_t most = 0;
     for (const auto& [fret, count] : frets)

@@ -20,7 +20,7 @@ const std::vector<std::string> kColumns = {
     "string",      "fret",          "strength",          "verdict",   "buzz_fraction",    "buzz_fraction_low",
     "buzz_fraction_high", "buzz_dB", "buzz_fret",        "touch_fraction", "plucks",      "clean_up_to",
     "clean_up_to_value", "unit",    "stiffness_sensitive", "status",  "clearance_mm",     "audio",
-    "pluck_dB"};
+    "pluck_dB",    "first_touch_s", "pluck_touch_s"};
 
 // clean < marginal < buzzes: how a change of verdict reads.
 int verdict_rank(const std::string& verdict) {
@@ -97,18 +97,21 @@ void write_buzz_map_csv(const std::filesystem::path& path, std::span<const NoteV
     for (std::size_t c = 0; c < kColumns.size(); ++c) out << (c ? "," : "") << kColumns[c];
     out << "\n";
     for (const NoteVerdict& v : notes) {
-        std::string plucks;
-        for (std::size_t k = 0; k < v.pluck_db.size(); ++k) {
-            if (k > 0) plucks += ';';
-            plucks += shortest_text(v.pluck_db[k]);
-        }
+        const auto listed = [](const std::vector<double>& values) {
+            std::string text;
+            for (std::size_t k = 0; k < values.size(); ++k) {
+                if (k > 0) text += ';';
+                text += shortest_text(values[k]);
+            }
+            return text;
+        };
         out << cell(v.string_name) << "," << v.fret << "," << cell(v.strength) << "," << v.verdict << ","
             << shortest_text(v.buzz_fraction) << "," << shortest_text(v.buzz_fraction_low) << ","
             << shortest_text(v.buzz_fraction_high) << "," << shortest_text(v.buzz_db) << "," << fret_text(v.buzz_fret)
             << "," << shortest_text(v.touch_fraction) << "," << v.plucks << "," << shortest_text(v.clean_up_to) << ","
             << shortest_text(v.clean_up_to_value) << "," << v.unit << "," << cell(v.stiffness_sensitive) << ","
-            << cell(v.status) << "," << shortest_text(v.clearance_m * 1e3) << "," << cell(v.audio) << "," << plucks
-            << "\n";
+            << cell(v.status) << "," << shortest_text(v.clearance_m * 1e3) << "," << cell(v.audio) << ","
+            << listed(v.pluck_db) << "," << shortest_text(v.first_touch_s) << "," << listed(v.pluck_touch_s) << "\n";
     }
     out.close();
     if (!out) throw std::runtime_error("cannot write " + path.string());
@@ -156,6 +159,7 @@ std::vector<NoteVerdict> read_buzz_map_csv(const std::filesystem::path& path, co
             v.status = c[15];
             v.clearance_m = number_of(c[16]) * 1e-3;
             v.audio = c[17];
+            v.first_touch_s = number_of(c[19]);
             notes.push_back(std::move(v));
         } catch (const std::invalid_argument&) {
             throw InputError(where + ": buzz_map.csv line " + std::to_string(row) + " is not a row of a buzz map");

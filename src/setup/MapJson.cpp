@@ -31,6 +31,8 @@ Json fret(int f) {
 Json verdict(const NoteVerdict& v) {
     Json plucks = Json::array();
     for (double db : v.pluck_db) plucks.push_back(number(db));
+    Json touches = Json::array();
+    for (double t : v.pluck_touch_s) touches.push_back(number(t));
     // clean_up_to is infinite when no search size made the note buzz: "at least" kCleanUpToCap.
     const bool unbounded = std::isinf(v.clean_up_to);
     return Json{{"string", v.string_name},     {"fret", v.fret},
@@ -42,6 +44,7 @@ Json verdict(const NoteVerdict& v) {
                 {"buzz_dB", number(v.buzz_db)},
                 {"buzz_fret", fret(v.buzz_fret)},   {"touch_fraction", v.touch_fraction},
                 {"plucks", v.plucks},          {"pluck_dB", plucks},
+                {"first_touch_s", number(v.first_touch_s)}, {"pluck_touch_s", touches},
                 {"clean_up_to", unbounded ? Json(kCleanUpToCap) : number(v.clean_up_to)},
                 {"clean_up_to_at_least", unbounded},
                 {"clean_up_to_value", number(v.clean_up_to_value)},

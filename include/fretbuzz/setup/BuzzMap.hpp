@@ -9,6 +9,9 @@
 //    touch nothing);
 //  - buzz_fret: the fret the audible plucks buzz against most often (0: the board or body);
 //  - clean_up_to: how much harder than the attack the note can be played and stay clean;
+//  - first_touch_s: when its plucks first touch a fret past the stop (the median over the
+//    plucks that touch), with each pluck's own: a touch long after the release comes from the
+//    partials drifting out of phase and meeting again, not from the release shape itself;
 //  - stiffness_sensitive: with MapRequest::stiffness_check, whether the verdict changes when
 //    the string's bending stiffness is halved or made 1.5 times (the wound strings' cores are
 //    rarely published: the stiffness is the least sure input).
@@ -45,6 +48,8 @@ struct NoteVerdict {
     std::size_t plucks = 0;        // plucks played
     std::vector<double> pluck_db;  // each pluck's level (NaN: touched nothing)
     std::vector<int> pluck_fret;
+    std::vector<double> pluck_touch_s;  // each pluck's first touch past the stop (NaN: none)
+    double first_touch_s = nan;    // the median of those that touch (NaN: none touches)
     double clean_up_to = nan;       // the strongest attack that stays clean, as a multiple of this one (inf: >= 3)
     double clean_up_to_value = nan;  // the same in the attack's unit (mm or m/s)
     std::string unit;                // "mm" or "m/s"

@@ -57,6 +57,8 @@ def sentence(n: dict) -> str:
         text += f", median level {n['buzz_dB']:+.0f} dB over the masked threshold"
     if n.get("buzz_fret") not in (None, "") and n["buzz_fraction"] > 0:
         text += f", against {'the board' if n['buzz_fret'] == 'board' else 'fret ' + str(n['buzz_fret'])}"
+    if n.get("first_touch_s") is not None:
+        text += f", first touch at {n['first_touch_s'] * 1e3:.0f} ms"
     up_to = clean_up_to_text(n)
     if up_to:
         text += f"; clean up to {up_to} this attack"
