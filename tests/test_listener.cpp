@@ -3,7 +3,9 @@
 // ring with other phases adds nothing it can hear, though its waveform differs from the clean
 // note as much as the note itself), energy read as energy (a click 10 dB stronger reads
 // 10 dB higher), masking (a click under a strong partial is heard less than the same click
-// where the note is quiet) and the threshold in quiet (a quieter playback hears less).
+// where the note is quiet) and the threshold in quiet (a quieter playback hears less); through
+// a rig (analysis/ListeningRig), a click is heard less by what the rig's response predicts
+// from the click's spectrum and the note's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -134,6 +136,59 @@ TEST(Listener, AQuieterPlaybackHearsLessOfAClickWhereOnlyTheThresholdInQuietMask
     const double a = Listener(kRate, samples, kF0, loud).added_level(played, clean).level_db;
     const double b = Listener(kRate, samples, kF0, quiet).added_level(played, clean).level_db;
     EXPECT_NEAR(a - b, 30.0, 1.0);
+}
+
+// The loaded pickup: a lightly loaded one resonates at 1/(2 pi sqrt(L C)) with a peak of
+// its quality factor Q, 1/Q = 1/(R_load sqrt(C/L)) + R sqrt(C/L); the figures of cases/rigs/ lie in the ranges their source gives.
+TEST(ListeningRig, ThePickupResonatesWhereItsCircuitSays) {
+    RigSettings light;
+    light.pickup = {3.0, 10.0, 650e-12, 1e7};
+    const ListeningRig rig(light);
+    const double f0 = 1.0 / (2.0 * std::numbers::pi * std::sqrt(3.0 * 650e-12));
+    EXPECT_NEAR(rig.resonance_hz() / f0, 1.0, 1e-3);
+    // 1/Q: the parallel load's and the coil's own losses add.
+    const double q = 1.0 / (1.0 / (1e7 * std::sqrt(650e-12 / 3.0)) + 10.0 / std::sqrt(3.0 / 650e-12));
+    EXPECT_NEAR(rig.resonance_peak_db(), 20.0 * std::log10(q), 0.01);
+    EXPECT_NEAR(std::abs(rig.pickup_response(1.0)), 1.0, 1e-6);
+    // Far above it the response falls as 1/f^2 (12 dB an octave).
+    EXPECT_NEAR(20.0 * std::log10(std::abs(rig.pickup_response(80e3)) / std::abs(rig.pickup_response(160e3))), 12.0, 0.1);
+    const ListeningRig usual{RigSettings{}};
+    EXPECT_GT(usual.resonance_hz(), 2000.0);  // Lemme: 2 to 5 kHz, 0 to 12 dB, with a cable
+    EXPECT_LT(usual.resonance_hz(), 5000.0);
+    EXPECT_GT(usual.resonance_peak_db(), 0.0);
+    EXPECT_LT(usual.resonance_peak_db(), 12.0);
+    RigSettings bad;
+    bad.pickup.inductance_h = 0.0;
+    EXPECT_THROW(ListeningRig{bad}, std::exception);
+}
+
+// A click at 7-7.4 kHz over a low note (partials to 300 Hz: nothing masks the click but the
+// threshold in quiet). The rig weighs the click's energy by its power gain across the click's
+// components, and the playback level (set by the note's loudest frame) by its gain across the
+// note's partials: the level falls by the ratio of the two.
+TEST(ListeningRig, AClickIsHeardLessByWhatTheRigsResponsePredicts) {
+    const std::size_t samples = static_cast<std::size_t>(0.3 * kRate);
+    const std::vector<double> clean = note(samples, 3);
+    const std::vector<double> played = plus(clean, click(samples, 0.1, 1e-4, 7000.0, 7400.0));
+    ListeningSettings through;
+    through.rig = RigSettings{};
+    const double full = Listener(kRate, samples, kF0).added_level(played, clean).level_db;
+    const double rigged = Listener(kRate, samples, kF0, through).added_level(played, clean).level_db;
+    const ListeningRig rig(*through.rig);
+    double click_gain = 0.0, click_weight = 0.0;
+    for (double f = 7000.0; f <= 7400.0; f += 50.0) {
+        click_gain += f * f * rig.power_gain(f);
+        click_weight += f * f;
+    }
+    double note_gain = 0.0, note_weight = 0.0;
+    for (int j = 1; j <= 3; ++j) {
+        const double f = j * kF0, e = f * f / std::pow(j, 4);  // velocity, amplitude 1/j^2
+        note_gain += e * rig.power_gain(f);
+        note_weight += e;
+    }
+    const double predicted = 10.0 * std::log10((click_gain / click_weight) / (note_gain / note_weight));
+    EXPECT_LT(predicted, -15.0);  // a 4 kHz cabinet, fourth order: far down at 7 kHz
+    EXPECT_NEAR(rigged - full, predicted, 0.5) << full << " -> " << rigged;
 }
 
 TEST(Listener, BadSettingsAreRefused) {

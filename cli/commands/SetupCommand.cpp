@@ -37,7 +37,7 @@ namespace {
 struct SetupArguments {
     std::string instrument, out;
     std::string strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
-    std::string tolerate, dress_depth, crown, fall_away;
+    std::string tolerate, dress_depth, crown, fall_away, listen;
     WhatIfWords what_if;
     bool finger = false, advice = false, dress = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
 };
@@ -81,6 +81,12 @@ void apply_settings(const SetupArguments& a, Instrument& instrument) {
         if (!(d >= 0.01 && d <= 5.0)) throw InputError(out_of_range_message("--duration (s)", d, "must be in [0.01, 5]"));
         instrument.bench.duration_s = d;
     }
+    if (!a.listen.empty()) {
+        if (a.listen != "rig" && a.listen != "pickup")
+            throw InputError("--listen " + a.listen + ": must be rig (through the pickup's circuit and a cabinet, the "
+                             "instrument's [rig]) or pickup (its full range)");
+        instrument.bench.listen_through_rig = a.listen == "rig";
+    }
 }
 
 std::string clock(double seconds) {
@@ -101,6 +107,10 @@ std::string verdict_text(const NoteVerdict& v) {
         out += text;
     }
     if (v.buzz_fret > 0 && v.buzz_fraction > 0.0) out += " (fret " + std::to_string(v.buzz_fret) + ")";
+    if (std::isfinite(v.first_touch_s)) {
+        std::snprintf(text, sizeof text, ", first touch at %.0f ms", v.first_touch_s * 1e3);
+        out += text;
+    }
     if (std::isinf(v.clean_up_to)) {
         std::snprintf(text, sizeof text, "; clean up to at least %gx", kCleanUpToCap);
         out += text;
@@ -325,6 +335,8 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_flag("--stiffness-check", args->stiffness_check,
                   "Also replay every note with each string's bending stiffness x 0.5 and x 1.5 (stiffness_sensitive)");
     cmd->add_flag("--no-clean-up-to", args->no_clean_up_to, "Skip the search of how hard each note can be played");
+    cmd->add_option("--listen", args->listen,
+                    "What the bench hears: rig (the pickup's circuit and a cabinet, default) or pickup (its full range)");
     cmd->add_option("--fs", args->fs, "Sampling rate (default: the instrument's)");
     cmd->add_option("--duration", args->duration, "Seconds per note (default: the instrument's)");
     cmd->add_flag("--quiet", args->quiet, "No progress lines");

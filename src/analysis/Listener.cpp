@@ -77,6 +77,8 @@ Listener::Listener(double rate_hz, std::size_t samples, double partial_spacing_h
     // of it, in proportion to its nearness (triangles that sum to one). A partial moving or a
     // band edge crossing a partial then changes the bands' energies smoothly, and the cross
     // terms of neighbouring partials, which cancel over a whole main lobe, nearly cancel.
+    const std::optional<ListeningRig> rig =
+        settings.rig ? std::optional<ListeningRig>(std::in_place, *settings.rig) : std::nullopt;
     const double top = std::min(kHighestHz, 0.5 * rate_hz);
     const std::size_t bins = frame_ / 2 + 1;
     bin_band_.assign(bins, -1);
@@ -94,7 +96,7 @@ Listener::Listener(double rate_hz, std::size_t samples, double partial_spacing_h
         bin_share_[k] = b + 1 < count ? z - static_cast<double>(b) : 0.0;  // the part that goes to band b + 1
         const double one_sided = 2 * k == frame_ ? 1.0 : 2.0;
         const double w = 2.0 * std::numbers::pi * f;
-        bin_weight_[k] = one_sided * (settings.velocity ? w * w : 1.0);
+        bin_weight_[k] = one_sided * (settings.velocity ? w * w : 1.0) * (rig ? rig->power_gain(f) : 1.0);
         const std::size_t nearest = z - static_cast<double>(b) < 0.5 ? b : std::min(b + 1, count - 1);
         quiet_db_[nearest] = std::min(quiet_db_[nearest], threshold_in_quiet_db(f));
     }

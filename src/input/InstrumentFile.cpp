@@ -572,6 +572,48 @@ void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instr
     }
 }
 
+// The rig the bench hears through: the style's figures (cases/rigs/STYLE.toml, the same
+// style as the attacks'), then the file's own [rig] keys over them.
+void read_rig_keys(Reader& r, TomlSection& t, BenchSettings& b) {
+    RigSettings& g = b.rig;
+    PickupCircuit& p = g.pickup;
+    if (const auto listen = t.optional_text("listen")) {
+        if (*listen != "rig" && *listen != "pickup")
+            throw InputError(t.key_path("listen") + " = \"" + *listen +
+                             "\": must be \"rig\" (through the pickup's circuit and a cabinet) or \"pickup\" (its "
+                             "full range)");
+        b.listen_through_rig = *listen == "rig";
+    }
+    if (t.has("pickup_inductance_h"))
+        p.inductance_h = Reader::number_in(t, "pickup_inductance_h", {0.01, 100.0, false, false, "H", 1.0});
+    if (t.has("pickup_resistance_ohm"))
+        p.resistance_ohm = Reader::number_in(t, "pickup_resistance_ohm", {1.0, 1e6, false, false, "ohm", 1.0});
+    if (t.has("capacitance_pf"))
+        p.capacitance_f = 1e-12 * Reader::number_in(t, "capacitance_pf", {1.0, 1e5, false, false, "pF", 1.0});
+    if (t.has("load_kohm")) p.load_ohm = 1e3 * Reader::number_in(t, "load_kohm", {1.0, 1e5, false, false, "kohm", 1.0});
+    if (const auto f = r.optional_quantity(t, "speaker_high", Quantity::frequency, {0.5, 40.0, false, false, "kHz", 1e3}))
+        g.speaker_high_hz = *f;
+    if (const auto n = t.optional_count("speaker_order", 1, 8)) g.speaker_order = static_cast<int>(*n);
+    if (const auto f = r.optional_quantity(t, "speaker_low", Quantity::frequency, {1.0, 500.0, false, false, "Hz", 1.0}))
+        g.speaker_low_hz = *f;
+    if (!(g.speaker_low_hz < g.speaker_high_hz))
+        throw InputError(t.key_path("speaker_low") + " must lie below " + t.key_path("speaker_high"));
+}
+
+void read_rig(Reader& r, std::optional<TomlSection> s, Instrument& inst) {
+    const std::string file = "rigs/" + inst.attack.style + ".toml";
+    const auto text = find_builtin_file(file);
+    if (!text) throw std::logic_error("the built-in " + file + " is missing");
+    const toml::table defaults = parse_toml_document(*text, file);
+    TomlSection d(defaults, "rig");
+    read_rig_keys(r, d, inst.bench);
+    d.finish();
+    if (s) {
+        read_rig_keys(r, *s, inst.bench);
+        s->finish();
+    }
+}
+
 void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
     BenchSettings& b = inst.bench;
     const toml::table empty;
@@ -714,6 +756,7 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
         read_attack(r, top.optional_section("attack"), shortest, inst);
         read_physics_tables(r, top, inst);
         read_simulation(r, top.optional_section("simulation"), shortest, inst);
+        read_rig(r, top.optional_section("rig"), inst);
     });
     note_string_loads(string_tables, inst);
     const AttackSettings& a = inst.attack;

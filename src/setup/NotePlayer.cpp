@@ -285,6 +285,7 @@ PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std:
 ListeningSettings listening_settings(const BenchSettings& bench) {
     ListeningSettings s;
     s.level_db_spl = bench.listening_level_db_spl;
+    if (bench.listen_through_rig) s.rig = bench.rig;
     return s;
 }
 

@@ -35,8 +35,11 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
+
+#include "fretbuzz/model/ListeningRig.hpp"
 
 namespace fretbuzz {
 
@@ -54,6 +57,9 @@ struct ListeningSettings {
     // touching), which the listener's interference term hears at -36 dB whatever the touch;
     // at 96 kHz it is 1.1e-9.
     double rate_hz = 96000.0;
+    // What the pickup is heard through (a rig: its power gain weighs every bin); none: the
+    // pickup's full range, the strictest listener.
+    std::optional<RigSettings> rig;
 };
 
 struct AddedLevel {

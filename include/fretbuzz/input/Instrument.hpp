@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fretbuzz/Case.hpp"
+#include "fretbuzz/model/ListeningRig.hpp"
 #include "fretbuzz/geometry/NeckBeam.hpp"
 
 namespace fretbuzz {
@@ -136,6 +137,10 @@ struct BenchSettings {
     // level, and a pluck heard to buzz when its contacts rise this far above the masked threshold.
     double listening_level_db_spl = 85.0;
     double audible_db = 0.0;
+    // What the listener hears the pickup through: the rig (cases/rigs/STYLE.toml's figures, the
+    // file's [rig] over them) or, with listen = "pickup" (--listen pickup), its full range.
+    bool listen_through_rig = true;
+    RigSettings rig;
     double fret_friction = 0.0;        // Coulomb coefficient at the frets (the y polarisation's drag)
     double contact_stiffness = 1e13;   // K
     double contact_exponent = 1.5;     // alpha
