@@ -172,7 +172,8 @@ TEST(SetupCalibration, BadRowsAreRefusedNamingTheColumnAndRow) {
     expect_refused("", "holds no rows", "string, fret, heard");
     expect_refused("string,fret\nE,3\n", "no column heard", "string, fret, heard");
     expect_refused("string,fret,heard,strenght\nE,3,buzz,soft\n", "\"strenght\"", "string, fret, heard");
-    expect_refused("string,fret,heard\nE,3\n", "row 1", "the header names 3 columns");
+    expect_refused("string,fret,heard\nE,3,buzz,soft\n", "row 1", "the header names 3 columns");
+    expect_refused("string,fret,heard\nE,3\n", "row 1 (line 2), column heard", "must be buzz or clean");
     std::string many = "string,fret,heard\n";
     for (std::size_t k = 0; k <= kMaxReportRows; ++k) many += "E,3,buzz\n";
     expect_refused(many, "row 10001", "at most 10000 rows");
@@ -186,6 +187,26 @@ TEST(SetupCalibration, BadRowsAreRefusedNamingTheColumnAndRow) {
     EXPECT_EQ(rows[1].string, 3u);
     EXPECT_EQ(rows[1].attack.label, "medium");
     EXPECT_DOUBLE_EQ(rows[1].attack.size, bass.attack.medium_m);
+}
+
+// The report of docs/setup.md ("Calibrating the attack to your own ears") reads as it says.
+TEST(SetupCalibration, TheTutorialsReportReads) {
+    std::ifstream in(std::string(FRETBUZZ_SOURCE_DIR) + "/docs/setup.md");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string doc = text.str();
+    const std::size_t section = doc.find("### Calibrating the attack to your own ears");
+    ASSERT_NE(section, std::string::npos);
+    const std::size_t start = doc.find("```csv\n", section);
+    ASSERT_NE(start, std::string::npos);
+    const std::size_t end = doc.find("```", start + 7);
+    const Instrument bass = testing::quick_bass();
+    const auto rows = parse_player_report(doc.substr(start + 7, end - start - 7), "docs/setup.md", bass);
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_FALSE(rows[0].buzz);
+    EXPECT_TRUE(rows[1].buzz);
+    EXPECT_EQ(rows[2].attack.label, "hard");
+    EXPECT_EQ(rows[3].attack.label, "medium");  // left out: medium
 }
 
 TEST(SetupCalibration, APlayerFileIsCheckedBeforeItIsUsed) {

@@ -167,9 +167,10 @@ std::vector<HeardNote> parse_player_report(std::string_view text, const std::str
         const std::string at = where + ": row " + std::to_string(h.row) + " (line " + std::to_string(line_number) + ")";
         if (h.row > kMaxReportRows)
             throw InputError(at + ": a report holds at most " + std::to_string(kMaxReportRows) + " rows");
-        if (cells.size() != header.size())
+        if (cells.size() > header.size())
             throw InputError(at + " has " + std::to_string(cells.size()) + " cells; the header names " +
                              std::to_string(header.size()) + " columns");
+        cells.resize(header.size());  // a short row leaves its last cells empty (strength: medium)
         const std::string& name = cells[string_col];
         const auto s = std::find_if(instrument.strings.begin(), instrument.strings.end(),
                                     [&](const auto& string) { return string.name == name; });
