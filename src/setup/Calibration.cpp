@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -314,7 +315,9 @@ Calibration calibrate_attack(const Instrument& instrument, const std::vector<Hea
         map.jobs = request.jobs;
         if (request.on_note)
             map.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t) { request.on_note(v, done_before + done, total); };
+        map.stop = request.stop;
         const BuzzMapResult result = play_map(instrument, map);
+        if (result.stopped_early) throw Interrupted(stop_signal() ? stop_signal() : SIGINT);
         simulated += result.plucks_simulated;
         for (const NoteVerdict& v : result.notes) verdicts[{label, v.string, v.fret}] = v;
         done_before += map.notes.size();

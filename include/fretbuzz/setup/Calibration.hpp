@@ -87,10 +87,12 @@ struct CalibrationRequest {
     bool finger = false;  // stopped notes by the finger model
     unsigned jobs = 0;    // threads; 0: the hardware's
     std::function<void(const NoteVerdict&, std::size_t done, std::size_t total)> on_note;
+    // Asked before each pluck: true stops the calibration (Interrupted): a fit needs every note.
+    std::function<bool()> stop;
 };
 
 // Plays the reported notes (each distinct note and attack once, clean_up_to searched) on the
-// instrument as it is, and fits the scale.
+// instrument as it is, and fits the scale. Throws Interrupted when stopped (Ctrl-C or `stop`).
 Calibration calibrate_attack(const Instrument& instrument, const std::vector<HeardNote>& report,
                              const CalibrationRequest& request = {});
 
