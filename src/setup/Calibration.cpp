@@ -261,12 +261,12 @@ Calibration fit_attack_scale(std::vector<CalibratedNote> notes) {
     const std::string range = "(" + scale_text(c.low) + ", " + scale_text(c.high) + (c.high_at_least ? " or more" : "") + "]";
     if (c.explained) {
         s << "Attack scale " << scale_text(c.attack_scale) << ": every scale in " << range << " of the instrument's attacks "
-          << "explains all " << used << " notes used.";
-        if (!c.low_bounded) s << " No note heard buzzing bounds it from below: the scale is the largest the clean notes allow"
-                              << (c.attack_scale < c.high ? " or the instrument's own attack." : ".");
+          << "explains " << (used == 1 ? std::string("the one note") : "all " + std::to_string(used) + " notes") << " used.";
+        const char* const nearest_one = ": the scale given is the one in the interval nearest the instrument's own attack (1x).";
+        if (!c.low_bounded) s << " No note heard buzzing bounds it from below" << nearest_one;
         else if (c.high_at_least)
             s << " No note heard clean bounds it from above within the bench's search (up to " << scale_text(kCleanUpToCap)
-              << "): the scale is the smallest the buzzing notes allow or the instrument's own attack.";
+              << ")" << nearest_one;
     } else {
         s << "No scale explains the report: at best " << c.disagreements << " of " << used << " notes disagree (at "
           << range << "; the scale given, " << scale_text(c.attack_scale) << ", is that compromise).";
