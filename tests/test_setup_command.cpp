@@ -44,7 +44,7 @@ TEST(SetupCommand, AMapWritesItsFiles) {
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
               "string,fret,strength,verdict,buzz_fraction,buzz_fraction_low,buzz_fraction_high,buzz_dB,buzz_fret,"
               "touch_fraction,plucks,clean_up_to,clean_up_to_value,unit,stiffness_sensitive,status,clearance_mm,audio,"
-              "pluck_dB");
+              "pluck_dB,first_touch_s,pluck_touch_s");
     // Every number in its shortest form that reads back exactly (never 0.00050000000000000001).
     std::istringstream rows(csv);
     std::string line;

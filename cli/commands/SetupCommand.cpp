@@ -14,6 +14,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "fretbuzz/output/OutputDirectory.hpp"
 #include "fretbuzz/setup/Advice.hpp"
 #include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/Calibration.hpp"
 #include "fretbuzz/setup/FretDress.hpp"
 #include "fretbuzz/setup/MapFiles.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
@@ -36,7 +38,8 @@ namespace {
 
 struct SetupArguments {
     std::string instrument, out;
-    std::string strength = "soft,medium,hard", compare, strings, frets, jobs, ensemble, fs, duration;
+    std::string strength, compare, strings, frets, jobs, ensemble, fs, duration;  // strength "": soft,medium,hard
+    std::string calibrate, player;
     std::string tolerate, dress_depth, crown, fall_away, listen;
     WhatIfWords what_if;
     bool finger = false, advice = false, dress = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
@@ -121,8 +124,54 @@ std::string verdict_text(const NoteVerdict& v) {
     return out;
 }
 
+// --calibrate: the attack scale that explains what the player hears, on the instrument as it is
+// (so no what-if, and the report's rows say which notes and attacks).
+int calibrate_command(const SetupArguments& a) {
+    const bool shaped = !a.strength.empty() || !a.compare.empty() || !a.strings.empty() || !a.frets.empty() || a.advice ||
+                        a.dress || !a.tolerate.empty() || a.stiffness_check || a.no_clean_up_to || !a.what_if.words().empty();
+    if (!a.player.empty())
+        throw InputError("--calibrate finds the player's attack scale and --player applies one: give one of them");
+    if (shaped)
+        throw InputError("--calibrate plays the report's notes (its string, fret and strength columns) on the instrument "
+                         "as it is: give it without what-ifs, --strength, --strings, --frets, --compare, --advice, --dress, "
+                         "--tolerate, --stiffness-check or --no-clean-up-to");
+    Instrument instrument = load_instrument(a.instrument);
+    for (const std::string& w : instrument.warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
+    apply_settings(a, instrument);
+    describe_geometry(instrument);
+    const std::vector<HeardNote> report = read_player_report(a.calibrate, instrument);
+    CalibrationRequest request;
+    request.finger = a.finger;
+    if (!a.jobs.empty()) request.jobs = static_cast<unsigned>(whole_number(a.jobs, "--jobs", 1, 256, "the thread count"));
+    OutputDirectory out(a.out);
+    const bool terminal = ::isatty(STDERR_FILENO) != 0;
+    if (!a.quiet)
+        request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) {
+            std::cerr << (terminal ? "\r\033[K" : "") << "fretbuzz: calibrating " << done << "/" << total << " "
+                      << v.string_name << " fret " << v.fret << " " << v.strength << ": " << verdict_text(v)
+                      << (terminal ? "" : "\n") << std::flush;
+        };
+    Calibration calibration;
+    try {
+        calibration = calibrate_attack(instrument, report, request);
+    } catch (const Interrupted& e) {
+        std::cerr << "\nfretbuzz: " << e.what() << ": nothing was written to " << a.out << "\n";
+        return 128 + e.signal();
+    }
+    if (!a.quiet && terminal) std::cerr << "\n";
+    std::ofstream(out.staged("calibration.json")) << calibration_json(calibration, instrument, a.calibrate, command_line())
+                                                  << "\n";
+    throw_if_stopped();
+    out.commit();
+    std::cerr << calibration_text(calibration) << "fretbuzz: " << report.size() << " rows, "
+              << calibration.plucks_simulated << " plucks simulated in " << std::fixed << std::setprecision(1)
+              << calibration.wall_seconds << " s; " << a.out << "/calibration.json\n";
+    return 0;
+}
+
 int setup_command(const SetupArguments& a) {
     stop_cleanly_on_signals();
+    if (!a.calibrate.empty()) return calibrate_command(a);
     Instrument instrument = load_instrument(a.instrument);
     for (const std::string& w : instrument.warnings) std::cerr << "fretbuzz: warning: " << w << "\n";
     apply_settings(a, instrument);
@@ -138,7 +187,15 @@ int setup_command(const SetupArguments& a) {
                   << std::defaultfloat;
     describe_geometry(instrument);  // every string clear of its frets, before anything runs
     MapRequest request;
-    request.attacks = parse_attacks(a.strength, instrument.attack);
+    request.attacks = parse_attacks(a.strength.empty() ? "soft,medium,hard" : a.strength, instrument.attack);
+    // The player's touch: every attack's size, and so the advice's and the dress's, scaled.
+    std::optional<PlayerTouch> touch;
+    if (!a.player.empty()) {
+        touch = read_player_touch(a.player);
+        scale_attacks(request.attacks, touch->attack_scale);
+        std::cerr << "fretbuzz: the attacks calibrated to the player: " << touch->attack_scale << " x their size ("
+                  << a.player << ")\n";
+    }
     request.finger = a.finger;
     request.stiffness_check = a.stiffness_check;
     request.clean_up_to = !a.no_clean_up_to;
@@ -201,6 +258,10 @@ int setup_command(const SetupArguments& a) {
     doc.changes = a.what_if.words();
     doc.attacks = request.attacks;
     doc.finger = a.finger;
+    if (touch) {
+        doc.player_file = touch->file.string();
+        doc.attack_scale = touch->attack_scale;
+    }
     doc.notes = map.notes;
     doc.wall_seconds = map.wall_seconds;
     write_buzz_map_csv(out.staged("buzz_map.csv"), map.notes);
@@ -309,6 +370,11 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--set", w.string_set,
                     "What-if: the strings replaced by a named set's at the same pitches (cases/strings/sets.toml); the "
                     "neck bows with the strings' pull");
+    cmd->add_option("--calibrate", args->calibrate,
+                    "REPORT.csv (string,fret,heard[,strength]; heard: buzz or clean): find the attack scale that "
+                    "explains what the player hears on the instrument as it is; writes DIR/calibration.json");
+    cmd->add_option("--player", args->player,
+                    "A calibration.json (--calibrate): every attack's size times its attack_scale, in (0, 10]");
     cmd->add_flag("--finger", args->finger, "Stopped notes by the finger model (slow) instead of the stand-in");
     cmd->add_option("--compare", args->compare, "An earlier map's --out: mark the notes that changed");
     cmd->add_option("--strings", args->strings, "Strings to play, by name (e.g. E,A; default: all)");

@@ -20,6 +20,7 @@
 #include "fretbuzz/analysis/Recording.hpp"
 #include "fretbuzz/output/AudioWriter.hpp"
 #include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/Calibration.hpp"
 #include "fretbuzz/setup/FretDress.hpp"
 #include "fretbuzz/setup/InstrumentGeometry.hpp"
 #include "fretbuzz/setup/MapFiles.hpp"
@@ -307,6 +308,25 @@ py::list run_map(const Instrument& instrument, const std::string& strengths, con
     return notes;
 }
 
+// The player's calibration in the background, as run_map: calibration.json's text.
+std::string calibrate(const Instrument& instrument, const std::string& report, const std::string& source, bool finger,
+                      unsigned jobs, const py::object& progress) {
+    const std::vector<HeardNote> rows = parse_player_report(report, source, instrument, "report");
+    CalibrationRequest request;
+    request.finger = finger;
+    request.jobs = jobs;
+    BackgroundRun<std::tuple<NoteVerdict, std::size_t, std::size_t>> background;
+    request.stop = [&background] { return background.stopping(); };
+    request.on_note = [&](const NoteVerdict& v, std::size_t done, std::size_t total) { background.post({v, done, total}); };
+    Calibration c;
+    background.run([&] { c = calibrate_attack(instrument, rows, request); },
+                   [&](const auto& report_of_note) {
+                       const auto& [v, done, total] = report_of_note;
+                       if (!progress.is_none()) progress(verdict_dict(v), done, total);
+                   });
+    return calibration_json(c, instrument, source);
+}
+
 py::dict record(const Instrument& instrument, const std::string& string, const py::object& fret_given,
                 const std::string& strength, const py::object& member_given, bool finger) {
     const std::size_t s = instrument.string_index(string);
@@ -521,6 +541,8 @@ void bind_setup(py::module_& m) {
           },
           py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"), py::arg("finger"),
           "The number of notes a map would play; InputError, before anything runs, for what _setup_map would refuse.");
+    m.def("_setup_calibrate", &calibrate, py::arg("instrument"), py::arg("report"), py::arg("source"), py::arg("finger"),
+          py::arg("jobs"), py::arg("progress"));
     m.def("_setup_note", &record, py::arg("instrument"), py::arg("string"), py::arg("fret"), py::arg("strength"),
           py::arg("member"), py::arg("finger"));
     m.def("_setup_compare", [](const py::iterable& now, const py::iterable& before) {

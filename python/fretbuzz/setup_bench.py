@@ -37,6 +37,7 @@ Tables (pandas DataFrames):
 from __future__ import annotations
 
 import json
+import os
 import queue
 import threading
 from typing import Any, Callable, Dict, Iterable, Iterator, List, Optional, Sequence, Union
@@ -258,6 +259,20 @@ class Bench:
         finally:
             done.set()
             thread.join()
+
+    def calibrate(self, report: Union[str, "os.PathLike[str]"], *, progress: Progress = None) -> dict:
+        """The attack scale that explains what a player hears (docs/setup.md, "Calibrating the
+        attack to your own ears"): report is the CSV's text (string,fret,heard[,strength];
+        heard: buzz or clean) or a path to it. Plays the reported notes on this Bench's
+        instrument and returns what calibration.json holds: attack_scale, attack_scale_low and
+        attack_scale_high, explained, disagreements, statement, disagreeing and notes.
+        progress(note, done, total) as map(); Ctrl-C stops it with KeyboardInterrupt."""
+        source = "(text)"
+        if isinstance(report, os.PathLike):
+            source = os.fspath(report)
+            with open(source, encoding="utf-8") as f:
+                report = f.read(4 << 20)
+        return json.loads(_core._setup_calibrate(self.instrument, report, source, self.finger, self.jobs, progress))
 
     def note(self, string: str, fret: int, strength: str = "medium", *, member: int = 0) -> dict:
         """One pluck of one note, with everything kept: 'audio' (NumPy array, the pickup's

@@ -8,6 +8,7 @@ line's buzz_map.csv holds the same map; the HTML page is drawn from map.json."""
 import csv
 import math
 import os
+import pathlib
 import shutil
 import subprocess
 import tempfile
@@ -194,6 +195,28 @@ class CommandTest(unittest.TestCase):
         from fretbuzz import setup_report
         self.assertEqual(setup_report.main([out]), 0)
         self.assertTrue(os.path.exists(os.path.join(out, "buzz_map.html")))
+
+
+class CalibrationTest(unittest.TestCase):
+    def test_a_players_report_calibrates_the_attack_and_bad_rows_are_refused(self):
+        bench = quick_bench()
+        notes = []
+        out = bench.calibrate("string,fret,heard\nG,19,buzz\nG,5,clean\n",
+                              progress=lambda note, done, total: notes.append((done, total)))
+        self.assertEqual(len(out["notes"]), 2)
+        self.assertEqual(notes[-1], (2, 2))
+        self.assertTrue(out["attack_scale"] is None or 0.0 < out["attack_scale"] <= 3.0)
+        for note in out["notes"]:
+            self.assertIn("clean_up_to", note)
+            self.assertIn(note["heard"], ("buzz", "clean"))
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "report.csv")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write("string,fret,heard\nG,5,sometimes\n")
+            with self.assertRaises(fretbuzz.InputError) as e:
+                bench.calibrate(pathlib.Path(path))
+            self.assertIn("column heard", str(e.exception))
+            self.assertIn("report.csv", str(e.exception))
 
 
 if __name__ == "__main__":

@@ -133,6 +133,8 @@ void write_map_json(const std::filesystem::path& path, const Instrument& instrum
                    {"strength_spread", s.strength_spread},
                    {"seed", s.seed}}},
              {"attacks", attacks},
+             {"calibration", d.player_file.empty() ? Json()
+                                                   : Json{{"file", d.player_file}, {"attack_scale", d.attack_scale}}},
              {"strings", strings},
              {"notes", notes},
              {"compared_with", d.compared_with},

@@ -49,7 +49,9 @@ void write_comparison_csv(const std::filesystem::path& path, std::span<const Not
 struct MapDocument {
     std::string command;                 // the command line that made it
     std::vector<std::string> changes;    // the what-ifs applied, as given
-    std::vector<Attack> attacks;
+    std::vector<Attack> attacks;         // as played (calibrated, with --player)
+    std::string player_file;             // the calibration.json the attacks were scaled by ("": none)
+    double attack_scale = 1.0;           // that file's attack_scale
     bool finger = false;
     std::vector<NoteVerdict> notes;
     std::vector<NoteChange> comparison;  // empty: no comparison
