@@ -303,3 +303,38 @@ TEST(SetupVerdicts, TheDefaultSlapMakesTheUpperFretsClank) {
 
 }  // namespace
 }  // namespace fretbuzz
+
+namespace fretbuzz {
+namespace {
+
+// The coherence study's knob: each stopped note's partials detuned at random by the given rms
+// (in cents), once per note (the same draw for every pluck and every run), different notes
+// drawn apart; none by default.
+TEST(SetupVerdicts, ThePartialScatterDetunesEachPartialByItsRms) {
+    Instrument bass = testing::quick_bass(3, 0.1);
+    const NoteMaker plain(bass, 0);
+    bass.bench.partial_scatter_cents = 2.0;
+    const NoteMaker scattered(bass, 0), again(bass, 0);
+    for (std::size_t fret : {5u, 12u}) {
+        const std::vector<double>& f0 = plain.stopped(fret).modes.frequency_hz;
+        const std::vector<double>& f1 = scattered.stopped(fret).modes.frequency_hz;
+        ASSERT_EQ(f0.size(), f1.size());
+        ASSERT_GT(f0.size(), 100u);
+        double sum = 0.0, squares = 0.0;
+        for (std::size_t j = 0; j < f0.size(); ++j) {
+            const double cents = 1200.0 * std::log2(f1[j] / f0[j]);
+            sum += cents;
+            squares += cents * cents;
+        }
+        const double n = static_cast<double>(f0.size());
+        // The sample rms of n normal draws lies within 4 standard errors (2 / sqrt(2 n)) of 2.
+        EXPECT_NEAR(std::sqrt(squares / n), 2.0, 4.0 * 2.0 / std::sqrt(2.0 * n)) << fret;
+        EXPECT_NEAR(sum / n, 0.0, 4.0 * 2.0 / std::sqrt(n)) << fret;
+        EXPECT_EQ(again.stopped(fret).modes.frequency_hz, f1);  // the same draw for the same note
+    }
+    EXPECT_NE(scattered.stopped(5).modes.frequency_hz[0] / plain.stopped(5).modes.frequency_hz[0],
+              scattered.stopped(12).modes.frequency_hz[0] / plain.stopped(12).modes.frequency_hz[0]);
+}
+
+}  // namespace
+}  // namespace fretbuzz

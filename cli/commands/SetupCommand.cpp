@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,7 @@ struct SetupArguments {
     std::string instrument, out;
     std::string strength, compare, strings, frets, jobs, ensemble, fs, duration;  // strength "": soft,medium,hard
     std::string calibrate, player;
-    std::string tolerate, dress_depth, crown, fall_away, listen;
+    std::string tolerate, dress_depth, crown, fall_away, listen, partial_scatter;
     WhatIfWords what_if;
     bool finger = false, advice = false, dress = false, quiet = false, stiffness_check = false, no_clean_up_to = false;
 };
@@ -83,6 +84,18 @@ void apply_settings(const SetupArguments& a, Instrument& instrument) {
         const double d = parse_quantity_or(a.duration, Quantity::time, "s", "--duration");
         if (!(d >= 0.01 && d <= 5.0)) throw InputError(out_of_range_message("--duration (s)", d, "must be in [0.01, 5]"));
         instrument.bench.duration_s = d;
+    }
+    if (!a.partial_scatter.empty()) {
+        double cents = std::numeric_limits<double>::quiet_NaN();
+        try {
+            std::size_t used = 0;
+            cents = std::stod(a.partial_scatter, &used);
+            if (used != a.partial_scatter.size()) cents = std::numeric_limits<double>::quiet_NaN();
+        } catch (const std::exception&) {
+        }
+        if (!(cents >= 0.0 && cents <= 50.0))
+            throw InputError(out_of_range_message("--partial-scatter (cents)", cents, "must be in [0, 50]"));
+        instrument.bench.partial_scatter_cents = cents;
     }
     if (!a.listen.empty()) {
         if (a.listen != "rig" && a.listen != "pickup")
@@ -401,6 +414,8 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_flag("--stiffness-check", args->stiffness_check,
                   "Also replay every note with each string's bending stiffness x 0.5 and x 1.5 (stiffness_sensitive)");
     cmd->add_flag("--no-clean-up-to", args->no_clean_up_to, "Skip the search of how hard each note can be played");
+    cmd->add_option("--partial-scatter", args->partial_scatter,
+                    "Detune each stopped note's partials at random by this rms, in cents (default 0: the model's own)");
     cmd->add_option("--listen", args->listen,
                     "What the bench hears: rig (the pickup's circuit and a cabinet, default) or pickup (its full range)");
     cmd->add_option("--fs", args->fs, "Sampling rate (default: the instrument's)");

@@ -638,6 +638,8 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
                                    ? Reader::number_in(t, "listening_level", {40.0, 120.0, false, false, "dB SPL", 1.0})
                                    : 85.0;
     b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-40.0, 40.0, false, false, "dB", 1.0}) : 0.0;
+    b.partial_scatter_cents =
+        t.has("partial_scatter") ? Reader::number_in(t, "partial_scatter", {0.0, 50.0, false, false, "cents", 1.0}) : 0.0;
     b.fret_friction = t.has("fret_friction") ? Reader::number_in(t, "fret_friction", {0.0, 2.0, false, false, "", 1.0}) : 0.0;
     if (const auto stops = t.optional_text("stopped_modes")) {
         if (*stops != "held" && *stops != "pinned")

@@ -139,6 +139,10 @@ struct BenchSettings {
     double audible_db = 0.0;
     // What the listener hears the pickup through: the rig (cases/rigs/STYLE.toml's figures, the
     // file's [rig] over them) or, with listen = "pickup" (--listen pickup), its full range.
+    // Each stopped note's partials detuned at random by this rms (cents; 0: the model's exact
+    // frequencies): what keeps real strings from recombining their partials in phase as the
+    // model does (the coherence study, docs/setup.md).
+    double partial_scatter_cents = 0.0;
     bool listen_through_rig = true;
     RigSettings rig;
     double fret_friction = 0.0;        // Coulomb coefficient at the frets (the y polarisation's drag)

@@ -59,6 +59,8 @@ public:
     std::vector<std::size_t> fret_numbers(std::size_t fret) const;
 
 private:
+    // Each partial of a stopped note detuned at random by the bench's partial scatter (none by default).
+    void scatter(ModeTable& modes, std::size_t fret) const;
     // The string's own modes at a vibrating length: stiff-string frequencies and the damping law.
     ModeTable string_modes(double length, std::size_t modes) const;
     double pluck_position(double sounding, const Attack& attack, const PluckVariation& pluck) const;
@@ -76,6 +78,8 @@ private:
     double bending_stiffness_, eta0_, eta2_;
     double fret_friction_;
     double thumb_mass_, thumb_stiffness_, thumb_loss_;
+    double scatter_cents_;         // BenchSettings::partial_scatter_cents
+    unsigned long long seed_;
 };
 
 // The z share of an attack's release (or a thumb's speed) for a member of its ensemble: the
