@@ -244,11 +244,13 @@ py::dict settings(const Instrument& i) {
     d["strength_spread"] = i.attack.strength_spread;
     d["seed"] = i.attack.seed;
     d["stopped_modes"] = i.bench.pinned_stops ? "pinned" : "held";
+    d["listen"] = i.bench.listen_through_rig ? "rig" : "pickup";
+    d["partial_scatter_cents"] = i.bench.partial_scatter_cents;
     return d;
 }
 
 Instrument with_settings(const Instrument& instrument, const py::object& ensemble, const py::object& fs,
-                         const py::object& duration) {
+                         const py::object& duration, const py::object& listen, const py::object& partial_scatter) {
     Instrument i = instrument;
     if (!ensemble.is_none()) {
         i.attack.ensemble = static_cast<std::size_t>(to_whole(ensemble, "ensemble (the most plucks per note)", 1, 200));
@@ -262,6 +264,21 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
         const double v = to_number(duration, "duration (s, in [0.01, 5])");
         if (!(v >= 0.01 && v <= 5.0)) throw InputError(out_of_range_message("duration (s)", v, "must be in [0.01, 5]"));
         i.bench.duration_s = v;
+    }
+    if (!listen.is_none()) {
+        if (!py::isinstance<py::str>(listen))
+            throw py::type_error("listen: expected 'rig' or 'pickup', got " + type_name(listen));
+        const std::string how = listen.cast<std::string>();
+        if (how != "rig" && how != "pickup")
+            throw InputError("listen = '" + how + "': must be 'rig' (the pickup's circuit and a cabinet) or 'pickup' "
+                             "(its full range)");
+        i.bench.listen_through_rig = how == "rig";
+    }
+    if (!partial_scatter.is_none()) {
+        const double v = to_number(partial_scatter, "partial_scatter (cents, in [0, 50])");
+        if (!(v >= 0.0 && v <= 50.0))
+            throw InputError(out_of_range_message("partial_scatter (cents)", v, "must be in [0, 50]"));
+        i.bench.partial_scatter_cents = v;
     }
     return i;
 }
@@ -504,7 +521,8 @@ void bind_setup(py::module_& m) {
              "The neck under each string: a list of dicts (see fretbuzz.Bench.geometry). InputError if a string "
              "would lie on a fret.")
         .def("with_settings", &with_settings, py::arg("ensemble") = py::none(), py::arg("fs") = py::none(),
-             py::arg("duration") = py::none(), "A copy with these simulation settings (InputError if out of range).")
+             py::arg("duration") = py::none(), py::arg("listen") = py::none(), py::arg("partial_scatter") = py::none(),
+             "A copy with these simulation settings (InputError if out of range).")
         .def("with_changes", &changed, py::arg("relief") = py::none(), py::arg("action12") = py::dict(),
              py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
              py::arg("tune") = py::dict(), py::arg("string_set") = py::none(), py::arg("relief_change") = py::none(),

@@ -113,19 +113,23 @@ class Bench:
     """An instrument on the set-up bench, with how its notes are played.
 
     Bench(instrument="jazz-bass", *, strengths="soft,medium,hard", finger=False, jobs=None,
-          ensemble=None, fs=None, duration=None)
+          ensemble=None, fs=None, duration=None, listen=None, partial_scatter=None)
 
     instrument: a built-in name (fretbuzz.instruments()), the path of an instrument file, or a
     fretbuzz.Instrument. strengths: the attacks the map plays by default (soft, medium and hard
     finger plucks, pop, slap, or an amplitude such as "1.2 mm"). finger: play stopped notes with
     the finger model (slow) instead of the stand-in. jobs: threads (None: every core).
     ensemble, fs, duration: override the instrument's plucks per note, sampling rate (Hz) and
-    seconds per note. A Bench is a value: what-ifs return a new Bench.
+    seconds per note. listen: "rig" (the pickup's circuit and a cabinet, the default) or
+    "pickup" (its full range). partial_scatter: each stopped note's partials detuned at random by
+    this rms, in cents (the coherence study's knob; default 0). A Bench is a value: what-ifs
+    return a new Bench.
     """
 
     def __init__(self, instrument: Union[str, Instrument] = "jazz-bass", *, strengths: str = "soft,medium,hard",
                  finger: bool = False, jobs: Optional[int] = None, ensemble: Optional[int] = None,
-                 fs: Optional[float] = None, duration: Optional[float] = None):
+                 fs: Optional[float] = None, duration: Optional[float] = None, listen: Optional[str] = None,
+                 partial_scatter: Optional[float] = None):
         if isinstance(instrument, Instrument):
             base = instrument
         elif isinstance(instrument, str):
@@ -134,7 +138,8 @@ class Bench:
             raise TypeError(f"instrument: expected a name, a path or a fretbuzz.Instrument, got {type(instrument).__name__}")
         if not isinstance(finger, bool):
             raise TypeError(f"finger: expected a bool, got {type(finger).__name__}")
-        self.instrument: Instrument = base.with_settings(ensemble=ensemble, fs=fs, duration=duration)
+        self.instrument: Instrument = base.with_settings(ensemble=ensemble, fs=fs, duration=duration, listen=listen,
+                                                         partial_scatter=partial_scatter)
         self.strengths = strengths
         self.finger = finger
         self.jobs = _jobs(jobs)
@@ -168,7 +173,8 @@ class Bench:
     def settings(self) -> dict:
         """fs_hz, duration_s, grid_step_m, output_rate_hz, observe_from_bridge_m, buzz_band_hz,
         audible_dB (the threshold a pluck's buzz level must reach to count as audible),
-        ensemble, position_spread_m, strength_spread, seed, stopped_modes."""
+        ensemble, position_spread_m, strength_spread, seed, stopped_modes, listen ("rig" or
+        "pickup"), partial_scatter_cents."""
         return self.instrument.settings
 
     def strings_table(self):

@@ -120,11 +120,23 @@ class MapTest(unittest.TestCase):
                            (lambda: bench.map(frets=[25]), "frets"),
                            (lambda: bench.map(strengths="-1e-3"), "strengths"),
                            (lambda: fretbuzz.Bench("jazz-bass", ensemble=0), "ensemble"),
+                           (lambda: fretbuzz.Bench("jazz-bass", listen="amp"), "listen"),
+                           (lambda: fretbuzz.Bench("jazz-bass", partial_scatter=60), "partial_scatter"),
                            (lambda: fretbuzz.Bench("banjo"), "jazz-bass"),
                            (lambda: bench.note("G", 3, "hard", member=9), "member")):
             with self.assertRaises(fretbuzz.InputError) as caught:
                 call()
             self.assertIn(says, str(caught.exception))
+
+    def test_the_rig_hears_a_touch_less_than_the_pickups_full_range(self):
+        # The rig (the pickup's circuit and a cabinet falling above 4 kHz) weighs a touch's click,
+        # which spreads far above the note, down: the same pluck reads lower through it.
+        rig, pickup = quick_bench(), quick_bench(listen="pickup")
+        self.assertEqual((rig.settings["listen"], pickup.settings["listen"]), ("rig", "pickup"))
+        through, full = rig.note("G", 19, "hard"), pickup.note("G", 19, "hard")
+        self.assertTrue(through["touched"] and full["touched"])
+        self.assertLess(through["buzz_dB"], full["buzz_dB"] - 1.0)
+        self.assertEqual(quick_bench(partial_scatter=1.5).settings["partial_scatter_cents"], 1.5)
 
     def test_what_ifs_compare_and_advice(self):
         bench = quick_bench()
