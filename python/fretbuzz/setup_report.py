@@ -52,6 +52,22 @@ def _viridis(t: float) -> str:
     return f"rgb({r}, {g}, {b})"
 
 
+def change_text(before: dict, now: dict, reason: str) -> str:
+    """How a note changed, by the rule that called it changed (Bench.compare's reason): what it
+    was and what it is, as the page and the studio both say it."""
+    def plucks(n: dict) -> str:
+        return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
+    if reason == "verdict":
+        return f"{before['verdict']} \u2192 {now['verdict']}"
+    if reason == "margin" and before.get("clean_up_to") is not None and now.get("clean_up_to") is not None:
+        return f"clean up to {before['clean_up_to']:.2f}x \u2192 {now['clean_up_to']:.2f}x the attack"
+    if reason == "loudness" and before.get("buzz_dB") is not None and now.get("buzz_dB") is not None:
+        return f"{before['buzz_dB']:.1f} \u2192 {now['buzz_dB']:.1f} dB"
+    if reason == "fret" and before.get("buzz_fret") is not None:
+        return f"against fret {before['buzz_fret']} \u2192 {now.get('buzz_fret')}"
+    return f"{plucks(before)} \u2192 {plucks(now)} plucks buzz"
+
+
 def clean_up_to_text(note: dict) -> str:
     """How much harder than the attack the note stays clean: "1.4x", "3x+" (at least), "0" when
     it frets out, "" when unknown."""
@@ -180,7 +196,7 @@ def render(directory: str, out: Optional[str] = None) -> str:
         dress_rows=_cells(doc, dress["after"], {}) if dress else [], units=units,
         shop=lambda mm, fine=False, change=False: shop_length(mm, units, fine, change),
         views=side_view(doc["strings"]), changed=[c for c in doc.get("comparison", []) if c["change"] in ("better", "worse", "moved")],
-        mm=lambda v: "" if v is None else f"{1e3 * v:.2f}", isnan=lambda v: v is None or (isinstance(v, float) and math.isnan(v)))
+        change_text=change_text, mm=lambda v: "" if v is None else f"{1e3 * v:.2f}", isnan=lambda v: v is None or (isinstance(v, float) and math.isnan(v)))
     path = out or os.path.join(directory, "buzz_map.html")
     tmp = path + ".tmp"
     with open(tmp, "w", encoding="utf-8") as f:

@@ -407,6 +407,8 @@ class StudioMapTest(unittest.TestCase):
         for string, fret, strength in changed:
             cell = re.search(rf'id="note-{string}-{fret}-{strength}"[^>]*aria-label="([^"]*)"', html).group(1)
             self.assertRegex(cell, r"(worse|better) than before|another fret than before")
+            # Said as the page says it (setup_report.change_text): what it was, then what it is.
+            self.assertRegex(cell, r": .+ \u2192 .+\)$")
 
     def test_every_cell_says_its_verdict_and_attack_in_words(self):
         html = self.studio.request("GET", f"/fragment/maps?map={self.first.id}")[2].decode()

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any, Dict, List, Optional
 
-from ..setup_report import clean_up_to_text, note_colour, shop_length, side_view, stopped_string
+from ..setup_report import change_text, clean_up_to_text, note_colour, shop_length, side_view, stopped_string
 
 # How each change from the previous map is marked, in text as well as by the cell's outline.
 CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "better than before"),
@@ -19,19 +19,6 @@ CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "
 
 def _plucks(n: dict) -> str:
     return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
-
-
-def _before(was: dict, reason: str) -> str:
-    """What the note was, by the rule that called it changed (Bench.compare's reason)."""
-    if reason == "verdict":
-        return f"it was {was['verdict']}"
-    if reason == "margin" and was.get("clean_up_to") is not None:
-        return f"clean up to {was['clean_up_to']:.2f}x the attack before"
-    if reason == "loudness" and was.get("buzz_dB") is not None:
-        return f"{was['buzz_dB']:.1f} dB before"
-    if reason == "fret" and was.get("buzz_fret") is not None:
-        return f"against fret {was['buzz_fret']} before"
-    return f"{_plucks(was)} plucks buzzed"
 
 
 def verdict(n: dict) -> str:
@@ -88,7 +75,7 @@ def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
     mark = CHANGE_MARKS[change][0] if change else ""
     if change:
         was = n.get("before")
-        label += f" ({CHANGE_MARKS[change][1]}" + (f": {_before(was, n.get('reason', ''))}" if was else "") + ")"
+        label += f" ({CHANGE_MARKS[change][1]}" + (f": {change_text(was, n, n.get('reason', ''))}" if was else "") + ")"
     colour = note_colour(n)
     return {"string": string, "fret": fret, "strength": strength, "kind": kind, "text": text, "label": label,
             "colour": colour, "ink": _ink(colour), "change": change, "mark": mark, "audio": n.get("audio") or ""}
