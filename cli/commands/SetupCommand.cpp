@@ -14,9 +14,9 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <limits>
 #include <optional>
 #include <stdexcept>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -86,23 +86,15 @@ void apply_settings(const SetupArguments& a, Instrument& instrument) {
         instrument.bench.duration_s = d;
     }
     if (!a.partial_scatter.empty()) {
+        // Not a number reads as NaN, which the range refuses, naming it.
+        const std::string& text = a.partial_scatter;
         double cents = std::numeric_limits<double>::quiet_NaN();
-        try {
-            std::size_t used = 0;
-            cents = std::stod(a.partial_scatter, &used);
-            if (used != a.partial_scatter.size()) cents = std::numeric_limits<double>::quiet_NaN();
-        } catch (const std::exception&) {
-        }
-        if (!(cents >= 0.0 && cents <= 50.0))
-            throw InputError(out_of_range_message("--partial-scatter (cents)", cents, "must be in [0, 50]"));
-        instrument.bench.partial_scatter_cents = cents;
+        if (const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), cents);
+            error != std::errc() || end != text.data() + text.size())
+            cents = std::numeric_limits<double>::quiet_NaN();
+        instrument.bench.partial_scatter_cents = checked_partial_scatter(cents, "--partial-scatter");
     }
-    if (!a.listen.empty()) {
-        if (a.listen != "rig" && a.listen != "pickup")
-            throw InputError("--listen " + a.listen + ": must be rig (through the pickup's circuit and a cabinet, the "
-                             "instrument's [rig]) or pickup (its full range)");
-        instrument.bench.listen_through_rig = a.listen == "rig";
-    }
+    if (!a.listen.empty()) instrument.bench.listen_through_rig = listens_through_rig(a.listen, "--listen");
 }
 
 std::string clock(double seconds) {

@@ -268,18 +268,11 @@ Instrument with_settings(const Instrument& instrument, const py::object& ensembl
     if (!listen.is_none()) {
         if (!py::isinstance<py::str>(listen))
             throw py::type_error("listen: expected 'rig' or 'pickup', got " + type_name(listen));
-        const std::string how = listen.cast<std::string>();
-        if (how != "rig" && how != "pickup")
-            throw InputError("listen = '" + how + "': must be 'rig' (the pickup's circuit and a cabinet) or 'pickup' "
-                             "(its full range)");
-        i.bench.listen_through_rig = how == "rig";
+        i.bench.listen_through_rig = listens_through_rig(listen.cast<std::string>(), "listen");
     }
-    if (!partial_scatter.is_none()) {
-        const double v = to_number(partial_scatter, "partial_scatter (cents, in [0, 50])");
-        if (!(v >= 0.0 && v <= 50.0))
-            throw InputError(out_of_range_message("partial_scatter (cents)", v, "must be in [0, 50]"));
-        i.bench.partial_scatter_cents = v;
-    }
+    if (!partial_scatter.is_none())
+        i.bench.partial_scatter_cents =
+            checked_partial_scatter(to_number(partial_scatter, "partial_scatter (cents, in [0, 50])"), "partial_scatter");
     return i;
 }
 

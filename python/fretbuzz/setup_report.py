@@ -52,11 +52,14 @@ def _viridis(t: float) -> str:
     return f"rgb({r}, {g}, {b})"
 
 
+def plucks_text(n: dict) -> str:
+    """How many of a note's plucks buzz, of those played: "3/25"."""
+    return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
+
+
 def change_text(before: dict, now: dict, reason: str) -> str:
     """How a note changed, by the rule that called it changed (Bench.compare's reason): what it
     was and what it is, as the page and the studio both say it."""
-    def plucks(n: dict) -> str:
-        return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
     if reason == "verdict":
         return f"{before['verdict']} \u2192 {now['verdict']}"
     if reason == "margin" and before.get("clean_up_to") is not None and now.get("clean_up_to") is not None:
@@ -65,7 +68,7 @@ def change_text(before: dict, now: dict, reason: str) -> str:
         return f"{before['buzz_dB']:.1f} \u2192 {now['buzz_dB']:.1f} dB"
     if reason == "fret" and before.get("buzz_fret") is not None:
         return f"against fret {before['buzz_fret']} \u2192 {now.get('buzz_fret')}"
-    return f"{plucks(before)} \u2192 {plucks(now)} plucks buzz"
+    return f"{plucks_text(before)} \u2192 {plucks_text(now)} plucks buzz"
 
 
 def clean_up_to_text(note: dict) -> str:
@@ -163,8 +166,8 @@ def _cells(doc: dict, notes: List[dict], changes: Dict[tuple, str]) -> List[dict
                 level = "" if n["buzz_dB"] is None else f"{n['buzz_dB']:+.0f} dB over the masked threshold"
                 up_to = clean_up_to_text(n)
                 title = (f"{s['name']} fret {k}, {attack}: {n['status']}" if n["status"] != "ok" else
-                         f"{s['name']} fret {k}, {attack}: {n['verdict']}, {round(n['buzz_fraction'] * n['plucks'])}/"
-                         f"{n['plucks']} plucks buzz" + (f", median {level}" if level else "") +
+                         f"{s['name']} fret {k}, {attack}: {n['verdict']}, {plucks_text(n)} plucks buzz" +
+                         (f", median {level}" if level else "") +
                          (f", against fret {n['buzz_fret']}" if n["buzz_fret"] not in (None, "") else "") +
                          (f", first touch at {n['first_touch_s'] * 1e3:.0f} ms" if n.get("first_touch_s") is not None
                           else "") +

@@ -536,6 +536,14 @@ void read_attack_keys(Reader& r, TomlSection& s, double shortest, AttackSettings
                          number_text(a.hard_m * 1e3) + " mm)");
 }
 
+// A style's built-in defaults, cases/FOLDER/STYLE.toml, parsed.
+toml::table style_defaults(const std::string& folder, const std::string& style) {
+    const std::string file = folder + "/" + style + ".toml";
+    const auto text = find_builtin_file(file);
+    if (!text) throw std::logic_error("the built-in " + file + " is missing");
+    return parse_toml_document(*text, file);
+}
+
 // The attacks: the style's defaults (cases/attacks/STYLE.toml: a bass's when the lowest
 // string sounds below 60 Hz or a scale reaches 0.75 m, else a guitar's), then the file's own
 // [attack] keys over them.
@@ -555,10 +563,7 @@ void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instr
             style = *given;
         }
     }
-    const std::string file = "attacks/" + style + ".toml";
-    const auto text = find_builtin_file(file);
-    if (!text) throw std::logic_error("the built-in " + file + " is missing");
-    const toml::table defaults = parse_toml_document(*text, file);
+    const toml::table defaults = style_defaults("attacks", style);
     TomlSection d(defaults, "attack");
     d.text("style");
     read_attack_keys(r, d, shortest, a, true);
@@ -572,18 +577,30 @@ void read_attack(Reader& r, std::optional<TomlSection> s, double shortest, Instr
     }
 }
 
+}  // namespace
+
+bool listens_through_rig(const std::string& word, const std::string& key) {
+    if (word == "rig") return true;
+    if (word == "pickup") return false;
+    throw InputError(key + " = \"" + word + "\": must be \"rig\" (through the pickup's circuit and a cabinet) or "
+                     "\"pickup\" (its full range)");
+}
+
+double checked_partial_scatter(double cents, const std::string& key) {
+    if (!(cents >= 0.0 && cents <= kMostPartialScatterCents))
+        throw InputError(out_of_range_message(key + " (cents)", cents,
+                                              "must be in [0, " + number_text(kMostPartialScatterCents) + "]"));
+    return cents;
+}
+
+namespace {
+
 // The rig the bench hears through: the style's figures (cases/rigs/STYLE.toml, the same
 // style as the attacks'), then the file's own [rig] keys over them.
 void read_rig_keys(Reader& r, TomlSection& t, BenchSettings& b) {
     RigSettings& g = b.rig;
     PickupCircuit& p = g.pickup;
-    if (const auto listen = t.optional_text("listen")) {
-        if (*listen != "rig" && *listen != "pickup")
-            throw InputError(t.key_path("listen") + " = \"" + *listen +
-                             "\": must be \"rig\" (through the pickup's circuit and a cabinet) or \"pickup\" (its "
-                             "full range)");
-        b.listen_through_rig = *listen == "rig";
-    }
+    if (const auto listen = t.optional_text("listen")) b.listen_through_rig = listens_through_rig(*listen, t.key_path("listen"));
     if (t.has("pickup_inductance_h"))
         p.inductance_h = Reader::number_in(t, "pickup_inductance_h", {0.01, 100.0, false, false, "H", 1.0});
     if (t.has("pickup_resistance_ohm"))
@@ -601,10 +618,7 @@ void read_rig_keys(Reader& r, TomlSection& t, BenchSettings& b) {
 }
 
 void read_rig(Reader& r, std::optional<TomlSection> s, Instrument& inst) {
-    const std::string file = "rigs/" + inst.attack.style + ".toml";
-    const auto text = find_builtin_file(file);
-    if (!text) throw std::logic_error("the built-in " + file + " is missing");
-    const toml::table defaults = parse_toml_document(*text, file);
+    const toml::table defaults = style_defaults("rigs", inst.attack.style);
     TomlSection d(defaults, "rig");
     read_rig_keys(r, d, inst.bench);
     d.finish();
@@ -639,7 +653,7 @@ void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, I
                                    : 85.0;
     b.audible_db = t.has("audible") ? Reader::number_in(t, "audible", {-40.0, 40.0, false, false, "dB", 1.0}) : 0.0;
     b.partial_scatter_cents =
-        t.has("partial_scatter") ? Reader::number_in(t, "partial_scatter", {0.0, 50.0, false, false, "cents", 1.0}) : 0.0;
+        t.has("partial_scatter") ? checked_partial_scatter(t.number("partial_scatter"), t.key_path("partial_scatter")) : 0.0;
     b.fret_friction = t.has("fret_friction") ? Reader::number_in(t, "fret_friction", {0.0, 2.0, false, false, "", 1.0}) : 0.0;
     if (const auto stops = t.optional_text("stopped_modes")) {
         if (*stops != "held" && *stops != "pinned")

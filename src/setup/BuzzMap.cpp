@@ -26,6 +26,13 @@ constexpr double kQuietest = -std::numeric_limits<double>::infinity();
 constexpr std::array kStiffness{0.5, 1.5};
 constexpr std::array<const char*, 2> kStiffnessNames{"0.5", "1.5"};
 
+// The median of some values (the mean of the middle two of an even count); not empty.
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const std::size_t half = values.size() / 2;
+    return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+}
+
 }  // namespace
 
 std::string note_audio_name(const std::string& string_name, std::size_t fret, const std::string& attack) {
@@ -62,16 +69,9 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
     v.buzz_fraction_low = j.interval.low;
     v.buzz_fraction_high = j.interval.high;
     v.touch_fraction = static_cast<double>(j.touching) / static_cast<double>(std::max<std::size_t>(j.counted, 1));
-    std::sort(levels.begin(), levels.end());
-    const std::size_t half = levels.size() / 2;
-    const double median = levels.empty() ? kQuietest
-                                          : levels.size() % 2 ? levels[half] : 0.5 * (levels[half - 1] + levels[half]);
-    v.buzz_db = median > kQuietest ? median : NoteVerdict::nan;
-    if (!touches.empty()) {
-        std::sort(touches.begin(), touches.end());
-        const std::size_t mid = touches.size() / 2;
-        v.first_touch_s = touches.size() % 2 ? touches[mid] : 0.5 * (touches[mid - 1] + touches[mid]);
-    }
+    const double level = levels.empty() ? kQuietest : median(levels);
+    v.buzz_db = level > kQuietest ? level : NoteVerdict::nan;
+    if (!touches.empty()) v.first_touch_s = median(touches);
     const auto& frets = audible_frets.empty() ? touching_frets : audible_frets;
     std::size_t most = 0;
     for (const auto& [fret, count] : frets)

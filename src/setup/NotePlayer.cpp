@@ -141,9 +141,7 @@ const NotePlayer::Reference* NotePlayer::reference(const Attack& attack, std::si
     const auto clean_of = [&](const Case& c, double z) {
         Case free = without_obstacle(c, 0);
         free.run.duration_s = judged_s;
-        Reference r{attack.gesture, member, z, pickup_audio(free, listening_.rate_hz), {}, {}};
-        r.clean = listener_->hear_clean(r.u);
-        return r;
+        return Reference{attack.gesture, member, z, listener_->hear_clean(pickup_audio(free, listening_.rate_hz)), {}};
     };
     // Linear plucks: the clean note of the member's shape, kept for its other sizes. A pluck
     // that rests on a fret when let go (taut_over_obstacle) has a shape of its own.
@@ -219,8 +217,6 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
         o.signal = contacts.signal();
         o.signal_rate_hz = contacts.output_rate_hz();
         o.contacts = contacts.stretches();
-        o.heard = contacts.heard();
-        o.heard_rate_hz = contacts.audio_rate_hz();
         if (audio) {
             o.audio = audio->samples(0);
             o.audio_rate_hz = audio->rate_hz();

@@ -166,6 +166,14 @@ enum class ShopUnits { mm, sixty_fourths, thousandths };
 // thousandths are inches: a bare 0.012 is 0.012 in, a bare 3/32 is 3/32 in).
 inline const char* written_length_unit(ShopUnits units) { return units == ShopUnits::mm ? "mm" : "in"; }
 
+// How the bench listens, as the file's rig.listen, --listen and Python's listen name it: "rig"
+// (true) or "pickup" (false); InputError naming `key` otherwise.
+bool listens_through_rig(const std::string& word, const std::string& key);
+// A partial scatter (BenchSettings::partial_scatter_cents), checked: InputError naming `key`
+// unless in [0, kMostPartialScatterCents].
+inline constexpr double kMostPartialScatterCents = 50.0;
+double checked_partial_scatter(double cents, const std::string& key);
+
 struct Instrument {
     std::string name;
     std::string description;

@@ -1,11 +1,12 @@
 #pragma once
 // One pluck of a note, and how far its contacts are heard above what the clean note masks
 // (analysis/Listener.hpp: the level in dB above the masked threshold of the signal at the
-// pickup; 0 dB is just audible). The clean note u_free is the same pluck with nothing to touch:
-// on the stand-in the string is linear where it does not touch, so u_free comes in closed form
-// (free_motion_at), and the plucks of one member of the ensemble share it, scaled to their
-// size. With the finger model or a slap (the finger and the thumb are not linear) it is a
-// second run with the frets past the stop removed.
+// pickup; 0 dB is just audible). Both are heard as the run's own band-limited audio. The clean
+// note u_free is the same pluck with nothing to touch, run through the same audio path: on the
+// stand-in the string is linear where it does not touch, so the plucks of one member of the
+// ensemble share one such run, scaled to their size. With the finger model or a slap (the
+// finger and the thumb are not linear) it is a second run of each pluck with the frets past
+// the stop removed.
 #include <cstddef>
 #include <filesystem>
 #include <limits>
@@ -47,8 +48,6 @@ struct PluckOutcome {
     double peak_force_n = 0.0;
     std::vector<ContactStretch> contacts;  // kept only when asked (keep_details)
     std::vector<double> signal;            // u at the pickup at the output rate (keep_details)
-    std::vector<double> heard;             // u at the pickup as the listener hears it (keep_details)
-    double heard_rate_hz = 0.0;
     double signal_rate_hz = 0.0;
     std::vector<double> audio;             // the same band-limited to 48 kHz (keep_details with a WAV)
     double audio_rate_hz = 0.0;
@@ -137,7 +136,6 @@ private:
         Gesture gesture;
         std::size_t member;
         double z_share;                 // of the run it was made from
-        std::vector<double> u;          // the clean note at the pickup, as heard
         Listener::Clean clean;          // its band energies and masked threshold
         std::vector<double> shape;      // the initial modal displacement it was made from
     };

@@ -10,15 +10,11 @@ from __future__ import annotations
 import math
 from typing import Any, Dict, List, Optional
 
-from ..setup_report import change_text, clean_up_to_text, note_colour, shop_length, side_view, stopped_string
+from ..setup_report import change_text, clean_up_to_text, note_colour, plucks_text, shop_length, side_view, stopped_string
 
 # How each change from the previous map is marked, in text as well as by the cell's outline.
 CHANGE_MARKS = {"worse": ("\u25b2", "worse than before"), "better": ("\u25bc", "better than before"),
                 "moved": ("\u2194", "buzzes against another fret than before")}
-
-
-def _plucks(n: dict) -> str:
-    return f"{round(n['buzz_fraction'] * n['plucks'])}/{n['plucks']}"
 
 
 def verdict(n: dict) -> str:
@@ -39,7 +35,7 @@ def sentence(n: dict) -> str:
         return f"{where}: frets out" + (f" against fret {n['buzz_fret']}" if n.get("buzz_fret") not in (None, "") else "")
     if kind == "unplayed":
         return f"{where}: {n['status']}"
-    text = f"{where}: {kind}, {_plucks(n)} plucks buzz"
+    text = f"{where}: {kind}, {plucks_text(n)} plucks buzz"
     if n.get("buzz_dB") is not None and not (isinstance(n["buzz_dB"], float) and math.isnan(n["buzz_dB"])):
         text += f", median level {n['buzz_dB']:+.0f} dB over the masked threshold"
     if n.get("buzz_fret") not in (None, "") and n["buzz_fraction"] > 0:
@@ -69,7 +65,7 @@ def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
                 "change": "", "mark": "", "audio": ""}
     kind = verdict(n)
     up_to = clean_up_to_text(n)
-    text = {"out": "out", "unplayed": "\u2013"}.get(kind, (up_to or _plucks(n)) + ("?" if kind == "marginal" else ""))
+    text = {"out": "out", "unplayed": "\u2013"}.get(kind, (up_to or plucks_text(n)) + ("?" if kind == "marginal" else ""))
     label = sentence(n)
     change = n.get("change", "") if n.get("change") in CHANGE_MARKS else ""
     mark = CHANGE_MARKS[change][0] if change else ""
