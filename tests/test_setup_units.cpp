@@ -14,6 +14,7 @@
 #include "fretbuzz/input/BuiltinFiles.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/setup/Advice.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
 
@@ -217,6 +218,123 @@ TEST(SetupWhatIf, RelativeMovesComposeWithTheFilesValues) {
     far = {};
     far.nut_change = {"E=-1mm"};  // the open string would lie on fret 1
     EXPECT_NE(refusal(bass, far).find("--nut-change E"), std::string::npos) << refusal(bass, far);
+}
+
+}  // namespace
+}  // namespace fretbuzz
+
+namespace fretbuzz {
+namespace {
+
+// The jazz bass with what a turn of its screws does: a truss rod measured at 0.2 mm of relief
+// a turn, saddles on 4-40 screws (1/40 in a turn).
+Instrument adjustable_bass() {
+    return parse_instrument(bass_text() + "\n[adjusters]\ntruss_rod_turn = \"0.2 mm\"\nsaddle_screw_pitch = \"1/40 in\"\n",
+                            "adjustable-bass.toml", DataSource::builtin());
+}
+
+TEST(SetupWhatIf, ATurnMovesByWhatTheFileSaysATurnDoes) {
+    const Instrument bass = adjustable_bass();
+    const StringNeck before(bass, 0);
+    // A quarter turn tighter: 0.05 mm less relief, the saddles where they were.
+    WhatIfWords rod;
+    rod.truss_rod_turns = "+1/4";
+    const WhatIfReading read = read_what_ifs(rod, bass);
+    ASSERT_EQ(read.as_read.size(), 1u);
+    EXPECT_EQ(read.as_read[0], "truss rod: 0.25 turn (+ tighter)");
+    const Instrument tighter = apply_change(bass, read.change);
+    EXPECT_NEAR(StringNeck(tighter, 0).relief_gap(8), before.relief_gap(8) - 0.05e-3, 1e-12);
+    EXPECT_NEAR(StringNeck(tighter, 0).saddle_height(), before.saddle_height(), 1e-15);
+    // The same as the relative move it stands for, under every string.
+    WhatIfWords same;
+    same.relief_change = "-0.05mm";
+    const Instrument moved = after(bass, same);
+    for (std::size_t s = 0; s < bass.strings.size(); ++s)
+        EXPECT_NEAR(StringNeck(tighter, s).fret_top(12), StringNeck(moved, s).fret_top(12), 1e-15) << s;
+    rod.truss_rod_turns = "-1/2 turn";  // looser
+    EXPECT_NEAR(StringNeck(after(bass, rod), 0).relief_gap(8), before.relief_gap(8) + 0.1e-3, 1e-12);
+    // Half a turn down on the E saddle's screws: 1/80 in lower, the other saddles kept.
+    WhatIfWords saddle;
+    saddle.saddle_turns = {"E=-1/2"};
+    const Instrument lowered = after(bass, saddle);
+    EXPECT_NEAR(StringNeck(lowered, 0).saddle_height(), before.saddle_height() - 0.5 * kIn / 40.0, 1e-15);
+    EXPECT_NEAR(StringNeck(lowered, 1).saddle_height(), StringNeck(bass, 1).saddle_height(), 1e-15);
+}
+
+// A file that measures the action at fret 17 keeps saying so through the what-ifs, whose
+// pinned ends would otherwise forget where it was measured.
+TEST(SetupWhatIf, TheFretTheFileMeasuresAtIsKept) {
+    const std::string text = testing::replaced(bass_text(), "action12 = \"2.7 mm\"", "action = \"3/32 in\"\naction_fret = 17");
+    const Instrument fender = parse_instrument(text, "fender.toml", DataSource::builtin());
+    EXPECT_EQ(fender.strings[0].action_fret, 17u);
+    EXPECT_EQ(fender.strings[1].action_fret, 12u);
+    WhatIfWords w;
+    w.relief = "0.3mm";
+    EXPECT_EQ(after(fender, w).strings[0].action_fret, 17u);
+    EXPECT_NEAR(StringNeck(fender, 0).gap(17), 3.0 / 32.0 * kIn, 1e-12);
+}
+
+TEST(SetupWhatIf, TurnsAreRefusedWithoutWhatATurnDoesAndOutOfRange) {
+    const Instrument& plain = jazz_bass();
+    WhatIfWords rod;
+    rod.truss_rod_turns = "1/4";
+    EXPECT_NE(refusal(plain, rod).find("--truss-rod-turns needs adjusters.truss_rod_turn"), std::string::npos)
+        << refusal(plain, rod);
+    WhatIfWords saddle;
+    saddle.saddle_turns = {"E=1"};
+    EXPECT_NE(refusal(plain, saddle).find("--saddle-turns E needs adjusters.saddle_screw_pitch"), std::string::npos)
+        << refusal(plain, saddle);
+    const Instrument bass = adjustable_bass();
+    for (const char* bad : {"3", "-2.5", "x", "1/0", "1/", "--1", "1/4 turnz", ""}) {
+        rod.truss_rod_turns = bad;
+        if (rod.truss_rod_turns.empty()) continue;  // (empty: no what-if)
+        EXPECT_NE(refusal(bass, rod).find("--truss-rod-turns " + std::string(bad) + ": turns must be"), std::string::npos)
+            << bad << ": " << refusal(bass, rod);
+        EXPECT_NE(refusal(bass, rod).find("in [-2, 2]"), std::string::npos) << bad;
+    }
+    WhatIfWords twice;
+    twice.truss_rod_turns = "1/4";
+    twice.relief_change = "0.1mm";
+    EXPECT_NE(refusal(bass, twice).find("each set the truss rod: give one of them"), std::string::npos)
+        << refusal(bass, twice);
+    twice = {};
+    twice.saddle_turns = {"E=1"};
+    twice.saddle_change = {"E=-0.25mm"};
+    EXPECT_NE(refusal(bass, twice).find("already sets string E's saddle"), std::string::npos) << refusal(bass, twice);
+    saddle.saddle_turns = {"E=21"};
+    EXPECT_NE(refusal(bass, saddle).find("in [-20, 20]"), std::string::npos) << refusal(bass, saddle);
+    saddle.saddle_turns = {"Q=1"};
+    EXPECT_NE(refusal(bass, saddle).find("--saddle-turns Q=1"), std::string::npos) << refusal(bass, saddle);
+    // The file's values are checked when it is read, naming the key.
+    const std::string far = refused([] {
+        parse_instrument(bass_text() + "\n[adjusters]\ntruss_rod_turn = \"5 mm\"\n", "far.toml", DataSource::builtin());
+    });
+    EXPECT_NE(far.find("adjusters.truss_rod_turn"), std::string::npos) << far;
+    EXPECT_NE(far.find("(0, 2] mm"), std::string::npos) << far;
+}
+
+TEST(SetupAdvice, ItsMovesAreSaidInTurnsWhereTheFileSaysWhatATurnDoes) {
+    EXPECT_EQ(turns_text(0.75), "3/4 turn clockwise");
+    EXPECT_EQ(turns_text(-1.25), "1 1/4 turns anticlockwise");
+    EXPECT_EQ(turns_text(2.0), "2 turns clockwise");
+    EXPECT_EQ(turns_text(0.04), "less than 1/8 turn");
+    EXPECT_EQ(turns_text(screw_turns_for(1e-3, 0.0)), "");
+    Advice advice;
+    advice.adjusters = adjustable_bass().adjusters;
+    ActionAdvice a;
+    a.string = "E";
+    a.current_m = 2.4e-3;
+    a.lowest_clean_m = 2.6e-3;
+    a.saddle_change_m = 0.75 * kIn / 40.0;
+    advice.actions = {a};
+    advice.relief.fret = 8;
+    advice.relief.current_m = 0.5e-3;
+    advice.relief.best_m = 0.3e-3;  // 0.2 mm less: a full turn tighter
+    const std::string text = advice_text(advice);
+    EXPECT_NE(text.find("raise the saddle 0.48 mm (3/4 turn clockwise of its height screws)"), std::string::npos) << text;
+    EXPECT_NE(text.find("the truss rod 1 turn clockwise"), std::string::npos) << text;
+    advice.adjusters = {};
+    EXPECT_EQ(advice_text(advice).find("turn"), std::string::npos) << advice_text(advice);
 }
 
 }  // namespace

@@ -348,7 +348,8 @@ TEST(SetupAdvice, TheAdviceAnswersForTheFretsAsked) {
 
 // The lowest action is given as the saddle's move from today, in the instrument file's units.
 TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
-    const Instrument bass = quick_bass(40);
+    Instrument bass = quick_bass(40);
+    bass.strings[3].action_fret = 17;  // as a file that measures where Fender does
     AdviceRequest request;
     request.attack = straight(bass, "1mm").front();
     const ActionAdvice a = lowest_clean_action(bass, 3, request);
@@ -357,6 +358,11 @@ TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
     c.action_m = {{"G", 12, a.lowest_clean_m}};
     EXPECT_NEAR(a.saddle_change_m,
                 StringNeck(apply_change(bass, c), 3).saddle_height() - StringNeck(bass, 3).saddle_height(), 1e-12);
+    // The answer said at fret 17 too: the same saddle, its gap there.
+    EXPECT_EQ(a.measured_fret, 17u);
+    EXPECT_NEAR(a.current_at_measured_m, StringNeck(bass, 3).gap(17), 1e-15);
+    EXPECT_NEAR(a.lowest_clean_at_measured_m, StringNeck(apply_change(bass, c), 3).gap(17), 1e-12);
+    EXPECT_NE(a.lowest_clean_at_measured_m, a.lowest_clean_m);
     // Nut pinned: the saddle moves twice what the gap over fret 12 (half way) does.
     EXPECT_NEAR(a.saddle_change_m, 2.0 * (a.lowest_clean_m - a.current_m), 0.02e-3);
     Advice advice;
@@ -365,6 +371,7 @@ TEST(SetupAdvice, TheActionIsGivenAsASaddleMoveInTheFilesUnits) {
     advice.units = ShopUnits::sixty_fourths;
     const std::string text = advice_text(advice);
     EXPECT_NE(text.find("/64 in ("), std::string::npos) << text;
+    EXPECT_NE(text.find(" at fret 17)"), std::string::npos) << text;
     EXPECT_NE(text.find(" mm)"), std::string::npos) << text;
     advice.units = ShopUnits::thousandths;
     EXPECT_NE(advice_text(advice).find(" in ("), std::string::npos);

@@ -344,6 +344,9 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--relief-change", w.relief_change,
                     "What-if: the truss rod turned so that the relief gap changes by this much (+0.002in: looser; after "
                     "--set and --tune)");
+    cmd->add_option("--truss-rod-turns", w.truss_rod_turns,
+                    "What-if: the truss rod turned this much (+1/4: a quarter turn clockwise, tighter, less relief; "
+                    "needs adjusters.truss_rod_turn in the instrument file)");
     cmd->add_option("--action12", w.action12, "What-if: STRING=LENGTH, that string's gap over fret 12 (repeatable)")
         ->allow_extra_args(false);
     cmd->add_option("--action", w.action,
@@ -363,6 +366,10 @@ void add_setup_command(CLI::App& app, Action& action) {
     cmd->add_option("--saddle-change", w.saddle_change,
                     "What-if: STRING=LENGTH, that string's saddle raised (+) or lowered (-) by this much, e.g. "
                     "E=-0.25mm (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--saddle-turns", w.saddle_turns,
+                    "What-if: STRING=TURNS, that saddle's height screws turned (+ clockwise: up), e.g. E=-1/2; needs "
+                    "adjusters.saddle_screw_pitch in the instrument file (repeatable)")
         ->allow_extra_args(false);
     cmd->add_option("--fret-offset", w.fret_offsets,
                     "What-if: K=LENGTH raises (or, negative, lowers) fret K; K=level dresses it to its neighbours "

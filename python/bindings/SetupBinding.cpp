@@ -124,6 +124,7 @@ using OptionNames = std::vector<std::pair<std::string, std::string>>;
 const OptionNames kSetupNames = {
     {"--relief-change", "relief_change"}, {"--nut-change ", "nut_change "}, {"--saddle-change ", "saddle_change "},
     {"--relief", "relief"}, {"--action12 ", "action12 "}, {"--action ", "action "}, {"--nut ", "nut "}, {"--saddle ", "saddle "},
+    {"--truss-rod-turns", "truss_rod_turns"}, {"--saddle-turns ", "saddle_turns "},
     {"--fret-offset ", "fret_offsets "}, {"--frets", "frets"}, {"--strings", "strings"},
     {"--strength", "strengths"}, {"--tune ", "tune "}, {"--set", "string_set"}};
 const OptionNames kDressNames = {{"--dress-depth", "depth"}, {"--crown", "crown"}, {"--fall-away", "fall_away"}};
@@ -145,8 +146,19 @@ auto with_python_names(F&& f, const OptionNames& names = kSetupNames) {
 Instrument changed(const Instrument& instrument, const py::object& relief, const py::dict& action12,
                    const py::dict& nut, const py::dict& saddle, const py::dict& fret_offsets, const py::dict& tune,
                    const py::object& string_set, const py::object& relief_change, const py::dict& action,
-                   const py::dict& nut_change, const py::dict& saddle_change) {
+                   const py::dict& nut_change, const py::dict& saddle_change, const py::object& truss_rod_turns,
+                   const py::dict& saddle_turns) {
     SetupChange change;
+    // Turns: a number, or text as the command line takes it ("1/4", "-1/2 turn").
+    const auto turns = [](py::handle value, const std::string& name, double most) {
+        return py::isinstance<py::str>(value) ? screw_turns(value.cast<std::string>(), name, most) : to_number(value, name);
+    };
+    if (!truss_rod_turns.is_none()) change.truss_rod_turns = turns(truss_rod_turns, "truss_rod_turns", kMostTrussRodTurns);
+    for (const auto& [key, value] : saddle_turns) {
+        const std::string string = to_text(key, "saddle_turns (a string's name)");
+        instrument.string_index(string);
+        change.saddle_turns.emplace_back(string, turns(value, "saddle_turns['" + string + "']", kMostSaddleTurns));
+    }
     if (!string_set.is_none()) change.string_set = to_text(string_set, "string_set");
     for (const auto& [key, value] : tune) {
         const std::string string = to_text(key, "tune (a string's name)");
@@ -520,9 +532,11 @@ void bind_setup(py::module_& m) {
              py::arg("nut") = py::dict(), py::arg("saddle") = py::dict(), py::arg("fret_offsets") = py::dict(),
              py::arg("tune") = py::dict(), py::arg("string_set") = py::none(), py::arg("relief_change") = py::none(),
              py::arg("action") = py::dict(), py::arg("nut_change") = py::dict(), py::arg("saddle_change") = py::dict(),
+             py::arg("truss_rod_turns") = py::none(), py::arg("saddle_turns") = py::dict(),
              "A copy after the what-ifs (mm, or strings with units: mm, in, 3/32 in, thou; fret_offsets {k: mm or "
              "'level'}; action {fret: {string: gap}}; relief_change, nut_change and saddle_change: moves from where "
-             "they are; tune {string: note or Hz}; string_set: a named set's strings at the same pitches).")
+             "they are; truss_rod_turns (+ tighter) and saddle_turns {string: turns, + up}, where the file's "
+             "[adjusters] say what a turn does; tune {string: note or Hz}; string_set: a named set's strings at the same pitches).")
         .def(py::pickle([](const Instrument& i) { return py::make_tuple(i.source_text, i.name); },
                         [](const py::tuple& t) {
                             return parse_instrument(t[0].cast<std::string>(), t[1].cast<std::string>(), DataSource::builtin());

@@ -305,7 +305,9 @@ class Bench:
                      relief_change: Optional[Millimetres] = None,
                      action: Optional[Dict[int, Dict[str, Millimetres]]] = None,
                      nut_change: Optional[Dict[str, Millimetres]] = None,
-                     saddle_change: Optional[Dict[str, Millimetres]] = None) -> "Bench":
+                     saddle_change: Optional[Dict[str, Millimetres]] = None,
+                     truss_rod_turns: Union[float, str, None] = None,
+                     saddle_turns: Optional[Dict[str, Union[float, str]]] = None) -> "Bench":
         """A new Bench after set-up changes, each leaving the rest where it physically is:
         relief (the truss rod set for this relief gap, mm, nut and saddles staying put);
         action12 {string: mm} (the saddle set for this gap over fret 12) and action {fret:
@@ -313,6 +315,8 @@ class Bench:
         slot filed for this gap over fret 1); saddle {string: mm} (its height above the fret
         plane); relief_change, nut_change {string: mm} and saddle_change {string: mm}: moved by
         that much from where they are (+ up, e.g. saddle_change={"E": "-0.25 mm"});
+        truss_rod_turns (+ clockwise, tighter: less relief, e.g. "1/4") and saddle_turns
+        {string: turns} (+ up), where the instrument file's [adjusters] say what a turn does;
         fret_offsets {k: mm} (fret k raised, or lowered if negative, by that much) or
         {k: "level"} (dressed down to its neighbours); tune {string: note or Hz} (retuned, e.g.
         {"E": "D2"} for drop D) and string_set (a named set's strings at the same pitches): the
@@ -322,13 +326,15 @@ class Bench:
         changes = {k: v for k, v in (("relief", relief), ("action12", action12), ("nut", nut), ("saddle", saddle),
                                      ("fret_offsets", fret_offsets), ("tune", tune), ("string_set", string_set),
                                      ("relief_change", relief_change), ("action", action), ("nut_change", nut_change),
-                                     ("saddle_change", saddle_change))
+                                     ("saddle_change", saddle_change), ("truss_rod_turns", truss_rod_turns),
+                                     ("saddle_turns", saddle_turns))
                    if v is not None and not (isinstance(v, (dict, str)) and not v)}
         instrument = self.instrument.with_changes(relief=relief, action12=action12 or {}, nut=nut or {},
                                                   saddle=saddle or {}, fret_offsets=fret_offsets or {}, tune=tune or {},
                                                   string_set=string_set, relief_change=relief_change,
                                                   action=action or {}, nut_change=nut_change or {},
-                                                  saddle_change=saddle_change or {})
+                                                  saddle_change=saddle_change or {},
+                                                  truss_rod_turns=truss_rod_turns, saddle_turns=saddle_turns or {})
         return self._copy(instrument, changes)
 
     @staticmethod

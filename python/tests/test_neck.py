@@ -72,6 +72,24 @@ class GeometryTest(unittest.TestCase):
                 call()
             self.assertIn(says, str(caught.exception))
 
+    def test_turns_move_by_what_the_file_says_a_turn_does(self):
+        text = quick_bench().instrument.source_text + '\n[adjusters]\ntruss_rod_turn = "0.2 mm"\nsaddle_screw_pitch = "0.5 mm"\n'
+        with tempfile.TemporaryDirectory() as folder:
+            path = pathlib.Path(folder) / "adjustable.toml"
+            path.write_text(text)
+            bench = fretbuzz.Bench(str(path), **QUICK)
+        table = bench.strings_table().set_index("name")
+        turned = bench.with_changes(truss_rod_turns="1/4", saddle_turns={"E": -1.5}).strings_table().set_index("name")
+        self.assertAlmostEqual(turned.loc["E", "relief_gap_m"], table.loc["E", "relief_gap_m"] - 0.05e-3, delta=1e-12)
+        self.assertAlmostEqual(turned.loc["E", "saddle_height_m"], table.loc["E", "saddle_height_m"] - 0.75e-3, delta=1e-12)
+        self.assertEqual(bench.with_changes(truss_rod_turns="1/4").changes, {"truss_rod_turns": "1/4"})
+        for call, says in ((lambda: quick_bench().with_changes(truss_rod_turns=0.25), "truss_rod_turns needs adjusters"),
+                           (lambda: bench.with_changes(truss_rod_turns="3"), "truss_rod_turns 3: turns must be"),
+                           (lambda: bench.with_changes(saddle_turns={"E": 30}), "saddle_turns E")):
+            with self.assertRaises(fretbuzz.InputError) as caught:
+                call()
+            self.assertIn(says, str(caught.exception))
+
 
 class MapTest(unittest.TestCase):
     def test_the_map_fills_in_note_by_note(self):

@@ -439,6 +439,7 @@ InstrumentString read_string(Reader& r, TomlSection& s, std::size_t index, doubl
     read_stiffness(r, s, set != nullptr ? &set->strings[index] : nullptr, str);
     str.nut = read_nut(r, s, s.has("profile"));
     str.bridge = read_bridge_end(r, s, frets, s.has("profile"));
+    if (str.bridge.form == StringEnd::Form::gap_over_fret) str.action_fret = str.bridge.fret;
     if (s.has("profile")) {
         const CsvTable table = r.table(s, "profile", 2);
         str.profile_source = s.text("profile");
@@ -628,6 +629,14 @@ void read_rig(Reader& r, std::optional<TomlSection> s, Instrument& inst) {
     }
 }
 
+void read_adjusters(Reader& r, std::optional<TomlSection> s, Instrument& inst) {
+    if (!s) return;
+    Adjusters& a = inst.adjusters;
+    a.truss_rod_turn_m = r.optional_quantity(*s, "truss_rod_turn", Quantity::length, mm(0.0, 2.0)).value_or(0.0);
+    a.saddle_screw_pitch_m = r.optional_quantity(*s, "saddle_screw_pitch", Quantity::length, mm(0.0, 2.0)).value_or(0.0);
+    s->finish();
+}
+
 void read_simulation(Reader& r, std::optional<TomlSection> s, double shortest, Instrument& inst) {
     BenchSettings& b = inst.bench;
     const toml::table empty;
@@ -773,6 +782,7 @@ Instrument parse_instrument(std::string_view text, const std::string& source_nam
         read_physics_tables(r, top, inst);
         read_simulation(r, top.optional_section("simulation"), shortest, inst);
         read_rig(r, top.optional_section("rig"), inst);
+        read_adjusters(r, top.optional_section("adjusters"), inst);
     });
     note_string_loads(string_tables, inst);
     const AttackSettings& a = inst.attack;

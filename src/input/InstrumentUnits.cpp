@@ -183,6 +183,48 @@ std::size_t whole_number(std::string_view text, const std::string& option, std::
     return v;
 }
 
+double screw_turns(std::string_view text, const std::string& option, double most) {
+    const auto refuse = [&]() -> double {
+        throw InputError(option + " " + std::string(text) + ": turns must be a number or a fraction (+0.25, -1/2, " +
+                         "3/4 turn; + clockwise) in [" + number_text(-most) + ", " + number_text(most) + "]");
+    };
+    std::string_view s = text;
+    const auto trim = [&s] {
+        while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
+        while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+    };
+    trim();
+    for (std::string_view word : {"turns", "turn"})
+        if (s.ends_with(word)) {
+            s.remove_suffix(word.size());
+            break;
+        }
+    trim();
+    double sign = 1.0;
+    if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+        sign = s.front() == '-' ? -1.0 : 1.0;
+        s.remove_prefix(1);
+    }
+    const auto number = [&refuse](std::string_view t) {
+        double v = 0.0;
+        const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (t.empty() || t.front() == '+' || t.front() == '-' || error != std::errc() || end != t.data() + t.size())
+            return refuse();
+        return v;
+    };
+    double value = 0.0;
+    if (const std::size_t slash = s.find('/'); slash != std::string_view::npos) {
+        const double below = number(s.substr(slash + 1));
+        if (!(below > 0.0)) return refuse();
+        value = number(s.substr(0, slash)) / below;
+    } else {
+        value = number(s);
+    }
+    value *= sign;
+    if (!std::isfinite(value) || std::abs(value) > most) return refuse();
+    return value;
+}
+
 double note_frequency(std::string_view name, const std::string& key) {
     static constexpr std::array<std::pair<char, int>, 7> letters{
         {{'C', 0}, {'D', 2}, {'E', 4}, {'F', 5}, {'G', 7}, {'A', 9}, {'B', 11}}};

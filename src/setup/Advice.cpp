@@ -37,6 +37,10 @@ ActionAdvice action_search(const Instrument& instrument, std::size_t string, con
     }
     const StringNeck now(instrument, string);
     advice.current_m = now.gap(12);
+    // The search moves the gap at fret 12; the answer is said where the file measures too.
+    const std::size_t measured = instrument.strings.at(string).action_fret;
+    advice.measured_fret = measured >= 2 && measured <= instrument.neck.fret_count ? measured : 12;
+    advice.current_at_measured_m = now.gap(advice.measured_fret);
     const std::vector<std::size_t> frets = advice_frets(instrument, request);
     if (frets.empty()) {
         advice.below = "no note to answer for";
@@ -87,7 +91,9 @@ ActionAdvice action_search(const Instrument& instrument, std::size_t string, con
     const long lo = hi - 1;
     passes(lo);  // known already, but for the lowest grid step
     advice.lowest_clean_m = static_cast<double>(hi) * kActionStep;
-    advice.saddle_change_m = StringNeck(*at(hi), string).saddle_height() - now.saddle_height();
+    const StringNeck lowest(*at(hi), string);
+    advice.saddle_change_m = lowest.saddle_height() - now.saddle_height();
+    advice.lowest_clean_at_measured_m = lowest.gap(advice.measured_fret);
     advice.beyond_setup = std::abs(advice.saddle_change_m) > kSetupSaddleMove + 1e-12;
     advice.below = mm_text(static_cast<double>(lo) * kActionStep) + ": " + why[lo];
     if (const auto& f = failed[lo]) {
@@ -387,6 +393,7 @@ Advice advise(const Instrument& instrument, const std::vector<NoteVerdict>& map,
     Advice advice;
     advice.attack = request.attack;
     advice.units = instrument.units;
+    advice.adjusters = instrument.adjusters;
     advice.frets = fret_list_text(advice_frets(instrument, request));
     advice.tolerated = request.tolerate.text();
     NoteTrials trials(request, &advice.maps);
@@ -424,6 +431,11 @@ std::string advice_json(const Advice& a) {
     using Json = nlohmann::ordered_json;
     const auto number = [](double v) { return std::isfinite(v) ? Json(v * 1e3) : Json(); };
     const auto inches = [](double v) { return std::isfinite(v) ? Json(v / kInch) : Json(); };
+    // In turns where the file says what a turn does (+ clockwise), else null.
+    const auto turns = [](double move, double per_turn) {
+        const double t = screw_turns_for(move, per_turn);
+        return std::isfinite(t) ? Json(t) : Json();
+    };
     Json actions = Json::array();
     for (const ActionAdvice& x : a.actions)
         actions.push_back(Json{{"string", x.string},
@@ -432,8 +444,12 @@ std::string advice_json(const Advice& a) {
                                {"predicted_action12_mm", number(x.predicted_m)},
                                {"lowest_clean_action12_mm", number(x.lowest_clean_m)},
                                {"lowest_clean_action12_in", inches(x.lowest_clean_m)},
+                               {"measured_fret", x.measured_fret},
+                               {"action_at_measured_fret_mm", number(x.current_at_measured_m)},
+                               {"lowest_clean_at_measured_fret_mm", number(x.lowest_clean_at_measured_m)},
                                {"saddle_change_mm", number(x.saddle_change_m)},
                                {"saddle_change_in", inches(x.saddle_change_m)},
+                               {"saddle_turns", turns(x.saddle_change_m, a.adjusters.saddle_screw_pitch_m)},
                                {"one_step_lower", x.below},
                                {"limiting_fret", x.limiting_fret},
                                {"limiting_against", x.limiting_against < 0 ? Json() : Json(x.limiting_against)},
@@ -474,6 +490,7 @@ std::string advice_json(const Advice& a) {
                       {"failing_now", r.failing_now},
                       {"best_mm", number(r.best_m)},
                       {"best_in", inches(r.best_m)},
+                      {"truss_rod_turns", turns(r.current_m - r.best_m, a.adjusters.truss_rod_turn_m)},
                       {"failing_best", r.failing_best},
                       {"played", r.played},
                       {"beyond_setup", r.beyond_setup},
@@ -487,6 +504,26 @@ std::string advice_json(const Advice& a) {
         .dump(1);
 }
 
+double screw_turns_for(double move_m, double per_turn_m) {
+    return per_turn_m > 0.0 && std::isfinite(move_m) ? move_m / per_turn_m : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string turns_text(double turns) {
+    if (!std::isfinite(turns)) return "";
+    const long eighths = std::lround(std::abs(turns) * 8.0);
+    const std::string way = turns < 0.0 ? " anticlockwise" : " clockwise";
+    if (eighths == 0) return "less than 1/8 turn";
+    const long whole = eighths / 8;
+    long part = eighths % 8, below = 8;
+    while (part != 0 && part % 2 == 0) {
+        part /= 2;
+        below /= 2;
+    }
+    std::string text = whole > 0 ? std::to_string(whole) : "";
+    if (part != 0) text += (whole > 0 ? " " : "") + std::to_string(part) + "/" + std::to_string(below);
+    return text + (eighths > 8 ? " turns" : " turn") + way;
+}
+
 std::string advice_text(const Advice& a) {
     std::ostringstream out;
     const auto shop = [&](double m) { return shop_text(m, a.units); };
@@ -495,15 +532,27 @@ std::string advice_text(const Advice& a) {
         << (a.tolerated.empty() ? "" : ", tolerating " + a.tolerated) << " (" << a.maps << " probes played, "
         << std::lround(a.wall_seconds) << " s):\n";
     for (const ActionAdvice& x : a.actions) {
-        out << "  string " << x.string << ": action at fret 12 now " << shop(x.current_m) << "; ";
+        // Where the file measures elsewhere, the gaps there beside fret 12's.
+        const auto there = [&](double m) {
+            return x.measured_fret == 12 || !std::isfinite(m)
+                       ? std::string()
+                       : " (" + shop(m) + " at fret " + std::to_string(x.measured_fret) + ")";
+        };
+        out << "  string " << x.string << ": action at fret 12 now " << shop(x.current_m)
+            << there(x.current_at_measured_m) << "; ";
         if (std::isfinite(x.lowest_clean_m) && x.beyond_setup) {
-            out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ", a saddle move of "
+            out << "the lowest without buzz is " << shop(x.lowest_clean_m) << there(x.lowest_clean_at_measured_m)
+                << ", a saddle move of "
                 << shop_text(std::abs(x.saddle_change_m), a.units) << " " << beyond_setup_text(x) << " (one step lower, "
                 << x.below << ")\n";
         } else if (std::isfinite(x.lowest_clean_m)) {
-            out << "the lowest without buzz is " << shop(x.lowest_clean_m) << ": "
+            out << "the lowest without buzz is " << shop(x.lowest_clean_m) << there(x.lowest_clean_at_measured_m) << ": "
                 << (x.saddle_change_m < 0.0 ? "lower" : "raise") << " the saddle "
-                << shop_text(std::abs(x.saddle_change_m), a.units) << " (one step lower, " << x.below << ")\n";
+                << shop_text(std::abs(x.saddle_change_m), a.units);
+            if (const std::string t = turns_text(screw_turns_for(x.saddle_change_m, a.adjusters.saddle_screw_pitch_m));
+                !t.empty())
+                out << " (" << t << " of its height screws)";
+            out << " (one step lower, " << x.below << ")\n";
         } else {
             out << "no action up to " << mm_text(kHighestAction) << " is free of buzz"
                 << (x.below.empty() ? "" : ": " + x.below) << "\n";
@@ -525,11 +574,15 @@ std::string advice_text(const Advice& a) {
     const ReliefAdvice& r = a.relief;
     out << "  relief (gap at fret " << r.fret << ") now " << fine(r.current_m) << " (" << r.failing_now
         << " notes buzz); ";
-    if (r.best_m != r.current_m)
+    if (r.best_m != r.current_m) {
         out << "the least buzz at " << fine(r.best_m) << " (" << r.failing_best << " notes buzz, played)"
             << (r.beyond_setup ? ", " + beyond_setup_text(r) : "");
-    else
+        // The truss rod tighter (clockwise) takes relief off: the turns are the relief to lose.
+        const std::string t = turns_text(screw_turns_for(r.current_m - r.best_m, a.adjusters.truss_rod_turn_m));
+        if (!r.beyond_setup && !t.empty()) out << ": the truss rod " << t;
+    } else {
         out << "no relief from 0 to " << mm_text(r.searched_to_m) << " is predicted to buzz less";
+    }
     if (std::isfinite(r.predicted_from_m))
         out << "; predicted clean from " << fine(r.predicted_from_m) << " to " << fine(r.predicted_to_m);
     out << "\n";

@@ -110,6 +110,7 @@ std::vector<std::string> WhatIfWords::words() const {
     add("--nut-change", nut_change);
     add("--saddle", saddle);
     add("--saddle-change", saddle_change);
+    add("--saddle-turns", saddle_turns);
     add("--fret-offset", fret_offsets);
     return out;
 }
@@ -162,6 +163,16 @@ WhatIfReading read_what_ifs(const WhatIfWords& w, const Instrument& instrument) 
     per_string(w.nut_change, "--nut-change", "nut change", "E=-0.1mm", into(c.nut_change_m));
     per_string(w.saddle, "--saddle", "saddle", "E=12mm", into(c.saddle_m));
     per_string(w.saddle_change, "--saddle-change", "saddle change", "E=-0.25mm", into(c.saddle_change_m));
+    if (!w.truss_rod_turns.empty()) {
+        c.truss_rod_turns = screw_turns(w.truss_rod_turns, "--truss-rod-turns", kMostTrussRodTurns);
+        r.as_read.push_back("truss rod: " + number_text(*c.truss_rod_turns) + " turn (+ tighter)");
+    }
+    for (const std::string& item : w.saddle_turns) {
+        const auto [name, value] = name_value(item, "--saddle-turns", "STRING=TURNS, e.g. --saddle-turns E=-1/2 (+ up)");
+        check_string(instrument, name, "--saddle-turns " + item);
+        c.saddle_turns.emplace_back(name, screw_turns(value, "--saddle-turns " + name, kMostSaddleTurns));
+        r.as_read.push_back("saddle screws, " + name + ": " + number_text(c.saddle_turns.back().second) + " turn (+ up)");
+    }
     for (const std::string& item : w.fret_offsets) {
         const auto [fret, value] = name_value(item, "--fret-offset", "FRET=LENGTH or FRET=level, e.g. --fret-offset 15=0.08mm" + units);
         FretChange f;
@@ -223,24 +234,35 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
     Instrument out = with_pinned_string_ends(instrument);
     NeckDescription& neck = out.neck;
     change_strings(out, change);
-    if (change.relief_m || change.relief_change_m) {
-        if (change.relief_m && change.relief_change_m)
-            throw InputError("--relief and --relief-change both set the truss rod: give one of them");
+    const int rod_moves = change.relief_m.has_value() + change.relief_change_m.has_value() + change.truss_rod_turns.has_value();
+    if (rod_moves > 0) {
+        if (rod_moves > 1)
+            throw InputError("--relief, --relief-change and --truss-rod-turns each set the truss rod: give one of them");
+        const std::string option = change.relief_m ? "--relief" : change.relief_change_m ? "--relief-change" : "--truss-rod-turns";
         const std::size_t m = relief_fret(out);
-        if (neck.fret_count < 3)
-            throw InputError(std::string(change.relief_m ? "--relief" : "--relief-change") +
-                             ": the neck needs at least 3 frets to measure relief");
+        if (neck.fret_count < 3) throw InputError(option + ": the neck needs at least 3 frets to measure relief");
         // The gap is linear in the truss rod's bow: one look at the current gap does it.
         const StringNeck now(out, 0);
         const double gap = now.relief_gap(m);
-        if (change.relief_change_m) require_mm("--relief-change", *change.relief_change_m, -1e-3, 1e-3);
-        const double target = change.relief_m ? *change.relief_m : gap + *change.relief_change_m;
+        std::optional<double> by = change.relief_change_m;
+        if (by) require_mm("--relief-change", *by, -1e-3, 1e-3);
+        if (change.truss_rod_turns) {
+            const double per_turn = out.adjusters.truss_rod_turn_m;
+            if (!(per_turn > 0.0))
+                throw InputError("--truss-rod-turns needs adjusters.truss_rod_turn in the instrument file: the relief "
+                                 "one full turn tighter takes off at fret " + std::to_string(m) + ", measured on this neck");
+            if (!(std::abs(*change.truss_rod_turns) <= kMostTrussRodTurns))
+                throw InputError(out_of_range_message(option, *change.truss_rod_turns,
+                                                      "must be in [-" + number_text(kMostTrussRodTurns) + ", " +
+                                                          number_text(kMostTrussRodTurns) + "] turns"));
+            by = -*change.truss_rod_turns * per_turn;  // tighter (clockwise): the rod pulls the bow out
+        }
+        const double target = change.relief_m ? *change.relief_m : gap + *by;
         require_mm(change.relief_m ? "--relief (the gap at fret " + std::to_string(m) + ")"
-                                   : "--relief-change (the gap at fret " + std::to_string(m) + " after it, " + mm(gap) +
-                                         " mm now)",
+                                   : option + " (the gap at fret " + std::to_string(m) + " after it, " + mm(gap) + " mm now)",
                    target, -2e-3, 2e-3);
         neck.truss_rod_bow_m += (target - gap) / relief_gap_per_bow(now, m);
-        check_strings(out, change.relief_m ? "--relief" : "--relief-change");
+        check_strings(out, option);
     }
     for (const FretChange& f : change.frets) {
         const std::string option = "--fret-offset " + std::to_string(f.fret);
@@ -292,10 +314,10 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
     }
     // A relative move: a nut's or a saddle's height above the fret plane changed by an amount.
     const auto move_end = [&](bool nut, const std::vector<std::pair<std::string, double>>& moves, double most,
-                              double highest) {
+                              double highest, const std::string& option_word) {
         const std::string end = nut ? "nut" : "saddle";
         for (const auto& [name, by] : moves) {
-            const std::string option = "--" + end + "-change " + name;
+            const std::string option = option_word + name;
             require_mm(option, by, -most, most);
             set_end(nut ? nut_by : saddle_by, option, name, [&, by = by](InstrumentString& s, const StringNeck& now) {
                 const double height = nut ? now.nut_height() : now.saddle_height();
@@ -311,14 +333,30 @@ Instrument apply_change(const Instrument& instrument, const SetupChange& change)
             s.nut = {StringEnd::Form::gap_over_fret, gap, 1};
         });
     }
-    move_end(true, change.nut_change_m, 2e-3, 10e-3);
+    move_end(true, change.nut_change_m, 2e-3, 10e-3, "--nut-change ");
     for (const auto& [name, value] : change.saddle_m) {
         require_mm("--saddle " + name, value, 1e-5, 30e-3);
         set_end(saddle_by, "--saddle " + name, name, [height = value](InstrumentString& s, const StringNeck&) {
             s.bridge = {StringEnd::Form::height, height, 0};
         });
     }
-    move_end(false, change.saddle_change_m, 5e-3, 30e-3);
+    move_end(false, change.saddle_change_m, 5e-3, 30e-3, "--saddle-change ");
+    // Saddle screws: the thread's pitch per turn, a relative move as --saddle-change's.
+    if (!change.saddle_turns.empty()) {
+        const double pitch = out.adjusters.saddle_screw_pitch_m;
+        std::vector<std::pair<std::string, double>> moves;
+        for (const auto& [name, turns] : change.saddle_turns) {
+            const std::string option = "--saddle-turns " + name;
+            if (!(pitch > 0.0))
+                throw InputError(option + " needs adjusters.saddle_screw_pitch in the instrument file: the thread's "
+                                 "pitch of the saddles' height screws (a 4-40 screw: 1/40 in)");
+            if (!(std::abs(turns) <= kMostSaddleTurns))
+                throw InputError(out_of_range_message(option, turns, "must be in [-" + number_text(kMostSaddleTurns) +
+                                                                         ", " + number_text(kMostSaddleTurns) + "] turns"));
+            moves.emplace_back(name, turns * pitch);
+        }
+        move_end(false, moves, kMostSaddleTurns * pitch, 30e-3, "--saddle-turns ");
+    }
     return out;
 }
 

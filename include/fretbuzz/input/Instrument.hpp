@@ -55,6 +55,9 @@ struct InstrumentString {
     std::string tension_source;   // where the tension comes from (the set, "given", "from mu")
     StringEnd nut;
     StringEnd bridge;
+    // Where the file measures the action (Fender's basses: fret 17); the advice says its
+    // answer there too. What-ifs that pin the ends keep it.
+    std::size_t action_fret = 12;
     // A scan of this string's fret tops: fret -> height above the straight line through the
     // tops of fret 1 and the last fret (m; negative below). Replaces relief, radius and the
     // individual fret heights under this string.
@@ -174,6 +177,14 @@ bool listens_through_rig(const std::string& word, const std::string& key);
 inline constexpr double kMostPartialScatterCents = 50.0;
 double checked_partial_scatter(double cents, const std::string& key);
 
+// The screws a set-up turns, where the file gives what a turn does (0: not given). A truss
+// rod's turn is measured on the neck (its thread, the rod's curve and the wood decide it); a
+// saddle's height screws raise it by their thread's pitch per turn.
+struct Adjusters {
+    double truss_rod_turn_m = 0.0;      // relief gap at the relief fret taken off per turn tightened
+    double saddle_screw_pitch_m = 0.0;  // a saddle's rise per turn of its height screws (clockwise)
+};
+
 struct Instrument {
     std::string name;
     std::string description;
@@ -182,6 +193,7 @@ struct Instrument {
     std::vector<InstrumentString> strings;  // in the file's order (low to high)
     AttackSettings attack;
     BenchSettings bench;
+    Adjusters adjusters;
     std::vector<std::string> warnings;  // what reading it found doubtful but not wrong (e.g. a mass implausible for a gauge)
     ShopUnits units = ShopUnits::mm;    // as the first string's nut or action is written
 

@@ -48,6 +48,10 @@ LengthAsRead read_length(std::string_view text, std::string_view bare_unit, cons
 std::size_t whole_number(std::string_view text, const std::string& option, std::size_t low, std::size_t high,
                          const std::string& what);
 
+// Turns of a screw as a user types them: "+0.25", "-1/2", "3/4 turn", "1 turns" (+ clockwise);
+// InputError "OPTION TEXT: turns must be ... in [-most, most]" if it is none or out of range.
+double screw_turns(std::string_view text, const std::string& option, double most);
+
 // The frequency (Hz) of a note name such as "E1", "F#2", "Bb3"; InputError naming key if it is none.
 double note_frequency(std::string_view name, const std::string& key);
 

@@ -91,6 +91,9 @@ struct ActionAdvice {
     double predicted_m = nan;       // where the notes' clean_up_to put the answer (NaN: no clean_up_to)
     double lowest_clean_m = nan;    // NaN: no passing action up to 10 mm
     double saddle_change_m = nan;   // the saddle's move from today to it (+ up)
+    // The same two gaps at the fret the file measures the action at (12: the same as above).
+    std::size_t measured_fret = 12;
+    double current_at_measured_m = nan, lowest_clean_at_measured_m = nan;
     // The step below: it fails (a note and how many of its plucks) or cannot be set.
     std::string below;
     std::size_t limiting_fret = 0;  // the note that fails one step below (its fret), and
@@ -138,6 +141,7 @@ std::string beyond_setup_text(const ReliefAdvice& advice);
 struct Advice {
     Attack attack;
     ShopUnits units = ShopUnits::mm;
+    Adjusters adjusters;    // the file's: the moves said in turns too where it gives them
     std::string frets;      // "0-20"
     std::string tolerated;  // AdviceTolerance::text()
     std::vector<ActionAdvice> actions;
@@ -148,6 +152,11 @@ struct Advice {
     double wall_seconds = 0.0;
     double cpu_seconds = 0.0;  // the process's, all threads
 };
+
+// A move in turns of a screw that makes `per_turn` a turn (NaN where the file gives no pitch),
+// and as a luthier reads it: "3/4 turn clockwise" to the nearest eighth ("" for NaN).
+double screw_turns_for(double move_m, double per_turn_m);
+std::string turns_text(double turns);
 
 // Whether every note of `strings` (all if empty) the advice answers for passes at the
 // attack; on the first that does not, its description ("E fret 7: buzzes, 2/10 plucks") in `why`.

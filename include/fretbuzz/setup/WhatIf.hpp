@@ -13,6 +13,9 @@
 //    over fret 1, or the saddle's height above the fret plane;
 //  - relative moves: the relief, a nut or a saddle changed by an amount from where it is
 //    (--relief-change, --nut-change: the nut's height, --saddle-change: the saddle's);
+//  - screw turns, where the instrument file says what a turn does ([adjusters]): the truss
+//    rod (+ clockwise, tighter: less relief) and a saddle's height screws (+ clockwise: up),
+//    each the relative move it makes;
 //  - fret offset: fret k raised (+) or lowered (-) by an amount, or levelled: dressed down
 //    until its top lies on the line through its neighbours' tops under every string;
 //  - strings: a named set's strings at the same pitches, or one string retuned (drop D):
@@ -46,12 +49,14 @@ struct SetupChange {
     std::vector<ActionChange> action_m;
     std::vector<std::pair<std::string, double>> nut_m, saddle_m;                // string name, value
     std::vector<std::pair<std::string, double>> nut_change_m, saddle_change_m;  // string name, by how much (+ up)
+    std::optional<double> truss_rod_turns;                               // + clockwise (tighter)
+    std::vector<std::pair<std::string, double>> saddle_turns;            // string name, turns (+ up)
     std::vector<FretChange> frets;
     std::optional<std::string> string_set;                // the strings replaced by this named set's
     std::vector<std::pair<std::string, double>> pitch_hz;  // string name, its new open pitch
     bool empty() const {
         return !relief_m && !relief_change_m && action_m.empty() && nut_m.empty() && saddle_m.empty() &&
-               nut_change_m.empty() && saddle_change_m.empty() && frets.empty() && !string_set && pitch_hz.empty();
+               nut_change_m.empty() && saddle_change_m.empty() && !truss_rod_turns && saddle_turns.empty() && frets.empty() && !string_set && pitch_hz.empty();
     }
 };
 
@@ -60,8 +65,8 @@ struct SetupChange {
 // denominator: "3/32 in", '5/64"', or thou: 0.001 in); a bare number is in the instrument
 // file's own units (written_length_unit: in for a file that gives its action in inches).
 struct WhatIfWords {
-    std::string relief, relief_change, string_set;
-    std::vector<std::string> action12, action, nut, nut_change, saddle, saddle_change, fret_offsets, tune;
+    std::string relief, relief_change, truss_rod_turns, string_set;
+    std::vector<std::string> action12, action, nut, nut_change, saddle, saddle_change, saddle_turns, fret_offsets, tune;
     // "--relief 0.012", ... in the command's order of kinds, for the map's record.
     std::vector<std::string> words() const;
 };
@@ -69,6 +74,11 @@ struct WhatIfWords {
 // The change the words ask for, and each value as it was read ("relief: 0.012 in (0.305 mm)",
 // "action at fret 17, E: 3/32 in (2.381 mm)"). InputError naming the option and the form it
 // takes if a value is not of it (the ranges are apply_change's).
+// The most turns a what-if takes: a truss rod is turned an eighth to a half at a time, and
+// past a couple of turns it is near the end of its travel; a saddle screw's thread is short.
+inline constexpr double kMostTrussRodTurns = 2.0;
+inline constexpr double kMostSaddleTurns = 20.0;
+
 struct WhatIfReading {
     SetupChange change;
     std::vector<std::string> as_read;
@@ -79,7 +89,8 @@ WhatIfReading read_what_ifs(const WhatIfWords& words, const Instrument& instrume
 Instrument with_pinned_string_ends(const Instrument& instrument);
 
 // The instrument after the change. InputError naming the option (--relief, --action12,
-// --action, --nut, --saddle, their -change forms, --fret-offset) and its range if a value is
+// --action, --nut, --saddle, their -change forms, --truss-rod-turns, --saddle-turns,
+// --fret-offset) and its range if a value is
 // out of range, one string end is set twice, or the change would put an open string on a fret.
 Instrument apply_change(const Instrument& instrument, const SetupChange& change);
 
