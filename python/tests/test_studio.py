@@ -504,6 +504,125 @@ class StudioMapTest(unittest.TestCase):
         self.assertFalse("/study/" in html)
 
 
+class PlayersReportTest(unittest.TestCase):
+    """The player's report clicked on the map, calibrated by the library (Bench.calibrate), the
+    map and advice played at the player's touch (Bench.with_player, as --player), the advice's
+    tolerate choices as --tolerate takes them, and a cell's pluck the one its verdict rests on."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.studio = RunningStudio()
+        cls.first = cls.studio.wait_map(1)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.studio.close()
+
+    def refused(self, path, body, field):
+        status, answer = self.studio.json("POST", path, body)
+        self.assertEqual(status, 422, answer)
+        self.assertIn(field, answer["errors"])
+        return answer["errors"][field]
+
+    def test_bad_notes_of_the_report_are_refused_naming_what_is_wrong(self):
+        note = {"string": "G", "fret": 3, "strength": "medium", "heard": "buzz"}
+        self.assertIn("heard:", self.refused("/api/heard", {**note, "heard": "loud"}, "heard"))
+        self.assertIn("string:", self.refused("/api/heard", {**note, "string": "Q"}, "heard"))
+        message = self.refused("/api/heard", {**note, "fret": 99}, "heard")
+        self.assertIn(f"0 to {quick_bench().frets}", message)
+        self.assertIn("strength", self.refused("/api/heard", {**note, "strength": "thunder"}, "heard"))
+        self.assertEqual(self.studio.study.heard, {})
+        # Playing at the player's touch before any calibration: refused, naming the control.
+        self.assertIn("player:", self.refused("/api/what-if", {"strengths": "medium", "player": True}, "player"))
+
+    def test_the_advice_takes_the_tolerate_choices_of_the_command_line(self):
+        with self.assertRaises(fretbuzz.InputError) as e:
+            quick_bench().advise(self.first.notes, strength="medium", tolerate="above=99")
+        self.assertEqual(self.refused("/api/advice", {"tolerate": "above=99"}, "tolerate"), str(e.exception))
+        self.assertIn("tolerate", str(e.exception))
+        status, body = self.studio.json("POST", "/api/advice", {"tolerate": "marginal,above=15"})
+        self.assertEqual(status, 202, body)
+        record = self.studio.study.maps[body["map"]]
+        wait_for(lambda: record.advice_status in ("done", "failed"), 120, "the advice")
+        self.assertEqual(record.advice_status, "done", record.advice_error)
+        expected = record.bench.advise([{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
+                                        for n in record.notes], strength="medium", tolerate="marginal,above=15")
+        self.assertEqual(record.advice["tolerated"], expected["tolerated"])
+        self.assertEqual(record.advice["lowest_action"], expected["lowest_action"])
+        html = self.studio.request("GET", f"/fragment/advice?map={record.id}")[2].decode()
+        self.assertIn(f"tolerating {expected['tolerated']}", html)
+        # The page states set-up practice's defaults, as the library words them.
+        page = self.studio.request("GET", "/")[2].decode()
+        self.assertIn(f"tolerating {fretbuzz._core._setup_tolerance(quick_bench().instrument, '')}", page)
+
+    def test_a_cell_plays_the_pluck_its_verdict_rests_on(self):
+        audible = quick_bench().settings["audible_dB"]
+
+        def loud(level):
+            return level is not None and level >= audible
+        def heard(n):  # what the pluck a verdict rests on must sound like: a marginal note's loudest
+            return n["verdict"] == "buzzes" or (n["verdict"] == "marginal" and any(map(loud, n["pluck_dB"])))
+        # The notes whose first pluck (the attack itself) says otherwise than the verdict first.
+        notes = sorted((n for n in self.first.notes if n["verdict"] and n["status"] == "ok"),
+                       key=lambda n: loud(n["pluck_dB"][0]) == heard(n))
+        self.assertTrue(notes)
+        for n in notes[:4]:
+            status, _, html = self.studio.request(
+                "GET", f"/fragment/note?map=1&string={n['string']}&fret={n['fret']}&strength=medium")
+            self.assertEqual(status, 200)
+            html = html.decode()
+            member = int(re.search(r'data-member="(\d+)"', html).group(1))
+            self.assertEqual(member, n["deciding_pluck"])
+            verdict = "buzz" if heard(n) else "clean"
+            self.assertEqual(re.search(r'data-pluck-heard="(\w+)"', html).group(1), verdict, (n["fret"], n["pluck_dB"]))
+            pluck = quick_bench().note(n["string"], n["fret"], "medium", member=member)
+            self.assertEqual(pluck["touched"] and loud(pluck["buzz_dB"]), verdict == "buzz", (n["fret"], member))
+            if member:  # its own sound, beside the map's
+                self.assertIn(f"-pluck{member + 1}.wav", html)
+
+    def test_the_report_is_calibrated_by_the_library_and_then_played_at_the_players_touch(self):
+        verdicts = {(n["string"], n["fret"]): n["verdict"] for n in self.first.notes}
+        marked = [(k, "buzz" if v == "buzzes" else "clean") for k, v in verdicts.items() if v][:6]
+        self.assertTrue(marked)
+        for (string, fret), heard in marked:
+            status, body = self.studio.json("POST", "/api/heard", {"string": string, "fret": fret, "strength": "medium",
+                                                                     "heard": heard})
+            self.assertEqual(status, 200, body)
+        self.assertEqual(body["heard"], len(marked))
+        report = self.studio.study.report_csv()
+        self.assertEqual(report.splitlines()[0], "string,fret,strength,heard")
+        self.assertEqual(len(report.splitlines()), len(marked) + 1)
+        status, body = self.studio.json("POST", "/api/calibrate", {})
+        self.assertEqual(status, 202, body)
+        study = self.studio.study
+        wait_for(lambda: study.calibration_status in ("done", "failed"), 120, "the calibration")
+        self.assertEqual(study.calibration_status, "done", study.calibration_error)
+        expected = quick_bench().calibrate(report)
+        for key in ("attack_scale", "attack_scale_low", "attack_scale_high", "statement", "disagreeing", "explained"):
+            self.assertEqual(study.calibration[key], expected[key], key)
+        html = self.studio.request("GET", "/fragment/player")[2].decode()
+        self.assertIn(f"Attack scale {expected['attack_scale']:.2f}", html)
+        self.assertIn(expected["statement"].split(".")[0], html)
+        # The calibrated map: the newest finished map's set-up at the player's touch, and its advice.
+        wait_for(lambda: study.calibrated_map is not None, 60, "the calibrated map")
+        record = self.studio.wait_map(study.calibrated_map, 120)
+        self.assertEqual(record.attack_scale, expected["attack_scale"])
+        self.assertIn("the player's touch", record.label)
+        touch = quick_bench().with_player(expected)
+        library = {(r["string"], r["fret"]): r["buzz_fraction"] for r in touch.map(strengths="medium").to_dict("records")}
+        self.assertEqual({(n["string"], n["fret"]): n["buzz_fraction"] for n in record.notes}, library)
+        wait_for(lambda: record.advice_status in ("done", "failed"), 120, "the calibrated advice")
+        self.assertEqual(record.advice_status, "done", record.advice_error)
+        advice = touch.advise([{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
+                               for n in record.notes], strength="medium")
+        self.assertEqual(record.advice["lowest_action"], advice["lowest_action"])
+        # A later what-if at the player's touch.
+        status, body = self.studio.json("POST", "/api/what-if", {"relief": "0.2", "strengths": "medium", "player": True})
+        self.assertEqual(status, 202, body)
+        later = self.studio.wait_map(body["id"], 120)
+        self.assertEqual(later.bench.attack_scale, expected["attack_scale"])
+
+
 class StudyFilesTest(unittest.TestCase):
     """The studio serves the files of its study folder and nothing else."""
 
