@@ -253,6 +253,20 @@ class ValidationTest(unittest.TestCase):
         self.assertEqual(status, 422)
         self.assertIn("form", body["errors"])
 
+    def test_the_saddle_box_moves_the_saddle_from_where_it_is(self):
+        page = self.studio.request("GET", "/")[2].decode()
+        self.assertIn('id="saddle_change.G"', page)
+        self.assertNotIn('id="saddle.G"', page)  # no absolute height a luthier cannot measure
+        job, _ = self.studio.study.submit_map({"saddle_change": {"G": "-0.25 mm"}, "strengths": "medium"})
+        now = job.record.bench.strings_table().iloc[0]["saddle_height_m"]
+        was = self.bench.strings_table().iloc[0]["saddle_height_m"]
+        self.assertAlmostEqual(1e3 * (now - was), -0.25, places=9)
+        self.assertIn("G saddle moved by -0.25 mm", job.record.label)
+        errors = self.refused({"saddle_change": {"G": "9 mm"}, "strengths": "medium"})
+        with self.assertRaises(fretbuzz.InputError) as e:
+            self.bench.with_changes(saddle_change={"G": "9 mm"}).instrument.geometry()
+        self.assertEqual(errors["saddle_change.G"], str(e.exception))
+
     def test_changes_that_are_each_valid_but_not_together_are_refused_as_a_whole(self):
         # A back-bowed neck and a low saddle: each is in range, together the string lies on a fret.
         errors = self.refused({"relief": "-0.5", "saddle": {"G": "1"}, "strengths": "medium"})
@@ -422,7 +436,10 @@ class StudioMapTest(unittest.TestCase):
         note = next(n for n in self.first.notes if n["touch_fraction"] > 0)
         html = self.studio.request("GET", f"/fragment/note?map=1&string=G&fret={note['fret']}&strength=medium")[2].decode()
         src = re.search(r'<audio id="note-audio"[^>]* src="([^"]+)"', html).group(1)
-        self.assertEqual(src, f"/study/maps/001/{note['audio']}")
+        # The pluck its verdict rests on: the map's WAV when that is the attack itself, else its own beside it.
+        member = note["deciding_pluck"]
+        name = note["audio"] if member == 0 else f"{note['audio'][:-len('.wav')]}-pluck{member + 1}.wav"
+        self.assertEqual(src, f"/study/maps/001/{name}")
         status, headers, data = self.studio.request("GET", src)
         self.assertEqual(status, 200)
         self.assertEqual(headers["content-type"], "audio/wav")
@@ -431,7 +448,7 @@ class StudioMapTest(unittest.TestCase):
         self.assertGreater(frames, 0.9 * QUICK["duration"] * rate)
         self.assertTrue(any(samples))
         # Its contacts: those of the library's record of the same pluck.
-        played = quick_bench().note("G", note["fret"], "medium")
+        played = quick_bench().note("G", note["fret"], "medium", member=member)
         self.assertEqual(html.count("<circle"), len(played["contacts"]))
 
     def test_the_map_fills_in_note_by_note(self):

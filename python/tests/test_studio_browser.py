@@ -11,6 +11,13 @@ fret 1, fret 12 and the last fret (mm and inches, the library's geometry); a cli
 draws its stopped string over the frets and its sound lasts at least 1.5 s; the fret dress
 and a dated report in three parts come on request.
 
+The player's report (PlayersReportInTheBrowserTest): a buzzing cell whose first pluck is not
+heard plays the pluck its verdict rests on, which is; notes marked "This buzzes for me" /
+"Clean for me" are marked on the map; the calibration shows the library's scale, interval and
+statement, then the map and the advice at the player's touch; the tolerate box takes
+--tolerate's choices and answers a bad one with the library's message; a later what-if plays
+at the player's touch.
+
 With FRETBUZZ_SCREENSHOTS=DIR (relative to the source tree, e.g. docs/figures) the same
 steps run on the built-in jazz-bass at its own settings and save the docs' screenshots
 there: studio-map.png, studio-what-if.png, studio-note.png, studio-neck.png, studio-advice.png,

@@ -42,7 +42,7 @@ LOCK_NAME = ".fretbuzz-studio.lock"
 # in that folder (or `fretbuzz clean`).
 PARTIAL = ".partial"
 # What-ifs that change one string alone: the other strings' notes are those of the map before.
-PER_STRING = ("action12", "nut", "saddle")
+PER_STRING = ("action12", "nut", "saddle", "saddle_change")
 MAP_FOLDER = re.compile(r"([0-9]{3,})(\.partial)?")
 
 
@@ -227,7 +227,7 @@ class MapRecord:
 
 @dataclass
 class Job:
-    id: Union[int, str]  # a map's number, "advice N" / "dress N" for the advice / fret dress on map N, "calibration N"
+    id: Union[int, str]  # a map's number, "advice N" / "dress N" / "calibration of map N" for the jobs on map N
     kind: str  # "map", "advice", "dress" or "calibration"
     record: MapRecord
     label: str
@@ -363,7 +363,7 @@ class Study:
         relief = take("relief", form.get("relief"))
         if relief is not None and check("relief", relief=relief):
             changes["relief"] = relief
-        for key in ("action12", "nut", "saddle"):
+        for key in PER_STRING:  # the page's saddle box is saddle_change: a move, as a luthier makes one
             try:
                 values = _per_string(form, key)
             except FieldErrors as e:
@@ -418,7 +418,8 @@ class Study:
         words = []
         if "relief" in changes:
             words.append(f"relief {length(changes['relief'])}")
-        for key, what in (("action12", "action at fret 12"), ("nut", "gap over fret 1"), ("saddle", "saddle height")):
+        for key, what in (("action12", "action at fret 12"), ("nut", "gap over fret 1"), ("saddle", "saddle height"),
+                          ("saddle_change", "saddle moved by")):
             for string, value in changes.get(key, {}).items():
                 words.append(f"{string} {what} {length(value)}")
         for fret, value in changes.get("fret_offsets", {}).items():

@@ -47,7 +47,7 @@ function paragraph(text, className) {
 
 function controls() {
   const form = $("what-if");
-  const values = { relief: form.relief.value, action12: {}, nut: {}, saddle: {}, fret: form.fret.value,
+  const values = { relief: form.relief.value, action12: {}, nut: {}, saddle_change: {}, fret: form.fret.value,
                    fret_offset: form.level.checked ? "level" : form.fret_offset.value };
   form.querySelectorAll("input[data-key]").forEach((input) => {
     if (input.value.trim()) values[input.dataset.key][input.dataset.string] = input.value;
@@ -133,7 +133,7 @@ function showSetup(setup) {
   for (const s of setup) {
     $("action12." + s.name).placeholder = s.action12_mm === null ? "" : s.action12_mm.toFixed(2);
     $("nut." + s.name).placeholder = s.nut_gap_mm.toFixed(2);
-    $("saddle." + s.name).placeholder = s.saddle_mm.toFixed(2);
+    $("saddle_change." + s.name).placeholder = "0 (now " + s.saddle_mm.toFixed(2) + ")";
   }
   if (setup.length) $("relief").placeholder = setup[0].relief_mm.toFixed(2);
 }
