@@ -131,6 +131,21 @@ TEST(SetupNotes, AVerdictComesFromItsPlucks) {
     EXPECT_TRUE(std::isnan(v.buzz_db));      // most plucks touch nothing
     EXPECT_EQ(v.buzz_fret, 3);               // what it touches, though not audibly
     EXPECT_EQ(v.verdict, "marginal");        // three plucks cannot show a note clean
+    // The pluck to be heard for the verdict: of a buzzing note its loudest (member 0 is the
+    // attack itself, quieter); a pluck not played (behind the fret) keeps its member's place.
+    PluckOutcome skipped;
+    skipped.error = "not played: behind the fret";
+    AttackJudgement buzzing = judged({pluck(-40, 7), skipped, pluck(nan, 0), pluck(12, 8), pluck(5, 8)}, 2);
+    buzzing.counted = 4;
+    v = summarise(buzzing, 0.0);
+    EXPECT_EQ(v.deciding_pluck, 3u);
+    // Of a clean note, the loudest one that is not heard.
+    std::vector<PluckOutcome> clean(30, pluck(nan, 0));
+    clean[4] = pluck(-3, 5);
+    clean[9] = pluck(-20, 5);
+    v = summarise(judged(clean, 0), 0.0);
+    ASSERT_EQ(v.verdict, "clean");
+    EXPECT_EQ(v.deciding_pluck, 4u);
     AttackJudgement behind;
     behind.status = "not played: the pluck falls behind fret 20";
     v = summarise(behind, 0.0);

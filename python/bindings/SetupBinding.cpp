@@ -68,6 +68,7 @@ py::dict verdict_dict(const NoteVerdict& v) {
     d["first_touch_s"] = number(v.first_touch_s);
     d["pluck_touch_s"] = touches;
     d["audio"] = v.audio;
+    d["deciding_pluck"] = v.deciding_pluck;
     return d;
 }
 
@@ -295,10 +296,23 @@ std::vector<std::size_t> fret_numbers(const Instrument& instrument, const py::ha
     return to_whole_list(frets, "frets", 0, static_cast<long long>(instrument.neck.fret_count));
 }
 
+// The attacks a call names, each size times the player's attack scale (a calibration's, as
+// --player applies it; 1: the instrument's own attacks).
+std::vector<Attack> player_attacks(const std::string& text, const Instrument& instrument, const std::string& name,
+                                   double attack_scale) {
+    if (!(attack_scale > 0.0 && attack_scale <= kMaxAttackScale))
+        throw InputError(out_of_range_message("attack_scale", attack_scale,
+                                              "must be in (0, " + std::to_string(static_cast<int>(kMaxAttackScale)) +
+                                                  "] (a calibration's attack_scale; 1: the attacks as they are)"));
+    std::vector<Attack> attacks = parse_attacks(text, instrument.attack, name);
+    scale_attacks(attacks, attack_scale);
+    return attacks;
+}
+
 MapRequest map_request(const Instrument& instrument, const std::string& strengths, const py::handle& strings,
-                       const py::handle& frets, bool finger, unsigned jobs) {
+                       const py::handle& frets, bool finger, unsigned jobs, double attack_scale) {
     MapRequest r;
-    r.attacks = parse_attacks(strengths, instrument.attack, "strengths");
+    r.attacks = player_attacks(strengths, instrument, "strengths", attack_scale);
     for (const std::string& s : string_names(strings)) r.strings.push_back(instrument.string_index(s));
     r.frets = fret_numbers(instrument, frets);
     r.finger = finger;
@@ -312,8 +326,9 @@ MapRequest map_request(const Instrument& instrument, const std::string& strength
 // with KeyboardInterrupt; `stop()` returning True stops it and returns the notes so far.
 py::list run_map(const Instrument& instrument, const std::string& strengths, const py::object& strings,
                  const py::object& frets, bool finger, unsigned jobs, const std::string& audio_dir,
-                 const py::object& progress, const py::object& stop) {
-    MapRequest request = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, jobs); });
+                 const py::object& progress, const py::object& stop, double attack_scale) {
+    MapRequest request =
+        with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, jobs, attack_scale); });
     request.audio_dir = audio_dir;
     BackgroundRun<std::tuple<NoteVerdict, std::size_t, std::size_t>> background;
     request.stop = [&background] { return background.stopping(); };
@@ -350,15 +365,18 @@ std::string calibrate(const Instrument& instrument, const std::string& report, c
 }
 
 py::dict record(const Instrument& instrument, const std::string& string, const py::object& fret_given,
-                const std::string& strength, const py::object& member_given, bool finger) {
+                const std::string& strength, const py::object& member_given, bool finger, const std::string& wav,
+                double attack_scale) {
     const std::size_t s = instrument.string_index(string);
     const auto fret = static_cast<std::size_t>(
         to_whole(fret_given, "fret", 0, static_cast<long long>(instrument.neck.fret_count)));
     const auto member = static_cast<std::size_t>(to_whole(
         member_given, "member (a pluck of the ensemble)", 0, static_cast<long long>(instrument.attack.ensemble) - 1));
-    const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
+    const std::vector<Attack> attacks = player_attacks(strength, instrument, "strength", attack_scale);
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
-    const PluckOutcome o = without_gil([&] { return record_pluck(instrument, s, fret, attacks.front(), member, finger); });
+    // With a WAV: the pluck's sound as long as a map's note's (kNoteSoundSeconds).
+    const PluckOutcome o = without_gil(
+        [&] { return record_pluck(instrument, s, fret, attacks.front(), member, finger, wav, kNoteSoundSeconds); });
     if (!o.error.empty()) throw InputError(string + " fret " + std::to_string(fret) + " " + strength + ": " + o.error);
     py::dict d;
     d["touched"] = o.touched;
@@ -385,9 +403,10 @@ py::dict record(const Instrument& instrument, const std::string& string, const p
 
 // What the advice and the dress answer for, as Python gives it (messages name the arguments).
 AdviceRequest advice_request(const Instrument& instrument, const std::string& strength, const py::handle& strings,
-                             const py::handle& frets, const std::string& tolerate, bool finger, unsigned jobs) {
+                             const py::handle& frets, const std::string& tolerate, bool finger, unsigned jobs,
+                             double attack_scale) {
     AdviceRequest request;
-    const std::vector<Attack> attacks = parse_attacks(strength, instrument.attack, "strength");
+    const std::vector<Attack> attacks = player_attacks(strength, instrument, "strength", attack_scale);
     if (attacks.size() != 1) throw InputError("strength " + strength + ": give one attack");
     request.attack = attacks.front();
     request.finger = finger;
@@ -436,8 +455,8 @@ std::vector<NoteVerdict> map_verdicts(const Instrument& instrument, const py::it
 
 std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                    const py::object& strings, const py::object& frets, const std::string& tolerate, bool finger,
-                   unsigned jobs) {
-    AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+                   unsigned jobs, double attack_scale) {
+    AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs, attack_scale);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
     // In the background (BackgroundRun): Ctrl-C stops the search at its next pluck.
     BackgroundRun<int> background;
@@ -451,9 +470,10 @@ std::string advice(const Instrument& instrument, const py::iterable& map, const 
 // refused at once, not after the map).
 DressRequest dress_request(const Instrument& instrument, const std::string& strength, const py::handle& strings,
                            const py::handle& frets, const std::string& tolerate, const py::object& depth,
-                           const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
+                           const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs,
+                           double attack_scale) {
     DressRequest request;
-    request.play = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs);
+    request.play = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs, attack_scale);
     if (!depth.is_none()) request.max_depth_m = millimetres(depth, "depth");
     if (!crown.is_none()) request.min_crown_m = millimetres(crown, "crown");
     if (!fall_away.is_none())
@@ -470,8 +490,10 @@ DressRequest dress_request(const Instrument& instrument, const std::string& stre
 
 py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                const py::object& strings, const py::object& frets, const std::string& tolerate,
-               const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs) {
-    DressRequest request = dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs);
+               const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs,
+               double attack_scale) {
+    DressRequest request =
+        dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs, attack_scale);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
     BackgroundRun<int> background;  // as the advice: Ctrl-C stops the search at its next pluck
     request.play.stop = [&background] { return background.stopping(); };
@@ -558,18 +580,21 @@ void bind_setup(py::module_& m) {
         return d;
     }, "The built-in instruments: {name: description}.");
     m.def("_setup_map", &run_map, py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"),
-          py::arg("finger"), py::arg("jobs"), py::arg("audio_dir"), py::arg("progress"), py::arg("stop"));
+          py::arg("finger"), py::arg("jobs"), py::arg("audio_dir"), py::arg("progress"), py::arg("stop"),
+          py::arg("attack_scale") = 1.0);
     m.def("_setup_check", [](const Instrument& instrument, const std::string& strengths, const py::object& strings,
-                             const py::object& frets, bool finger) {
-              const MapRequest r = with_python_names([&] { return map_request(instrument, strengths, strings, frets, finger, 0); });
+                             const py::object& frets, bool finger, double attack_scale) {
+              const MapRequest r = with_python_names(
+                  [&] { return map_request(instrument, strengths, strings, frets, finger, 0, attack_scale); });
               return map_notes(instrument, r).size() * r.attacks.size();
           },
           py::arg("instrument"), py::arg("strengths"), py::arg("strings"), py::arg("frets"), py::arg("finger"),
+          py::arg("attack_scale") = 1.0,
           "The number of notes a map would play; InputError, before anything runs, for what _setup_map would refuse.");
     m.def("_setup_calibrate", &calibrate, py::arg("instrument"), py::arg("report"), py::arg("source"), py::arg("finger"),
           py::arg("jobs"), py::arg("progress"));
     m.def("_setup_note", &record, py::arg("instrument"), py::arg("string"), py::arg("fret"), py::arg("strength"),
-          py::arg("member"), py::arg("finger"));
+          py::arg("member"), py::arg("finger"), py::arg("wav") = "", py::arg("attack_scale") = 1.0);
     m.def("_setup_compare", [](const py::iterable& now, const py::iterable& before) {
         py::list rows;
         for (const NoteChange& c : compare_maps(verdicts_from(now), verdicts_from(before))) {
@@ -584,18 +609,18 @@ void bind_setup(py::module_& m) {
         return rows;
     });
     m.def("_setup_advice", &advice, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
-          py::arg("frets"), py::arg("tolerate"), py::arg("finger"), py::arg("jobs"));
+          py::arg("frets"), py::arg("tolerate"), py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0);
     m.def("_setup_dress", &dress, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
           py::arg("frets"), py::arg("tolerate"), py::arg("depth"), py::arg("crown"), py::arg("fall_away"),
-          py::arg("finger"), py::arg("jobs"));
+          py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0);
     m.def("_setup_dress_check",
           [](const Instrument& instrument, const std::string& strength, const py::object& strings, const py::object& frets,
              const std::string& tolerate, const py::object& depth, const py::object& crown, const py::object& fall_away,
-             bool finger) {
-              dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, 0);
+             bool finger, double attack_scale) {
+              dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, 0, attack_scale);
           },
           py::arg("instrument"), py::arg("strength"), py::arg("strings"), py::arg("frets"), py::arg("tolerate"),
-          py::arg("depth"), py::arg("crown"), py::arg("fall_away"), py::arg("finger"),
+          py::arg("depth"), py::arg("crown"), py::arg("fall_away"), py::arg("finger"), py::arg("attack_scale") = 1.0,
           "InputError, before anything is played, for what _setup_dress would refuse of its arguments.");
     m.def("_setup_tolerance", [](const Instrument& instrument, const std::string& text) {
               return tolerance_for(instrument, text, "tolerate").text();

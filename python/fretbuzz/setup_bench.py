@@ -28,7 +28,10 @@ Tables (pandas DataFrames):
   change the verdict), status ("ok", "frets out", "not played: ...", "failed: ..."),
   clearance_mm (the smallest gap between the note's string at rest and a fret past the stop),
   pluck_dB (each pluck's level), first_touch_s (when the plucks that touch first do, the median;
-  pluck_touch_s each one's), audio (the WAV's name when the map wrote WAVs).
+  pluck_touch_s each one's), audio (the WAV's name when the map wrote WAVs), deciding_pluck (the
+  member of the note's ensemble whose outcome agrees with its verdict: the loudest pluck of a
+  note that buzzes or is marginal, the loudest one not heard of a clean note; note(member=...)
+  plays it).
 - geometry: one row per string and fret (frets 0 .. N, 0 being the nut end of the fret line):
   string, fret, x_m (along the string from its nut), top_m (the fret's top above the fret
   plane), line_m (the fret line, without the fret's own offset), gap_m (the open string's gap
@@ -106,7 +109,7 @@ def _records(table) -> List[dict]:
 
 MAP_COLUMNS = ("string", "fret", "strength", "verdict", "buzz_fraction", "buzz_fraction_low", "buzz_fraction_high",
                "buzz_dB", "buzz_fret", "touch_fraction", "plucks", "clean_up_to", "clean_up_to_value", "unit",
-               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio", "first_touch_s")
+               "stiffness_sensitive", "status", "clearance_mm", "pluck_dB", "audio", "first_touch_s", "deciding_pluck")
 
 
 class Bench:
@@ -123,7 +126,8 @@ class Bench:
     seconds per note. listen: "rig" (the pickup's circuit and a cabinet, the default) or
     "pickup" (its full range). partial_scatter: each stopped note's partials detuned at random by
     this rms, in cents (the coherence study's knob; default 0). A Bench is a value: what-ifs
-    return a new Bench.
+    return a new Bench; with_player(calibration) one whose attacks are the player's (as
+    `fretbuzz setup --player calibration.json`).
     """
 
     def __init__(self, instrument: Union[str, Instrument] = "jazz-bass", *, strengths: str = "soft,medium,hard",
@@ -144,6 +148,7 @@ class Bench:
         self.finger = finger
         self.jobs = _jobs(jobs)
         self.changes: Dict[str, Any] = {}
+        self.attack_scale: Optional[float] = None  # with_player's: every attack's size times it (None: as they are)
         self.instrument.geometry()  # every string clear of its frets, or InputError now
 
     @classmethod
@@ -155,7 +160,40 @@ class Bench:
         other = Bench.__new__(Bench)
         other.instrument, other.strengths, other.finger, other.jobs = instrument, self.strengths, self.finger, self.jobs
         other.changes = {**self.changes, **changes}
+        other.attack_scale = self.attack_scale
         return other
+
+    def with_player(self, calibration: Union[dict, float, str, "os.PathLike[str]", None]) -> "Bench":
+        """A new Bench whose every attack (its maps', notes', advice's and dress's) is the
+        player's, as `fretbuzz setup --player` plays them: each size times the calibration's
+        attack_scale. calibration: what calibrate() returns, the path of a calibration.json, a
+        scale, or None (the attacks as they are). InputError when the scale is not in (0, 10]
+        or the calibration found none."""
+        if calibration is None:
+            return self._copy(self.instrument, {})._played_by(None)
+        if isinstance(calibration, (str, os.PathLike)):
+            with open(calibration, encoding="utf-8") as f:
+                calibration = json.loads(f.read(1 << 20))
+        if isinstance(calibration, dict):
+            scale = calibration.get("attack_scale")
+            if scale is None:
+                raise InputError("attack_scale: the calibration found no scale (" +
+                                 str(calibration.get("statement") or "no reported note could be used") + ")")
+        else:
+            scale = calibration
+        if isinstance(scale, bool) or not isinstance(scale, (int, float)):
+            raise InputError(f"attack_scale: expected a number, got {type(scale).__name__}")
+        _core._setup_check(self.instrument, self.strengths, [], [0], self.finger, float(scale))  # the library's range
+        return self._copy(self.instrument, {})._played_by(float(scale))
+
+    def _played_by(self, scale: Optional[float]) -> "Bench":
+        self.attack_scale = scale
+        return self
+
+    @property
+    def _scale(self) -> float:
+        """The attacks' scale as the library takes it (1: as they are)."""
+        return 1.0 if self.attack_scale is None else self.attack_scale
 
     # The instrument -------------------------------------------------------------------
 
@@ -228,14 +266,15 @@ class Bench:
         far are returned). audio_dir: also write each note's WAV there. Ctrl-C stops the map
         with KeyboardInterrupt."""
         rows = _core._setup_map(self.instrument, strengths or self.strengths, _names(strings), _frets(frets),
-                                self.finger, self.jobs, audio_dir or "", progress, stop)
+                                self.finger, self.jobs, audio_dir or "", progress, stop, self._scale)
         return _frame(rows, MAP_COLUMNS)
 
     def check(self, *, strings: Union[str, Iterable[str], None] = None, frets: Union[int, Iterable[int], None] = None,
               strengths: Optional[str] = None) -> int:
         """The number of notes (times attacks) map() would play with these arguments, without
         playing any; InputError for anything map() would refuse (a page checks its controls)."""
-        return _core._setup_check(self.instrument, strengths or self.strengths, _names(strings), _frets(frets), self.finger)
+        return _core._setup_check(self.instrument, strengths or self.strengths, _names(strings), _frets(frets), self.finger,
+                                  self._scale)
 
     def notes(self, *, strings=None, frets=None, strengths: Optional[str] = None) -> Iterator[dict]:
         """The map as an iterator: yields each note (a dict with the map's columns) as it is
@@ -270,8 +309,10 @@ class Bench:
         """The attack scale that explains what a player hears (docs/setup.md, "Calibrating the
         attack to your own ears"): report is the CSV's text (string,fret,heard[,strength];
         heard: buzz or clean) or a path to it. Plays the reported notes on this Bench's
-        instrument and returns what calibration.json holds: attack_scale, attack_scale_low and
-        attack_scale_high, explained, disagreements, statement, disagreeing and notes.
+        instrument, at the attacks as the instrument has them (a player's scale is not applied),
+        and returns what calibration.json holds: attack_scale, attack_scale_low and
+        attack_scale_high, explained, disagreements, statement, disagreeing and notes
+        (with_player applies it).
         progress(note, done, total) as map(); Ctrl-C stops it with KeyboardInterrupt."""
         source = "(text)"
         if isinstance(report, os.PathLike):
@@ -280,19 +321,22 @@ class Bench:
                 report = f.read(4 << 20)
         return json.loads(_core._setup_calibrate(self.instrument, report, source, self.finger, self.jobs, progress))
 
-    def note(self, string: str, fret: int, strength: str = "medium", *, member: int = 0) -> dict:
+    def note(self, string: str, fret: int, strength: str = "medium", *, member: int = 0,
+             wav: Optional[str] = None) -> dict:
         """One pluck of one note, with everything kept: 'audio' (NumPy array, the pickup's
         displacement band-limited to 'audio_rate_hz' = 48 kHz, as the note's WAV before it is
         normalised and faded), 'signal' and 'signal_rate_hz' (the same at the run's output
         rate, unfiltered), 'contacts' (DataFrame time_s, impulse_n_s, peak_force_n, fret: the
         obstacle's pushes on the string in 0.5 ms stretches and the fret that took most),
         'touched', 'buzz_dB', 'buzz_fret', 'first_contact_s', 'peak_force_n'. member: which
-        pluck of the note's ensemble (0: the attack itself)."""
+        pluck of the note's ensemble (0: the attack itself; a map's deciding_pluck: the one its
+        verdict rests on). wav: also write the pluck's sound there, as long as a map's note's."""
         if isinstance(fret, bool) or not isinstance(fret, int) or fret < 0:
             raise InputError(f"fret: {fret!r} is not a fret (0 .. {self.frets})")
         if isinstance(member, bool) or not isinstance(member, int) or member < 0:
             raise InputError(f"member: {member!r} is not a pluck of the ensemble (0 .. {self.settings['ensemble'] - 1})")
-        out = _core._setup_note(self.instrument, string, fret, strength, member, self.finger)
+        out = _core._setup_note(self.instrument, string, fret, strength, member, self.finger, wav or "",
+                                self._scale)
         out["contacts"] = _frame(out["contacts"], ("time_s", "impulse_n_s", "peak_force_n", "fret"))
         return out
 
@@ -373,7 +417,7 @@ class Bench:
             _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
             map = self.map(strings=strings, frets=frets, strengths=attack)
         return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), _frets(frets),
-                                              tolerate, self.finger, self.jobs))
+                                              tolerate, self.finger, self.jobs, self._scale))
 
     def dress(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
               frets: Union[int, Iterable[int], None] = None, tolerate: str = "", depth: Optional[Millimetres] = None,
@@ -389,18 +433,20 @@ class Bench:
         attack = strength or self.strengths.split(",")[-1]
         # Every argument refused before anything is played.
         _core._setup_dress_check(self.instrument, attack, _names(strings), _frets(frets), tolerate, depth, crown,
-                                 fall_away, self.finger)
+                                 fall_away, self.finger, self._scale)
         if map is None:
             map = self.map(strings=strings, frets=frets, strengths=attack)
         out = _core._setup_dress(self.instrument, _records(map), attack, _names(strings), _frets(frets), tolerate,
-                                 depth, crown, fall_away, self.finger, self.jobs)
+                                 depth, crown, fall_away, self.finger, self.jobs, self._scale)
         out["after"] = _frame(out["after"], MAP_COLUMNS)
         out["dressed"] = self._copy(out["dressed"], {"dress": True})
         return out
 
     def __repr__(self) -> str:
         changes = f", changes {self.changes}" if self.changes else ""
-        return f"<fretbuzz.Bench {self.instrument.name}: strings {','.join(self.strings)}, strengths {self.strengths}{changes}>"
+        player = f", the player's attacks x{self.attack_scale:g}" if self.attack_scale is not None else ""
+        return (f"<fretbuzz.Bench {self.instrument.name}: strings {','.join(self.strings)}, strengths {self.strengths}"
+                f"{changes}{player}>")
 
 
 def setup(instrument: Union[str, Instrument] = "jazz-bass", *, strings=None, frets=None,

@@ -253,6 +253,20 @@ class ValidationTest(unittest.TestCase):
         self.assertEqual(status, 422)
         self.assertIn("form", body["errors"])
 
+    def test_the_saddle_box_moves_the_saddle_from_where_it_is(self):
+        page = self.studio.request("GET", "/")[2].decode()
+        self.assertIn('id="saddle_change.G"', page)
+        self.assertNotIn('id="saddle.G"', page)  # no absolute height a luthier cannot measure
+        job, _ = self.studio.study.submit_map({"saddle_change": {"G": "-0.25 mm"}, "strengths": "medium"})
+        now = job.record.bench.strings_table().iloc[0]["saddle_height_m"]
+        was = self.bench.strings_table().iloc[0]["saddle_height_m"]
+        self.assertAlmostEqual(1e3 * (now - was), -0.25, places=9)
+        self.assertIn("G saddle moved by -0.25 mm", job.record.label)
+        errors = self.refused({"saddle_change": {"G": "9 mm"}, "strengths": "medium"})
+        with self.assertRaises(fretbuzz.InputError) as e:
+            self.bench.with_changes(saddle_change={"G": "9 mm"}).instrument.geometry()
+        self.assertEqual(errors["saddle_change.G"], str(e.exception))
+
     def test_changes_that_are_each_valid_but_not_together_are_refused_as_a_whole(self):
         # A back-bowed neck and a low saddle: each is in range, together the string lies on a fret.
         errors = self.refused({"relief": "-0.5", "saddle": {"G": "1"}, "strengths": "medium"})
@@ -422,7 +436,10 @@ class StudioMapTest(unittest.TestCase):
         note = next(n for n in self.first.notes if n["touch_fraction"] > 0)
         html = self.studio.request("GET", f"/fragment/note?map=1&string=G&fret={note['fret']}&strength=medium")[2].decode()
         src = re.search(r'<audio id="note-audio"[^>]* src="([^"]+)"', html).group(1)
-        self.assertEqual(src, f"/study/maps/001/{note['audio']}")
+        # The pluck its verdict rests on: the map's WAV when that is the attack itself, else its own beside it.
+        member = note["deciding_pluck"]
+        name = note["audio"] if member == 0 else f"{note['audio'][:-len('.wav')]}-pluck{member + 1}.wav"
+        self.assertEqual(src, f"/study/maps/001/{name}")
         status, headers, data = self.studio.request("GET", src)
         self.assertEqual(status, 200)
         self.assertEqual(headers["content-type"], "audio/wav")
@@ -431,7 +448,7 @@ class StudioMapTest(unittest.TestCase):
         self.assertGreater(frames, 0.9 * QUICK["duration"] * rate)
         self.assertTrue(any(samples))
         # Its contacts: those of the library's record of the same pluck.
-        played = quick_bench().note("G", note["fret"], "medium")
+        played = quick_bench().note("G", note["fret"], "medium", member=member)
         self.assertEqual(html.count("<circle"), len(played["contacts"]))
 
     def test_the_map_fills_in_note_by_note(self):
@@ -502,6 +519,125 @@ class StudioMapTest(unittest.TestCase):
         # Nothing to fetch: no links, no scripts, no style sheets, no study files.
         self.assertIsNone(re.search(r'(src|href)="(?!data:)', html))
         self.assertFalse("/study/" in html)
+
+
+class PlayersReportTest(unittest.TestCase):
+    """The player's report clicked on the map, calibrated by the library (Bench.calibrate), the
+    map and advice played at the player's touch (Bench.with_player, as --player), the advice's
+    tolerate choices as --tolerate takes them, and a cell's pluck the one its verdict rests on."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.studio = RunningStudio()
+        cls.first = cls.studio.wait_map(1)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.studio.close()
+
+    def refused(self, path, body, field):
+        status, answer = self.studio.json("POST", path, body)
+        self.assertEqual(status, 422, answer)
+        self.assertIn(field, answer["errors"])
+        return answer["errors"][field]
+
+    def test_bad_notes_of_the_report_are_refused_naming_what_is_wrong(self):
+        note = {"string": "G", "fret": 3, "strength": "medium", "heard": "buzz"}
+        self.assertIn("heard:", self.refused("/api/heard", {**note, "heard": "loud"}, "heard"))
+        self.assertIn("string:", self.refused("/api/heard", {**note, "string": "Q"}, "heard"))
+        message = self.refused("/api/heard", {**note, "fret": 99}, "heard")
+        self.assertIn(f"0 to {quick_bench().frets}", message)
+        self.assertIn("strength", self.refused("/api/heard", {**note, "strength": "thunder"}, "heard"))
+        self.assertEqual(self.studio.study.heard, {})
+        # Playing at the player's touch before any calibration: refused, naming the control.
+        self.assertIn("player:", self.refused("/api/what-if", {"strengths": "medium", "player": True}, "player"))
+
+    def test_the_advice_takes_the_tolerate_choices_of_the_command_line(self):
+        with self.assertRaises(fretbuzz.InputError) as e:
+            quick_bench().advise(self.first.notes, strength="medium", tolerate="above=99")
+        self.assertEqual(self.refused("/api/advice", {"tolerate": "above=99"}, "tolerate"), str(e.exception))
+        self.assertIn("tolerate", str(e.exception))
+        status, body = self.studio.json("POST", "/api/advice", {"tolerate": "marginal,above=15"})
+        self.assertEqual(status, 202, body)
+        record = self.studio.study.maps[body["map"]]
+        wait_for(lambda: record.advice_status in ("done", "failed"), 120, "the advice")
+        self.assertEqual(record.advice_status, "done", record.advice_error)
+        expected = record.bench.advise([{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
+                                        for n in record.notes], strength="medium", tolerate="marginal,above=15")
+        self.assertEqual(record.advice["tolerated"], expected["tolerated"])
+        self.assertEqual(record.advice["lowest_action"], expected["lowest_action"])
+        html = self.studio.request("GET", f"/fragment/advice?map={record.id}")[2].decode()
+        self.assertIn(f"tolerating {expected['tolerated']}", html)
+        # The page states set-up practice's defaults, as the library words them.
+        page = self.studio.request("GET", "/")[2].decode()
+        self.assertIn(f"tolerating {fretbuzz._core._setup_tolerance(quick_bench().instrument, '')}", page)
+
+    def test_a_cell_plays_the_pluck_its_verdict_rests_on(self):
+        audible = quick_bench().settings["audible_dB"]
+
+        def loud(level):
+            return level is not None and level >= audible
+        def heard(n):  # what the pluck a verdict rests on must sound like: a marginal note's loudest
+            return n["verdict"] == "buzzes" or (n["verdict"] == "marginal" and any(map(loud, n["pluck_dB"])))
+        # The notes whose first pluck (the attack itself) says otherwise than the verdict first.
+        notes = sorted((n for n in self.first.notes if n["verdict"] and n["status"] == "ok"),
+                       key=lambda n: loud(n["pluck_dB"][0]) == heard(n))
+        self.assertTrue(notes)
+        for n in notes[:4]:
+            status, _, html = self.studio.request(
+                "GET", f"/fragment/note?map=1&string={n['string']}&fret={n['fret']}&strength=medium")
+            self.assertEqual(status, 200)
+            html = html.decode()
+            member = int(re.search(r'data-member="(\d+)"', html).group(1))
+            self.assertEqual(member, n["deciding_pluck"])
+            verdict = "buzz" if heard(n) else "clean"
+            self.assertEqual(re.search(r'data-pluck-heard="(\w+)"', html).group(1), verdict, (n["fret"], n["pluck_dB"]))
+            pluck = quick_bench().note(n["string"], n["fret"], "medium", member=member)
+            self.assertEqual(pluck["touched"] and loud(pluck["buzz_dB"]), verdict == "buzz", (n["fret"], member))
+            if member:  # its own sound, beside the map's
+                self.assertIn(f"-pluck{member + 1}.wav", html)
+
+    def test_the_report_is_calibrated_by_the_library_and_then_played_at_the_players_touch(self):
+        verdicts = {(n["string"], n["fret"]): n["verdict"] for n in self.first.notes}
+        marked = [(k, "buzz" if v == "buzzes" else "clean") for k, v in verdicts.items() if v][:6]
+        self.assertTrue(marked)
+        for (string, fret), heard in marked:
+            status, body = self.studio.json("POST", "/api/heard", {"string": string, "fret": fret, "strength": "medium",
+                                                                     "heard": heard})
+            self.assertEqual(status, 200, body)
+        self.assertEqual(body["heard"], len(marked))
+        report = self.studio.study.report_csv()
+        self.assertEqual(report.splitlines()[0], "string,fret,strength,heard")
+        self.assertEqual(len(report.splitlines()), len(marked) + 1)
+        status, body = self.studio.json("POST", "/api/calibrate", {})
+        self.assertEqual(status, 202, body)
+        study = self.studio.study
+        wait_for(lambda: study.calibration_status in ("done", "failed"), 120, "the calibration")
+        self.assertEqual(study.calibration_status, "done", study.calibration_error)
+        expected = quick_bench().calibrate(report)
+        for key in ("attack_scale", "attack_scale_low", "attack_scale_high", "statement", "disagreeing", "explained"):
+            self.assertEqual(study.calibration[key], expected[key], key)
+        html = self.studio.request("GET", "/fragment/player")[2].decode()
+        self.assertIn(f"Attack scale {expected['attack_scale']:.2f}", html)
+        self.assertIn(expected["statement"].split(".")[0], html)
+        # The calibrated map: the newest finished map's set-up at the player's touch, and its advice.
+        wait_for(lambda: study.calibrated_map is not None, 60, "the calibrated map")
+        record = self.studio.wait_map(study.calibrated_map, 120)
+        self.assertEqual(record.attack_scale, expected["attack_scale"])
+        self.assertIn("the player's touch", record.label)
+        touch = quick_bench().with_player(expected)
+        library = {(r["string"], r["fret"]): r["buzz_fraction"] for r in touch.map(strengths="medium").to_dict("records")}
+        self.assertEqual({(n["string"], n["fret"]): n["buzz_fraction"] for n in record.notes}, library)
+        wait_for(lambda: record.advice_status in ("done", "failed"), 120, "the calibrated advice")
+        self.assertEqual(record.advice_status, "done", record.advice_error)
+        advice = touch.advise([{k: v for k, v in n.items() if k not in ("change", "reason", "before")}
+                               for n in record.notes], strength="medium")
+        self.assertEqual(record.advice["lowest_action"], advice["lowest_action"])
+        # A later what-if at the player's touch.
+        status, body = self.studio.json("POST", "/api/what-if", {"relief": "0.2", "strengths": "medium", "player": True})
+        self.assertEqual(status, 202, body)
+        later = self.studio.wait_map(body["id"], 120)
+        self.assertEqual(later.bench.attack_scale, expected["attack_scale"])
 
 
 class StudyFilesTest(unittest.TestCase):

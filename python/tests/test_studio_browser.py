@@ -11,6 +11,13 @@ fret 1, fret 12 and the last fret (mm and inches, the library's geometry); a cli
 draws its stopped string over the frets and its sound lasts at least 1.5 s; the fret dress
 and a dated report in three parts come on request.
 
+The player's report (PlayersReportInTheBrowserTest): a buzzing cell whose first pluck is not
+heard plays the pluck its verdict rests on, which is; notes marked "This buzzes for me" /
+"Clean for me" are marked on the map; the calibration shows the library's scale, interval and
+statement, then the map and the advice at the player's touch; the tolerate box takes
+--tolerate's choices and answers a bad one with the library's message; a later what-if plays
+at the player's touch.
+
 With FRETBUZZ_SCREENSHOTS=DIR (relative to the source tree, e.g. docs/figures) the same
 steps run on the built-in jazz-bass at its own settings and save the docs' screenshots
 there: studio-map.png, studio-what-if.png, studio-note.png, studio-neck.png, studio-advice.png,
@@ -48,18 +55,8 @@ def browser(profile):
     return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
 
 
-class StudioInTheBrowserTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        if SCREENSHOTS:
-            cls.bench, cls.timeout = fretbuzz.Bench("jazz-bass"), 300
-            cls.shots = os.path.join(SOURCE, SCREENSHOTS)
-            os.makedirs(cls.shots, exist_ok=True)
-        else:
-            cls.bench, cls.timeout, cls.shots = quick_bench(), 60, None
-        cls.studio = RunningStudio(cls.bench, strengths="medium")
-        cls.profile = tempfile.mkdtemp(prefix="fretbuzz-studio-chromium-")
-        cls.driver = browser(cls.profile)
+class BrowserSession(unittest.TestCase):
+    """A studio and a headless Chromium on it, with the helpers the tests share (no test of its own)."""
 
     @classmethod
     def tearDownClass(cls):
@@ -128,6 +125,21 @@ class StudioInTheBrowserTest(unittest.TestCase):
             field.clear()
             field.send_keys(value)
         self.css("#play")[0].click()
+
+
+
+class StudioInTheBrowserTest(BrowserSession):
+    @classmethod
+    def setUpClass(cls):
+        if SCREENSHOTS:
+            cls.bench, cls.timeout = fretbuzz.Bench("jazz-bass"), 300
+            cls.shots = os.path.join(SOURCE, SCREENSHOTS)
+            os.makedirs(cls.shots, exist_ok=True)
+        else:
+            cls.bench, cls.timeout, cls.shots = quick_bench(), 60, None
+        cls.studio = RunningStudio(cls.bench, strengths="medium")
+        cls.profile = tempfile.mkdtemp(prefix="fretbuzz-studio-chromium-")
+        cls.driver = browser(cls.profile)
 
     # The test: one session, the luthier's loop ----------------------------------------
 
@@ -217,11 +229,12 @@ class StudioInTheBrowserTest(unittest.TestCase):
         stopped = self.css("#note-now svg line.stopped")
         if int(self.css("#note-now")[0].get_attribute("data-fret")) > 0:
             self.assertEqual(len(stopped), 1)
-        # Its contacts: the library's record of that pluck, one dot per stretch of 0.5 ms.
+        # Its contacts: the library's record of the pluck its verdict rests on, one dot per stretch of 0.5 ms.
         note = self.css("#note-now")[0]
         played = self.bench.with_changes(relief=RELIEF).note(
-            note.get_attribute("data-string"), int(note.get_attribute("data-fret")), "medium")
-        self.assertGreater(len(played["contacts"]), 0)  # every pluck of this note buzzes
+            note.get_attribute("data-string"), int(note.get_attribute("data-fret")), "medium",
+            member=int(note.get_attribute("data-member")))
+        self.assertGreater(len(played["contacts"]), 0)  # the loudest pluck of a note that buzzes touches
         self.assertEqual(len(self.css("#note-now svg.contacts circle")), len(played["contacts"]))
         self.shoot(self.css("#note-panel")[0], "note")
 
@@ -268,6 +281,89 @@ class StudioInTheBrowserTest(unittest.TestCase):
         d.get(link.get_attribute("href"))
         self.wait(lambda d: self.css("#found"), "the report in the browser")
         self.shoot(None, "report")
+
+
+class PlayersReportInTheBrowserTest(BrowserSession):
+    """The player's report as clicks on the map, calibrated by the library, then the map and
+    advice at the player's touch; the advice's tolerate box; a clicked cell plays the pluck its
+    verdict rests on."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.bench, cls.timeout, cls.shots = quick_bench(), 60, None
+        cls.studio = RunningStudio(cls.bench, strengths="medium")
+        cls.profile = tempfile.mkdtemp(prefix="fretbuzz-studio-chromium-")
+        cls.driver = browser(cls.profile)
+
+    def open_note(self, n):
+        self.css(f'[id="note-{n["string"]}-{n["fret"]}-medium"]')[0].click()
+        return self.wait(lambda d: self.css(f'#note-now[data-string="{n["string"]}"][data-fret="{n["fret"]}"]'),
+                         f"note {n['string']}{n['fret']}")[0]
+
+    def test_the_players_report_calibrates_the_touch_and_the_advice(self):
+        d = self.driver
+        d.get(self.studio.url + "/")
+        self.map_done(1)
+        audible = self.bench.settings["audible_dB"]
+        notes = [n for n in self.studio.study.maps[1].notes if n["status"] == "ok"]
+        # A note that buzzes whose first pluck (the attack itself) is not heard: the cell must
+        # play the pluck its verdict rests on, which is.
+        buzzing = [n for n in notes if n["verdict"] == "buzzes"]
+        self.assertTrue(buzzing)
+        buzzing.sort(key=lambda n: n["pluck_dB"][0] is not None and n["pluck_dB"][0] >= audible)
+        note = self.open_note(buzzing[0])
+        self.assertEqual(note.get_attribute("data-pluck-heard"), "buzz", buzzing[0]["pluck_dB"])
+        self.assertIn("heard to buzz", note.text)
+        member = int(note.get_attribute("data-member"))
+        played = self.bench.note(buzzing[0]["string"], buzzing[0]["fret"], "medium", member=member)
+        self.assertTrue(played["touched"] and played["buzz_dB"] >= audible)
+        self.assertEqual(len(self.css("#note-now svg.contacts circle")), len(played["contacts"]))
+        if member:
+            self.assertIn(f"-pluck{member + 1}.wav", self.css("#note-audio")[0].get_attribute("src"))
+        # The player marks it, and a quieter note, as they hear them on their instrument.
+        self.css('#note-now button.heard[data-heard="buzz"]')[0].click()
+        self.wait(lambda d: self.css(f'#map-now [id="note-{buzzing[0]["string"]}-{buzzing[0]["fret"]}-medium"]'
+                                     '[data-heard="buzz"]'), "the mark on the map")
+        quiet = min(notes, key=lambda n: n["buzz_fraction"])
+        self.open_note(quiet)
+        self.css('#note-now button.heard[data-heard="clean"]')[0].click()
+        self.wait(lambda d: self.css('#player-now[data-rows="2"]'), "the report of two notes")
+        self.assertTrue(self.css("#player")[0].get_attribute("disabled"))  # no touch before a calibration
+
+        # Calibrate: the library's scale, its interval, the statement; then the map and advice at that touch.
+        self.css("#calibrate")[0].click()
+        calibration = self.wait(lambda d: self.css("#calibration"), "the calibration", 2 * self.timeout)[0]
+        expected = self.bench.calibrate(self.studio.study.report_csv())
+        self.assertIn(f"Attack scale {expected['attack_scale']:.2f}", calibration.text)
+        self.assertIn(f"interval ({expected['attack_scale_low']:.2f}, ", calibration.text)
+        self.assertIn(expected["statement"], calibration.text)
+        second = self.map_done(2)
+        self.assertIn(f"x{expected['attack_scale']:.2f}, the player's touch", second.text)
+        advice = self.wait(lambda d: self.css('#advice-now[data-status="done"][data-map-id="2"]'), "the calibrated advice",
+                           2 * self.timeout)[0]
+        self.assertIn("the player's touch", advice.text)
+        self.assertRegex(advice.text, r"String \w+: action at fret 12 now")
+        self.assertTrue(self.css("#player")[0].is_selected())
+        self.assertIsNone(self.css("#player")[0].get_attribute("disabled"))
+
+        # The advice's tolerate box: the command line's choices, the library's message for a bad one.
+        practice = fretbuzz._core._setup_tolerance(self.bench.instrument, "")
+        self.assertIn(practice, self.css("#tolerate-default")[0].text)
+        self.css("#tolerate")[0].send_keys("above=99")
+        self.css("#advise")[0].click()
+        self.wait(lambda d: self.css("#error-tolerate")[0].text, "the tolerate error")
+        self.assertIn("tolerate", self.css("#error-tolerate")[0].text)
+        self.css("#tolerate")[0].clear()
+        self.css("#tolerate")[0].send_keys("marginal,above=15")
+        self.css("#advise")[0].click()
+        self.wait(lambda d: "tolerating marginal notes, notes above fret 15" in self.css("#advice-now")[0].text
+                  and self.css('#advice-now[data-status="done"]'), "the advice tolerating", 2 * self.timeout)
+
+        # A later what-if plays at the player's touch while the box is ticked.
+        self.play(relief=RELIEF)
+        third = self.map_done(3)
+        self.assertIn("the player's touch", third.text)
+        self.assertEqual(self.studio.study.maps[3].bench.attack_scale, expected["attack_scale"])
 
 
 if __name__ == "__main__":

@@ -54,8 +54,19 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
     v.verdict = j.verdict;
     std::vector<double> levels, touches;
     std::map<int, std::size_t> audible_frets, touching_frets;
-    for (const PluckOutcome& p : j.plucks) {
+    // j.plucks holds the ensemble in order, those not played included: its index is the member.
+    const bool clean = j.verdict == "clean";
+    double deciding = kQuietest;
+    bool decided = false;
+    for (std::size_t member = 0; member < j.plucks.size(); ++member) {
+        const PluckOutcome& p = j.plucks[member];
         if (!p.error.empty()) continue;
+        const double heard_db = p.touched && !std::isnan(p.buzz_db) ? p.buzz_db : kQuietest;
+        if ((!decided || heard_db > deciding) && !(clean && heard_db >= audible_db)) {
+            deciding = heard_db;
+            decided = true;
+            v.deciding_pluck = member;
+        }
         v.pluck_db.push_back(p.buzz_db);
         v.pluck_fret.push_back(p.touched ? p.buzz_fret : kNoFret);
         v.pluck_touch_s.push_back(p.touched ? p.first_contact_s : NoteVerdict::nan);

@@ -243,7 +243,7 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
 }
 
 PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
-                          std::size_t member, bool finger) {
+                          std::size_t member, bool finger, const std::filesystem::path& wav, double sound_s) {
     if (string >= instrument.strings.size())
         throw InputError(out_of_range_message("string", static_cast<double>(string), "must be a string of " +
                                                                                          instrument.name));
@@ -264,7 +264,8 @@ PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std:
     PluckOptions options;
     options.keep_details = true;
     options.polarisations = Polarisations::both;
-    options.wav = folder / "note.wav";
+    options.wav = wav.empty() ? folder / "note.wav" : wav;
+    options.sound_s = wav.empty() ? 0.0 : sound_s;
     PluckOutcome outcome;
     try {
         outcome = player.play(attack, attack.size, member, members[member], options);

@@ -56,6 +56,9 @@ struct NoteVerdict {
     std::string stiffness_sensitive;  // "" not checked; "no"; or the factors that change it: "0.5", "1.5", "0.5,1.5"
     double clearance_m = nan;      // the smallest gap between the note's string at rest and a fret past the stop
     std::string audio;             // its WAV (the attack itself), in the map's folder; "" if none
+    // The ensemble member whose outcome agrees with the verdict, to be heard for it: the loudest
+    // pluck of a note that buzzes or is marginal, the loudest one not heard of a clean note.
+    std::size_t deciding_pluck = 0;
 };
 
 // The verdict of one note and attack from its judgement (the fraction, levels and frets).

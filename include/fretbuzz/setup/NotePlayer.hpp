@@ -156,9 +156,11 @@ private:
 
 // One pluck of a note (member `member` of its ensemble) with everything kept, in both
 // polarisations: the pickup signal, its audio at 48 kHz (as the note's WAV, before
-// normalising) and the contacts over time.
+// normalising) and the contacts over time. wav: also its sound, as a map writes a note's,
+// sound_s long (the pluck is judged on the bench's duration all the same).
 PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
-                          std::size_t member = 0, bool finger = false);
+                          std::size_t member = 0, bool finger = false, const std::filesystem::path& wav = {},
+                          double sound_s = 0.0);
 
 // How the bench listens (BenchSettings' listening level).
 ListeningSettings listening_settings(const BenchSettings& bench);

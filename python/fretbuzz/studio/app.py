@@ -6,13 +6,16 @@ Routes:
   GET  /                 the page
   GET  /api/state        the queue, the map under way (progress), the set-up now (JSON)
   POST /api/what-if      queue the map of the page's controls (JSON); 422 names each bad control
-  POST /api/advice       queue the advice for the newest finished map
-  POST /api/dress        queue the fret dress for the newest finished map
+  POST /api/advice       queue the advice for the newest finished map ({"tolerate": ...} as --tolerate)
+  POST /api/dress        queue the fret dress for the newest finished map (the same)
+  POST /api/heard        one note of the player's report: {string, fret, strength, heard: buzz/clean/""}
+  POST /api/calibrate    queue the calibration of that report, then the calibrated map and advice
   POST /api/export       write the customer's report into the study folder
   GET  /fragment/maps    the map and the one before it, with the changes marked (HTML)
   GET  /fragment/neck    the side views of the neck for a map (HTML)
   GET  /fragment/advice  the advice (HTML)
   GET  /fragment/dress   the fret dress (HTML)
+  GET  /fragment/player  the player's report and its calibration (HTML)
   GET  /fragment/note    one note: its sound and its contacts over time (HTML)
   GET  /study/PATH       a file of the study folder (a note's WAV, a report)
   GET  /static/...       the page's script and style sheet
@@ -34,6 +37,7 @@ from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
+from .. import _core
 from ..setup_bench import Bench, InputError
 from . import present
 from .study import QUEUE_LIMIT, SERVED_SUFFIXES, FieldErrors, Study, StudyPathError
@@ -199,6 +203,14 @@ def _map_state(record) -> Optional[dict]:
             "dress": record.dress_status, "dress_error": record.dress_error}
 
 
+def _player_state(study: Study) -> dict:
+    """The player's report and its calibration, for the page (the scale: None until found)."""
+    with study.lock:
+        calibration = study.calibration or {}
+        return {"heard": len(study.heard), "version": study.heard_version, "status": study.calibration_status,
+                "scale": calibration.get("attack_scale"), "calibrated_map": study.calibrated_map}
+
+
 def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hosts: Iterable[str] = (),
                token: Optional[str] = None) -> FastAPI:
     """The studio's application around a Study; port (and host, when given) are where it is
@@ -265,7 +277,8 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         fret, offset = next(iter(newest.changes.get("fret_offsets", {}).items()), ("", ""))
         return page("index.html.j2", bench=study.base, setup=present.setup_rows(newest.bench),
                     settings=study.base.settings, strengths=newest.attacks, changes=newest.changes, fret=fret,
-                    offset=offset, queue_limit=QUEUE_LIMIT, folder=study.folder)
+                    offset=offset, queue_limit=QUEUE_LIMIT, folder=study.folder, player=newest.attack_scale is not None,
+                    practice=_core._setup_tolerance(study.base.instrument, ""))
 
     @app.get("/api/state")
     def state() -> JSONResponse:
@@ -276,7 +289,7 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
                              "done": done.id if done else None, "advice": done.advice_status if done else "",
                              "dress": done.dress_status if done else "",
                              "setup": present.setup_rows(shown.bench) if shown else present.setup_rows(study.base),
-                             "exports": list(study.exports)})
+                             "exports": list(study.exports), "player": _player_state(study)})
 
     @app.post("/api/what-if")
     async def what_if(request: Request) -> JSONResponse:
@@ -284,27 +297,49 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         return JSONResponse({"id": job.id, "label": job.label, "total": job.record.total,
                              "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
 
+    def tolerate(body) -> str:
+        return body.get("tolerate", "") if isinstance(body, dict) else ""
+
     @app.post("/api/advice")
     async def advice(request: Request) -> JSONResponse:
-        await _json(request)
-        job, superseded = study.submit_advice()
+        job, superseded = study.submit_advice(tolerate=tolerate(await _json(request)))
         return JSONResponse({"id": job.id if job else None, "map": study.done.id if study.done else None,
                              "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
 
     @app.post("/api/dress")
     async def dress(request: Request) -> JSONResponse:
-        await _json(request)
-        job, superseded = study.submit_advice("dress")
+        job, superseded = study.submit_advice("dress", tolerate(await _json(request)))
         return JSONResponse({"id": job.id if job else None, "map": study.done.id if study.done else None,
                              "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
+
+    @app.post("/api/heard")
+    async def heard(request: Request) -> JSONResponse:
+        study.set_heard(await _json(request))
+        return JSONResponse(_player_state(study))
+
+    @app.post("/api/calibrate")
+    async def calibrate(request: Request) -> JSONResponse:
+        job, superseded = study.submit_calibration(tolerate(await _json(request)))
+        return JSONResponse({"id": job.id if job else None,
+                             "superseded": [{"id": j.id, "label": j.label} for j in superseded]}, status_code=202)
+
+    @app.get("/fragment/player", response_class=HTMLResponse)
+    def player_fragment() -> HTMLResponse:
+        with study.lock:
+            heard = [{"string": s, "fret": k, "strength": a, "heard": h} for (s, k, a), h in study.heard.items()]
+            calibration, status = study.calibration, study.calibration_status
+        return page("_player.html.j2", heard=heard, calibration=calibration, status=status,
+                    error=study.calibration_error, calibrated_map=study.calibrated_map)
 
     @app.get("/fragment/maps", response_class=HTMLResponse)
     def maps(map: Optional[int] = None) -> HTMLResponse:
         record = study.latest if map is None else record_of(map)
         if record is None:
             return page("_maps.html.j2", record=None, before=None)
-        return page("_maps.html.j2", record=record, rows=present.map_rows(record), summary=present.summary(record),
-                    before=record.before, before_rows=present.map_rows(record.before) if record.before else [])
+        with study.lock:
+            heard = dict(study.heard)
+        return page("_maps.html.j2", record=record, rows=present.map_rows(record, heard), summary=present.summary(record),
+                    before=record.before, before_rows=present.map_rows(record.before, heard) if record.before else [])
 
     @app.get("/fragment/neck", response_class=HTMLResponse)
     def neck(map: Optional[int] = None) -> HTMLResponse:
@@ -329,9 +364,12 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         found = study.note(map, string, fret, strength)
         record = found["record"]
         plot = present.contacts_plot(found["played"], record.bench.settings["duration_s"], record.bench.frets)
+        with study.lock:
+            heard = study.heard.get((string, fret, strength), "")
         return page("_note.html.j2", record=record, note=found["verdict"], played=found["played"], plot=plot,
                     sentence=present.sentence(found["verdict"]), audio=found["audio"],
-                    view=present.note_view(record.bench, string, fret))
+                    view=present.note_view(record.bench, string, fret), member=found["member"],
+                    pluck_heard=present.heard(found["played"], record.bench.settings["audible_dB"]), heard=heard)
 
     @app.post("/api/export")
     async def export(request: Request) -> JSONResponse:

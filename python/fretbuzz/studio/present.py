@@ -56,13 +56,25 @@ def _ink(colour: str) -> str:
     return "#000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#fff"
 
 
-def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
+# How the player's report marks a cell, in text as well as by the mark.
+HEARD_MARKS = {"buzz": ("\u2717", "you hear it buzz"), "clean": ("\u2713", "you hear it clean")}
+
+
+def heard(played: dict, audible_dB: float) -> bool:
+    """Whether a pluck the library played is heard to buzz (its level reaches audible_dB)."""
+    level = played.get("buzz_dB")
+    return bool(played.get("touched")) and level is not None and not math.isnan(level) and level >= audible_dB
+
+
+def cell(n: Optional[dict], string: str, fret: int, strength: str, heard_as: str = "") -> dict:
     """One cell of the map: n is the note's verdict (with 'change' from the previous map) or
-    None while it is still to be played."""
+    None while it is still to be played; heard_as what the player's report says of it."""
+    you = f"; {HEARD_MARKS[heard_as][1]}" if heard_as else ""
     if n is None:
         return {"string": string, "fret": fret, "strength": strength, "kind": "pending", "text": "\u2026",
-                "label": f"{string} string, fret {fret}, {strength} attack: not played yet", "colour": "", "ink": "",
-                "change": "", "mark": "", "audio": ""}
+                "label": f"{string} string, fret {fret}, {strength} attack: not played yet{you}", "colour": "",
+                "ink": "", "change": "", "mark": "", "audio": "", "heard": heard_as,
+                "heard_mark": HEARD_MARKS[heard_as][0] if heard_as else ""}
     kind = verdict(n)
     up_to = clean_up_to_text(n)
     text = {"out": "out", "unplayed": "\u2013"}.get(kind, (up_to or plucks_text(n)) + ("?" if kind == "marginal" else ""))
@@ -73,16 +85,18 @@ def cell(n: Optional[dict], string: str, fret: int, strength: str) -> dict:
         was = n.get("before")
         label += f" ({CHANGE_MARKS[change][1]}" + (f": {change_text(was, n, n.get('reason', ''))}" if was else "") + ")"
     colour = note_colour(n)
-    return {"string": string, "fret": fret, "strength": strength, "kind": kind, "text": text, "label": label,
-            "colour": colour, "ink": _ink(colour), "change": change, "mark": mark, "audio": n.get("audio") or ""}
+    return {"string": string, "fret": fret, "strength": strength, "kind": kind, "text": text, "label": label + you,
+            "colour": colour, "ink": _ink(colour), "change": change, "mark": mark, "audio": n.get("audio") or "",
+            "heard": heard_as, "heard_mark": HEARD_MARKS[heard_as][0] if heard_as else ""}
 
 
-def map_rows(record) -> List[dict]:
-    """The map as rows (string, attack) of cells, frets 0 .. N, in the instrument's string order."""
+def map_rows(record, heard_as: Optional[dict] = None) -> List[dict]:
+    """The map as rows (string, attack) of cells, frets 0 .. N, in the instrument's string order;
+    heard_as: the player's report {(string, fret, attack): "buzz" or "clean"}, marked on its cells."""
     by_note = {(n["string"], n["fret"], n["strength"]): n for n in list(record.notes)}
-    frets = record.bench.frets
+    frets, heard_as = record.bench.frets, heard_as or {}
     return [{"string": s, "strength": a,
-             "cells": [cell(by_note.get((s, k, a)), s, k, a) for k in range(frets + 1)]}
+             "cells": [cell(by_note.get((s, k, a)), s, k, a, heard_as.get((s, k, a), "")) for k in range(frets + 1)]}
             for a in record.attacks for s in record.bench.strings]
 
 

@@ -21,6 +21,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Deque, Dict, List, Optional, Union
 
+from .. import _core
 from ..setup_bench import Bench, InputError
 
 # At most this many recomputations wait behind the running one; a newer what-if supersedes
@@ -41,7 +42,7 @@ LOCK_NAME = ".fretbuzz-studio.lock"
 # in that folder (or `fretbuzz clean`).
 PARTIAL = ".partial"
 # What-ifs that change one string alone: the other strings' notes are those of the map before.
-PER_STRING = ("action12", "nut", "saddle")
+PER_STRING = ("action12", "nut", "saddle", "saddle_change")
 MAP_FOLDER = re.compile(r"([0-9]{3,})(\.partial)?")
 
 
@@ -214,6 +215,9 @@ class MapRecord:
     dress_error: str = ""
     whole: bool = False  # its folder renamed from NNN.partial to NNN: every note written
     replayed: Optional[List[str]] = None  # the strings played again (the others' notes are the map before's); None: all
+    attack_scale: Optional[float] = None  # the player's touch (a calibration's attack scale) it was played at
+    advice_tolerate: str = ""  # what the advice and the dress were asked to tolerate ("": set-up practice)
+    dress_tolerate: str = ""
 
     @property
     def attacks(self) -> List[str]:
@@ -223,11 +227,13 @@ class MapRecord:
 
 @dataclass
 class Job:
-    id: Union[int, str]  # a map's number, or "advice N" / "dress N" for the advice / fret dress on map N
-    kind: str  # "map", "advice" or "dress"
+    id: Union[int, str]  # a map's number, "advice N" / "dress N" / "calibration of map N" for the jobs on map N
+    kind: str  # "map", "advice", "dress" or "calibration"
     record: MapRecord
     label: str
     superseded_by: Optional[Union[int, str]] = None
+    report: str = ""  # a calibration's: the player's report (CSV) as it was when asked for
+    tolerate: str = ""  # a calibration's: what its advice tolerates
 
 
 def _text(field_name: str, value: Any) -> Optional[str]:
@@ -282,6 +288,14 @@ class Study:
         self.done: Optional[MapRecord] = None  # the newest finished map
         self.maps: Dict[int, MapRecord] = {}
         self.exports: List[str] = []
+        # The player's report, as clicked on the maps: {(string, fret, attack): "buzz" or "clean"},
+        # and its calibration (Bench.calibrate's result) once asked for.
+        self.heard: Dict[tuple, str] = {}
+        self.heard_version = 0
+        self.calibration: Optional[dict] = None
+        self.calibration_status = ""  # "", waiting, running, done, failed
+        self.calibration_error = ""
+        self.calibrated_map: Optional[int] = None  # the map played with the player's touch after it
         self.closing = False
         self._next_id = self._first_free_id()
         self.strengths = strengths  # the attacks the page starts with
@@ -349,7 +363,7 @@ class Study:
         relief = take("relief", form.get("relief"))
         if relief is not None and check("relief", relief=relief):
             changes["relief"] = relief
-        for key in ("action12", "nut", "saddle"):
+        for key in PER_STRING:  # the page's saddle box is saddle_change: a move, as a luthier makes one
             try:
                 values = _per_string(form, key)
             except FieldErrors as e:
@@ -371,6 +385,12 @@ class Study:
                 fret = int(fret_text)
                 if check("fret", fret_offsets={fret: 0.0}) and check("fret_offset", fret_offsets={fret: offset}):
                     changes["fret_offsets"] = {fret: offset}
+        player = form.get("player", False)
+        if not isinstance(player, bool):
+            errors["player"] = f"player: expected true or false, got {type(player).__name__}"
+        elif player and (self.calibration is None or self.calibration.get("attack_scale") is None):
+            errors["player"] = ("player: no calibration with an attack scale yet: mark the notes as you hear them "
+                                "and calibrate first")
         strengths = take("strengths", form.get("strengths"))
         if strengths is None and "strengths" not in errors:
             errors["strengths"] = "strengths: choose at least one attack (soft, medium, hard, pop, slap or an amplitude in mm)"
@@ -386,22 +406,26 @@ class Study:
             bench.instrument.geometry()  # the changes together (each alone passed)
         except InputError as e:
             raise FieldErrors({"form": str(e)}) from None
+        if player:
+            bench = bench.with_player(self.calibration)
         return bench, changes, strengths
 
     @staticmethod
-    def describe(changes: Dict[str, Any], strengths: str) -> str:
+    def describe(changes: Dict[str, Any], strengths: str, attack_scale: Optional[float] = None) -> str:
         """The what-ifs in words, for the page and the report."""
         def length(value: Any) -> str:  # as typed, in mm unless it says its unit
             return f"{value} mm" if re.fullmatch(r"[-+]?[0-9.]+", str(value)) else str(value)
         words = []
         if "relief" in changes:
             words.append(f"relief {length(changes['relief'])}")
-        for key, what in (("action12", "action at fret 12"), ("nut", "gap over fret 1"), ("saddle", "saddle height")):
+        for key, what in (("action12", "action at fret 12"), ("nut", "gap over fret 1"), ("saddle", "saddle height"),
+                          ("saddle_change", "saddle moved by")):
             for string, value in changes.get(key, {}).items():
                 words.append(f"{string} {what} {length(value)}")
         for fret, value in changes.get("fret_offsets", {}).items():
             words.append(f"fret {fret} levelled" if value == "level" else f"fret {fret} moved by {length(value)}")
-        return (", ".join(words) or "as set up") + f"; attack {strengths}"
+        touch = f" x{attack_scale:.2f}, the player's touch" if attack_scale is not None else ""
+        return (", ".join(words) or "as set up") + f"; attack {strengths}{touch}"
 
     # The queue ------------------------------------------------------------------------
 
@@ -416,6 +440,8 @@ class Study:
                 if old.kind == "map":
                     old.record.status = "superseded"
                     self.maps.pop(old.record.id, None)  # never played: nothing of it to show
+                elif old.kind == "calibration":
+                    self.calibration_status = ""
                 else:
                     setattr(old.record, f"{old.kind}_status", "")
                 self.superseded.append(old)
@@ -435,25 +461,44 @@ class Study:
         """Queues the map of a what-if (the page's controls, see what_if); returns the job and
         the jobs it superseded. FieldErrors, and nothing queued, for a bad value."""
         bench, changes, strengths = self.what_if(form)
-        n = self._new_id()
-        record = MapRecord(n, bench, self.describe(changes, strengths), strengths, f"maps/{n:03d}",
-                           bench.check(strengths=strengths), changes)
-        job = Job(n, "map", record, record.label)
-        with self.lock:
-            self.maps[n] = record
+        record = self._new_map(bench, changes, strengths)
+        job = Job(record.id, "map", record, record.label)
         return job, self._queue(job)
 
-    def submit_advice(self, kind: str = "advice") -> tuple:
+    def _new_map(self, bench: Bench, changes: Dict[str, Any], strengths: str) -> MapRecord:
+        """A map of this study, to be played (registered under the next number)."""
+        n = self._new_id()
+        record = MapRecord(n, bench, self.describe(changes, strengths, bench.attack_scale), strengths,
+                           f"maps/{n:03d}", bench.check(strengths=strengths), changes, attack_scale=bench.attack_scale)
+        with self.lock:
+            self.maps[n] = record
+        return record
+
+    def tolerance(self, value: Any) -> str:
+        """What the page asks the advice and the dress to tolerate, as --tolerate takes it
+        ("": set-up practice's defaults); FieldErrors keyed "tolerate" with the library's message."""
+        text = _text("tolerate", value) or ""
+        try:
+            _core._setup_tolerance(self.base.instrument, text)
+        except InputError as e:
+            raise FieldErrors({"tolerate": str(e)}) from None
+        return text
+
+    def submit_advice(self, kind: str = "advice", tolerate: str = "") -> tuple:
         """Queues the advice ("advice") or the fret dress ("dress") for the newest finished map
-        (InputError when there is none yet)."""
+        (InputError when there is none yet), tolerating what `tolerate` says (see tolerance);
+        nothing when the same is waiting, running or done."""
         what = {"advice": "advice", "dress": "fret dress"}[kind]
+        tolerate = self.tolerance(tolerate)
         with self.lock:
             record = self.done
             if record is None:
                 raise InputError(f"{kind}: no map has finished yet; the {what} searches from a finished map")
-            if getattr(record, f"{kind}_status") in ("waiting", "running", "done"):
+            status = getattr(record, f"{kind}_status")
+            if status in ("waiting", "running") or (status == "done" and getattr(record, f"{kind}_tolerate") == tolerate):
                 return None, []
             setattr(record, f"{kind}_status", "waiting")
+            setattr(record, f"{kind}_tolerate", tolerate)
         job = Job(f"{kind} {record.id}", kind, record, f"{what} for map {record.id} ({record.label})")
         return job, self._queue(job)
 
@@ -472,6 +517,8 @@ class Study:
             try:
                 if job.kind == "map":
                     self._play(job.record)
+                elif job.kind == "calibration":
+                    self._calibrate(job)
                 else:
                     self._advise(job.record, job.kind)
             finally:
@@ -485,7 +532,8 @@ class Study:
         per-string settings (action, nut, saddle) at the same attacks: those strings, in the
         map's order; None when every string must be played."""
         before = record.before
-        if before is None or before.status != "done" or not before.whole or before.strengths != record.strengths:
+        if (before is None or before.status != "done" or not before.whole or before.strengths != record.strengths
+                or before.attack_scale != record.attack_scale):
             return None
         now, was = record.changes, before.changes
         if any(now.get(k) != was.get(k) for k in set(now) | set(was) if k not in PER_STRING):
@@ -572,10 +620,11 @@ class Study:
                      if n["strength"] == attack]
         try:
             # The map's notes at that attack (None: the library plays them, should the labels differ).
+            tolerate = getattr(record, f"{kind}_tolerate")
             if kind == "advice":
-                result = record.bench.advise(at_attack or None, strength=attack)
+                result = record.bench.advise(at_attack or None, strength=attack, tolerate=tolerate)
             else:
-                result = record.bench.dress(at_attack or None, strength=attack)
+                result = record.bench.dress(at_attack or None, strength=attack, tolerate=tolerate)
                 result = {k: v for k, v in result.items() if k not in ("dressed",)}
                 result["after"] = result["after"].to_dict("records")
             with self.lock:
@@ -588,11 +637,97 @@ class Study:
         with self.lock:
             self._changed()
 
+    # The player's report ------------------------------------------------------------
+
+    def set_heard(self, form: Any) -> None:
+        """One note of the player's report, as clicked on a map: {string, fret, strength, heard}
+        with heard "buzz", "clean" or "" (taken out of the report). FieldErrors keyed "heard"."""
+        if not isinstance(form, dict):
+            raise FieldErrors({"heard": "heard: expected the note as a JSON object"})
+        string, fret, strength, heard = (form.get(k) for k in ("string", "fret", "strength", "heard"))
+        if heard not in ("buzz", "clean", ""):
+            raise FieldErrors({"heard": f"heard: {str(heard)[:MAX_VALUE_CHARS]!r} must be \"buzz\", \"clean\" or "
+                                        "\"\" (out of the report)"})
+        if not isinstance(string, str) or string not in self.base.strings:
+            raise FieldErrors({"heard": f"string: {str(string)[:MAX_VALUE_CHARS]!r} is not a string of "
+                                        f"{self.base.instrument.name} (its strings: {', '.join(self.base.strings)})"})
+        if isinstance(fret, bool) or not isinstance(fret, int) or not 0 <= fret <= self.base.frets:
+            raise FieldErrors({"heard": f"fret: {str(fret)[:MAX_VALUE_CHARS]!r} is not a fret (0 to {self.base.frets})"})
+        try:
+            attack = _text("strength", strength)
+            self.base.check(strengths=attack or "", frets=[0])
+            if attack is None or "," in attack:
+                raise InputError(f"strength: {strength!r}: give one attack")
+        except InputError as e:
+            raise FieldErrors({"heard": str(e)}) from None
+        with self.lock:
+            if heard:
+                self.heard[(string, fret, attack)] = heard
+            else:
+                self.heard.pop((string, fret, attack), None)
+            self.heard_version += 1
+            self._changed()
+
+    def report_csv(self) -> str:
+        """The player's report as `fretbuzz setup --calibrate` reads it."""
+        with self.lock:
+            rows = [f"{s},{k},{a},{h}" for (s, k, a), h in self.heard.items()]
+        return "\n".join(["string,fret,strength,heard", *rows]) + "\n"
+
+    def submit_calibration(self, tolerate: str = "") -> tuple:
+        """Queues the calibration of the player's report on the instrument as loaded; with a
+        scale found, it then plays the newest finished map's set-up at the player's touch and
+        its advice (tolerating `tolerate`). InputError with no report or no finished map."""
+        tolerate = self.tolerance(tolerate)
+        with self.lock:
+            if not self.heard:
+                raise FieldErrors({"calibrate": "calibrate: the report is empty: click a note of the map and say "
+                                                "whether it buzzes or rings clean for you"})
+            record = self.done
+            if record is None:
+                raise FieldErrors({"calibrate": "calibrate: no map has finished yet; the calibrated map repeats the "
+                                                "newest finished one"})
+            if self.calibration_status in ("waiting", "running"):
+                return None, []
+            self.calibration_status, self.calibration_error = "waiting", ""
+            report = self.report_csv()
+        job = Job(f"calibration of map {record.id}", "calibration", record,
+                  f"calibration of the player's report ({len(self.heard)} notes), then map {record.id}'s set-up "
+                  "at the player's touch and its advice", report=report, tolerate=tolerate)
+        return job, self._queue(job)
+
+    def _calibrate(self, job: Job) -> None:
+        record = job.record
+        with self.lock:
+            self.calibration_status = "running"
+            self._changed()
+        try:
+            result = self.base.calibrate(job.report)
+        except Exception as e:  # shown on the page
+            with self.lock:
+                self.calibration_status, self.calibration_error = "failed", str(e)
+                self._changed()
+            return
+        with self.lock:
+            self.calibration, self.calibration_status = result, "done"
+            self._changed()
+        if result.get("attack_scale") is None or self.closing:
+            return
+        calibrated = self._new_map(record.bench.with_player(result), dict(record.changes), record.strengths)
+        with self.lock:
+            self.calibrated_map = calibrated.id
+        self._play(calibrated)
+        if calibrated.status == "done" and not self.closing:
+            calibrated.advice_status, calibrated.advice_tolerate = "waiting", job.tolerate
+            self._advise(calibrated)
+
     # Notes ----------------------------------------------------------------------------
 
     def note(self, map_id: int, string: str, fret: int, strength: str) -> dict:
-        """One note of a map: its verdict, its WAV's place in the study folder and its pluck
-        played again with everything kept (the contacts over time)."""
+        """One note of a map: its verdict, and the pluck its verdict rests on (the library's
+        deciding_pluck) played again with everything kept (the contacts over time) and its
+        sound's place in the study folder: the map's WAV when that pluck is the attack itself
+        (member 0), else a WAV of it written beside the map's (once)."""
         record = self.maps.get(map_id)
         if record is None:
             raise InputError(f"map: {map_id} is not a map of this study (maps: {', '.join(map(str, self.maps))})")
@@ -600,9 +735,19 @@ class Study:
                         if (n["string"], n["fret"], n["strength"]) == (string, fret, strength)), None)
         if verdict is None:
             raise InputError(f"{string} fret {fret} {strength}: not played in map {map_id} (yet)")
-        played = record.bench.note(string, fret, strength)
-        audio = f"{record.folder}/{verdict['audio']}" if verdict.get("audio") else None
-        return {"record": record, "verdict": verdict, "played": played, "audio": audio}
+        member = int(verdict.get("deciding_pluck") or 0)
+        name = verdict.get("audio") or ""
+        if member and name:
+            name = f"{name[:-len('.wav')]}-pluck{member + 1}.wav"
+            with self.lock:
+                folder = os.path.join(self.folder, record.folder + ("" if record.whole else PARTIAL))
+            wav = os.path.join(folder, name)
+            played = record.bench.note(string, fret, strength, member=member,
+                                       wav=None if os.path.isfile(wav) else wav)
+        else:
+            played = record.bench.note(string, fret, strength, member=member)
+        audio = f"{record.folder}/{name}" if name else None
+        return {"record": record, "verdict": verdict, "played": played, "audio": audio, "member": member}
 
     # Files ----------------------------------------------------------------------------
 
@@ -629,7 +774,8 @@ class Study:
     def as_found(self) -> Optional[MapRecord]:
         """The instrument as found: the first finished map of the study with no what-if."""
         with self.lock:
-            found = [r for _, r in sorted(self.maps.items()) if r.status == "done" and not r.changes]
+            found = [r for _, r in sorted(self.maps.items())
+                     if r.status == "done" and not r.changes and r.attack_scale is None]
         return found[0] if found else None
 
     def export_path(self, record: MapRecord) -> str:

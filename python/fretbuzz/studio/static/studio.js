@@ -4,7 +4,7 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const shown = { version: -1, map: null, done: -1, status: "", advice: "", dress: "", announced: "" };
+const shown = { version: -1, map: null, done: -1, status: "", advice: "", dress: "", announced: "", player: "" };
 let busy = true;
 
 async function failure(response) {
@@ -47,7 +47,7 @@ function paragraph(text, className) {
 
 function controls() {
   const form = $("what-if");
-  const values = { relief: form.relief.value, action12: {}, nut: {}, saddle: {}, fret: form.fret.value,
+  const values = { relief: form.relief.value, action12: {}, nut: {}, saddle_change: {}, fret: form.fret.value,
                    fret_offset: form.level.checked ? "level" : form.fret_offset.value };
   form.querySelectorAll("input[data-key]").forEach((input) => {
     if (input.value.trim()) values[input.dataset.key][input.dataset.string] = input.value;
@@ -55,11 +55,12 @@ function controls() {
   const attacks = Array.from(form.querySelectorAll("input[name=attack]:checked"), (box) => box.value);
   if (form.amplitude.value.trim()) attacks.push(form.amplitude.value.trim());
   values.strengths = attacks.join(",");
+  values.player = !form.player.disabled && form.player.checked;
   return values;
 }
 
 function clearErrors() {
-  document.querySelectorAll("#what-if .error, #error-export").forEach((span) => say(span, ""));
+  document.querySelectorAll("#what-if .error, #error-export, #error-tolerate, #error-calibrate").forEach((span) => say(span, ""));
   document.querySelectorAll("#what-if [aria-invalid]").forEach((input) => input.removeAttribute("aria-invalid"));
 }
 
@@ -132,7 +133,7 @@ function showSetup(setup) {
   for (const s of setup) {
     $("action12." + s.name).placeholder = s.action12_mm === null ? "" : s.action12_mm.toFixed(2);
     $("nut." + s.name).placeholder = s.nut_gap_mm.toFixed(2);
-    $("saddle." + s.name).placeholder = s.saddle_mm.toFixed(2);
+    $("saddle_change." + s.name).placeholder = "0 (now " + s.saddle_mm.toFixed(2) + ")";
   }
   if (setup.length) $("relief").placeholder = setup[0].relief_mm.toFixed(2);
 }
@@ -148,18 +149,29 @@ async function refresh() {
   showQueue(state.jobs, state.map);
   showSetup(state.setup);
   const map = state.map;
+  const player = state.player;
+  const playerKey = player.version + ":" + player.status + ":" + player.calibrated_map;
+  const reportChanged = playerKey !== shown.player;
+  if (reportChanged) {
+    // A scale found for the first time: later what-ifs play at the player's touch unless unticked.
+    if (player.scale !== null && $("player").disabled) $("player").checked = true;
+    $("player").disabled = player.scale === null;
+    say($("player-scale"), player.scale === null ? "" : ": \u00d7" + player.scale.toFixed(2));
+    await fragment($("player-report"), "/fragment/player");
+  }
   if (map && map.status !== "running" && map.status !== "waiting" && shown.announced !== map.id + map.status) {
     shown.announced = map.id + map.status;
     say($("announce"), "Map " + map.id + " " + (map.status === "done" ? "is complete: " + map.summary.buzzing + " of " +
         map.summary.played + " notes buzz, " + map.summary.marginal + " are marginal." : map.status + "."));
   }
-  if (map && (map.id !== shown.map || map.done !== shown.done || map.status !== shown.status)) {
+  if (map && (reportChanged || map.id !== shown.map || map.done !== shown.done || map.status !== shown.status)) {
     await fragment($("maps"), "/fragment/maps?map=" + map.id);
     // What the fragment shows (it may be newer than this state): no redraw until it changes.
     const drawn = $("map-now");
     shown.done = drawn ? Number(drawn.dataset.done) : map.done;
     shown.status = drawn ? drawn.dataset.status : map.status;
   }
+  shown.player = playerKey;
   if (map && map.id !== shown.map) {
     shown.map = map.id;
     await fragment($("neck"), "/fragment/neck?map=" + map.id);
@@ -217,19 +229,39 @@ $("maps").addEventListener("click", async (event) => {
   }
 });
 
+// The player's report: what a clicked note sounds like on the player's own instrument.
+$("note").addEventListener("click", async (event) => {
+  const button = event.target.closest("button.heard");
+  const note = $("note-now");
+  if (!button || !note) return;
+  const response = await post("/api/heard", { string: note.dataset.string, fret: Number(note.dataset.fret),
+                                              strength: note.dataset.strength, heard: button.dataset.heard });
+  if (!response.ok) {
+    $("note").append(paragraph((await failure(response)).error, "error"));
+    return;
+  }
+  document.querySelectorAll("#note button.heard").forEach((b) => b.setAttribute("aria-pressed", String(b === button)));
+  wake();
+});
+
+// A request whose bad values are answered next to their controls (or `where`).
+async function ask(url, body, where) {
+  clearErrors();
+  const response = await post(url, body);
+  if (!response.ok) {
+    const failed = await failure(response);
+    showErrors(Object.keys(failed.errors || {}).some((k) => k !== "form" && $("error-" + k)) ? failed.errors : { [where]: failed.error });
+  }
+  wake();
+}
+
+$("calibrate").addEventListener("click", () => ask("/api/calibrate", { tolerate: $("tolerate").value }, "calibrate"));
+
 // Advice and export -------------------------------------------------------------------
 
-$("advise").addEventListener("click", async () => {
-  const response = await post("/api/advice", {});
-  if (!response.ok) $("advice").replaceChildren(paragraph((await failure(response)).error, "error"));
-  wake();
-});
+$("advise").addEventListener("click", () => ask("/api/advice", { tolerate: $("tolerate").value }, "tolerate"));
 
-$("dress").addEventListener("click", async () => {
-  const response = await post("/api/dress", {});
-  if (!response.ok) $("dress-result").replaceChildren(paragraph((await failure(response)).error, "error"));
-  wake();
-});
+$("dress").addEventListener("click", () => ask("/api/dress", { tolerate: $("tolerate").value }, "tolerate"));
 
 $("export").addEventListener("click", async () => {
   clearErrors();
