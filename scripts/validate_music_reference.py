@@ -119,6 +119,17 @@ def main():
         print(f"| {name} | {s['energy_initial_J'] * 1e3:.4f} | " + " | ".join(f"{a:.4f}" for a in at)
               + f" | {s['max_relative_energy_balance_error']:.2g} |")
 
+    print("\nThe impact ledger at the lowest rates: the impacts' loss / H(0) (negative: a gain) and the largest "
+          "rise of H between rows / H(0):")
+    print("| Fe [Hz] | " + " | ".join(f"e = {e}" for e in RESTITUTIONS) + " |")
+    print("|---" * (len(RESTITUTIONS) + 1) + "|")
+    for k in (*range(min(5, top)), top):
+        cells = []
+        for e in RESTITUTIONS:
+            s = results[(e, k)][1]
+            cells.append(f"{s['impact_loss_J'] / s['energy_initial_J']:.3g}, {s['max_relative_energy_increase']:.2g}")
+        print(f"| {rates[k]:.0f} | " + " | ".join(cells) + " |")
+
     print("\nPenalty (K = 1e13) against the impact law at the same rate, relative L2 of u(0.854 m):")
     for k in PENALTY_LEVELS:
         if k <= top:
