@@ -51,7 +51,7 @@ REFERENCE_MINUTES = {9: 100, 10: 195, 11: 385, 12: 675, 13: 1175, 14: 2240}
 def run(out, fs, *options):
     """One 0.4 s run (reused if DIR already holds it); its observation columns and summary."""
     if not (out / "summary.json").exists():
-        fretbuzz("run", CASE, "-q", "--fs", repr(fs), "--out", out, *options)
+        fretbuzz("run", CASE, "-q", "--allow-aliasing", "--fs", repr(fs), "--out", out, *options)
     _, data = read_csv(out / "observation.csv")
     return data, json.loads((out / "summary.json").read_text())
 
@@ -161,7 +161,7 @@ def penetration(out, rates):
         for k in range(5):
             d = out / f"penetration-e{e}-k{k}"
             if not (d / "summary.json").exists():
-                fretbuzz("run", CASE, "-q", "--fs", repr(rates[k]), "--law", "impact", "--restitution", e,
+                fretbuzz("run", CASE, "-q", "--allow-aliasing", "--fs", repr(rates[k]), "--law", "impact", "--restitution", e,
                          "--output-rate", "native", "--out", d, *observe)
             _, data = read_csv(d / "observation.csv")
             depth = (data[:, 3:3 + len(x)] - g).min(axis=0) * 1e3
@@ -182,7 +182,7 @@ def fewer_modes(out):
                 lines = (CASES / "data" / name).read_text().splitlines()
                 (d / "data" / name).write_text("\n".join(lines[:m + 1]) + "\n")
             (d / "case.toml").write_text(text)
-            fretbuzz("run", d / "case.toml", "-q", "--out", d / "run")
+            fretbuzz("run", d / "case.toml", "-q", "--allow-aliasing", "--fs", "15680", "--out", d / "run")
             (d / "summary.json").write_text((d / "run" / "summary.json").read_text())
         s = json.loads((d / "summary.json").read_text())
         print(f"  m = {m}: {s['impact_loss_J'] / s['energy_initial_J']:.3g}, {s['max_relative_energy_increase']:.3g}")
@@ -194,7 +194,7 @@ def speed(out, reps):
     for r in range(reps):
         for name, extra in (("free flight", ()), ("every step", ("--no-free-flight",))):
             d = out / f"speed-{name.replace(' ', '-')}-{r}"
-            fretbuzz("run", CASE, "-q", "--duration", "3", "--output-rate", "15680", "--out", d, *extra)
+            fretbuzz("run", CASE, "-q", "--allow-aliasing", "--fs", "15680", "--duration", "3", "--out", d, *extra)
             s = json.loads((d / "summary.json").read_text())
             walls[name].append(s["wall_seconds"] / s["steps"])
     print("\nThe reference's cost per step, from its Durations figure (e = 0, 0.4 s runs):")
