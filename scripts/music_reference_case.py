@@ -75,7 +75,7 @@ description = "The Siconos Music example's fretted bass: its 20 frets as grid po
 [string]
 L = 0.863        # m (autres_donnees.txt)
 T = 191.6        # N
-mu = 6.69e-3     # kg/m: the 6.7e-3 of autres_donnees.txt to the digits of the JSV 2017 Table 1
+mu = 6.69e-3     # kg/m: autres_donnees.txt rounds it to 6.7e-3; the example's run.py gives 6.69e-3
 modes = 862      # the example's nb_modes; dx = L / 863 = 1 mm
 
 [modes]
