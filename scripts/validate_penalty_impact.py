@@ -9,21 +9,12 @@ figure, docs/figures/bass-rigid-frets-energy.png.
 Usage: validate_penalty_impact.py [--duration 0.3] [--reps 3] [--no-speed]"""
 import argparse
 import json
-import platform
 import shutil
 import statistics
-import subprocess
 
 import numpy as np
 
-from validation_common import FIGURES, fretbuzz, read_csv, scratch_dir
-
-
-def processor():
-    for line in subprocess.run(["lscpu"], text=True, capture_output=True).stdout.splitlines():
-        if line.startswith("Model name:"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown processor"
+from validation_common import FIGURES, fretbuzz, processor, read_csv, relative_l2, scratch_dir
 
 
 def run(out, *options):
@@ -31,11 +22,6 @@ def run(out, *options):
     summary = json.loads((out / "summary.json").read_text())
     _, data = read_csv(out / "observation.csv")
     return data[:, 1], summary
-
-
-def relative_l2(a, b):
-    n = min(len(a), len(b))
-    return float(np.linalg.norm(a[:n] - b[:n]) / np.linalg.norm(b[:n]))
 
 
 BANDS = ((0.0, 1000.0), (1000.0, 5000.0), (5000.0, 24000.0))  # Hz

@@ -3,6 +3,7 @@ write modified case files, and time the whole script. Run with /usr/bin/python3 
 import atexit
 import csv
 import os
+import platform
 import shutil
 import subprocess
 import sys
@@ -91,3 +92,17 @@ def savefig(fig, name):
     path = FIGURES / name
     fig.savefig(path, dpi=90)
     print(f"wrote {path.relative_to(ROOT)} ({path.stat().st_size // 1024} KB)")
+
+
+def processor():
+    """The processor's name from lscpu, to print beside every timing."""
+    for line in subprocess.run(["lscpu"], text=True, capture_output=True).stdout.splitlines():
+        if line.startswith("Model name:"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown processor"
+
+
+def relative_l2(a, b):
+    """||a - b|| / ||b|| over their common length."""
+    n = min(len(a), len(b))
+    return float(np.linalg.norm(a[:n] - b[:n]) / np.linalg.norm(b[:n]))
