@@ -487,7 +487,11 @@ def work():
 thread = threading.Thread(target=work, daemon=daemon)
 thread.start()
 print("mapping", flush=True)
-thread.join()
+# Timed joins: a SIGINT whose handler runs just before an untimed join starts its lock wait
+# leaves that wait uninterrupted until the thread ends (CPython's race, seen as a hang here:
+# the main thread still in join, the map working on); a Ctrl-C program waits so.
+while thread.is_alive():
+    thread.join(0.1)
 """
 
     def interrupt(self, kind, delay):
