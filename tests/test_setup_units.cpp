@@ -259,6 +259,10 @@ TEST(SetupWhatIf, ATurnMovesByWhatTheFileSaysATurnDoes) {
     const Instrument lowered = after(bass, saddle);
     EXPECT_NEAR(StringNeck(lowered, 0).saddle_height(), before.saddle_height() - 0.5 * kIn / 40.0, 1e-15);
     EXPECT_NEAR(StringNeck(lowered, 1).saddle_height(), StringNeck(bass, 1).saddle_height(), 1e-15);
+    // The map's record of its what-ifs (and --calibrate's refusal of any) hold the turns too.
+    WhatIfWords both = rod;
+    both.saddle_turns = saddle.saddle_turns;
+    EXPECT_EQ(both.words(), (std::vector<std::string>{"--truss-rod-turns -1/2 turn", "--saddle-turns E=-1/2"}));
 }
 
 // A file that measures the action at fret 17 keeps saying so through the what-ifs, whose

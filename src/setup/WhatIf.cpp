@@ -104,6 +104,7 @@ std::vector<std::string> WhatIfWords::words() const {
     add("--tune", tune);
     if (!relief.empty()) out.push_back("--relief " + relief);
     if (!relief_change.empty()) out.push_back("--relief-change " + relief_change);
+    if (!truss_rod_turns.empty()) out.push_back("--truss-rod-turns " + truss_rod_turns);
     add("--action12", action12);
     add("--action", action);
     add("--nut", nut);
