@@ -380,6 +380,7 @@ py::dict record(const Instrument& instrument, const std::string& string, const p
     if (!o.error.empty()) throw InputError(string + " fret " + std::to_string(fret) + " " + strength + ": " + o.error);
     py::dict d;
     d["touched"] = o.touched;
+    d["heard"] = heard_to_buzz(o, instrument.bench.audible_db);  // as the verdicts count it
     d["buzz_dB"] = number(o.buzz_db);
     d["buzz_fret"] = fret_value(o.buzz_fret);
     d["first_contact_s"] = number(o.first_contact_s);

@@ -328,7 +328,8 @@ class Bench:
         normalised and faded), 'signal' and 'signal_rate_hz' (the same at the run's output
         rate, unfiltered), 'contacts' (DataFrame time_s, impulse_n_s, peak_force_n, fret: the
         obstacle's pushes on the string in 0.5 ms stretches and the fret that took most),
-        'touched', 'buzz_dB', 'buzz_fret', 'first_contact_s', 'peak_force_n'. member: which
+        'touched', 'heard' (heard to buzz, as the verdicts count a pluck), 'buzz_dB', 'buzz_fret',
+        'first_contact_s', 'peak_force_n'. member: which
         pluck of the note's ensemble (0: the attack itself; a map's deciding_pluck: the one its
         verdict rests on). wav: also write the pluck's sound there, as long as a map's note's."""
         if isinstance(fret, bool) or not isinstance(fret, int) or fret < 0:

@@ -62,7 +62,8 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
         const PluckOutcome& p = j.plucks[member];
         if (!p.error.empty()) continue;
         const double heard_db = p.touched && !std::isnan(p.buzz_db) ? p.buzz_db : kQuietest;
-        if ((!decided || heard_db > deciding) && !(clean && heard_db >= audible_db)) {
+        const bool buzzes = heard_to_buzz(p, audible_db);
+        if ((!decided || heard_db > deciding) && !(clean && buzzes)) {
             deciding = heard_db;
             decided = true;
             v.deciding_pluck = member;
@@ -71,9 +72,9 @@ NoteVerdict summarise(const AttackJudgement& j, double audible_db) {
         v.pluck_fret.push_back(p.touched ? p.buzz_fret : kNoFret);
         v.pluck_touch_s.push_back(p.touched ? p.first_contact_s : NoteVerdict::nan);
         if (p.touched && std::isfinite(p.first_contact_s)) touches.push_back(p.first_contact_s);
-        levels.push_back(p.touched && !std::isnan(p.buzz_db) ? p.buzz_db : kQuietest);
+        levels.push_back(heard_db);
         if (p.touched) ++touching_frets[p.buzz_fret];
-        if (p.touched && p.buzz_db >= audible_db) ++audible_frets[p.buzz_fret];
+        if (buzzes) ++audible_frets[p.buzz_fret];
     }
     v.plucks = j.counted;
     v.buzz_fraction = static_cast<double>(j.buzzing) / static_cast<double>(std::max<std::size_t>(j.counted, 1));

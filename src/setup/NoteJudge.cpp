@@ -36,7 +36,7 @@ NoteJudge::NoteJudge(const Instrument& instrument, const NoteMaker& maker, std::
       player_(maker, fret, options.finger, listening_settings(instrument.bench)) {}
 
 bool NoteJudge::buzzes(const PluckOutcome& o) const {
-    return o.error.empty() && o.touched && o.buzz_db >= instrument_.bench.audible_db;
+    return heard_to_buzz(o, instrument_.bench.audible_db);
 }
 
 const PluckOutcome& NoteJudge::pluck(const Attack& attack, double size, std::size_t member) {

@@ -242,6 +242,10 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
     return o;
 }
 
+bool heard_to_buzz(const PluckOutcome& o, double audible_db) {
+    return o.error.empty() && o.touched && o.buzz_db >= audible_db;
+}
+
 PluckOutcome record_pluck(const Instrument& instrument, std::size_t string, std::size_t fret, const Attack& attack,
                           std::size_t member, bool finger, const std::filesystem::path& wav, double sound_s) {
     if (string >= instrument.strings.size())

@@ -53,6 +53,11 @@ struct PluckOutcome {
     double audio_rate_hz = 0.0;
 };
 
+// Whether a pluck is heard to buzz: it was played, the obstacle pushed on the string, and the
+// contacts' level reaches audible_db (BenchSettings::audible_db) above what the note masks.
+// The one rule the verdicts, the deciding pluck and the studio's account of a pluck share.
+bool heard_to_buzz(const PluckOutcome& o, double audible_db);
+
 // Observes a note's run: the pickup signal and the obstacle's contacts, fret by fret (a
 // contact point belongs to the nearest fret within two grid steps, else to the board or
 // body). With an audio rate, also the pickup's displacement as the listener hears it: the

@@ -369,7 +369,7 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         return page("_note.html.j2", record=record, note=found["verdict"], played=found["played"], plot=plot,
                     sentence=present.sentence(found["verdict"]), audio=found["audio"],
                     view=present.note_view(record.bench, string, fret), member=found["member"],
-                    pluck_heard=present.heard(found["played"], record.bench.settings["audible_dB"]), heard=heard)
+                    pluck_heard=found["played"]["heard"], heard=heard)
 
     @app.post("/api/export")
     async def export(request: Request) -> JSONResponse:

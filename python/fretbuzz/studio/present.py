@@ -60,12 +60,6 @@ def _ink(colour: str) -> str:
 HEARD_MARKS = {"buzz": ("\u2717", "you hear it buzz"), "clean": ("\u2713", "you hear it clean")}
 
 
-def heard(played: dict, audible_dB: float) -> bool:
-    """Whether a pluck the library played is heard to buzz (its level reaches audible_dB)."""
-    level = played.get("buzz_dB")
-    return bool(played.get("touched")) and level is not None and not math.isnan(level) and level >= audible_dB
-
-
 def cell(n: Optional[dict], string: str, fret: int, strength: str, heard_as: str = "") -> dict:
     """One cell of the map: n is the note's verdict (with 'change' from the previous map) or
     None while it is still to be played; heard_as what the player's report says of it."""
