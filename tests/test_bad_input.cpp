@@ -141,6 +141,22 @@ x = [0.3]
                     "malformed.csv:2"});
 }
 
+// A file that is there but that the system fails to read is an I/O failure (exit 1), not the
+// user's input (exit 2): /proc/self/mem is a regular file whose first page cannot be read (EIO).
+TEST(BadInput, AFileTheSystemCannotReadExitsOneNotTwo) {
+    ScratchDir scratch("unreadable");
+    const std::filesystem::path link = scratch.path() / "mem.toml";
+    std::filesystem::create_symlink("/proc/self/mem", link);
+    const auto result = run_cli("run " + link.string() + " --out " + (scratch.path() / "out").string() + " -q");
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_NE(result.output.find("cannot read " + link.string()), std::string::npos) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(scratch.path() / "out"));
+    const auto absent = run_cli("run " + (scratch.path() / "absent.toml").string() + " --out " +
+                                (scratch.path() / "out").string() + " -q");
+    EXPECT_EQ(absent.exit_code, 2) << absent.output;
+    EXPECT_NE(absent.output.find("no such file"), std::string::npos) << absent.output;
+}
+
 TEST(BadInput, UnwritableOutputDirectoryIsRefused) {
     ScratchDir scratch("unwritable");
     const std::filesystem::path file = scratch.path() / "a-file";

@@ -300,10 +300,7 @@ std::vector<std::size_t> fret_numbers(const Instrument& instrument, const py::ha
 // --player applies it; 1: the instrument's own attacks).
 std::vector<Attack> player_attacks(const std::string& text, const Instrument& instrument, const std::string& name,
                                    double attack_scale) {
-    if (!(attack_scale > 0.0 && attack_scale <= kMaxAttackScale))
-        throw InputError(out_of_range_message("attack_scale", attack_scale,
-                                              "must be in (0, " + std::to_string(static_cast<int>(kMaxAttackScale)) +
-                                                  "] (a calibration's attack_scale; 1: the attacks as they are)"));
+    checked_attack_scale("attack_scale", attack_scale, " (a calibration's attack_scale; 1: the attacks as they are)");
     std::vector<Attack> attacks = parse_attacks(text, instrument.attack, name);
     scale_attacks(attacks, attack_scale);
     return attacks;
@@ -627,6 +624,12 @@ void bind_setup(py::module_& m) {
               return tolerance_for(instrument, text, "tolerate").text();
           },
           py::arg("instrument"), py::arg("text"), "What the advice tolerates, in words; InputError for a bad value.");
+    m.def("_setup_attack_scale", [](double scale) {
+              return checked_attack_scale("attack_scale", scale, " (a calibration's attack_scale; 1: the attacks as they are)");
+          },
+          py::arg("scale"), "The scale if a calibration can have found it, else InputError naming its range.");
+    m.def("_setup_player_scale", [](const std::string& path) { return read_player_touch(path, "calibration").attack_scale; },
+          py::arg("path"), "The attack_scale of a calibration.json, read and checked as --player reads it.");
     m.def("_compressed_audio", &compressed_audio, py::arg("wav"), py::arg("out"),
           "Writes the sound of a WAV file as Ogg Vorbis (a report's embedded sounds: a tenth of the size).");
 }

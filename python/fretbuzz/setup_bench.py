@@ -169,26 +169,20 @@ class Bench:
         attack_scale. calibration: what calibrate() returns, the path of a calibration.json, a
         scale, or None (the attacks as they are). InputError when the scale is not in (0, 10]
         or the calibration found none."""
-        if calibration is None:
-            return self._copy(self.instrument, {})._played_by(None)
-        if isinstance(calibration, (str, os.PathLike)):
-            with open(calibration, encoding="utf-8") as f:
-                calibration = json.loads(f.read(1 << 20))
-        if isinstance(calibration, dict):
-            scale = calibration.get("attack_scale")
+        scale = None
+        if isinstance(calibration, (str, os.PathLike)):  # read and checked as --player reads it
+            scale = _core._setup_player_scale(os.fspath(calibration))
+        elif calibration is not None:
+            scale = calibration.get("attack_scale") if isinstance(calibration, dict) else calibration
             if scale is None:
                 raise InputError("attack_scale: the calibration found no scale (" +
                                  str(calibration.get("statement") or "no reported note could be used") + ")")
-        else:
-            scale = calibration
-        if isinstance(scale, bool) or not isinstance(scale, (int, float)):
-            raise InputError(f"attack_scale: expected a number, got {type(scale).__name__}")
-        _core._setup_check(self.instrument, self.strengths, [], [0], self.finger, float(scale))  # the library's range
-        return self._copy(self.instrument, {})._played_by(float(scale))
-
-    def _played_by(self, scale: Optional[float]) -> "Bench":
-        self.attack_scale = scale
-        return self
+            if isinstance(scale, bool) or not isinstance(scale, (int, float)):
+                raise InputError(f"attack_scale: expected a number, got {type(scale).__name__}")
+            scale = _core._setup_attack_scale(float(scale))  # the library's range
+        other = self._copy(self.instrument, {})
+        other.attack_scale = scale
+        return other
 
     @property
     def _scale(self) -> float:

@@ -248,6 +248,24 @@ class CalibrationTest(unittest.TestCase):
             self.assertIn("column heard", str(e.exception))
             self.assertIn("report.csv", str(e.exception))
 
+    def test_the_players_touch_is_read_and_checked_as_player_reads_it(self):
+        bench = quick_bench()
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "calibration.json")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write('{"attack_scale": 1.37}')
+            touch = bench.with_player(pathlib.Path(path))
+            self.assertEqual(touch.attack_scale, 1.37)
+            self.assertIsNone(bench.attack_scale)  # a Bench is a value
+            self.assertEqual(bench.with_player({"attack_scale": 0.5}).attack_scale, 0.5)
+            self.assertIsNone(touch.with_player(None).attack_scale)
+            for bad, says in ((os.path.join(d, "absent.json"), "no such file"), (d, "not a regular file"),
+                              (12.5, "(0, 10]"), ({"attack_scale": 0.0}, "(0, 10]"),
+                              ({"attack_scale": None, "statement": "none fits"}, "none fits")):
+                with self.assertRaises(fretbuzz.InputError, msg=str(bad)) as e:
+                    bench.with_player(bad)
+                self.assertIn(says, str(e.exception))
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <stdexcept>
 
 #include "../FileDescriptor.hpp"
 #include "fretbuzz/Error.hpp"
@@ -17,6 +18,14 @@ namespace fretbuzz {
 namespace {
 
 std::string size_text(std::size_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+// A path that names nothing is the user's to mend (InputError, exit 2); a file there that the
+// system cannot read (permissions, a failing disk) is not (std::runtime_error, exit 1).
+[[noreturn]] void cannot_read(const std::string& what, const std::string& name, int error) {
+    if (error == ENOENT || error == ENOTDIR || error == ELOOP)
+        throw InputError(what + ": cannot read " + name + ": no such file");
+    throw std::runtime_error(what + ": cannot read " + name + " (" + std::strerror(error) + ")");
+}
 
 }  // namespace
 
@@ -29,12 +38,11 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
             throw InputError(what + ": a name in the path is " + std::to_string(part.string().size()) +
                              " bytes long; names may have at most " + std::to_string(NAME_MAX) + " bytes");
     struct stat info {};
-    if (::stat(path.c_str(), &info) != 0)
-        throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
+    if (::stat(path.c_str(), &info) != 0) cannot_read(what, name, errno);
     if (!S_ISREG(info.st_mode)) throw InputError(what + ": " + name + " is not a regular file");
     // O_NONBLOCK: should the name become a FIFO after the check, opening it must not hang.
     const FileDescriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
-    if (fd.get() < 0) throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
+    if (fd.get() < 0) cannot_read(what, name, errno);
     if (::fstat(fd.get(), &info) != 0 || !S_ISREG(info.st_mode))
         throw InputError(what + ": " + name + " is not a regular file");
     if (static_cast<std::size_t>(info.st_size) > max_bytes)
@@ -49,7 +57,7 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
         }
         const ssize_t n = ::read(fd.get(), text.data() + filled, text.size() - filled);
         if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw InputError(what + ": cannot read " + name + " (" + std::strerror(errno) + ")");
+        if (n < 0) cannot_read(what, name, errno);
         if (n == 0) break;
         filled += static_cast<std::size_t>(n);
     }

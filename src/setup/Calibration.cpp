@@ -1,17 +1,12 @@
 #include "fretbuzz/setup/Calibration.hpp"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <csignal>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -406,24 +401,12 @@ PlayerTouch read_player_touch(const std::filesystem::path& path, const std::stri
     const std::string where = option + " " + path.string();
     const std::string allowed = "give the calibration.json of `fretbuzz setup --calibrate`, whose attack_scale is in (0, " +
                                 number_text(kMaxAttackScale) + "]";
-    struct stat info {};
-    if (::stat(path.c_str(), &info) != 0) {
-        // A path that names nothing is the user's to fix (exit 2); a file there that cannot be
-        // read is the system's (exit 1).
-        if (errno == ENOENT || errno == ENOTDIR || errno == ENAMETOOLONG)
-            throw InputError(where + ": no such file; " + allowed);
-        throw std::runtime_error(where + ": cannot read it (" + std::strerror(errno) + ")");
-    }
-    if (!S_ISREG(info.st_mode)) throw InputError(where + " is not a regular file; " + allowed);
-    if (static_cast<std::uintmax_t>(info.st_size) > kMaxPlayerFileBytes)
-        throw InputError(where + " is larger than 1 MiB: not a calibration.json; " + allowed);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error(where + ": cannot read it (" + std::strerror(errno) + ")");
     std::string text;
-    text.resize(static_cast<std::size_t>(info.st_size));
-    in.read(text.data(), static_cast<std::streamsize>(text.size()));
-    if (in.bad()) throw std::runtime_error(where + ": cannot read it");
-    text.resize(static_cast<std::size_t>(in.gcount()));
+    try {
+        text = read_text_file(path, where, kMaxPlayerFileBytes);
+    } catch (const InputError& e) {  // (a file that cannot be read is not the user's: exit 1, untouched)
+        throw InputError(std::string(e.what()) + "; " + allowed);
+    }
     nlohmann::json doc;
     try {
         doc = nlohmann::json::parse(text);
@@ -436,11 +419,13 @@ PlayerTouch read_player_touch(const std::filesystem::path& path, const std::stri
     if (!value.is_number())
         throw InputError(where + ": attack_scale is not a number (a calibration that could play none of its notes "
                                  "fits none); " + allowed);
-    const double scale = value.get<double>();
+    return {checked_attack_scale(where + ": attack_scale", value.get<double>()), path};
+}
+
+double checked_attack_scale(const std::string& name, double scale, const std::string& why) {
     if (!(std::isfinite(scale) && scale > 0.0 && scale <= kMaxAttackScale))
-        throw InputError(out_of_range_message(where + ": attack_scale", scale,
-                                              "must be in (0, " + number_text(kMaxAttackScale) + "]"));
-    return {scale, path};
+        throw InputError(out_of_range_message(name, scale, "must be in (0, " + number_text(kMaxAttackScale) + "]") + why);
+    return scale;
 }
 
 void scale_attacks(std::vector<Attack>& attacks, double scale) {

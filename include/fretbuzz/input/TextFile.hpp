@@ -14,8 +14,8 @@ inline constexpr std::size_t kMaxDataFileBytes = 64u << 20;  // a table: a mode 
 inline constexpr std::size_t kMaxLineBytes = 64u << 10;      // one row of a table
 
 // The whole file; throws InputError starting with `what` (say `modes.file = "m.csv"`) if
-// the path's names are too long, it is missing, not a regular file, larger than max_bytes
-// or unreadable.
+// the path's names are too long, it names no file ("no such file"), not a regular file, or
+// one larger than max_bytes; std::runtime_error (exit 1) if the system cannot read it.
 std::string read_text_file(const std::filesystem::path& path, const std::string& what, std::size_t max_bytes);
 
 // s without its leading and trailing blanks (spaces, tabs, carriage returns).

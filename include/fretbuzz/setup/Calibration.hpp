@@ -110,6 +110,9 @@ struct PlayerTouch {
 // (0, kMaxAttackScale]. InputError naming `option` for a bad file; std::runtime_error (exit 1)
 // when it cannot be read.
 PlayerTouch read_player_touch(const std::filesystem::path& path, const std::string& option = "--player");
+// scale, if a calibration can have found it: finite, in (0, kMaxAttackScale]; else InputError
+// "NAME = V is out of range: must be in (0, 10]" and `why` after it.
+double checked_attack_scale(const std::string& name, double scale, const std::string& why = "");
 // Every attack's size times the scale (its label kept: the map says it was calibrated).
 void scale_attacks(std::vector<Attack>& attacks, double scale);
 
