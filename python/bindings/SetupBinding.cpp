@@ -451,16 +451,23 @@ std::vector<NoteVerdict> map_verdicts(const Instrument& instrument, const py::it
     return verdicts;
 }
 
+// A search (the advice, the dress) in the background (BackgroundRun): Ctrl-C stops it at its
+// next pluck; `progress(note, probes)` gets each note a probe plays, on this thread.
+void search_in_background(AdviceRequest& request, const py::object& progress, const std::function<void()>& search) {
+    BackgroundRun<std::tuple<NoteVerdict, std::size_t>> background;
+    request.stop = [&background] { return background.stopping(); };
+    if (!progress.is_none())
+        request.on_note = [&background](const NoteVerdict& v, std::size_t probes) { background.post({v, probes}); };
+    background.run(search, [&](const auto& report) { progress(verdict_dict(std::get<0>(report)), std::get<1>(report)); });
+}
+
 std::string advice(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                    const py::object& strings, const py::object& frets, const std::string& tolerate, bool finger,
-                   unsigned jobs, double attack_scale) {
+                   unsigned jobs, double attack_scale, const py::object& progress) {
     AdviceRequest request = advice_request(instrument, strength, strings, frets, tolerate, finger, jobs, attack_scale);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    // In the background (BackgroundRun): Ctrl-C stops the search at its next pluck.
-    BackgroundRun<int> background;
-    request.stop = [&background] { return background.stopping(); };
     std::string json;
-    background.run([&] { json = advice_json(advise(instrument, verdicts, request)); }, [](int) {});
+    search_in_background(request, progress, [&] { json = advice_json(advise(instrument, verdicts, request)); });
     return json;
 }
 
@@ -489,15 +496,14 @@ DressRequest dress_request(const Instrument& instrument, const std::string& stre
 py::dict dress(const Instrument& instrument, const py::iterable& map, const std::string& strength,
                const py::object& strings, const py::object& frets, const std::string& tolerate,
                const py::object& depth, const py::object& crown, const py::object& fall_away, bool finger, unsigned jobs,
-               double attack_scale) {
+               double attack_scale, const py::object& progress) {
     DressRequest request =
         dress_request(instrument, strength, strings, frets, tolerate, depth, crown, fall_away, finger, jobs, attack_scale);
     const std::vector<NoteVerdict> verdicts = map_verdicts(instrument, map);
-    BackgroundRun<int> background;  // as the advice: Ctrl-C stops the search at its next pluck
-    request.play.stop = [&background] { return background.stopping(); };
     DressResult result;
-    background.run([&] { result = with_python_names([&] { return dress_frets(instrument, verdicts, request); }, kDressNames); },
-                   [](int) {});
+    search_in_background(request.play, progress, [&] {
+        result = with_python_names([&] { return dress_frets(instrument, verdicts, request); }, kDressNames);
+    });
     py::dict d = py::module_::import("json").attr("loads")(dress_json(result));
     py::list after;
     for (const NoteVerdict& v : result.after) after.append(verdict_dict(v));
@@ -607,10 +613,11 @@ void bind_setup(py::module_& m) {
         return rows;
     });
     m.def("_setup_advice", &advice, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
-          py::arg("frets"), py::arg("tolerate"), py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0);
+          py::arg("frets"), py::arg("tolerate"), py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0,
+          py::arg("progress") = py::none());
     m.def("_setup_dress", &dress, py::arg("instrument"), py::arg("map"), py::arg("strength"), py::arg("strings"),
           py::arg("frets"), py::arg("tolerate"), py::arg("depth"), py::arg("crown"), py::arg("fall_away"),
-          py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0);
+          py::arg("finger"), py::arg("jobs"), py::arg("attack_scale") = 1.0, py::arg("progress") = py::none());
     m.def("_setup_dress_check",
           [](const Instrument& instrument, const std::string& strength, const py::object& strings, const py::object& frets,
              const std::string& tolerate, const py::object& depth, const py::object& crown, const py::object& fall_away,

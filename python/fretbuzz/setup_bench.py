@@ -390,7 +390,8 @@ class Bench:
                                           "buzz_fret_before"))
 
     def advise(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
-               frets: Union[int, Iterable[int], None] = None, tolerate: str = "") -> dict:
+               frets: Union[int, Iterable[int], None] = None, tolerate: str = "",
+               progress: Optional[Callable[[dict, int], Any]] = None) -> dict:
         """The bench's advice (docs/setup.md, section 5), each answer played: 'lowest_action'
         (per string, the lowest gap over fret 12 on a 0.05 mm grid at which every note passes,
         action12_mm and lowest_clean_action12_mm with their _in, the saddle move to it
@@ -406,17 +407,19 @@ class Bench:
         notes, and on a bass the notes above fret 15. A saddle move over 1 mm or a relief over
         0.5 mm is flagged 'beyond_setup', what it means in 'beyond_setup_says'. map: this
         Bench's map at that attack, with clean_up_to (played if not given): it places the
-        searches."""
+        searches. progress(note, probes): each note a search plays (a dict with the map's
+        columns) and the probes played so far (a search has no total to count down)."""
         attack = strength or self.strengths.split(",")[-1]
         if map is None:
             _core._setup_tolerance(self.instrument, tolerate)  # refused before anything is played
             map = self.map(strings=strings, frets=frets, strengths=attack)
         return json.loads(_core._setup_advice(self.instrument, _records(map), attack, _names(strings), _frets(frets),
-                                              tolerate, self.finger, self.jobs, self._scale))
+                                              tolerate, self.finger, self.jobs, self._scale, progress))
 
     def dress(self, map=None, *, strength: Optional[str] = None, strings: Union[str, Iterable[str], None] = None,
               frets: Union[int, Iterable[int], None] = None, tolerate: str = "", depth: Optional[Millimetres] = None,
-              crown: Optional[Millimetres] = None, fall_away: Optional[int] = None) -> dict:
+              crown: Optional[Millimetres] = None, fall_away: Optional[int] = None,
+              progress: Optional[Callable[[dict, int], Any]] = None) -> dict:
         """The virtual fret dress (docs/setup.md, section 5): the least taken off each fret so
         that every note passes at the attack. 'frets' (fret, remove_mm, remove_in per fret),
         'total_mm', 'fall_away' (from_fret and depth_mm, or None), 'clean', 'unresolved' (what it
@@ -424,7 +427,7 @@ class Bench:
         text), 'text', 'dressed' (a Bench with the frets dressed). depth: at most this off a fret
         (mm, default 0.3); crown: crowns kept this high above the board (default 0.75 mm);
         fall_away: first a fall-away over the frets past this one. strength, strings, frets,
-        tolerate and map as advise()."""
+        tolerate, map and progress as advise()."""
         attack = strength or self.strengths.split(",")[-1]
         # Every argument refused before anything is played.
         _core._setup_dress_check(self.instrument, attack, _names(strings), _frets(frets), tolerate, depth, crown,
@@ -432,7 +435,7 @@ class Bench:
         if map is None:
             map = self.map(strings=strings, frets=frets, strengths=attack)
         out = _core._setup_dress(self.instrument, _records(map), attack, _names(strings), _frets(frets), tolerate,
-                                 depth, crown, fall_away, self.finger, self.jobs, self._scale)
+                                 depth, crown, fall_away, self.finger, self.jobs, self._scale, progress)
         out["after"] = _frame(out["after"], MAP_COLUMNS)
         out["dressed"] = self._copy(out["dressed"], {"dress": True})
         return out

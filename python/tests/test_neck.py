@@ -163,7 +163,13 @@ class MapTest(unittest.TestCase):
         changes = fretbuzz.Bench.compare(after, before).set_index("fret")
         self.assertEqual(changes.loc[6, "change"], "worse")
         self.assertIn(changes.loc[6, "reason"], ("verdict", "plucks", "margin", "loudness"))  # the rule that decided it
-        advice = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(strength="soft", strings="G")
+        told = []
+        advice = fretbuzz.Bench("jazz-bass", ensemble=1, fs=3e5, duration=0.05).advise(
+            strength="soft", strings="G", progress=lambda note, probes: told.append((note, probes)))
+        # Told of each note a probe played: every probe plays one at least, in order, all on G.
+        self.assertEqual(sorted({probes for _, probes in told}), list(range(1, advice["maps_played"] + 1)))
+        self.assertEqual([p for _, p in told], sorted(p for _, p in told))
+        self.assertEqual({note["string"] for note, _ in told}, {"G"})
         self.assertEqual(set(advice), {"attack", "units", "frets", "tolerated", "step_mm", "setup_limits",
                                        "lowest_action", "fall_away", "proud_frets", "relief", "maps_played",
                                        "wall_seconds", "cpu_seconds"})

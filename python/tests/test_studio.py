@@ -22,6 +22,7 @@ import threading
 import time
 import unittest
 import wave
+from html import escape as html_escape
 
 import fretbuzz
 from fretbuzz.studio import listen, server
@@ -492,6 +493,15 @@ class StudioMapTest(unittest.TestCase):
             [{k: v for k, v in n.items() if k not in ("change", "reason", "before")} for n in record.notes], strength="medium")
         for key in ("frets", "fall_away", "clean", "unresolved"):
             self.assertEqual(record.dress[key], expected[key])
+        # While it ran, the page could say how far it had got: the notes its probes played.
+        if expected["maps_played"]:
+            self.assertRegex(record.dress_progress, r"^\d+ notes? played in \d+ probes?; the last, G fret \d+: ")
+        record.dress_status = "running"  # the fragment of a running dress shows it
+        try:
+            html = self.studio.request("GET", f"/fragment/dress?map={record.id}")[2].decode()
+            self.assertIn(html_escape(record.dress_progress or "Its first probe is under way."), html)
+        finally:
+            record.dress_status = "done"
         html = self.studio.request("GET", f"/fragment/dress?map={record.id}")[2].decode()
         self.assertIn('data-status="done"', html)
         self.assertTrue("take off" in html or "Nothing to take off" in html, html)

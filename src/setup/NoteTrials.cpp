@@ -88,6 +88,8 @@ std::vector<NoteVerdict> NoteTrials::play(const Instrument& instrument, const st
     r.stop_when = bad;
     r.stop = request_.stop;
     if (maps_) ++*maps_;
+    if (request_.on_note)
+        r.on_note = [this](const NoteVerdict& v, std::size_t, std::size_t) { request_.on_note(v, maps_ ? *maps_ : 0); };
     const BuzzMapResult played = play_map(instrument, r);
     if (request_.stop && request_.stop()) throw Interrupted(SIGINT);  // a probe cut short answers nothing
     for (std::size_t i = 0; i < unknown.size(); ++i)

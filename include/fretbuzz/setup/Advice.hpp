@@ -79,6 +79,9 @@ struct AdviceRequest {
     // Asked before each pluck of a probe: true ends the search with Interrupted (Ctrl-C in
     // Python, whose signal handler cannot reach the library's stop flag).
     std::function<bool()> stop;
+    // Told of each note a probe plays (not of those recalled from an earlier probe), with the
+    // probes so far: a search has no total to count down, so its progress is what it played.
+    std::function<void(const NoteVerdict& note, std::size_t probes)> on_note;
 };
 
 // The notes of a string the advice answers for (its frets, less the tolerated ones).

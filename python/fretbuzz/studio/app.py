@@ -200,7 +200,8 @@ def _map_state(record) -> Optional[dict]:
             "done": len(record.notes), "total": record.total, "seconds": record.seconds,
             "before": record.before.id if record.before else None, "summary": present.summary(record),
             "advice": record.advice_status, "advice_error": record.advice_error,
-            "dress": record.dress_status, "dress_error": record.dress_error}
+            "advice_progress": record.advice_progress,
+            "dress": record.dress_status, "dress_error": record.dress_error, "dress_progress": record.dress_progress}
 
 
 def _player_state(study: Study) -> dict:
@@ -288,6 +289,8 @@ def create_app(study: Study, *, port: int, host: Optional[str] = None, allow_hos
         return JSONResponse({"version": version, "jobs": _jobs_state(study), "map": _map_state(latest),
                              "done": done.id if done else None, "advice": done.advice_status if done else "",
                              "dress": done.dress_status if done else "",
+                             "advice_progress": done.advice_progress if done else "",
+                             "dress_progress": done.dress_progress if done else "",
                              "setup": present.setup_rows(shown.bench) if shown else present.setup_rows(study.base),
                              "exports": list(study.exports), "player": _player_state(study)})
 

@@ -218,6 +218,9 @@ class MapRecord:
     attack_scale: Optional[float] = None  # the player's touch (a calibration's attack scale) it was played at
     advice_tolerate: str = ""  # what the advice and the dress were asked to tolerate ("": set-up practice)
     dress_tolerate: str = ""
+    # A running search's progress, as the page says it: the notes its probes played so far.
+    advice_progress: str = ""
+    dress_progress: str = ""
 
     @property
     def attacks(self) -> List[str]:
@@ -614,7 +617,19 @@ class Study:
     def _advise(self, record: MapRecord, kind: str = "advice") -> None:
         with self.lock:
             setattr(record, f"{kind}_status", "running")
+            setattr(record, f"{kind}_progress", "")
             self._changed()
+        played = 0
+
+        def progress(note: dict, probes: int) -> None:
+            nonlocal played
+            played += 1
+            with self.lock:
+                setattr(record, f"{kind}_progress",
+                        f"{played} note{'s' if played != 1 else ''} played in {probes} "
+                        f"probe{'s' if probes != 1 else ''}; the last, {note['string']} fret {note['fret']}: "
+                        f"{note['verdict'] or note['status']}")
+                self._changed()
         attack = record.attacks[-1]
         at_attack = [{k: v for k, v in n.items() if k not in ("change", "before")} for n in record.notes
                      if n["strength"] == attack]
@@ -622,9 +637,9 @@ class Study:
             # The map's notes at that attack (None: the library plays them, should the labels differ).
             tolerate = getattr(record, f"{kind}_tolerate")
             if kind == "advice":
-                result = record.bench.advise(at_attack or None, strength=attack, tolerate=tolerate)
+                result = record.bench.advise(at_attack or None, strength=attack, tolerate=tolerate, progress=progress)
             else:
-                result = record.bench.dress(at_attack or None, strength=attack, tolerate=tolerate)
+                result = record.bench.dress(at_attack or None, strength=attack, tolerate=tolerate, progress=progress)
                 result = {k: v for k, v in result.items() if k not in ("dressed",)}
                 result["after"] = result["after"].to_dict("records")
             with self.lock:

@@ -176,12 +176,12 @@ async function refresh() {
     shown.map = map.id;
     await fragment($("neck"), "/fragment/neck?map=" + map.id);
   }
-  const advice = (state.done || "") + ":" + state.advice;
+  const advice = (state.done || "") + ":" + state.advice + ":" + state.advice_progress;
   if (advice !== shown.advice) {
     shown.advice = advice;
     await fragment($("advice"), "/fragment/advice");
   }
-  const dress = (state.done || "") + ":" + state.dress;
+  const dress = (state.done || "") + ":" + state.dress + ":" + state.dress_progress;
   if (dress !== shown.dress) {
     shown.dress = dress;
     await fragment($("dress-result"), "/fragment/dress");
