@@ -171,8 +171,9 @@ def penetration(out, rates):
 
 
 def fewer_modes(out):
-    """The 15.68 kHz gain with the modes cut to the first m (m = 73: all below fs/2; the frets
-    then lie off the grid, exact points): the case and its data files cut to m rows."""
+    """The 15.68 kHz ledger with the modes cut to the first m (m = 73: all below fs/2; the frets
+    then lie off the grid, exact points; the law before issue 57's fix gained there, and diverged
+    at m = 73): the case and its data files cut to m rows."""
     print("\nImpact law e = 0 at 15.68 kHz with the first m modes: the impacts' loss / H(0) and the largest rise of H:")
     for m in (73, 500, 862):
         d = out / f"modes-{m}"

@@ -4,6 +4,7 @@
 // penalty's limit as K grows on a point obstacle.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <string>
 #include <iostream>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "SmallBass.hpp"
@@ -77,38 +79,57 @@ TEST(NewtonImpact, InelasticImpactsLoseWhatTheLedgerSays) {
     EXPECT_LT(ledger.worst_balance, 1e-12);
 }
 
-// One impact on a single point from a state with q^1 = 0, so that the free step leaves the
-// point's velocity as it was: the loss is then (1 - e^2) (mu / W) (u^- / dt)^2 / 2, with W the
-// point's row . row (its effective mass mu / W).
-void expect_one_impact_closed_form(bool on_grid) {
+// The 255-mode bass, lossless, with one obstacle at height 0: grid point 120, or an exact point
+// at 0.41234 m; its position into x.
+Case one_point_case(bool on_grid, double& x) {
     Case c = testing::small_bass(400000.0, 1e-3, 0.0);
     c.make_lossless();
     c.contact.law = ContactLawKind::impact;
-    const std::size_t n = c.mode_count();
     std::fill(c.obstacle_height_m.begin(), c.obstacle_height_m.end(), -std::numeric_limits<double>::infinity());
-    const double x = on_grid ? c.grid_point(120) : 0.41234;
+    x = on_grid ? c.grid_point(120) : 0.41234;
     c.point_obstacles.clear();  // (the frets)
     if (on_grid)
         c.obstacle_height_m[120] = 0.0;
     else
         c.point_obstacles = {{x, 0.0, c.grid_step()}};
+    return c;
+}
+
+// (q^0, v0) from which the exact free first step of the lossless modes reaches q^1 with
+// q^1 - q^0 = d^1: q(t) = q^0 cos(omega t) + v0 sin(omega t) / omega.
+void start_reaching(const Case& c, double dt, std::span<const double> q1, std::span<const double> d1,
+                    std::vector<double>& q0, std::vector<double>& v0) {
+    q0.resize(q1.size());
+    v0.resize(q1.size());
+    for (std::size_t j = 0; j < q1.size(); ++j) {
+        const double omega = 2.0 * M_PI * c.modes.frequency_hz[j];
+        q0[j] = q1[j] - d1[j];
+        v0[j] = omega * (q1[j] - q0[j] * std::cos(omega * dt)) / std::sin(omega * dt);
+    }
+}
+
+// One impact on a single point from a state with q^1 = 0, so that the free step leaves the
+// point's velocity as it was: the loss is then (1 - e^2) (mu / W) (u^- / dt)^2 / 2, with W the
+// point's row . row (its effective mass mu / W).
+void expect_one_impact_closed_form(bool on_grid) {
+    double x = 0.0;
+    Case c = one_point_case(on_grid, x);
+    const std::size_t n = c.mode_count();
     const double dt = 1.0 / c.run.sample_rate_hz;
     for (double e : {0.0, 0.3, 0.8, 1.0}) {
         c.contact.restitution = e;
         const Plan plan(c, dt);
         ASSERT_EQ(plan.point_contact().size(), on_grid ? 0u : 1u);
         const std::vector<double> phi = plan.basis().mode_shapes_at(x);
-        // d^1 = D (downward at x), q^1 = 0: q^0 = -D, v0 = D omega / tan(omega dt).
-        std::vector<double> q0(n), v0(n);
+        // d^1 = D (downward at x), q^1 = 0.
+        std::vector<double> q1(n, 0.0), d1(n), q0, v0;
         double u_before = 0.0, w = 0.0;
         for (std::size_t j = 0; j < n; ++j) {
-            const double d = -1e-7 * phi[j] * std::exp(-static_cast<double>(j) / 30.0);
-            const double omega = 2.0 * M_PI * c.modes.frequency_hz[j];
-            q0[j] = -d;
-            v0[j] = d * omega / std::tan(omega * dt);
-            u_before += phi[j] * d;
+            d1[j] = -1e-7 * phi[j] * std::exp(-static_cast<double>(j) / 30.0);
+            u_before += phi[j] * d1[j];
             w += phi[j] * phi[j];
         }
+        start_reaching(c, dt, q1, d1, q0, v0);
         NewtonImpact string(plan, q0, v0);
         string.step();
         const double h = string.energy();
@@ -123,12 +144,71 @@ void expect_one_impact_closed_form(bool on_grid) {
     }
 }
 
+// A point that moved up (away from the obstacle) over the first step, u^- > 0, and whose free
+// second step reverses into the obstacle: it made no approach for e to act on, so the impulse
+// does no work (u^+ = -u^-, the point back where it was at n = 0) whatever e. The law with e
+// here would stop it at u^+ = -e u^- and gain lambda (1 - e) u^-.
+void expect_a_point_moving_away_takes_no_energy(bool on_grid) {
+    double x = 0.0;
+    Case c = one_point_case(on_grid, x);
+    const std::size_t n = c.mode_count();
+    const double dt = 1.0 / c.run.sample_rate_hz;
+    for (double e : {0.0, 0.5}) {
+        c.contact.restitution = e;
+        const Plan plan(c, dt);
+        const std::vector<double> phi = plan.basis().mode_shapes_at(x);
+        // Low modes displaced up at x and moving up: their restoring force reverses the point
+        // within one step only if the displacement is large against the step's motion.
+        std::vector<double> q1(n, 0.0), d1(n, 0.0), q0, v0;
+        for (std::size_t j = 0; j < 8; ++j) {
+            q1[j] = 1e-3 * phi[j];
+            d1[j] = 1e-9 * phi[j];
+        }
+        start_reaching(c, dt, q1, d1, q0, v0);
+        plan.propagator().first_step(q0, v0, q1, d1);  // the plan's own q^1, d^1
+        double u1 = 0.0, u_before = 0.0, u_free = 0.0;
+        for (std::size_t j = 0; j < n; ++j) {
+            const double d2 = d1[j] - plan.propagator().beta()[j] * q1[j];
+            u1 += phi[j] * q1[j];
+            u_before += phi[j] * d1[j];
+            u_free += phi[j] * d2;
+        }
+        ASSERT_GT(u_before, 0.0);
+        ASSERT_LT(u_free, -u_before);  // the free step ends below u^0 = u^1 - u^-
+        // The obstacle between the free prediction and the point at n = 1.
+        if (on_grid)
+            c.obstacle_height_m[120] = u1 + 0.5 * u_free;
+        else
+            c.point_obstacles[0].height_m = u1 + 0.5 * u_free;
+        const Plan placed(c, dt);
+        NewtonImpact string(placed, q0, v0);
+        string.step();
+        const double h = string.energy();
+        string.step();
+        ASSERT_TRUE(string.touched_obstacle()) << "e = " << e;
+        std::cout << (on_grid ? "grid" : "exact") << " point moving away, e = " << e << ": loss "
+                  << string.impact_loss() / h << " of H, u^2 - u^0 = " << string.displacement(phi) - (u1 - u_before)
+                  << " m (u^- = " << u_before << " m)\n";
+        EXPECT_NEAR(string.impact_loss(), 0.0, 1e-12 * h) << "e = " << e;
+        EXPECT_NEAR(string.displacement(phi), u1 - u_before, 1e-9 * std::abs(u_before)) << "e = " << e;
+        EXPECT_NEAR(string.energy() + string.dissipated(), h, 1e-13 * h);
+    }
+}
+
 TEST(NewtonImpact, OneImpactOnAGridPointLosesOneMinusESquaredOfTheNormalKineticEnergy) {
     expect_one_impact_closed_form(true);
 }
 
 TEST(NewtonImpact, OneImpactOnAnExactPointLosesOneMinusESquaredOfTheNormalKineticEnergy) {
     expect_one_impact_closed_form(false);
+}
+
+TEST(NewtonImpact, APointMovingAwayFromAGridObstacleTakesAnImpulseThatDoesNoWork) {
+    expect_a_point_moving_away_takes_no_energy(true);
+}
+
+TEST(NewtonImpact, APointMovingAwayFromAnExactObstacleTakesAnImpulseThatDoesNoWork) {
+    expect_a_point_moving_away_takes_no_energy(false);
 }
 
 TEST(NewtonImpact, ScreeningSkipsPointsWithoutChangingTheResult) {

@@ -175,7 +175,9 @@ void NewtonImpact::solve_impulses() {
     const double e = restitution_;
     lcp_q_.resize(m);
     lambda_.resize(m);
-    for (std::size_t c = 0; c < m; ++c) lcp_q_[c] = free_step_[c] + e * before_[c];
+    // e_c = e where the point approached (u^- <= 0), 1 where it moved away: max(e u^-, u^-).
+    // A pushing impulse's work is lambda (1 - e_c) u^-, so none gains energy (the header).
+    for (std::size_t c = 0; c < m; ++c) lcp_q_[c] = free_step_[c] + std::max(e * before_[c], before_[c]);
     const bool all_on_grid = std::all_of(active_.begin(), active_.end(), [n](std::size_t i) { return i < n; });
     if (all_on_grid) {
         // Rows of S are orthogonal, S S^T = I / dx: one scalar problem per point.
