@@ -11,6 +11,7 @@
 #include "AudioStreams.hpp"
 #include "EnergyAudit.hpp"
 #include "RunLoop.hpp"
+#include "SnapshotTaps.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/SubnormalFlush.hpp"
 #include "fretbuzz/numerics/Kernels.hpp"
@@ -56,11 +57,8 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
     summary.screening = summary.screened ? "on (impact law: points woken by the speed bound, free flight between contacts)"
                                          : "off (asked for)";
 
-    for (RunObserver* o : observers)
-        if (o->snapshot_rate_hz() > 0.0)
-            throw InputError("snapshots (--snapshots): the impact law's run takes no snapshots of the string's shape "
-                             "yet (contact.law = \"penalty\" does)");
     for (RunObserver* o : observers) o->begin(layout);
+    SnapshotTaps snapshots(c, plan, observers);
     AudioStreams audio(observers, c.run.sample_rate_hz, shapes.size(), 1);
     // Free flight over whole output intervals between contacts, as the penalty's run flies: the
     // modes below 0.6 x the audio rate (the sound's; the resampler removes the others) step one by
@@ -138,12 +136,16 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
     for (RunObserver* o : observers) o->observation(0.0, u);
     for (RunObserver* o : observers) o->bridge_force(0.0, string.displacement(bridge));
     if (!audio.empty()) hear();
+    snapshots.report(n, 0.0, string.modal_displacement());
     while (n < layout.steps) {
         throw_if_stopped();
-        if (flight && n > 1 && n % layout.output_stride == 0 && n + layout.output_stride <= layout.steps) {
+        // A flight never jumps over a snapshot: it would miss the shape.
+        if (flight && n > 1 && n % layout.output_stride == 0 && n + layout.output_stride <= layout.steps &&
+            !snapshots.due_within(n, layout.output_stride)) {
             if (const long flown = fly(); flown > 0) {
                 n = string.step_index();
                 flown_steps += flown;
+                snapshots.report(n, string.time(), string.modal_displacement());
                 report_output();
                 continue;
             }
@@ -160,6 +162,7 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
             for (RunObserver* o : observers) o->contacts(string.time(), forces);
         }
         if (!audio.empty()) hear();
+        if (!snapshots.empty()) snapshots.report(n, string.time(), string.modal_displacement());
         if (n == 1 || n % layout.output_stride == 0 || n == layout.steps) report_output();
         if ((n & 0xfff) == 0 && options.progress) {
             const auto now = Clock::now();

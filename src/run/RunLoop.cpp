@@ -78,9 +78,6 @@ RunLoop::RunLoop(const Case& c, std::span<RunObserver* const> observers, const R
         for (double x : c.observation_points_m) shapes_y_.push_back(plan_.basis().mode_shapes_at(x));
         y_.resize(shapes_.size());
     }
-    grid_x_.resize(c.mode_count());
-    grid_u_.resize(c.mode_count());
-    for (std::size_t i = 0; i < grid_x_.size(); ++i) grid_x_[i] = plan_.basis().grid_point(i);
 
     summary_ = summary_of(c, plan_, layout_);
     summary_.screened = screening_.screen;
@@ -123,14 +120,8 @@ RunSummary RunLoop::run() {
 }
 
 void RunLoop::connect_observers() {
-    for (RunObserver* o : observers_) {
-        o->begin(layout_);
-        if (const double rate = o->snapshot_rate_hz(); rate > 0.0) {
-            const double until = std::min(o->snapshot_until_s(), case_.run.duration_s);
-            snapshot_taps_.push_back({o, std::max(1L, std::lround(case_.run.sample_rate_hz / rate)),
-                                      static_cast<long>(std::floor(until * case_.run.sample_rate_hz))});
-        }
-    }
+    for (RunObserver* o : observers_) o->begin(layout_);
+    snapshots_.emplace(case_, plan_, observers_);
     audio_.emplace(observers_, case_.run.sample_rate_hz, shapes_.size(), case_.polarisation.count);
     audio_wanted_ = !audio_->empty();
     velocity_wanted_ = audio_->wants_velocity();
@@ -168,7 +159,7 @@ void RunLoop::plan_free_flight() {
 
 long RunLoop::fly() {
     const long stride = layout_.output_stride;
-    if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshot_due_within(stride)) return 0;
+    if (!flight_ || n_ <= 1 || n_ % stride != 0 || n_ + stride > layout_.steps || snapshots_->due_within(n_, stride)) return 0;
     // Per-step probe signals only for the observers that read them, and only where the band
     // cannot make them: out of it, it makes a flight's frames from the flight's start, on the
     // per-step thread. The flight steps the audio modes one by one all the same: its checks
@@ -182,14 +173,6 @@ long RunLoop::fly() {
                                                             : std::span<const std::vector<double>>(shapes_);
     return stepper_.free_flight(*flight_, in_band ? check_head_ : head_, probes, flight_u_,
                                 velocity_wanted_ ? &flight_v_ : nullptr, frames_by_band);
-}
-
-bool RunLoop::snapshot_due_within(long steps) const {
-    for (const SnapshotTap& tap : snapshot_taps_) {
-        const long next = (n_ / tap.stride + 1) * tap.stride;
-        if (next < n_ + steps && next <= tap.last_step) return true;
-    }
-    return false;
 }
 
 void RunLoop::after_step() {
@@ -209,7 +192,7 @@ void RunLoop::after_step() {
         }
     }
     if (audio_wanted_) report_step();
-    if (!snapshot_taps_.empty()) report_snapshots();
+    if (!snapshots_->empty()) report_snapshots();
     if (on_output_row() || n_ == 1) report_output();
     if ((n_ & 0xfff) == 0) {
         // Between output rows too: a run gone to NaN stops within a few thousand steps.
@@ -294,18 +277,7 @@ void RunLoop::report_flight_rows(long flown) {
     }
 }
 
-void RunLoop::report_snapshots() {
-    bool shaped = false;
-    for (const SnapshotTap& tap : snapshot_taps_) {
-        if (n_ % tap.stride != 0 || n_ > tap.last_step) continue;
-        if (!shaped) {
-            plan_.basis().to_grid(stepper_.modal_displacement(), grid_u_);
-            plan_.orient(grid_u_);
-        }
-        shaped = true;
-        tap.observer->snapshot(stepper_.time(), grid_x_, grid_u_);
-    }
-}
+void RunLoop::report_snapshots() { snapshots_->report(n_, stepper_.time(), stepper_.modal_displacement()); }
 
 double RunLoop::audit_energy() {
     const double h = stepper_.energy();

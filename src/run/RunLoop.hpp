@@ -12,6 +12,7 @@
 #include "AudioStreams.hpp"
 #include "EnergyAudit.hpp"
 #include "PerStepQueue.hpp"
+#include "SnapshotTaps.hpp"
 #include "fretbuzz/run/Simulation.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/Stepper.hpp"
@@ -30,16 +31,9 @@ public:
 
 private:
     using Clock = std::chrono::steady_clock;
-    struct SnapshotTap {
-        RunObserver* observer;
-        long stride;
-        long last_step;  // no snapshots after this step
-    };
-
     void connect_observers();
     void plan_free_flight();
     long fly();  // steps flown (0: none)
-    bool snapshot_due_within(long steps) const;
     void after_step();
     // Whether step n_ has an output row (every step at an audio rate: no integer division then).
     bool on_output_row() const { return layout_.output_stride == 1 || n_ % layout_.output_stride == 0; }
@@ -82,8 +76,7 @@ private:
     std::vector<double> played_heights_;
     bool audio_wanted_ = false;     // some observer asked for audio: the run takes a frame every step
     bool velocity_wanted_ = false;  // the velocity too
-    std::vector<SnapshotTap> snapshot_taps_;
-    std::vector<double> grid_x_, grid_u_;
+    std::optional<SnapshotTaps> snapshots_;  // made with the observers (connect_observers)
     std::vector<double> u_, step_u_, step_v_, flight_u_, flight_v_;
     long step_u_at_ = -1;  // the step whose probe products step_u_ holds (an output row reuses them)
 
