@@ -94,8 +94,8 @@ void fast(benchmark::State& state, BenchCase b) {
 }
 
 // A whole 3 s bass-pop at 4 MHz, with every output file or with none.
-void whole_run(benchmark::State& state, bool outputs, bool closed_form_audio) {
-    Case c = load_case("bass-pop");
+void whole_run(benchmark::State& state, const char* case_name, bool outputs, bool closed_form_audio) {
+    Case c = load_case(case_name);
     c.run.duration_s = 3.0;
     const long steps = std::lround(c.run.sample_rate_hz * c.run.duration_s);
     const std::filesystem::path dir = std::filesystem::temp_directory_path() / "fretbuzz-bench-outputs";
@@ -582,10 +582,14 @@ int main(int argc, char** argv) {
             ->Iterations(2)
             ->UseRealTime();
     }
-    for (const auto& [name, outputs, closed_form] : {std::tuple{"Outputs/bass-pop-3s", true, true},
-                                                     std::tuple{"PerStepAudio/bass-pop-3s", true, false},
-                                                     std::tuple{"None/bass-pop-3s", false, true}})
-        benchmark::RegisterBenchmark(name, whole_run, outputs, closed_form)
+    // The same 3 s pop against rigid frets (the impact law, bass-rigid-frets) beside the penalty's.
+    for (const auto& [name, case_name, outputs, closed_form] :
+         {std::tuple{"Outputs/bass-pop-3s", "bass-pop", true, true},
+          std::tuple{"PerStepAudio/bass-pop-3s", "bass-pop", true, false},
+          std::tuple{"None/bass-pop-3s", "bass-pop", false, true},
+          std::tuple{"Outputs/bass-rigid-frets-3s", "bass-rigid-frets", true, true},
+          std::tuple{"None/bass-rigid-frets-3s", "bass-rigid-frets", false, true}})
+        benchmark::RegisterBenchmark(name, whole_run, case_name, outputs, closed_form)
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)
             ->UseRealTime();
