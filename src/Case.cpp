@@ -351,9 +351,9 @@ void check_polarisations(const Case& c) {
     if (p.pickup_angle_given) throw needs_two("audio.pickup_angle");
 }
 
-// The impact law steps the string alone against rigid obstacles (NewtonImpact): parts with
-// contacts of their own (fingers, pluckers) and forces would need their pads or loads inside its
-// complementarity problem, and y its friction cone, which it does not have yet.
+// The impact law steps the string against rigid obstacles (NewtonImpact), force gestures
+// loading it: parts with contacts of their own (fingers, pluckers) would need their pads inside
+// its complementarity problem, and y its friction cone, which it does not have yet.
 void refuse_beside_impact(const Case& c) {
     const auto refuse = [](const std::string& key, const std::string& why) {
         return InputError(key + " cannot be used with contact.law = \"impact\": " + why +
@@ -363,7 +363,6 @@ void refuse_beside_impact(const Case& c) {
         throw refuse(c.fingers[0].key, "a finger's pad is a penalty contact of its own, not yet in the impact solve");
     if (!c.plucks.empty())
         throw refuse(c.plucks[0].key, "a plucker's pad is a penalty contact of its own, not yet in the impact solve");
-    if (!c.forces.empty()) throw refuse(c.forces[0].key, "force gestures are not yet stepped by the impact law");
     if (c.two_polarisations())
         throw refuse("string.polarisations = 2", "the impact law has no friction cone for y yet");
 }

@@ -293,6 +293,65 @@ TEST(NewtonImpact, APenaltyOnAPointTendsToTheImpactLawAsItsStiffnessGrows) {
     EXPECT_LT(previous, between);
 }
 
+// The small bass nearly at rest, pressed onto its frets by a force gesture at 0.5 m (5 N over
+// 5 ms, held to 20 ms, let go), with the impact law.
+Case pressed_bass(double restitution) {
+    std::string text = builtin_case_text("bass-pluck");
+    text.replace(text.find("modes = 862"), 11, "modes = 255");
+    text.replace(text.find("amplitude = 0.5e-3"), 18, "amplitude = 1e-6");
+    text += "\n[[gesture]]\ntype = \"force\"\nposition = 0.5\n"
+            "force = [[0.0, 0.0], [0.005, 5.0], [0.02, 5.0], [0.021, 0.0]]\n";
+    Case c = parse_case(text, "pressed-bass.toml", DataSource::builtin());
+    c.run.sample_rate_hz = 400000.0;
+    c.run.duration_s = 0.04;
+    c.contact.law = ContactLawKind::impact;
+    c.contact.restitution = restitution;
+    c.validate();  // a force gesture beside the impact law is a case it steps
+    return c;
+}
+
+TEST(NewtonImpact, AForceGesturePressesTheStringOntoTheFretsWithTheBalanceKept) {
+    for (double e : {0.0, 1.0}) {
+        const Case c = pressed_bass(e);
+        PlanOptions plain;
+        plain.screen_contacts = false;
+        const Plan plan(c, 1.0 / c.run.sample_rate_hz), plain_plan(c, 1.0 / c.run.sample_rate_hz, plain);
+        NewtonImpact string(plan, c.initial_displacement, c.initial_velocity);
+        NewtonImpact straight(plain_plan, c.initial_displacement, c.initial_velocity);
+        string.step();
+        straight.step();
+        const double h0 = string.energy();
+        double worst = 0.0, most_work = 0.0;
+        std::vector<double> errors;
+        const long steps = std::lround(c.run.duration_s * c.run.sample_rate_hz);
+        for (long n = 1; n < steps; ++n) {
+            string.step();
+            straight.step();
+            most_work = std::max(most_work, std::abs(string.work()));
+            errors.push_back(string.energy() - string.work() + string.dissipated() - h0);
+        }
+        for (double err : errors) worst = std::max(worst, std::abs(err) / std::max(h0, most_work));
+        double diff = 0.0, norm = 0.0;
+        for (std::size_t j = 0; j < c.mode_count(); ++j) {
+            diff += std::pow(string.modal_displacement()[j] - straight.modal_displacement()[j], 2);
+            norm += std::pow(straight.modal_displacement()[j], 2);
+        }
+        std::cout << "e = " << e << ": work " << most_work << " J (H^1/2 " << h0 << " J), contact steps "
+                  << string.contact_steps() << ", impact loss " << string.impact_loss() << " J, balance " << worst
+                  << ", screened against all points " << std::sqrt(diff / norm) << "\n";
+        EXPECT_GT(most_work, 1e3 * h0) << e;  // the gesture's work is what the string holds
+        EXPECT_GT(string.contact_steps(), 100) << e;
+        EXPECT_LT(worst, 1e-12) << e;
+        EXPECT_EQ(string.contact_steps(), straight.contact_steps()) << e;
+        EXPECT_LT(std::sqrt(diff / norm), 1e-10) << e;
+        if (e == 0.0) {
+            EXPECT_GT(string.impact_loss(), 1e-3 * most_work);
+        } else {
+            EXPECT_LT(std::abs(string.impact_loss()), 1e-12 * most_work);
+        }
+    }
+}
+
 TEST(NewtonImpact, TheImpactLawRefusesWhatItCannotStep) {
     Case c = impact_bass(400000.0, 0.01, 0.0, 0.0);
     c.add_fret_finger(5, "fret");

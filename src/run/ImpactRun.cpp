@@ -95,7 +95,7 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
         if (!std::isfinite(h) || !std::isfinite(dissipated))
             throw SolverError("the impact law's run produced a non-finite energy at t = " + std::to_string(string.time()) +
                               " s (step " + std::to_string(n) + ")");
-        audit.record(h, dissipated);
+        audit.record(h, dissipated, string.work());
         audit.write_to(summary);
         if (n % layout.output_stride != 0) return;
         const double t = string.time();

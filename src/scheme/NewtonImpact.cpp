@@ -19,6 +19,7 @@ std::vector<std::size_t> obstacle_points_of(const Plan& plan) {
 NewtonImpact::NewtonImpact(const Plan& plan, std::span<const double> q0, std::span<const double> v0)
     : plan_(&plan),
       modes_(plan.propagator(), q0, v0),
+      gestures_(plan),
       screening_(plan),
       // The joint problem holds at most every obstacle point; only exact points need it.
       lemke_(plan.point_contact().size() > 0 ? obstacle_points_of(plan).size() : 0),
@@ -27,9 +28,9 @@ NewtonImpact::NewtonImpact(const Plan& plan, std::span<const double> q0, std::sp
       screen_(plan.options().screen_contacts) {
     if (plan.law() != ContactLawKind::impact)
         throw InputError("contact.law: the impact scheme was asked to step a case planned with the penalty law");
-    if (!plan.fingers().empty() || !plan.plucks().empty() || !plan.forces().empty() || plan.two_polarisations())
-        throw InputError("contact.law = \"impact\" steps a string alone, in one polarisation: no fingers, "
-                         "pluckers, force gestures or second polarisation (use contact.law = \"penalty\")");
+    if (!plan.fingers().empty() || !plan.plucks().empty() || plan.two_polarisations())
+        throw InputError("contact.law = \"impact\" steps a string in one polarisation, with force gestures at most: "
+                         "no fingers, pluckers or second polarisation (use contact.law = \"penalty\")");
     plan.prepare_rows();
     const std::size_t points = plan.screened_points(), n = plan.mode_count();
     is_awake_.assign(points, 0);
@@ -58,7 +59,7 @@ void NewtonImpact::first_step() {
 
 long NewtonImpact::free_flight(const FreeFlight& flight, std::size_t head, std::span<const std::vector<double>> probes,
                                std::vector<double>& rows) {
-    if (n_ < 1 || !screen_ || !awake_.empty()) return 0;
+    if (n_ < 1 || !screen_ || !awake_.empty() || gestures_.act_from(n_)) return 0;
     ContactScheduler& scheduler = screening_.scheduler();
     scheduler.refresh_amplitudes(modes_.q(), modes_.d());  // the head changes below: the tail is summed anew
     const double before = energy();
@@ -96,7 +97,13 @@ void NewtonImpact::look_at_points() {
 }
 
 void NewtonImpact::contact_step() {
+    const bool loaded = !gestures_.empty() && gestures_.load(n_);
     look_at_points();
+    if (loaded) {  // the loads shift the free prediction, as the penalty's field
+        const std::size_t n = plan_->mode_count();
+        for (std::size_t k = 0; k < awake_.size(); ++k)
+            predicted_[k] += awake_[k] < n ? gestures_.at_grid(awake_[k]) : gestures_.at_point(awake_[k] - n);
+    }
     active_.clear();
     active_rows_.clear();
     before_.clear();
@@ -127,7 +134,7 @@ void NewtonImpact::contact_step() {
             ++pushing;
         }
         active_rows_.resize(pushing);
-        if (pushing <= kernels::kMaxPassRows) {
+        if (pushing <= kernels::kMaxPassRows && !loaded) {
             pass.push_rows = active_rows_.data();
             pass.push_coefficients = lambda_.data();
             pass.pushes = pushing;
@@ -138,7 +145,14 @@ void NewtonImpact::contact_step() {
             pass.impulse = impulse_.data();
         }
     }
+    if (loaded) {  // the loads' impulse, with the impacts' where there are any (formed above)
+        if (pass.impulse == nullptr) std::fill(impulse_.begin(), impulse_.end(), 0.0);
+        gestures_.add_impulse(plan_->force_to_displacement(), impulse_);
+        pass.impulse = impulse_.data();
+        gestures_.begin_step(modes_);
+    }
     damping_ += plan_->modal_loss_scale() * modes_.advance(plan_->step_kernel(), pass);
+    if (loaded) gestures_.end_step(modes_);
     ++n_;
     const std::size_t pushed = active_rows_.size();
     if (pushed > 0) {
@@ -152,14 +166,17 @@ void NewtonImpact::contact_step() {
         }
         impact_loss_ -= plan_->modal_energy_scale() * work;
         ++contact_steps_;
-        if (screen_) screening_.scheduler().motion_changed(modes_.q(), modes_.d());
     }
+    if (screen_ && (pushed > 0 || loaded)) screening_.scheduler().motion_changed(modes_.q(), modes_.d());
     if (!screen_) return;
     screening_.scheduler().end_step();
     screening_.refresh_after_step(modes_, n_);  // the modes decay: from time to time a tighter bound
     // The gaps at n + 1: the predictions plus the pushes. On the grid a push moves its own point
     // only, by lambda / dx (S S^T = I / dx); exact points couple, so there they are formed again.
-    if (pushed > 0 && plan_->point_contact().size() > 0) {
+    // (After a loaded step they are looked at again before a point may sleep: the loads move every point.)
+    if (loaded) {
+        for (std::size_t k = 0; k < awake_.size(); ++k) predicted_[k] = modes_.at(plan_->screened_row(awake_[k]).data());
+    } else if (pushed > 0 && plan_->point_contact().size() > 0) {
         for (std::size_t k = 0; k < awake_.size(); ++k) predicted_[k] = modes_.at(plan_->screened_row(awake_[k]).data());
     } else if (pushed > 0) {
         const double dx = plan_->basis().grid_step();

@@ -23,12 +23,17 @@
 // ledger keeps the loss, so that H + damping + impact losses is constant to round-off.
 // Penetration is not corrected at the position level (the Moreau-Jean scheme's O(dt) drift
 // into the obstacle at e < 1).
+//
+// Force gestures (a prescribed F(t) on a pad) load the free prediction and the step's impulse
+// as they do the penalty's; their work is work(), so that H - W + D stays H^{1/2}. While one
+// may act the string does not fly, and after a loaded step the screening's bound is recomputed.
 #include <cstddef>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "fretbuzz/numerics/Lcp.hpp"
+#include "fretbuzz/scheme/ForceGestures.hpp"
 #include "fretbuzz/scheme/FreeFlight.hpp"
 #include "fretbuzz/scheme/ModalState.hpp"
 #include "fretbuzz/scheme/Plan.hpp"
@@ -62,11 +67,13 @@ public:
     double displacement(std::span<const double> mode_shapes) const { return modes_.at(mode_shapes.data()); }
 
     // H^{n-1/2} (the string's: a rigid obstacle stores nothing), the damping's losses and the
-    // impacts' since H^{1/2}; energy() + dissipated() stays H^{1/2} to round-off.
+    // impacts' since H^{1/2}, and the force gestures' work; energy() - work() + dissipated()
+    // stays H^{1/2} to round-off.
     double energy() const { return plan_->modal_energy_scale() * modes_.scaled_energy(); }
     double damping_dissipated() const { return damping_; }
     double impact_loss() const { return impact_loss_; }
     double dissipated() const { return damping_ + impact_loss_; }
+    double work() const { return gestures_.add_work(0.0); }
 
     // The points that took an impulse in the last step (screened index: grid i, exact point
     // N + p) and its mean force per unit length over the step, mu lambda / (dt^2 dx) (N/m, what
@@ -90,6 +97,7 @@ private:
 
     const Plan* plan_;
     ModalState modes_;
+    ForceGestures gestures_;
     Screening screening_;  // its scheduler wakes the points; its flights step the head modes
     LemkeSolver lemke_;
     StepFunction step_;
