@@ -53,6 +53,7 @@ RunSummary run_impact(const Case& c, std::span<RunObserver* const> observers, co
     const std::vector<double> bridge = plan.oriented(bridge_force_coefficients(c));
 
     RunSummary summary = summary_of(c, plan, layout);
+    summary.gestures = c.forces.size();
     summary.screened = plan.options().screen_contacts;
     summary.screening = summary.screened ? "on (impact law: points woken by the speed bound, free flight between contacts)"
                                          : "off (asked for)";
