@@ -7,7 +7,12 @@
 //       - what-if: one string (the first) after a what-if (the truss rod 0.1 mm looser), one
 //         attack (medium), and when its notes come in (the first, the median gap, the last);
 //       - the case-based study's load (bass-neck: a 2 mm pop, one pluck per note, 4 MHz, 0.5 s)
-//         on one thread, for the side-by-side with the earlier `fretbuzz setup bass-neck`.
+//         on one thread, for the side-by-side with the earlier `fretbuzz setup bass-neck`;
+//       - a calibration from a 40-note report (`fretbuzz setup NAME --calibrate`): frets 0-9
+//         of every string, each heard as the bench hears it at 1.3 x the medium pluck (the
+//         report is made before the clock starts).
+//   build/bench/fretbuzz_bench_setup --calibration [--instrument NAME] [--repetitions N]
+//       the calibration's row alone.
 //   build/bench/fretbuzz_bench_setup --convergence [--instrument NAME] [--attacks medium,hard]
 //       the map at several sampling rates and durations against the finest (4 MHz, 0.5 s):
 //       how many notes change their verdict (clean, marginal, buzzes), the mean change of the
@@ -28,6 +33,7 @@
 
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/setup/BuzzMap.hpp"
+#include "fretbuzz/setup/Calibration.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
 
@@ -81,6 +87,38 @@ void report(const char* what, const std::vector<Timing>& runs) {
                 what, median(wall), runs.size(), median(cpu), m.notes.size(), m.plucks_simulated, m.plucks_clear, m.jobs);
 }
 
+// A calibration from a 40-note report (its own row: `--calibration` times it alone).
+int calibration_speed(const Instrument& instrument, int repetitions, unsigned jobs) {
+    // The player's report: 40 notes, heard as the bench hears them at 1.3 x the medium pluck.
+    MapRequest heard;
+    for (std::size_t s = 0; s < instrument.strings.size() && heard.notes.size() < 40; ++s)
+        for (std::size_t fret = 0; fret < 10 && heard.notes.size() < 40; ++fret) heard.notes.push_back({s, fret});
+    heard.attacks = parse_attacks("medium", instrument.attack);
+    heard.attacks.front().size *= 1.3;
+    heard.clean_up_to = false;
+    heard.jobs = jobs;
+    std::string text = "string,fret,heard,strength\n";
+    for (const NoteVerdict& v : play_map(instrument, heard).notes)
+        text += instrument.strings[v.string].name + "," + std::to_string(v.fret) + "," +
+                (v.verdict == "clean" ? "clean" : "buzz") + ",medium\n";
+    const std::vector<HeardNote> report = parse_player_report(text, "bench-report.csv", instrument);
+    std::vector<double> calibration_wall, calibration_cpu;
+    double found = 0.0;
+    for (int r = 0; r < repetitions; ++r) {
+        CalibrationRequest request;
+        request.jobs = jobs;
+        const auto start = Clock::now();
+        const double cpu = cpu_seconds();
+        found = calibrate_attack(instrument, report, request).attack_scale;
+        calibration_cpu.push_back(cpu_seconds() - cpu);
+        calibration_wall.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    std::printf("%-58s wall %7.2f s (median of %zu), CPU %7.2f s, %zu notes, scale found %.3f (heard at 1.3)\n",
+                "calibration from a 40-note report", median(calibration_wall), calibration_wall.size(),
+                median(calibration_cpu), report.size(), found);
+    return 0;
+}
+
 int speed(const std::string& name, int repetitions, unsigned jobs) {
     const Instrument instrument = load_instrument(name);
     const std::filesystem::path scratch = std::filesystem::temp_directory_path() / "fretbuzz-bench-setup-wavs";
@@ -120,7 +158,7 @@ int speed(const std::string& name, int repetitions, unsigned jobs) {
         std::printf("  its notes come in: the first after %.2f s, then every %.2f s (median), the last after %.2f s\n",
                     a.front(), gaps.empty() ? 0.0 : median(gaps), a.back());
     report("bass-neck as the case-based study (pop, 1 pluck, 4 MHz, 0.5 s)", studies);
-    return 0;
+    return calibration_speed(instrument, repetitions, jobs);
 }
 
 struct Setting {
@@ -184,12 +222,14 @@ int main(int argc, char** argv) {
     std::string instrument = "jazz-bass", attacks = "medium,hard";
     int repetitions = 3;
     unsigned jobs = 0;
-    bool study = false;
+    bool study = false, calibration_only = false;
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         const bool value = k + 1 < argc;
         if (a == "--convergence") {
             study = true;
+        } else if (a == "--calibration") {
+            calibration_only = true;
         } else if (a == "--instrument" && value) {
             instrument = argv[++k];
         } else if (a == "--attacks" && value) {
@@ -199,12 +239,13 @@ int main(int argc, char** argv) {
         } else if (a == "--jobs" && value) {
             jobs = static_cast<unsigned>(std::max(1, std::atoi(argv[++k])));
         } else {
-            std::fprintf(stderr, "usage: %s [--convergence] [--instrument NAME] [--attacks LIST] [--repetitions N] "
+            std::fprintf(stderr, "usage: %s [--convergence | --calibration] [--instrument NAME] [--attacks LIST] [--repetitions N] "
                                  "[--jobs N]\n", argv[0]);
             return 2;
         }
     }
     try {
+        if (calibration_only) return calibration_speed(load_instrument(instrument), repetitions, jobs);
         return study ? convergence(instrument, attacks, jobs) : speed(instrument, repetitions, jobs);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fretbuzz_bench_setup: %s\n", e.what());
