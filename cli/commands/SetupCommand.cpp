@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -275,10 +276,21 @@ int setup_command(const SetupArguments& a) {
         doc.compared_with = a.compare;
         write_comparison_csv(out.staged("compare.csv"), doc.comparison);
     }
+    // On a terminal a search says what it has played (it has no total to count down).
+    const auto search_progress = [&](const std::string& what) -> std::function<void(const NoteVerdict&, std::size_t)> {
+        if (a.quiet || !terminal) return {};
+        return [what, played = std::size_t{0}](const NoteVerdict& v, std::size_t probes) mutable {
+            std::cerr << "\r\033[K" << "fretbuzz: " << what << ": " << ++played << " notes played in " << probes
+                      << " probes; the last, " << v.string_name << " fret " << v.fret << ": " << verdict_text(v)
+                      << std::flush;
+        };
+    };
     if (a.advice) {
         if (!a.quiet) std::cerr << "fretbuzz: advice: searching (each probe plays notes at the "
                                 << advice_request.attack.label << " attack)\n";
+        advice_request.on_note = search_progress("advice");
         const Advice advice = advise(instrument, map.notes, advice_request);
+        if (advice_request.on_note) std::cerr << "\n";
         doc.advice_json = advice_json(advice);
         std::ofstream(out.staged("advice.json")) << doc.advice_json << "\n";
         std::ofstream(out.staged("advice.txt")) << advice_text(advice);
@@ -286,7 +298,9 @@ int setup_command(const SetupArguments& a) {
     }
     if (a.dress) {
         if (!a.quiet) std::cerr << "fretbuzz: fret dress: searching at the " << advice_request.attack.label << " attack\n";
+        dress_request.play.on_note = search_progress("fret dress");
         const DressResult dress = dress_frets(instrument, map.notes, dress_request);
+        if (dress_request.play.on_note) std::cerr << "\n";
         doc.dress_json = dress_json(dress);
         doc.dressed_notes = dress.after;
         std::ofstream(out.staged("dress.csv")) << dress_csv(dress);
