@@ -41,6 +41,7 @@
 #include "fretbuzz/realtime/BridgeEngine.hpp"
 #include "fretbuzz/realtime/Engine.hpp"
 #include "fretbuzz/realtime/Performance.hpp"
+#include "fretbuzz/realtime/VoiceAllocation.hpp"
 
 namespace {
 
@@ -158,23 +159,13 @@ struct Instrument {
         return fret >= 0 && fret < kFrets ? &voices[static_cast<std::size_t>(fret)] : nullptr;
     }
 
-    // Room for `v` to sound: beyond kVoices, the voice released longest ago (or else the one
-    // held longest) fades out.
+    // Room for `v` to sound: beyond kVoices, the voice the real-time layer's rule picks fades out.
     void make_room(const Voice& v) {
-        int sounding = 0;
-        Voice* taken = nullptr;
-        const auto older = [](const Voice& a, const Voice& b) {
-            if ((a.started < 0) != (b.started < 0)) return a.started < 0;  // released before held
-            return a.started < 0 ? a.released < b.released : a.started < b.started;
-        };
-        for (Voice& o : voices) {
-            if (!o.active || o.fading > 0 || &o == &v) continue;
-            ++sounding;
-            if (taken == nullptr || older(o, *taken)) taken = &o;
-        }
-        if (sounding >= kVoices && taken != nullptr) {
-            taken->fading = kFadeFrames;
-            taken->started = taken->released = -1;
+        const auto turn = [](const Voice& o) { return VoiceTurn{o.active, o.fading > 0, o.started, o.released}; };
+        if (const auto k = voice_giving_way(voices, static_cast<std::size_t>(&v - voices.data()), kVoices, turn)) {
+            Voice& taken = voices[*k];
+            taken.fading = kFadeFrames;
+            taken.started = taken.released = -1;
         }
     }
 
@@ -326,7 +317,8 @@ constexpr std::array<Preset, 2> kStringsPresets = {{{"urn:fretbuzz:sitar-taraf",
 
 struct Strings {
     std::unique_ptr<BridgeEngine> engine;
-    std::vector<int> open_note;  // per string
+    std::vector<int> open_note;    // per string
+    std::vector<int> fret_counts;  // per string (the engine's)
     std::vector<int> playing;    // per string: the note it plays (-1: none)
     const LV2_Atom_Sequence* midi = nullptr;
     float* out = nullptr;
@@ -337,17 +329,8 @@ struct Strings {
     LV2_URID midi_event = 0;
     LV2_Log_Logger logger{};
 
-    // The string that plays `note`: the highest whose open note is at most it and whose frets
-    // reach it; -1 if none.
-    int string_of(int note) const {
-        int best = -1;
-        for (std::size_t s = 0; s < open_note.size(); ++s) {
-            const int fret = note - open_note[s];
-            if (fret < 0 || fret > engine->fret_count(s)) continue;
-            if (best < 0 || open_note[s] > open_note[static_cast<std::size_t>(best)]) best = static_cast<int>(s);
-        }
-        return best;
-    }
+    // The string that plays `note` (the real-time layer's rule); -1 if none.
+    int string_of(int note) const { return string_for_note(open_note, fret_counts, note); }
 
     void note_on(int note, int velocity, float where) {
         const auto s = static_cast<std::size_t>(string_of(note));
@@ -404,6 +387,7 @@ LV2_Handle instantiate_strings(const LV2_Descriptor* descriptor, double rate, co
         options.engine.max_oversampling = 4;
         strings->engine = std::make_unique<BridgeEngine>(sc, options);
         for (const Case& c : sc.strings) strings->open_note.push_back(open_string_note(c));
+        for (std::size_t s = 0; s < sc.strings.size(); ++s) strings->fret_counts.push_back(strings->engine->fret_count(s));
         strings->playing.assign(sc.strings.size(), -1);
         strings->latency_samples = static_cast<float>(std::round(strings->engine->latency_samples()));
     } catch (const std::exception& e) {
