@@ -94,27 +94,63 @@ void ContactSet::solve(const ModalState& modes, const ForceGestures& gestures, l
     grid_.begin_step();
     record.stats.points_solved += static_cast<double>(grid_.active().size() + parts_.pad_points() + points_.awake());
     pluckers_.clear_loads();
+    route_ = route_of(pluckers_.act(parts_));
+    points_.set_pushed(false);  // (until a solve of the points says otherwise)
+    switch (route_.off_grid) {
+        case StepRoute::OffGrid::plucker_alone:
+            grid_.add_potential(pluckers_.solve_alone(parts_, modes, gestures, n, record));
+            break;
+        case StepRoute::OffGrid::apart: points_.set_pushed(solve_points(modes, gestures, n, record)); break;
+        case StepRoute::OffGrid::none:
+        case StepRoute::OffGrid::with_grid: break;  // (with_grid: in solve_on_grid)
+    }
+    if (route_.on_grid == StepRoute::OnGrid::none) {
+        if (points_.pushed()) ++record.stats.contact_steps;
+    } else {
+        solve_on_grid(modes, gestures, n, record);
+    }
+    route_pushes(record.loaded);
+}
+
+StepRoute ContactSet::route_of(bool pluckers) const {
+    StepRoute route;
+    const bool grid_awake = !grid_.active().empty();
+    const std::size_t awake = points_.awake(), acting = pluckers_.acting();
     // The exact pluckers beside awake obstacle points of the grid or a finger: one solve with them.
-    const bool pluck_with_grid = pluckers_.act(parts_) && (!grid_.active().empty() || parts_.fingers_on());
-    // A single plucker with nothing beside it: its own scalar solve; several: solved together
-    // (their pads move one another), with the exact points where any is awake.
-    const bool pads_alone = points_.awake() == 0 && !pluck_with_grid;
-    if (pads_alone && pluckers_.acting() == 1) grid_.add_potential(pluckers_.solve_alone(parts_, modes, gestures, n, record));
+    const bool pluck_with_grid = pluckers && (grid_awake || parts_.fingers_on());
     // Exact points (or the exact pluckers) beside awake obstacle points of the grid or a finger's
     // pad: all in one solve (see PointContact).
-    const bool coupled_points = plan_->point_contact().grid_coupled() && points_.awake() != 0;
+    const bool coupled_points = plan_->point_contact().grid_coupled() && awake != 0;
     const bool fingers_with_points = (coupled_points || pluck_with_grid) && parts_.fingers_on();
-    const bool joint = pluck_with_grid || (coupled_points && !grid_.active().empty()) || fingers_with_points;
-    points_.set_pushed((points_.awake() != 0 || (pads_alone && pluckers_.acting() > 1)) && !joint &&
-                       solve_points(modes, gestures, n, record));
-    if (grid_.active().empty() && parts_.pad_points() == 0) {
-        if (points_.pushed()) ++record.stats.contact_steps;
-        return;
-    }
+    route.fingers_joint = fingers_with_points;
+    const bool all_in_one = pluck_with_grid || (coupled_points && grid_awake) || fingers_with_points;
+    // A single plucker with nothing beside it: its own scalar solve; several: solved together
+    // (their pads move one another), with the exact points where any is awake.
+    const bool pads_alone = awake == 0 && !pluck_with_grid;
+    if (all_in_one)
+        route.off_grid = StepRoute::OffGrid::with_grid;
+    else if (pads_alone && acting == 1)
+        route.off_grid = StepRoute::OffGrid::plucker_alone;
+    else if (awake != 0 || (pads_alone && acting > 1))
+        route.off_grid = StepRoute::OffGrid::apart;
+    const std::size_t solved = grid_.active().size() + parts_.pad_points();
+    if (solved == 0) return route;  // (on_grid: none)
+    // The predicted height at every point to solve: by one transform where there are many, and
+    // then their equations together (a string landing on a long obstacle: the same solutions).
+    const bool many = solved > plan_->transform_threshold();
+    route.by_transform = many;
+    if (all_in_one)
+        route.on_grid = StepRoute::OnGrid::with_points;
+    else if (many)
+        route.on_grid = StepRoute::OnGrid::batch;
+    else
+        route.on_grid = StepRoute::OnGrid::each;
+    return route;
+}
 
-    // The predicted height at every point to solve, into field_: by one transform, or by rows.
-    const bool use_transform = grid_.active().size() + parts_.pad_points() > plan_->transform_threshold();
-    if (use_transform) {
+void ContactSet::solve_on_grid(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record) {
+    // The predicted height at every point to solve, into field_.
+    if (route_.by_transform) {
         modes.predict(predicted_);
         plan_->basis().to_grid(predicted_, field_);
     } else {
@@ -122,19 +158,49 @@ void ContactSet::solve(const ModalState& modes, const ForceGestures& gestures, l
     }
     if (record.loaded)
         for (std::size_t i : grid_.active()) field_[i] += gestures.at_grid(i);
-    if (!parts_.empty()) solve_fingers(modes, gestures, n, use_transform, fingers_with_points, record);
-    // Many points (a string landing on a long obstacle): their equations together, the same
-    // solutions (see PenaltyContact::solve_all); beside exact points, pluckers or fingers, one solve.
-    const bool together = use_transform || joint;
+    if (!parts_.empty()) solve_fingers(modes, gestures, n, record);
     const double k = plan_->force_to_displacement();
-    if (together) {
-        grid_.gather_equations(plan_->obstacle(), field_);
-        if (joint)
-            solve_with_grid(modes, gestures, n, pluck_with_grid, fingers_with_points, record);
-        else
+    switch (route_.on_grid) {
+        case StepRoute::OnGrid::with_points:
+            grid_.gather_equations(plan_->obstacle(), field_);
+            solve_with_grid(modes, gestures, n, record);
+            break;
+        case StepRoute::OnGrid::batch:
+            grid_.gather_equations(plan_->obstacle(), field_);
             plan_->contact().solve_all(grid_.a(), grid_.b(), k, grid_.solutions());
+            break;
+        case StepRoute::OnGrid::none:
+        case StepRoute::OnGrid::each: break;
     }
-    grid_.solve(plan_->contact(), k, plan_->obstacle(), field_, together, forces_, record);
+    grid_.solve(plan_->contact(), k, plan_->obstacle(), field_, route_.on_grid != StepRoute::OnGrid::each, forces_,
+                record);
+}
+
+void ContactSet::route_pushes(bool loaded) {
+    // The pass pushes with the exact points' rows (and the grid's) where they fit in it; it
+    // forms the next prediction at the awake points too where the step is fused.
+    const std::size_t awake = points_.awake(), forces = forces_.size();  // (resting points push nothing)
+    const bool grid_rows = forces == 0 || plan_->pushes_inline(forces);
+    const bool by_rows = grid_rows && awake <= kernels::kMaxPassRows && forces + awake <= Plan::kMaxInlinePushes;
+    using Push = StepRoute::Push;
+    if (loaded)
+        route_.push = Push::loaded_vector;  // (the gestures' loads: a few steps' work)
+    else if (points_.pushed())
+        route_.push = by_rows ? Push::point_rows : Push::vector;
+    else if (!grid_rows)
+        route_.push = Push::vector;
+    else
+        route_.push = forces == 0 ? Push::none : Push::rows;
+    // What the next step reads of the state the pass leaves, formed while it holds it (one pass
+    // over the modes instead of one per product): the next prediction at the points solved now
+    // (a string resting on a bridge, a finger's pad: most are solved again), the awake points first.
+    const bool fused = plan_->options().fused_step;
+    std::size_t first = 0;
+    if (fused && !loaded && awake != 0 && by_rows) first = awake;
+    route_.forecast_points = first != 0;
+    const std::size_t solved = grid_.active().size() + parts_.pad_points();
+    route_.forecast_grid = fused && solved != 0 && first + solved <= kernels::kMaxPassRows &&
+                           solved <= plan_->transform_threshold();
 }
 
 void ContactSet::predict_points(std::span<const std::size_t> points, const ModalState& modes) {
@@ -165,8 +231,8 @@ void ContactSet::predict_points(std::span<const std::size_t> points, const Modal
     plan_->predicted_at(others_, predicted_, modes.q(), modes.d(), field_);
 }
 
-void ContactSet::solve_fingers(const ModalState& modes, const ForceGestures& gestures, long n, bool use_transform,
-                               bool with_points, StepRecord& record) {
+void ContactSet::solve_fingers(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record) {
+    const bool use_transform = route_.by_transform;
     bool acted = false;
     joint_pads_.clear();
     joint_w_.clear();
@@ -176,7 +242,7 @@ void ContactSet::solve_fingers(const ModalState& modes, const ForceGestures& ges
         if (!use_transform) predict_points(part.pad(), modes);
         pad_w_.clear();
         for (std::size_t i : part.pad()) pad_w_.push_back(record.loaded ? field_[i] + gestures.at_grid(i) : field_[i]);
-        if (with_points && k < parts_.fingers().size()) {  // stepped in the points' solve
+        if (route_.fingers_joint && k < parts_.fingers().size()) {  // stepped in the points' solve
             parts_.finger(k).prepare(n);
             joint_pads_.insert(joint_pads_.end(), part.pad().begin(), part.pad().end());
             joint_w_.insert(joint_w_.end(), pad_w_.begin(), pad_w_.end());
@@ -201,7 +267,7 @@ void ContactSet::solve_fingers(const ModalState& modes, const ForceGestures& ges
         }
         solve(parts_[k], k);
     }
-    if (acted && !record.loaded) ++record.stats.played_steps;  // (a loaded step is counted already)
+    record.played_by_parts(acted);
 }
 
 void ContactSet::take_part(const PlayedPart& part, double obstacle_psi, std::span<const double> force, StepRecord& record) {
@@ -253,8 +319,8 @@ bool ContactSet::solve_points(const ModalState& modes, const ForceGestures& gest
     return pushed;
 }
 
-void ContactSet::solve_with_grid(const ModalState& modes, const ForceGestures& gestures, long n, bool with_pluck,
-                                 bool with_fingers, StepRecord& record) {
+void ContactSet::solve_with_grid(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record) {
+    const bool with_fingers = route_.fingers_joint;
     const PointContact& points = plan_->point_contact();
     if (!points.empty()) points_.predict(modes, n, predicted_, record.loaded ? &gestures : nullptr);
     PointContact::Grid grid{grid_.active(), grid_.a(), grid_.b(), grid_.solutions(), plan_->basis().grid_step()};
@@ -262,7 +328,7 @@ void ContactSet::solve_with_grid(const ModalState& modes, const ForceGestures& g
     if (with_fingers) grid.pads = &pads;
     const double k = plan_->force_to_displacement();
     PointContact::State& state = points_.state();
-    if (with_pluck) {
+    if (pluckers_.acting() != 0) {  // (each acting plucker is beside the grid or a finger here)
         points_.set_pushed(points.solve(state, points_.predicted(), plan_->contact(), k, grid,
                                         pluckers_.pads(parts_, modes, gestures, n, record.loaded, true)));
         pluckers_.conclude(parts_, n, record);
@@ -276,163 +342,102 @@ void ContactSet::solve_with_grid(const ModalState& modes, const ForceGestures& g
             take_part(finger, finger.commit(), std::span<const double>(state.pad_force).subspan(at, count), record);
             acted = acted || finger.acted();
         });
-        if (acted && !record.loaded) ++record.stats.played_steps;
+        record.played_by_parts(acted);
     }
     if (state.joint) ++record.stats.joint_steps;
     record.iterations(state.iterations);
     record.touched_obstacle = record.touched_obstacle || points_.pushed();
 }
 
-void ContactSet::points_impulse() {
-    // With a point pushing, every force goes through one impulse vector (the pass's plain path).
+void ContactSet::form_impulse() {
     if (forces_.empty())
         std::fill(impulse_.begin(), impulse_.end(), 0.0);
     else
         plan_->forces_to_modes(forces_, field_, impulse_);
-    points_.add_impulse(plan_->force_to_displacement(), impulse_);
+    if (points_.pushed()) points_.add_impulse(plan_->force_to_displacement(), impulse_);
 }
 
-bool ContactSet::points_by_rows() const {
-    const std::size_t pushes = forces_.size() + points_.awake();  // (resting points push nothing)
-    return points_.awake() <= kernels::kMaxPassRows && pushes <= Plan::kMaxInlinePushes &&
-           (forces_.empty() || plan_->pushes_inline(forces_.size()));
-}
-
-void ContactSet::form_impulse(const ForceGestures& gestures, bool loaded) {
-    if (loaded) {  // the gestures' loads with every force in one impulse vector (a few steps' work)
-        if (points_.pushed())
-            points_impulse();
-        else if (forces_.empty())
-            std::fill(impulse_.begin(), impulse_.end(), 0.0);
-        else
-            plan_->forces_to_modes(forces_, field_, impulse_);
-        const double k = plan_->force_to_displacement();
-        gestures.add_impulse(k, impulse_);
-        pluckers_.add_impulse(parts_, k, impulse_);
-        return;
-    }
-    if (points_.pushed()) {
-        if (!points_by_rows()) points_impulse();
-        return;
-    }
-    if (forces_.empty() || plan_->pushes_inline(forces_.size())) return;  // the pass adds the rows
-    plan_->forces_to_modes(forces_, field_, impulse_);
-}
-
-void ContactSet::fill_pass(kernels::StepPass& pass, bool loaded) {
-    // What the next step and the caller read of the state the pass leaves, formed while it holds
-    // it (one pass over the modes instead of one per product): the next prediction at the points
-    // solved now (a string resting on a bridge, a finger's pad: most are solved again).
-    const bool fused = plan_->options().fused_step;
-    const std::size_t solved = grid_.active().size() + parts_.pad_points();
-    rows_.with_points = !loaded && points_.awake() != 0 && points_by_rows();
-    forecast_.count = 0;
-    if (rows_.with_points) {
-        // The pass pushes with the exact points' rows and the grid's, and forecasts the awake
-        // points, then the grid's active points and pads where they fit in the pass.
-        const PointContact& points = plan_->point_contact();
-        const PointContact::State& state = points_.state();
-        std::size_t pushes = 0;
-        if (points_.pushed())
+void ContactSet::fill_pass(kernels::StepPass& pass, const ForceGestures& gestures) {
+    std::size_t pushes = 0;
+    switch (route_.push) {
+        case StepRoute::Push::none: break;
+        case StepRoute::Push::vector:
+            form_impulse();
+            pass.impulse = impulse_.data();
+            break;
+        case StepRoute::Push::loaded_vector: {
+            form_impulse();
+            const double k = plan_->force_to_displacement();
+            gestures.add_impulse(k, impulse_);
+            pluckers_.add_impulse(parts_, k, impulse_);
+            pass.impulse = impulse_.data();
+            break;
+        }
+        case StepRoute::Push::point_rows: {
+            const PointContact& points = plan_->point_contact();
+            const PointContact::State& state = points_.state();
             for (std::size_t p = 0; p < points.size(); ++p)
                 if (state.force[p] != 0.0) {
                     rows_.coefficients[pushes] = plan_->force_to_displacement() * points.weight(p) * state.force[p];
                     rows_.push[pushes++] = points.row(p).data();
                 }
-        for (const auto& [i, f] : forces_) {
-            rows_.coefficients[pushes] = plan_->impulse_scale() * f;
-            rows_.push[pushes++] = plan_->basis().row(i).data();
         }
-        pass.push_rows = rows_.push.data();
-        pass.push_coefficients = rows_.coefficients.data();
-        pass.pushes = pushes;
-        rows_.awake = 0;
-        if (!fused) return;
-        std::size_t count = points_.awake_rows(rows_.which.data(), rows_.predict.data());
-        rows_.awake = count;
-        const bool grid_fits = solved != 0 && count + solved <= kernels::kMaxPassRows && solved <= plan_->transform_threshold();
-        if (grid_fits) {
-            const auto add = [&](std::size_t i) {
-                forecast_.points[forecast_.count++] = i;
-                rows_.predict[count++] = plan_->basis().row(i).data();
-            };
-            for (std::size_t i : grid_.active()) add(i);
-            parts_.each_on([&](const PlayedPart& part) {
-                for (std::size_t i : part.pad()) add(i);
-            });
-        }
-        pass.predict_rows = rows_.predict.data();
-        pass.predict_count = count;
-        pass.predicted = rows_.values.data();
-        return;
+            [[fallthrough]];
+        case StepRoute::Push::rows:
+            for (const auto& [i, f] : forces_) {
+                rows_.coefficients[pushes] = plan_->impulse_scale() * f;
+                rows_.push[pushes++] = plan_->basis().row(i).data();
+            }
+            pass.push_rows = rows_.push.data();
+            pass.push_coefficients = rows_.coefficients.data();
+            pass.pushes = pushes;
+            break;
     }
-    const bool whole = points_.pushed() || loaded;  // form_impulse formed the whole impulse
-    const std::size_t pushes = whole ? 0 : forces_.size();
-    if (whole) {
-        pass.impulse = impulse_.data();
-    } else if (plan_->pushes_inline(pushes)) {  // the pass adds the rows; otherwise form_impulse made the vector
-        for (std::size_t r = 0; r < pushes; ++r) {
-            rows_.coefficients[r] = plan_->impulse_scale() * forces_[r].second;
-            rows_.push[r] = plan_->basis().row(forces_[r].first).data();
-        }
-        pass.push_rows = rows_.push.data();
-        pass.push_coefficients = rows_.coefficients.data();
-        pass.pushes = pushes;
-    } else if (pushes != 0) {
-        pass.impulse = impulse_.data();
-    }
-    if (fused && solved != 0 && solved <= kernels::kMaxPassRows && solved <= plan_->transform_threshold()) {
-        std::size_t count = 0;
+    // The forecasts: the awake exact points', then the grid's active points and pads.
+    std::size_t count = route_.forecast_points ? points_.awake_rows(rows_.which.data(), rows_.predict.data()) : 0;
+    rows_.awake = count;
+    forecast_.count = 0;
+    if (route_.forecast_grid) {
         const auto add = [&](std::size_t i) {
-            forecast_.points[count] = i;
+            forecast_.points[forecast_.count++] = i;
             rows_.predict[count++] = plan_->basis().row(i).data();
         };
         for (std::size_t i : grid_.active()) add(i);
         parts_.each_on([&](const PlayedPart& part) {
             for (std::size_t i : part.pad()) add(i);
         });
-        forecast_.count = count;
-        pass.predict_rows = rows_.predict.data();
-        pass.predict_count = count;
-        pass.predicted = forecast_.values.data();
     }
+    pass.predict_rows = rows_.predict.data();
+    pass.predict_count = count;
+    pass.predicted = rows_.values.data();
 }
 
-void ContactSet::keep_point_forecasts(long next) {
-    if (!plan_->options().fused_step) {
-        points_.forget_forecast();
-        return;
-    }
-    const std::size_t awake = rows_.awake;
-    points_.keep_forecast(rows_.which.data(), rows_.values.data(), awake, next);
-    for (std::size_t r = 0; r < forecast_.count; ++r) forecast_.values[r] = rows_.values[awake + r];
-}
-
-void ContactSet::tell_screening(Screening& screening, const ModalState& modes, long next, bool loaded) {
+void ContactSet::tell_screening(Screening& screening, const ModalState& modes, long next) {
     ContactScheduler& scheduler = screening.scheduler();
     scheduler.end_step();
-    const bool pushed = points_.pushed();
-    if (screening.refresh_after_step(modes, next)) {
-        // (the bound is recomputed from the motion as it is)
-    } else if (loaded || (pushed && !points_by_rows())) {
-        scheduler.pushed(modes.q(), modes.d(), impulse_);  // form_impulse formed the whole impulse
-    } else if (pushed) {
-        // The points' rows went into the pass with the grid's: the bounds grow by each push
-        // times its point's weight (exact point p screened as N + p, its force as one per dx).
-        pushes_.assign(forces_.begin(), forces_.end());
-        const PointContact& points = plan_->point_contact();
-        const PointContact::State& state = points_.state();
-        const double dx = plan_->basis().grid_step();
-        for (std::size_t p = 0; p < points.size(); ++p)
-            if (state.force[p] != 0.0) pushes_.emplace_back(modes.size() + p, points.weight(p) * state.force[p] / dx);
-        scheduler.pushed(modes.q(), modes.d(), pushes_, plan_->impulse_scale());
-    } else if (!forces_.empty()) {
-        // the motion from here on is a new free motion; where form_impulse projected the
-        // forces onto the modes, the bounds grow by that impulse (no point's weight needed)
-        if (plan_->pushes_inline(forces_.size()))
-            scheduler.pushed(modes.q(), modes.d(), forces_, plan_->impulse_scale());
-        else
-            scheduler.pushed(modes.q(), modes.d(), impulse_);
+    if (!screening.refresh_after_step(modes, next)) {  // (else the bound is recomputed from the motion as it is)
+        // The motion from here on is a new free motion: the bounds grow by the step's pushes,
+        // as the pass took them.
+        switch (route_.push) {
+            case StepRoute::Push::none: break;
+            case StepRoute::Push::vector:
+            case StepRoute::Push::loaded_vector: scheduler.pushed(modes.q(), modes.d(), impulse_); break;
+            case StepRoute::Push::rows:
+                scheduler.pushed(modes.q(), modes.d(), forces_, plan_->impulse_scale());
+                break;
+            case StepRoute::Push::point_rows: {
+                // Each push times its point's weight (exact point p screened as N + p, its force
+                // as one per dx).
+                pushes_.assign(forces_.begin(), forces_.end());
+                const PointContact& points = plan_->point_contact();
+                const PointContact::State& state = points_.state();
+                const double dx = plan_->basis().grid_step();
+                for (std::size_t p = 0; p < points.size(); ++p)
+                    if (state.force[p] != 0.0) pushes_.emplace_back(modes.size() + p, points.weight(p) * state.force[p] / dx);
+                scheduler.pushed(modes.q(), modes.d(), pushes_, plan_->impulse_scale());
+                break;
+            }
+        }
     }
     // A point out of contact over both recent levels, and far enough from the obstacle, leaves
     // the solve until the scheduler says it could be back.

@@ -2,10 +2,11 @@
 // Every contact of one string, and the step's joint solve of them: the obstacle's points on the
 // grid (GridContact), the point obstacles at their exact positions (ExactPoints), and the played
 // parts at pads (PlayedParts: fingers on grid points, pluckers at their exact positions,
-// ExactPluckers). Each step it decides once which solve applies (each point alone, the points
-// together, or everything coupled through the modes in one Newton solve with the grid's own
-// equations eliminated: PointContact), then forms the step's pushes on the modes (their rows in
-// the pass, or one impulse vector) and the forecasts the next step reads, and reports its forces.
+// ExactPluckers). Each step it decides once, as a value (StepRoute), which solve applies (each
+// point alone, the points together, or everything coupled through the modes in one Newton solve
+// with the grid's own equations eliminated: PointContact) and how the pushes reach the modes
+// (their rows in the pass, or one impulse vector); the pass and the screening follow that route.
+// It forms the forecasts the next step reads, and reports its forces.
 #include <array>
 #include <cstddef>
 #include <span>
@@ -23,6 +24,7 @@
 #include "fretbuzz/scheme/PlayedParts.hpp"
 #include "fretbuzz/scheme/Screening.hpp"
 #include "fretbuzz/scheme/StepRecord.hpp"
+#include "fretbuzz/scheme/StepRoute.hpp"
 
 namespace fretbuzz {
 
@@ -48,19 +50,20 @@ public:
     void forget_forecasts();  // the state changed from outside
 
     // Step n's contacts solved from the free prediction of `modes`, shifted by the gestures' loads
-    // where record.loaded.
+    // where record.loaded; the step's route decided.
     void solve(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
-    // The impulse vector where the pass does not push by rows itself (the gestures' loads with it).
-    void form_impulse(const ForceGestures& gestures, bool loaded);
-    // The step's pushes and the next step's forecasts into `pass`; keep_forecasts after it ran.
-    void fill_pass(kernels::StepPass& pass, bool loaded);
-    void keep_forecasts(long next) {
-        if (rows_.with_points) keep_point_forecasts(next);  // (else the pass wrote the grid's in place)
+    // The step's pushes (the impulse vector formed where the route says, the gestures' loads with
+    // it) and the next step's forecasts into `pass`; keep_forecasts after it ran.
+    void fill_pass(kernels::StepPass& pass, const ForceGestures& gestures);
+    void keep_forecasts(long next) {  // (here: every step runs it)
+        const std::size_t awake = rows_.awake;
+        if (awake != 0) points_.keep_forecast(rows_.which.data(), rows_.values.data(), awake, next);
+        for (std::size_t r = 0; r < forecast_.count; ++r) forecast_.values[r] = rows_.values[awake + r];
     }
     // After the pass: the screening told of the pushes (the motion is a new free motion), points
     // apart put to sleep; the forces reported.
-    void tell_screening(Screening& screening, const ModalState& modes, long next, bool loaded);
-    void report_forces() {
+    void tell_screening(Screening& screening, const ModalState& modes, long next);
+    void report_forces() {  // the forces off the grid added to forces()
         if (points_.pushed() || pluckers_.size() != 0) report_off_grid();  // (most steps: nothing off the grid)
     }
     void forget_forces() {
@@ -90,26 +93,26 @@ public:
 private:
     // The free prediction at `points` into field_: the forecast where it has them, row products otherwise.
     void predict_points(std::span<const std::size_t> points, const ModalState& modes);
-    void solve_fingers(const ModalState& modes, const ForceGestures& gestures, long n, bool use_transform,
-                       bool with_points, StepRecord& record);
+    // The route's solve part, from the state at the top of the step (pluckers: some act).
+    StepRoute route_of(bool pluckers) const;
+    // The route's pushes and forecasts, from the solve's forces.
+    void route_pushes(bool loaded);
+    void solve_on_grid(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
+    void solve_fingers(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
     void take_part(const PlayedPart& part, double obstacle_psi, std::span<const double> force, StepRecord& record);
     void retire(const PlayedPart& part);
     void start_part(PlayedPart& part, std::span<const double> u_before, std::span<const double> u_now);
     void pad_values(const std::vector<std::size_t>& pad, std::span<const double> field);
     // The exact points (and the acting pluckers' pads) solved apart from the grid; whether any pushed.
     bool solve_points(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
-    // The exact points, the pluckers (with_pluck) and the fingers (with_fingers) with the grid's
+    // The exact points, the acting pluckers and (route_.fingers_joint) the fingers with the grid's
     // active points (their equations gathered), all in one solve.
-    void solve_with_grid(const ModalState& modes, const ForceGestures& gestures, long n, bool with_pluck,
-                         bool with_fingers, StepRecord& record);
-    // Whether the pass pushes with the points' rows (and the grid's) and forms the next prediction
-    // at every point where the step is fused (else through one impulse vector).
-    bool points_by_rows() const;
-    void points_impulse();
+    void solve_with_grid(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
+    // The step's impulse vector: the grid's forces and the points' (where they pushed).
+    void form_impulse();
     // A force (N) at x off the grid, reported as a force per length at the nearest grid point.
     void report_force_at(double x, double force);
     void report_off_grid();
-    void keep_point_forecasts(long next);
 
     const Plan* plan_;
     PlayedParts parts_;
@@ -138,17 +141,17 @@ private:
     };
     Forecast forecast_;
     std::vector<std::size_t> others_;  // scratch: points predict_points finds no forecast for
-    // The pass's rows (not zeroed each step: only the first entries are read). With the exact
-    // points pushing by rows, the awake points' forecasts come first (`awake` of them, which[]).
+    // The pass's rows (not zeroed each step: only the first entries are read). The awake exact
+    // points' forecasts come first (`awake` of them, which[]), then the grid's.
     struct PassRows {
         std::array<double, kernels::kMaxPassRows> coefficients;
         std::array<const double*, kernels::kMaxPassRows> push, predict;
         std::array<std::size_t, kernels::kMaxPassRows> which;
         std::array<double, kernels::kMaxPassRows> values;
         std::size_t awake = 0;
-        bool with_points = false;
     };
     PassRows rows_{};
+    StepRoute route_{};
 };
 
 }  // namespace fretbuzz

@@ -25,6 +25,10 @@ struct StepRecord {
         if (!loaded) ++stats.played_steps;
         loaded = true;
     }
+    // A finger or plucker acted in the step (a loaded step is counted already).
+    void played_by_parts(bool acted) {
+        if (acted && !loaded) ++stats.played_steps;
+    }
     void iterations(int count) { stats.max_newton_iterations = std::max(stats.max_newton_iterations, count); }
 };
 

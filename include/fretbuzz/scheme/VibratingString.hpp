@@ -141,11 +141,10 @@ inline void VibratingString::begin_step() {
 inline void VibratingString::solve_contacts() { contacts_.solve(modes_, gestures_, n_, record_); }
 
 inline void VibratingString::end_step() {
-    contacts_.form_impulse(gestures_, record_.loaded);
     advance();
     // Friction from this step's normal forces (the grid's and the exact points').
     if (y_) y_->step(n_, contacts_.rubbing_points(), contacts_.point_forces());
-    if (screening_.on()) contacts_.tell_screening(screening_, modes_, n_ + 1, record_.loaded);
+    if (screening_.on()) contacts_.tell_screening(screening_, modes_, n_ + 1);
     contacts_.report_forces();
     ++n_;
 }
@@ -154,7 +153,7 @@ inline void VibratingString::advance() {
     const bool loaded = record_.loaded;
     if (loaded) gestures_.begin_step(modes_);
     kernels::StepPass pass;
-    contacts_.fill_pass(pass, loaded);
+    contacts_.fill_pass(pass, gestures_);
     run_pass(pass);
     contacts_.keep_forecasts(n_ + 1);
     if (loaded) gestures_.end_step(modes_);
