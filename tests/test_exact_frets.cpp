@@ -86,6 +86,19 @@ TEST(ExactFrets, CrownsOfZeroWidthAreExactPointsOneGridStepWide) {
     }
 }
 
+TEST(ExactFrets, CrownedFretsAreWhereTheFretboardPutsThem) {
+    // Crowns 2 mm wide act on the grid points within them; the frets (what `fret = k` stands
+    // behind) stay at x_n, not at the middle of those points.
+    std::string text = builtin_case_text("bass-pluck");
+    text.replace(text.find("crown_width = 0.0"), 17, "crown_width = 2e-3");
+    const Case c = parse_case(text, "crowned-bass.toml", DataSource::builtin());
+    EXPECT_TRUE(c.point_obstacles.empty());
+    ASSERT_EQ(c.fret_positions_m.size(), 20u);
+    for (int n = 1; n <= 20; ++n) EXPECT_NEAR(c.fret_positions_m[static_cast<std::size_t>(n - 1)], fret_x(n), 1e-15);
+    const FingerSpec f = c.fret_finger(5, "fret");
+    EXPECT_NEAR(f.position_m, finger_behind_fret(fret_x(5), fret_x(5) - fret_x(4)).position_m, 1e-15);
+}
+
 TEST(ExactFrets, FirstFretContactIndependentOfTheModeCount) {
     // Released from 3 mm at 0.637 m, the string first meets a fret (the board lies 1.2 mm lower)
     // at the time its free motion crosses the crown's height at x_n: with the crowns at x_n, 110

@@ -22,7 +22,9 @@
 #include "fretbuzz/input/CaseFile.hpp"
 #include "fretbuzz/input/InstrumentFile.hpp"
 #include "fretbuzz/input/InstrumentUnits.hpp"
+#include "fretbuzz/setup/Attack.hpp"
 #include "fretbuzz/setup/InstrumentGeometry.hpp"
+#include "fretbuzz/setup/NoteCase.hpp"
 #include "fretbuzz/setup/StringNeck.hpp"
 #include "fretbuzz/setup/WhatIf.hpp"
 
@@ -105,6 +107,50 @@ TEST(StringNeck, TheSingleStringBuiltInIsTheBassNeckCase) {
         if (std::isfinite(on_grid[i])) {
             EXPECT_NEAR(g[i], on_grid[i], 2e-6) << "x = " << grid.x(i);
         }
+}
+
+// A fret entered through an instrument file acts where the same fret from a case file does:
+// the bench's note cases carry the bass-neck instrument's frets as exact points at
+// x_n = S (1 - 2^(-n/12)) (from the stop, x_n - x_k), those of the bass-neck case, not on
+// the grid's nearest points; the finger of the finger model stands where the case's
+// `fret = k` puts it.
+TEST(SetupNotes, AnInstrumentsFretsActAtTheCaseFilesExactPositions) {
+    const Case c = load_case("bass-neck");
+    const Instrument bass = load_instrument("bass-neck");
+    const NoteMaker maker(bass, 0);
+    const Case& open = maker.open_string();
+    ASSERT_EQ(c.point_obstacles.size(), 20u);
+    ASSERT_EQ(open.point_obstacles.size(), c.point_obstacles.size());
+    std::size_t off_grid = 0;
+    for (std::size_t n = 0; n < open.point_obstacles.size(); ++n) {
+        const PointObstacle& p = open.point_obstacles[n];
+        EXPECT_NEAR(p.x_m, c.point_obstacles[n].x_m, 1e-12) << "fret " << n + 1;
+        EXPECT_NEAR(p.height_m, c.point_obstacles[n].height_m, 1e-15) << "fret " << n + 1;
+        EXPECT_EQ(p.weight_m, open.grid_step());
+        EXPECT_EQ(open.fret_positions_m[n], p.x_m);
+        off_grid += std::abs(std::remainder(p.x_m, open.grid_step())) > 1e-6 * open.grid_step();
+    }
+    EXPECT_GE(off_grid, 19u);  // (a fret may fall on a grid point by chance)
+    // The grid point nearest a fret keeps the board's height, as the case's does.
+    const std::size_t near12 = static_cast<std::size_t>(std::lround(open.point_obstacles[11].x_m / open.grid_step())) - 1;
+    EXPECT_LT(open.obstacle_height_m[near12], open.point_obstacles[11].height_m - 1e-3);
+    for (std::size_t k : {1u, 5u, 12u, 19u}) {
+        const Case& note = maker.stopped(k);
+        const std::vector<double> expected = maker.fret_positions(k, false);
+        ASSERT_EQ(note.point_obstacles.size(), expected.size()) << "note " << k;
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            EXPECT_NEAR(note.point_obstacles[i].x_m, c.point_obstacles[k + i].x_m - c.point_obstacles[k - 1].x_m, 1e-12)
+                << "note " << k << ", fret " << k + 1 + i;
+            EXPECT_EQ(note.point_obstacles[i].x_m, expected[i]);
+            EXPECT_EQ(note.fret_positions_m[i], expected[i]);
+        }
+        const Case fingered = maker.fingered(k, parse_attacks("medium", bass.attack).front(), {});
+        Case fretted = c;
+        fretted.add_fret_finger(k, "fret");
+        ASSERT_FALSE(fingered.fingers.empty());
+        EXPECT_NEAR(fingered.fingers.front().position_m, fretted.fingers.back().position_m, 1e-12) << "note " << k;
+        EXPECT_NEAR(fingered.fingers.front().width_m, fretted.fingers.back().width_m, 1e-12) << "note " << k;
+    }
 }
 
 // The note stopped at fret k sees every fret top beyond k where the whole neck has it,

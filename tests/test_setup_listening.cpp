@@ -80,6 +80,7 @@ TEST(SetupListening, APhaseOnlyChangeOfARealNoteIsNotHeard) {
         const NoteMaker maker(bass, string);
         Case clean = maker.stand_in(fret, medium, ensemble(bass.attack, string, fret, 1).front());
         clean.obstacle_height_m.assign(clean.mode_count(), -std::numeric_limits<double>::infinity());
+        clean.point_obstacles.clear();  // the frets, at their exact positions
         const std::vector<double> heard = pickup_audio(clean, settings.rate_hz);
         const Listener listener(settings.rate_hz, heard.size(), maker.fundamental_hz(fret), settings);
         const Listener::Clean reference = listener.hear_clean(heard);

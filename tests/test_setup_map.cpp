@@ -36,6 +36,7 @@ TEST(SetupNotes, TheClosedFormReferenceIsTheSchemesFreeMotion) {
     for (const char* attack : {"hard", "pop"}) {
         Case c = maker.stand_in(5, pluck_of(bass, attack), {0.004, 5.0, 1.1});
         c.obstacle_height_m.assign(c.mode_count(), -std::numeric_limits<double>::infinity());
+        c.point_obstacles.clear();  // the frets, at their exact positions
         ResultRecorder recorder;
         std::vector<RunObserver*> observers{&recorder};
         const RunSummary s = simulate(c, observers);

@@ -142,8 +142,10 @@ struct Case {
     PolarisationSettings polarisation;
     RunSettings run;
     std::vector<double> observation_points_m;
-    // Fret positions (m, from the nut) found on the obstacle: where it stands out above both
-    // neighbouring stretches (see find_frets). Empty on a case without frets.
+    // Fret positions (m, from the nut): a fretboard's x_n as it places them (a case file's, a
+    // bench note's); where only heights say where frets are (a measured table), where the
+    // obstacle stands out above both neighbouring stretches (see find_frets). Empty on a case
+    // without frets.
     std::vector<double> fret_positions_m;
     std::vector<FingerSpec> fingers;
     std::vector<ForceSpec> forces;
@@ -229,7 +231,8 @@ struct StringsCase {
     void validate() const;
 };
 
-// Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx: see Case::fret_positions_m.
+// Fret positions (m) on obstacle heights sampled at x_i = (i + 1) dx, for obstacles known by
+// their heights alone (a measured profile or scan): see Case::fret_positions_m.
 std::vector<double> find_frets(const std::vector<double>& heights, double dx);
 
 // The finger of `fret = k` behind a fret at fret_m, spacing_m past the fret (or nut) before

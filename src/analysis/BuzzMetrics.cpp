@@ -86,6 +86,15 @@ std::size_t first_buzz_point(const Case& c) {
     return i;
 }
 
+Case without_obstacle_from(const Case& c, std::size_t first) {
+    Case free = c;
+    for (std::size_t i = first; i < free.obstacle_height_m.size(); ++i)
+        free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
+    const double from = first == 0 ? -std::numeric_limits<double>::infinity() : c.grid_point(first) - 0.5 * c.grid_step();
+    std::erase_if(free.point_obstacles, [&](const PointObstacle& p) { return p.x_m >= from; });
+    return free;
+}
+
 void BuzzMetrics::begin(const RunLayout& layout) {
     dt_ = layout.dt;
     output_rate_ = layout.output_rate_hz;

@@ -63,21 +63,27 @@ std::vector<std::array<double, 2>> upper_hull(const std::vector<std::array<doubl
 }  // namespace
 
 std::vector<double> taut_over_obstacle(const Grid& grid, std::vector<double> u, const std::vector<double>& obstacle,
-                                       double position, double width) {
+                                       std::span<const std::array<double, 2>> points, double position, double width) {
     constexpr double kAbove = 1e-12;  // m: round-off never puts the string into what it rests on
     const auto side = [&](std::size_t first, std::size_t last, double end_x) {  // grid points [first, last)
         if (first >= last) return;
+        const std::size_t edge = end_x < grid.x(first) ? last - 1 : first;
+        // The exact points between the string's end and the corner's edge, where the side is straight.
+        const auto on_side = [&](double x) { return (x - end_x) * (grid.x(edge) - x) > 0.0; };
+        const auto straight = [&](double x) { return u[edge] * (x - end_x) / (grid.x(edge) - end_x); };
         bool in_the_way = false;
         for (std::size_t i = first; i < last; ++i) in_the_way |= std::isfinite(obstacle[i]) && u[i] < obstacle[i] + kAbove;
+        for (const auto& [x, height] : points) in_the_way |= on_side(x) && straight(x) < height + kAbove;
         if (!in_the_way) return;
         // The string's end and the corner's edge, and the obstacle's points between them.
-        const std::size_t edge = end_x < grid.x(first) ? last - 1 : first;
-        std::vector<std::array<double, 2>> points{{end_x, 0.0}};
+        std::vector<std::array<double, 2>> corners{{end_x, 0.0}};
         for (std::size_t i = first; i < last; ++i)
-            if (std::isfinite(obstacle[i])) points.push_back({grid.x(i), obstacle[i] + kAbove});
-        points.push_back({grid.x(edge), u[edge]});
-        std::sort(points.begin(), points.end());
-        const std::vector<std::array<double, 2>> hull = upper_hull(points);
+            if (std::isfinite(obstacle[i])) corners.push_back({grid.x(i), obstacle[i] + kAbove});
+        for (const auto& [x, height] : points)
+            if (on_side(x)) corners.push_back({x, height + kAbove});
+        corners.push_back({grid.x(edge), u[edge]});
+        std::sort(corners.begin(), corners.end());
+        const std::vector<std::array<double, 2>> hull = upper_hull(corners);
         for (std::size_t i = first; i < last; ++i) {
             const double x = grid.x(i);
             const auto right = std::lower_bound(hull.begin(), hull.end(), std::array<double, 2>{x, -1e300});

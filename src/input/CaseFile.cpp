@@ -88,6 +88,7 @@ void read_run_section(TomlSection s, Case& c) {
 void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& data, Case& c) {
     std::vector<std::vector<double>> obstacles;
     std::vector<PointObstacle> crowns;
+    std::vector<double> frets;
     std::optional<ObstacleSide> side;
     const Grid grid{c.string.length_m, c.mode_count()};
     for (TomlSection& obstacle : sections) {
@@ -102,7 +103,7 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
             c.point_obstacles.insert(c.point_obstacles.end(), points.begin(), points.end());
             obstacles.push_back(no_obstacle(grid));
         } else {
-            obstacles.push_back(read_obstacle_section(obstacle, data, c, crowns));
+            obstacles.push_back(read_obstacle_section(obstacle, data, c, crowns, frets));
         }
         obstacle.finish();
     }
@@ -117,16 +118,17 @@ void combine_obstacles(std::vector<TomlSection>& sections, const DataSource& dat
     c.obstacle_height_m = highest_of(obstacles);
     if (c.obstacle_above) mirror(c.obstacle_height_m);
     c.point_obstacles.insert(c.point_obstacles.end(), crowns.begin(), crowns.end());
-    // A fretboard's crowns are its frets (the board alone has none: its end, above the body,
-    // is no fret).
-    if (!crowns.empty()) {
-        for (const PointObstacle& p : crowns) c.fret_positions_m.push_back(p.x_m);
+    // A fretboard's frets are where it puts them, its crowns of any width (the board alone has
+    // none: its end, above the body, is no fret).
+    if (!frets.empty()) {
+        c.fret_positions_m = std::move(frets);
         std::sort(c.fret_positions_m.begin(), c.fret_positions_m.end());
         return;
     }
-    // Else frets stand out toward the string: found on the heights as the solve sees them,
-    // points beside a profile on their nearest grid points (a fret found there is at the
-    // point's exact x); points alone (a bridge's) are no frets.
+    // Else only heights tell where frets are (a measured table, flat stretches, a bridge's
+    // crest): those standing out toward the string, found on the heights as the solve sees
+    // them, points beside a profile on their nearest grid points (a fret found there is at
+    // the point's exact x); points alone (a bridge's) are no frets.
     const bool all_points = std::all_of(c.obstacle_height_m.begin(), c.obstacle_height_m.end(),
                                         [](double g) { return !std::isfinite(g); });
     std::vector<double> toward_string = all_points ? c.obstacle_height_m : c.obstacle_on_grid();

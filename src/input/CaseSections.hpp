@@ -43,9 +43,10 @@ ObstacleSide read_obstacle_side(TomlSection& section);
 bool is_point_section(TomlSection& section);
 std::vector<PointObstacle> read_point_section(TomlSection& section, const Case& c);
 // [obstacle] (or one entry of [[obstacle]]): heights on the grid of c.
-// points: where the obstacle has parts at exact positions (a fretboard's crowns of zero width).
+// points: where the obstacle has parts at exact positions (a fretboard's crowns of zero width);
+// frets: a fretboard's fret positions, known exactly whatever its crowns' width.
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c,
-                                          std::vector<PointObstacle>& points);
+                                          std::vector<PointObstacle>& points, std::vector<double>& frets);
 // [excitation]: initial modal displacement and velocity on the modes of c.
 void read_excitation_section(TomlSection& section, const DataSource& data, Case& c);
 

@@ -72,7 +72,8 @@ NeckRelief read_relief(TomlSection& s, double last_fret) {
 
 }  // namespace
 
-std::vector<double> read_fretboard(TomlSection& s, const Grid& grid, std::vector<PointObstacle>& points) {
+std::vector<double> read_fretboard(TomlSection& s, const Grid& grid, std::vector<PointObstacle>& points,
+                                   std::vector<double>& frets) {
     Fretboard board;
     board.scale_length_m = s.optional_positive("scale_length").value_or(grid.length_m);
     read_frets(s.section("frets"), board);
@@ -98,6 +99,7 @@ std::vector<double> read_fretboard(TomlSection& s, const Grid& grid, std::vector
             throw InputError(out_of_range_message(s.key_path("body_height"), body, "must be in [-0.1, 0.1] m"));
         board.body_height_m = body;
     }
+    for (std::size_t n = 1; n <= board.fret_count; ++n) frets.push_back(board.fret_position(n));
     if (!board.point_crowns()) return board.sample(grid);
     for (const auto& [x, top] : board.crowns()) points.push_back({x, top, grid.step()});
     return board.sample_board(grid);

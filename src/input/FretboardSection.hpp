@@ -9,7 +9,9 @@
 namespace fretbuzz {
 
 // The board on the grid; crowns of zero width, as exact points of width `grid.length_m /
-// (grid.points + 1)` (one grid step), appended to `points`.
-std::vector<double> read_fretboard(TomlSection& section, const Grid& grid, std::vector<PointObstacle>& points);
+// (grid.points + 1)` (one grid step), appended to `points`; the frets' exact positions x_n,
+// whatever their crowns' width, appended to `frets`.
+std::vector<double> read_fretboard(TomlSection& section, const Grid& grid, std::vector<PointObstacle>& points,
+                                   std::vector<double>& frets);
 
 }  // namespace fretbuzz

@@ -123,7 +123,7 @@ std::vector<PointObstacle> read_point_section(TomlSection& section, const Case& 
 }
 
 std::vector<double> read_obstacle_section(TomlSection& section, const DataSource& data, const Case& c,
-                                          std::vector<PointObstacle>& points) {
+                                          std::vector<PointObstacle>& points, std::vector<double>& frets) {
     const std::string type = section.text("type");
     const Grid grid{c.string.length_m, c.mode_count()};
     if (type == "none") return no_obstacle(grid);
@@ -131,7 +131,7 @@ std::vector<double> read_obstacle_section(TomlSection& section, const DataSource
     if (type == "flat") return read_flat(section, grid);
     if (type == "points") return read_points(section, grid);
     if (type == "bridge") return read_bridge(section, grid);
-    if (type == "fretboard") return read_fretboard(section, grid, points);
+    if (type == "fretboard") return read_fretboard(section, grid, points, frets);
     throw InputError(section.key_path("type") + " = \"" + type +
                      "\": must be one of \"table\", \"flat\", \"points\", \"bridge\", \"fretboard\", \"none\"");
 }

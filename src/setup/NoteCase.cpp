@@ -1,19 +1,21 @@
 #include "fretbuzz/setup/NoteCase.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <numeric>
 #include <numbers>
 #include <random>
 
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/InitialShape.hpp"
 #include "fretbuzz/model/FrequencyModel.hpp"
-#include "fretbuzz/geometry/SimpleObstacles.hpp"
 #include "fretbuzz/model/ModeTableAssembly.hpp"
 #include "fretbuzz/model/WavenumberDamping.hpp"
 #include "fretbuzz/input/StoppedString.hpp"
+#include "fretbuzz/numerics/Lcp.hpp"
 #include "fretbuzz/numerics/ModalBasis.hpp"
 #include "fretbuzz/scheme/SamplingCheck.hpp"
 
@@ -83,6 +85,49 @@ Case held_string(const Case& bare, double stop, std::size_t modes) {
     return made_of(*held);
 }
 
+// The neck under the note stopped at fret k on the case's grid: the board on the grid points,
+// the frets past k at their exact positions (as a case file's crowns of zero width), which
+// are the case's frets.
+void place_neck(Case& c, const StringNeck& neck, std::size_t k) {
+    const Grid grid{c.string.length_m, c.mode_count()};
+    c.obstacle_height_m = neck.note_board(k, grid);
+    c.point_obstacles = neck.note_frets(k, grid);
+    c.fret_positions_m.clear();
+    for (const PointObstacle& p : c.point_obstacles) c.fret_positions_m.push_back(p.x_m);
+}
+
+// A string at rest over the frets: its modes are the sine interpolant of its grid shape, which
+// dips below a fret that the shape bends over between grid points (by up to tens of um where
+// a big pluck wraps the string over a fret onto the board). The frets lift it there by the
+// string's own response to point forces on them (triangles with their corners on the frets),
+// pushing up only, each until the string clears its top by a picometre: the complementarity
+// problem of the string resting on the frets it meets.
+void rest_on_frets(const Case& c, const ModalBasis& basis, const Grid& grid, std::vector<double>& q) {
+    constexpr double kAbove = 1e-12;  // m, as taut_over_obstacle's
+    const std::size_t m = c.point_obstacles.size();
+    std::vector<std::vector<double>> phi(m);
+    std::vector<double> gap(m);
+    bool below = false;
+    for (std::size_t p = 0; p < m; ++p) {
+        phi[p] = basis.mode_shapes_at(c.point_obstacles[p].x_m);
+        gap[p] = std::inner_product(phi[p].begin(), phi[p].end(), q.begin(), 0.0) -
+                 (c.point_obstacles[p].height_m + kAbove);
+        below |= gap[p] < 0.0;
+    }
+    if (!below) return;
+    std::vector<std::vector<double>> corner(m, std::vector<double>(q.size()));
+    std::vector<double> matrix(m * m), lift(m);
+    for (std::size_t p = 0; p < m; ++p) {
+        basis.to_modes(triangle_shape(grid, c.point_obstacles[p].x_m, 1.0), corner[p]);
+        for (std::size_t r = 0; r < m; ++r)
+            matrix[r * m + p] = std::inner_product(phi[r].begin(), phi[r].end(), corner[p].begin(), 0.0);
+    }
+    // (no solution: left as it is, and the case's check names the fret it goes into)
+    if (!LemkeSolver(m).solve(matrix, gap, m, lift)) return;
+    for (std::size_t p = 0; p < m; ++p)
+        for (std::size_t j = 0; j < q.size(); ++j) q[j] += lift[p] * corner[p][j];
+}
+
 }  // namespace
 
 NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
@@ -108,8 +153,7 @@ NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
     open_.string = {length, s.tension_n, s.linear_density};
     const std::size_t n = grid_points(length, b.grid_step_m);
     open_.modes = string_modes(length, n);
-    open_.obstacle_height_m = neck_.note_obstacle(0, Grid{length, n});
-    open_.fret_positions_m = find_frets(open_.obstacle_height_m, open_.grid_step());
+    place_neck(open_, neck_, 0);
     open_.initial_displacement.assign(n, 0.0);
     open_.initial_velocity.assign(n, 0.0);
     open_.contact = {b.contact_stiffness, b.contact_exponent, b.contact_law, b.restitution};
@@ -119,6 +163,7 @@ NoteMaker::NoteMaker(const Instrument& instrument, std::size_t string)
     open_.observation_points_m = {length - b.observe_from_bridge_m};
     bare_ = open_;
     bare_.obstacle_height_m.assign(n, -std::numeric_limits<double>::infinity());
+    bare_.point_obstacles.clear();
     bare_.fret_positions_m.clear();
     stopped_.resize(neck_.fret_count() + 1);
     once_ = std::vector<std::once_flag>(neck_.fret_count() + 1);
@@ -190,7 +235,10 @@ void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluc
     }
     // Pulled toward the board, the string lies taut over the frets it meets before it is let go.
     const std::vector<double> along_z = rounded_triangle_shape(grid, x, attack.where.width_m, z_share(attack, pluck));
-    const std::vector<double> held = taut_over_obstacle(grid, along_z, c.obstacle_height_m, x, attack.where.width_m);
+    std::vector<std::array<double, 2>> frets;
+    for (const PointObstacle& p : c.point_obstacles) frets.push_back({p.x_m, p.height_m});
+    const std::vector<double> held =
+        taut_over_obstacle(grid, along_z, c.obstacle_height_m, frets, x, attack.where.width_m);
     if (polarisations == Polarisations::both && held == along_z) {
         // The whole release along its direction; the run splits it between z and y.
         const double angle = std::clamp(attack.where.angle_deg + pluck.turn_deg, -90.0, 90.0);
@@ -202,6 +250,7 @@ void NoteMaker::excite(Case& c, const Attack& attack, const PluckVariation& pluc
         return;
     }
     basis.to_modes(held, c.initial_displacement);
+    rest_on_frets(c, basis, grid, c.initial_displacement);
 }
 
 const Case& NoteMaker::stopped(std::size_t fret) const {
@@ -234,8 +283,7 @@ const Case& NoteMaker::stopped(std::size_t fret) const {
         }
         scatter(c.modes, fret);
         c.name = open_.name + "-fret" + std::to_string(fret);
-        c.obstacle_height_m = neck_.note_obstacle(fret, Grid{sounding, n});
-        c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
+        place_neck(c, neck_, fret);
         c.initial_displacement.assign(n, 0.0);
         c.initial_velocity.assign(n, 0.0);
         c.observation_points_m = {sounding - observe_from_bridge_m_};
@@ -262,8 +310,7 @@ Case NoteMaker::fingered(std::size_t fret, const Attack& attack, const PluckVari
         c.modes.frequency_hz.resize(in_band);
         c.modes.sigma_per_s.resize(in_band);
         c.modes.source.resize(in_band);
-        c.obstacle_height_m = neck_.note_obstacle(0, Grid{c.string.length_m, in_band});
-        c.fret_positions_m = find_frets(c.obstacle_height_m, c.grid_step());
+        place_neck(c, neck_, 0);
         c.initial_displacement.assign(in_band, 0.0);
         c.initial_velocity.assign(in_band, 0.0);
     }
@@ -279,16 +326,18 @@ Case NoteMaker::fingered(std::size_t fret, const Attack& attack, const PluckVari
     if (fret > 0) {
         c.add_fret_finger(fret, "fret");
         settle = kFingerSettles;
-        // The string at rest pressed on fret k: the lowest triangle on the fret's grid point
-        // that clears every fret top (1 pm up, so round-off never puts it into a fret).
+        // The string at rest pressed on fret k: the lowest triangle on the fret's top that
+        // clears every fret top (1 pm up, so round-off never puts it into a fret).
         const Grid grid{length, n};
-        const auto at = [&](std::size_t k) { return c.grid_point(nearest_grid_point(grid, neck_.fret_x(k))); };
-        const auto top = [&](std::size_t k) { return c.obstacle_height_m[nearest_grid_point(grid, neck_.fret_x(k))]; };
+        const auto at = [&](std::size_t k) { return c.point_obstacles.at(k - 1).x_m; };
+        const auto top = [&](std::size_t k) { return c.point_obstacles.at(k - 1).height_m; };
         double apex = top(fret);
         for (std::size_t k = 1; k < fret; ++k) apex = std::max(apex, top(k) * at(fret) / at(k));
         for (std::size_t k = fret + 1; k <= neck_.fret_count(); ++k)
             apex = std::max(apex, top(k) * (length - at(fret)) / (length - at(k)));
-        ModalBasis(length, n).to_modes(triangle_shape(grid, at(fret), apex + 1e-12), c.initial_displacement);
+        const ModalBasis basis(length, n);
+        basis.to_modes(triangle_shape(grid, at(fret), apex + 1e-12), c.initial_displacement);
+        rest_on_frets(c, basis, grid, c.initial_displacement);
     }
     // The pick: the force whose static deflection at the pluck point is the amplitude on the
     // sounding length, F = A T L' / (a (L' - a)), ramped over whole periods, then let go.
@@ -341,20 +390,29 @@ double touch_free_scale(const Case& c) {
     double nearest = std::numeric_limits<double>::infinity();
     for (double g : c.obstacle_height_m)
         if (std::isfinite(g)) nearest = std::min(nearest, -s * g);
+    for (const PointObstacle& p : c.point_obstacles) nearest = std::min(nearest, -s * p.height_m);
     if (!(nearest > 0.0)) return 0.0;
     if (!(total > 0.0)) return std::numeric_limits<double>::infinity();
-    // A cheap first look (|phi_j| <= sqrt(2/L) everywhere), then point by point where it is not enough.
+    // A cheap first look (|phi_j| <= sqrt(2/L) everywhere), then point by point where it is not
+    // enough: `shape(j)` is |phi_j| / sqrt(2/L) there.
     double scale = std::numeric_limits<double>::infinity();
+    const auto tighten = [&](double clearance, const auto& shape) {
+        if (clearance / (norm * total) >= scale) return;
+        double bound = 0.0;
+        for (std::size_t j = 0; j < n; ++j) bound += amplitude[j] * shape(j);
+        if (bound > 0.0) scale = std::min(scale, clearance / (norm * bound));
+    };
     const double step = std::numbers::pi / static_cast<double>(n + 1);
     for (std::size_t i = 0; i < n; ++i) {
         const double g = c.obstacle_height_m[i];
         if (!std::isfinite(g)) continue;
-        const double clearance = -s * g;
-        if (clearance / (norm * total) >= scale) continue;
-        double bound = 0.0;
-        for (std::size_t j = 0; j < n; ++j)
-            bound += amplitude[j] * std::abs(std::sin(static_cast<double>((j + 1) * (i + 1)) * step));
-        if (bound > 0.0) scale = std::min(scale, clearance / (norm * bound));
+        tighten(-s * g, [&](std::size_t j) { return std::abs(std::sin(static_cast<double>((j + 1) * (i + 1)) * step)); });
+    }
+    // The frets at their exact positions.
+    const ModalBasis basis(c.string.length_m, n);
+    for (const PointObstacle& p : c.point_obstacles) {
+        const std::vector<double> phi = basis.mode_shapes_at(p.x_m);
+        tighten(-s * p.height_m, [&](std::size_t j) { return std::abs(phi[j]) / norm; });
     }
     return scale;
 }

@@ -20,15 +20,6 @@ constexpr double kFadeIn = 0.005;   // s: a plucked string starts displaced
 constexpr double kFadeOut = 0.05;   // s: a note cut at the end of the run must not click
 constexpr double kSoundFadeOut = 0.3;  // s: a note played on for the ear dies away rather than stops
 
-// The case with nothing to touch from grid point `from` on (the clean note's run).
-Case without_obstacle(const Case& c, std::size_t from) {
-    Case free = c;
-    for (std::size_t i = from; i < free.obstacle_height_m.size(); ++i)
-        free.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
-    if (from == 0) free.point_obstacles.clear();
-    return free;
-}
-
 }  // namespace
 
 NoteContacts::NoteContacts(std::vector<double> fret_x, std::vector<std::size_t> fret_number, bool fretted,
@@ -139,7 +130,7 @@ const NotePlayer::Reference* NotePlayer::reference(const Attack& attack, std::si
                                                    double share, double judged_s) {
     // The clean note: the same pluck with nothing to touch, heard through the same audio path.
     const auto clean_of = [&](const Case& c, double z) {
-        Case free = without_obstacle(c, 0);
+        Case free = without_obstacle_from(c, 0);
         free.run.duration_s = judged_s;
         return Reference{attack.gesture, member, z, listener_->hear_clean(pickup_audio(free, listening_.rate_hz)), {}};
     };
@@ -228,7 +219,7 @@ PluckOutcome NotePlayer::judge(const Case& c, const Attack& attack, std::size_t 
     const double judged = judged_s > 0.0 ? judged_s : c.run.duration_s;
     if (finger_ || attack.strike() || options.polarisations == Polarisations::both) {
         // Not linear (a finger, a thumb) or in two polarisations: the same note with nothing to buzz against past the stop.
-        Case free = without_obstacle(c, finger_ ? first_buzz_point(c) : 0);
+        Case free = without_obstacle_from(c, finger_ ? first_buzz_point(c) : 0);
         free.run.duration_s = judged;
         o.buzz_db = listener_->added_level(contacts.heard(), pickup_audio(free, listening_.rate_hz)).level_db;
         return o;

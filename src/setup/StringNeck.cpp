@@ -6,7 +6,6 @@
 #include <sstream>
 
 #include "MillimetreText.hpp"
-#include "fretbuzz/Case.hpp"
 #include "fretbuzz/Error.hpp"
 #include "fretbuzz/geometry/FretPositions.hpp"
 #include "fretbuzz/geometry/Fretboard.hpp"
@@ -18,12 +17,9 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// A parabolic bow of depth 1 at mid-span, zero at the nut end and at the last fret.
-double unit_bow(double x, double last) {
-    if (x <= 0.0 || x >= last) return 0.0;
-    const double s = x / last;
-    return 4.0 * s * (1.0 - s);
-}
+// A parabolic bow of depth 1 at mid-span, zero at the nut end and at the last fret: the
+// fretboard's relief bow (geometry/Fretboard.hpp), so both necks bow alike.
+double unit_bow(double x, double last) { return NeckRelief::bow(1.0).depth_at(x, last); }
 
 // How much the relief gap over fret m grows per metre of bow depth (frets at x, 0..N).
 double gap_per_bow(const std::vector<double>& x, std::size_t m) {
@@ -89,7 +85,8 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
     double profile_nut = 0.0, profile_saddle = 0.0;
     if (!s.profile_x_m.empty()) {
         // A measured profile under the open string at rest (z = 0): its frets stand out above
-        // both neighbours, one grid point each.
+        // both neighbours, one grid point each. A scan gives heights only, so the peak finder
+        // tells where its frets are (each then at its sample's exact x).
         measured_ = true;
         const std::vector<double>& px = s.profile_x_m;
         const std::vector<double>& pz = s.profile_height_m;
@@ -159,7 +156,8 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
                 const std::size_t m = relief.at_fret;
                 const double crown_gap = c0[1] + (c0[frets] - c0[1]) * (x0[m] - x0[1]) / (x0[frets] - x0[1]) - c0[m];
                 const double depth = (relief.gap_m - crown_gap) / gap_per_bow(x0, m);
-                for (std::size_t n = 1; n < frets; ++n) line_[n] -= depth * unit_bow(x_[n], last);
+                const NeckRelief bowed = NeckRelief::bow(depth);
+                for (std::size_t n = 1; n < frets; ++n) line_[n] -= bowed.depth_at(x_[n], last);
             }
         }
         board_x_ = x_;
@@ -175,8 +173,9 @@ StringNeck::StringNeck(const Instrument& instrument, std::size_t string) {
     const double bow = neck.truss_rod_bow_m + pull_bow(instrument, x_[frets]);
     if (bow != 0.0) {
         const double last = x_[frets];
-        for (std::size_t n = 0; n <= frets; ++n) line_[n] -= bow * unit_bow(x_[n], last);
-        for (std::size_t j = 0; j < board_x_.size(); ++j) board_z_[j] -= bow * unit_bow(board_x_[j], last);
+        const NeckRelief bowed = NeckRelief::bow(bow);
+        for (std::size_t n = 0; n <= frets; ++n) line_[n] -= bowed.depth_at(x_[n], last);
+        for (std::size_t j = 0; j < board_x_.size(); ++j) board_z_[j] -= bowed.depth_at(board_x_[j], last);
     }
     top_ = line_;
     for (const auto& [n, offset] : neck.fret_offset_m) top_.at(n) += offset;
@@ -232,7 +231,7 @@ std::optional<std::size_t> StringNeck::rests_on(std::size_t k) const {
     return std::nullopt;
 }
 
-std::vector<double> StringNeck::note_obstacle(std::size_t k, const Grid& grid) const {
+std::vector<double> StringNeck::note_board(std::size_t k, const Grid& grid) const {
     std::vector<double> g(grid.points);
     const double xk = x_[k];
     for (std::size_t i = 0; i < grid.points; ++i) {
@@ -240,9 +239,21 @@ std::vector<double> StringNeck::note_obstacle(std::size_t k, const Grid& grid) c
         const double z = surface(x);
         g[i] = std::isfinite(z) ? z - rest_height(k, x) : -kInfinity;
     }
-    for (std::size_t n = k + 1; n <= fret_count(); ++n) {
-        double& at = g[nearest_grid_point(grid, x_[n] - xk)];
-        at = std::max(at, top_[n] - rest_height(k, x_[n]));
+    return g;
+}
+
+std::vector<PointObstacle> StringNeck::note_frets(std::size_t k, const Grid& grid) const {
+    std::vector<PointObstacle> frets;
+    for (std::size_t n = k + 1; n <= fret_count(); ++n)
+        frets.push_back({x_[n] - x_[k], top_[n] - rest_height(k, x_[n]), grid.step()});
+    return frets;
+}
+
+std::vector<double> StringNeck::note_obstacle(std::size_t k, const Grid& grid) const {
+    std::vector<double> g = note_board(k, grid);
+    for (const PointObstacle& p : note_frets(k, grid)) {
+        double& at = g[nearest_grid_point(grid, p.x_m)];
+        at = std::max(at, p.height_m);
     }
     return g;
 }

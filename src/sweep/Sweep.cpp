@@ -20,12 +20,7 @@ Case obstacle_free_case(const SweepSpec& spec, const SweepRun& run) {
     // is the same note with nothing to buzz against past the stopping fret.
     Case c = sweep_case(spec, run);
     if (c.fingers.empty()) return sweep_case_without_obstacle(spec, run);
-    const std::size_t first = first_buzz_point(c);
-    for (std::size_t i = first; i < c.obstacle_height_m.size(); ++i)
-        c.obstacle_height_m[i] = -std::numeric_limits<double>::infinity();
-    const double from = c.grid_point(first) - 0.5 * c.grid_step();
-    std::erase_if(c.point_obstacles, [&](const PointObstacle& p) { return p.x_m >= from; });
-    return c;
+    return without_obstacle_from(c, first_buzz_point(c));
 }
 
 void check_sweep(const SweepSpec& spec, const SweepCheckProgress& progress, unsigned jobs) {

@@ -44,6 +44,9 @@ std::vector<std::size_t> obstacle_features(std::span<const double> obstacle_heig
 // the stopping fret being the first fret at or past the bridge-side edge of the
 // bridge-most finger. 0 for a case without fingers (every contact counts).
 std::size_t first_buzz_point(const Case& c);
+// The case with nothing to touch from grid point `first` on, its exact points (frets off the
+// grid) from half a grid step before it; first = 0: nothing at all (a note's clean reference).
+Case without_obstacle_from(const Case& c, std::size_t first);
 
 // High-frequency energy of a signal sampled at rate_hz: sum over the one-sided spectrum
 // of the Hann-windowed signal of |U_k|^2 for f_k >= band_hz (NaN if band_hz >= rate/2).

@@ -1,5 +1,7 @@
 #pragma once
 // Initial string shapes u(x, 0) and velocity fields du/dt(x, 0) on the grid.
+#include <array>
+#include <span>
 #include <vector>
 
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
@@ -20,9 +22,10 @@ std::vector<double> rounded_triangle_shape(const Grid& grid, double position, do
 // over what it meets: on each side of the corner, where the straight string would pass below
 // the obstacle, it bends over the obstacle's points instead (the upper concave hull of the
 // string's end, those points and the corner's edge), a picometre above them. `obstacle`: the
-// heights at the grid points (-inf: none). Unchanged where nothing is in the way.
+// heights at the grid points (-inf: none); `points`: obstacle points at their exact x, as
+// {x, height} (frets that act off the grid). Unchanged where nothing is in the way.
 std::vector<double> taut_over_obstacle(const Grid& grid, std::vector<double> shape, const std::vector<double>& obstacle,
-                                       double position, double width);
+                                       std::span<const std::array<double, 2>> points, double position, double width);
 
 // A strike (a hammer or a slap): a raised-cosine velocity distribution
 // v(x) = v_peak (1 + cos(2 pi (x - position) / width)) / 2 for |x - position| < width/2,

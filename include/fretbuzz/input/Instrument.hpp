@@ -133,7 +133,7 @@ struct AttackSettings {
 struct BenchSettings {
     double sample_rate_hz = 0.0;
     double duration_s = 0.0;
-    double grid_step_m = 0.0;          // dx of every note's grid (fret tops are one grid point)
+    double grid_step_m = 0.0;          // dx of every note's grid (each fret acts over one dx of string)
     double output_rate_hz = 48000.0;   // rows of the observed signal
     double observe_from_bridge_m = 0.0;  // where the signal is taken (a bridge pickup)
     // What is heard (analysis/Listener.hpp): the clean note's loudest frame played back at this

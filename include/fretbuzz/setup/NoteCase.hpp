@@ -12,8 +12,10 @@
 //  - The finger model (--finger): the whole string resting on fret k, a finger pressing it
 //    just behind the fret (the case files' `fret = k` finger) and, once it has settled, a
 //    pick pulling the string away from the neck over whole periods of the note and letting go.
-// Every note shares the open string's grid step (fret tops one grid point each) unless the
-// sampling rate calls for fewer modes: every mode stays below fs / 2.
+// Every note shares the open string's grid step unless the sampling rate calls for fewer
+// modes: every mode stays below fs / 2. Its frets act at their exact positions (exact points,
+// each over one grid step of string, as a case file's crowns of zero width); the board is
+// on the grid.
 #include <cstddef>
 #include <memory>
 #include <mutex>
@@ -88,7 +90,8 @@ double z_share(const Attack& attack, const PluckVariation& pluck);
 
 // True when no point of the string can reach the obstacle, ever: every mode's amplitude
 // (its largest displacement under its damping) summed with |phi_j(x_i)| stays below the
-// clearance at every grid point. Then the note is free motion and touches nothing.
+// clearance at every grid point and every exact point. Then the note is free motion and
+// touches nothing.
 bool never_touches(const Case& c);
 // The factor by which the case's initial state can be scaled with never_touches() still
 // true (infinity when it never can touch; 0 when no bound holds: a finger or thumb on it, or

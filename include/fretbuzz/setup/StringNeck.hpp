@@ -21,6 +21,7 @@
 #include <optional>
 #include <vector>
 
+#include "fretbuzz/Case.hpp"
 #include "fretbuzz/geometry/ObstacleProfile.hpp"
 #include "fretbuzz/input/Instrument.hpp"
 
@@ -59,9 +60,13 @@ public:
     // first fret past k whose top reaches its string at rest, or 0 for the board or body
     // (checked every 0.5 mm); nothing when it lies clear.
     std::optional<std::size_t> rests_on(std::size_t k) const;
-    // The obstacle of the note stopped at fret k on its grid (points s = (i + 1) dx from fret
-    // k, the sounding length L - x_k), relative to the note's string at rest: the surface
-    // below, and each fret beyond k on its nearest grid point.
+    // The obstacle of the note stopped at fret k, relative to the note's string at rest, on
+    // its grid (points s = (i + 1) dx from fret k, the sounding length L - x_k): the surface
+    // below on the grid points, and each fret beyond k at its exact position s = x_n - x_k,
+    // acting over one grid step of string (as a case file's crown of zero width).
+    std::vector<double> note_board(std::size_t k, const Grid& grid) const;
+    std::vector<PointObstacle> note_frets(std::size_t k, const Grid& grid) const;
+    // Both on the grid, each fret on its nearest grid point (as Case::obstacle_on_grid draws them).
     std::vector<double> note_obstacle(std::size_t k, const Grid& grid) const;
     bool measured_profile() const { return measured_; }
     std::optional<double> body_height() const { return body_; }
