@@ -173,10 +173,8 @@ void NewtonImpact::contact_step() {
     screening_.refresh_after_step(modes_, n_);  // the modes decay: from time to time a tighter bound
     // The gaps at n + 1: the predictions plus the pushes. On the grid a push moves its own point
     // only, by lambda / dx (S S^T = I / dx); exact points couple, so there they are formed again.
-    // (After a loaded step they are looked at again before a point may sleep: the loads move every point.)
-    if (loaded) {
-        for (std::size_t k = 0; k < awake_.size(); ++k) predicted_[k] = modes_.at(plan_->screened_row(awake_[k]).data());
-    } else if (pushed > 0 && plan_->point_contact().size() > 0) {
+    // After a loaded step too: the loads move every point.
+    if (loaded || (pushed > 0 && plan_->point_contact().size() > 0)) {
         for (std::size_t k = 0; k < awake_.size(); ++k) predicted_[k] = modes_.at(plan_->screened_row(awake_[k]).data());
     } else if (pushed > 0) {
         const double dx = plan_->basis().grid_step();
