@@ -408,12 +408,13 @@ double touch_free_scale(const Case& c) {
         if (!std::isfinite(g)) continue;
         tighten(-s * g, [&](std::size_t j) { return std::abs(std::sin(static_cast<double>((j + 1) * (i + 1)) * step)); });
     }
-    // The frets at their exact positions.
-    const ModalBasis basis(c.string.length_m, n);
-    for (const PointObstacle& p : c.point_obstacles) {
-        const std::vector<double> phi = basis.mode_shapes_at(p.x_m);
-        tighten(-s * p.height_m, [&](std::size_t j) { return std::abs(phi[j]) / norm; });
-    }
+    // The frets at their exact positions: |phi_j(x)| / sqrt(2/L) = |sin(j pi x / L)|. This runs
+    // for every pluck, so no basis (nor its transform's plan) is built for it, and a fret's
+    // shapes are formed only where the cheap look does not settle it.
+    for (const PointObstacle& p : c.point_obstacles)
+        tighten(-s * p.height_m, [&](std::size_t j) {
+            return std::abs(std::sin(static_cast<double>(j + 1) * std::numbers::pi * p.x_m / c.string.length_m));
+        });
     return scale;
 }
 
