@@ -50,6 +50,33 @@ struct FirstTouch {
     }
 };
 
+// A map's plucks run with few output rows (no one reads them, NotePlayer.cpp): the rows set
+// only where free flights land, so the same pluck with its rows at the bench's rate (kept for
+// the studio) touches the same fret at the same step and is heard the same, to round-off.
+TEST(SetupVerdicts, APlucksVerdictDoesNotHangOnItsOutputRows) {
+    Instrument bass = testing::quick_bass(40, 0.1);
+    NoteMaker maker{bass, 3};
+    NotePlayer player{maker, 17, false, listening_settings(bass.bench)};
+    const Attack medium = parse_attacks("medium", bass.attack).front();
+    const PluckVariation member = ensemble(bass.attack, 3, 17, 1).front();
+    double size = 2.0 * player.touch_free_size(medium, member);
+    PluckOutcome few = player.play(medium, size, 0, member);
+    for (int k = 0; k < 8 && !few.touched; ++k) few = player.play(medium, size *= 1.5, 0, member);
+    ASSERT_TRUE(few.touched);
+    PluckOptions details;
+    details.keep_details = true;
+    const PluckOutcome rows = player.play(medium, size, 0, member, details);
+    ASSERT_GT(bass.bench.output_rate_hz, 12000.0);
+    EXPECT_GT(rows.signal_rate_hz, 2.0 * 12000.0);  // the rows were kept (at the rate the stride rounds to)
+    ASSERT_TRUE(rows.touched);
+    EXPECT_EQ(rows.buzz_fret, few.buzz_fret);
+    EXPECT_NEAR(rows.first_contact_s, few.first_contact_s, 0.5 / bass.bench.sample_rate_hz);
+    EXPECT_NEAR(rows.peak_force_n, few.peak_force_n, 1e-6 * few.peak_force_n);
+    EXPECT_NEAR(rows.buzz_db, few.buzz_db, 1e-3);
+    std::cout << "rows at " << rows.signal_rate_hz << " Hz: " << rows.buzz_db << " dB; few rows: " << few.buzz_db
+              << " dB\n";
+}
+
 TEST(SetupVerdicts, AGrazeIsClean) {
     FirstTouch t;
     // Just past the first touch: one contact of a few steps under 1 mN.

@@ -19,6 +19,10 @@ namespace {
 constexpr double kFadeIn = 0.005;   // s: a plucked string starts displaced
 constexpr double kFadeOut = 0.05;   // s: a note cut at the end of the run must not click
 constexpr double kSoundFadeOut = 0.3;  // s: a note played on for the ear dies away rather than stops
+// The output rows of a pluck no one looks at (only the listener's audio and the contacts are
+// read): a free flight jumps one row interval at a time, and each jump costs about two steps
+// of every mode, so a map's plucks run with few rows.
+constexpr double kUnreadRowRateHz = 12000.0;
 
 }  // namespace
 
@@ -171,6 +175,7 @@ PluckOutcome NotePlayer::play(const Attack& attack, double size, std::size_t mem
         return o;
     }
     Case c = finger_ ? maker_.fingered(fret_, sized, pluck) : maker_.stand_in(fret_, sized, pluck, options.polarisations);
+    if (!options.keep_details && c.run.output_rate_hz) c.run.output_rate_hz = std::min(*c.run.output_rate_hz, kUnreadRowRateHz);
     if (options.wav.empty() && !options.keep_details && !finger_ && never_touches(c)) return o;
     const double judged_s = c.run.duration_s;
     // A longer sound: the same run, going on (the first judged_s of it are what a run of that length gives).
