@@ -423,20 +423,147 @@ void PointContact::pads_jacobian(State& s, double k, const Grid& grid, std::span
     }
 }
 
+namespace {
+// The grid's part of the joint Jacobian (solve_with_grid's k^2 dx terms): each of its points in
+// contact responds to a push by w_i = f_i' / (1 + k f_i'), which moves the points' and the pads'
+// rows through their couplings M_pi and m^a_i.
+template <class Matrix, ContactForceLaw Law>
+void add_grid_response(const PointContact& contact, const PointContact::State& s, const Law& law, double k,
+                       const PointContact::Grid& grid, std::span<const PointContact::Pad> pads,
+                       std::span<const double> pad_slope, Matrix& jacobian) {
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t count = awake.size();
+    const std::size_t pad_count = pads.size();
+    for (std::size_t g = 0; g < grid.points.size(); ++g) {
+        const ContactSolution& sol = grid.solutions[g];
+        if (sol.force == 0.0 && sol.increment + grid.a[g] <= 0.0 && grid.a[g] <= 0.0) continue;
+        const double slope = law.slope_of_quotient(grid.a[g], sol.increment, sol.force);
+        const double w = slope / (1.0 + k * slope);
+        if (w == 0.0) continue;
+        const std::size_t i = grid.points[g];
+        const double kkw = k * k * grid.step * w;
+        for (std::size_t a = 0; a < count; ++a)
+            for (std::size_t c = 0; c < count; ++c) {
+                const std::size_t p = awake[a], q = awake[c];
+                jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) -=
+                    kkw * contact.weight(q) * s.slope[q] * contact.grid_coupling(p, i) * contact.grid_coupling(q, i);
+            }
+        for (std::size_t pa = 0; pa < pad_count; ++pa) {
+            const double m_i = pads[pa].grid[i];
+            const auto e = static_cast<Eigen::Index>(count + pa);
+            for (std::size_t a = 0; a < count; ++a) {
+                const std::size_t p = awake[a];
+                const auto ia = static_cast<Eigen::Index>(a);
+                jacobian(ia, e) -= kkw * pad_slope[pa] * contact.grid_coupling(p, i) * m_i;
+                jacobian(e, ia) += kkw * contact.weight(p) * s.slope[p] * m_i * contact.grid_coupling(p, i);
+            }
+            for (std::size_t pb = 0; pb < pad_count; ++pb)
+                jacobian(e, static_cast<Eigen::Index>(count + pb)) += kkw * pad_slope[pb] * m_i * pads[pb].grid[i];
+        }
+    }
+}
+}  // namespace
+
+template <ContactForceLaw Law>
+double PointContact::joint_residual(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
+                                    const std::vector<double>& at, std::span<const double> at_x,
+                                    const std::vector<double>& at_height, bool solve, double scale) const {
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t pad_count = pads.size();
+    const std::size_t fingers = grid.pads != nullptr ? grid.pads->heights() : 0;
+    const auto room = [&](std::vector<double>& v) { return std::span<double>(v).first(pad_count); };
+    const std::span<double> pad_force = room(s.press_force), pad_slope = room(s.press_slope),
+                            pad_residual = room(s.press_residual);
+    for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
+    for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at_x[a], pad_force[a], pad_slope[a]);
+    if (solve) {
+        // (the grid reads the points' forces from s.force: the quotients, for this evaluation)
+        std::swap(s.force, s.quotient);
+        solve_grid(s, law, k, grid, pads, pad_force, &at_height);
+        std::swap(s.force, s.quotient);
+    }
+    double largest = 0.0;
+    for (std::size_t p : awake) {
+        double push = 0.0;
+        for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
+        for (std::size_t a = 0; a < pad_count; ++a) push += pads[a].coupling[p] * pad_force[a];
+        s.residual[p] = at[p] + k * push + grid_push(s, k, grid, p, pads) - s.b[p];
+        largest = std::max(largest, std::abs(s.residual[p]));
+    }
+    for (std::size_t a = 0; a < pad_count; ++a) {
+        double push = 0.0;
+        for (std::size_t q : awake) push += points_[q].weight_m * pads[a].coupling[q] * s.quotient[q];
+        for (std::size_t b = 0; b < pad_count; ++b) push += cross(pads, a, b) * pad_force[b];
+        pad_residual[a] = at_x[a] - pads[a].predicted - k * push - grid_push(s, k, grid, size() + a, pads);
+        largest = std::max(largest, std::abs(pad_residual[a]));
+    }
+    // A finger's equation rounds relative to its own size (a stiff pad's slope times the
+    // finger's height): measured against the points' scale, its floor at theirs.
+    for (std::size_t f = 0; f < fingers; ++f) {
+        const double size = s.height_size[f];
+        largest = std::max(largest, std::abs(s.height_residual[f]) * (size > scale ? scale / size : 1.0));
+    }
+    return largest;
+}
+
+template <class Vector, ContactForceLaw Law>
+bool PointContact::joint_step(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
+                              const Vector& step, std::span<double> x, double& norm, double scale) const {
+    const std::vector<std::size_t>& awake = s.awake_list;
+    const std::size_t count = awake.size();
+    const std::size_t pad_count = pads.size();
+    const std::size_t fingers = grid.pads != nullptr ? grid.pads->heights() : 0;
+    const std::size_t first_height = count + pad_count;
+    std::vector<double>& r = s.increment;
+    // joint_residual swaps s.force with s.quotient: the trial point lives in a vector of its own.
+    std::vector<double>& candidate = s.candidate;
+    const std::span<double> trial_x = std::span<double>(s.press_trial).first(pad_count);
+    double t = 1.0, trial_norm = 0.0;
+    // Backtracking is for the kink of [eta]_+ far from the solution; near it, a full Newton
+    // step that does not lower the residual finds it at its round-off floor (a stiff pad's
+    // force rounds to its slope times eps |u|, far above eps times the unknowns).
+    const int halvings = norm <= 1e-9 * scale ? 1 : 40;
+    for (int halving = 0; halving < halvings; ++halving, t *= 0.5) {
+        for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
+        for (std::size_t a = 0; a < pad_count; ++a) trial_x[a] = x[a] + t * step(static_cast<Eigen::Index>(count + a));
+        for (std::size_t f = 0; f < fingers; ++f)
+            s.height_candidate[f] = s.height[f] + t * step(static_cast<Eigen::Index>(first_height + f));
+        trial_norm = joint_residual(s, law, k, grid, pads, candidate, trial_x, s.height_candidate, true, scale);
+        if (trial_norm < norm) {
+            r.swap(candidate);
+            s.height.swap(s.height_candidate);
+            std::copy(trial_x.begin(), trial_x.end(), x.begin());
+            norm = trial_norm;
+            return true;
+        }
+    }
+    if (trial_norm <= 2.0 * norm && converged(trial_norm, step, true, scale)) {
+        // At the round-off floor, the last trial as good as r: it is the one evaluated
+        // (the fingers' state is its trial's), so it is the answer.
+        r.swap(candidate);
+        s.height.swap(s.height_candidate);
+        std::copy(trial_x.begin(), trial_x.end(), x.begin());
+        norm = trial_norm;
+    } else {
+        joint_residual(s, law, k, grid, pads, r, x, s.height, true, scale);  // back to r's quotients and grid solutions
+    }
+    return false;
+}
+
+// Newton on the points' increments r_p (and each pad's x_a, and the fingers' height steps),
+// the grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their
+// response to a push), and the fingers' pad points too (GridPads: their forces join the
+// grid's in R_p and R_a, each finger's equation is a row; pads_jacobian their part of J):
+//     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k sum_a h^a_p F_a(x_a) - b_p,
+//     R_a = x_a - w_a - k sum_q c_q h^a_q f_q - k sum_b (s_a . s_b) F_b(x_b) - k dx sum_i m^a_i f_i,
+//     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi w_i,
+//     dR_p/dx_a = k h^a_p F_a' - k^2 dx F_a' sum_i M_pi m^a_i w_i,
+//     dR_a/dr_q = -k c_q h^a_q f_q' + k^2 dx c_q f_q' sum_i m^a_i M_qi w_i,
+//     dR_a/dx_b = delta_ab - k (s_a . s_b) F_b' + k^2 dx F_b' sum_i m^a_i m^b_i w_i.
+// evaluated: s (and grid.solutions) hold the evaluation at s.increment, the pads' x and s.height.
 template <class Matrix, ContactForceLaw Law>
 bool PointContact::solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads,
                                    bool evaluated, bool may_fail) const {
-    // Newton on the points' increments r_p (and each pad's x_a, and the fingers' height steps),
-    // the grid's equations solved inside each evaluation (w_i = f_i' / (1 + k f_i') their
-    // response to a push), and the fingers' pad points too (GridPads: their forces join the
-    // grid's in R_p and R_a, each finger's equation is a row; pads_jacobian their part of J):
-    //     R_p = r_p + k sum_q G_pq f_q + k dx sum_i M_pi f_i + k sum_a h^a_p F_a(x_a) - b_p,
-    //     R_a = x_a - w_a - k sum_q c_q h^a_q f_q - k sum_b (s_a . s_b) F_b(x_b) - k dx sum_i m^a_i f_i,
-    //     dR_p/dr_q = delta_pq + k G_pq f_q' - k^2 dx c_q f_q' sum_i M_pi M_qi w_i,
-    //     dR_p/dx_a = k h^a_p F_a' - k^2 dx F_a' sum_i M_pi m^a_i w_i,
-    //     dR_a/dr_q = -k c_q h^a_q f_q' + k^2 dx c_q f_q' sum_i m^a_i M_qi w_i,
-    //     dR_a/dx_b = delta_ab - k (s_a . s_b) F_b' + k^2 dx F_b' sum_i m^a_i m^b_i w_i.
-    // evaluated: s (and grid.solutions) hold the evaluation at s.increment, the pads' x and s.height.
     double scale = newton_scale(s);
     const std::vector<std::size_t>& awake = s.awake_list;
     const std::size_t count = awake.size();
@@ -448,52 +575,17 @@ bool PointContact::solve_with_grid(State& s, const Law& law, double k, Grid& gri
     Matrix jacobian(m, m);
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Matrix::MaxRowsAtCompileTime, 1> step(m);
     std::vector<double>& r = s.increment;
-    // Each pad's unknown x, its force F(x), dF/dx and residual; its trial x.
-    const auto room = [&](std::vector<double>& v) { return std::span<double>(v).first(pad_count); };
-    const std::span<double> x = room(s.press_x), pad_force = room(s.press_force), pad_slope = room(s.press_slope),
-                            pad_residual = room(s.press_residual), trial_x = room(s.press_trial);
+    // Each pad's unknown x and dF/dx (joint_residual forms them, with F(x) and the residual).
+    const std::span<double> x = std::span<double>(s.press_x).first(pad_count);
+    const std::span<const double> pad_slope = std::span<double>(s.press_slope).first(pad_count);
+    const std::span<const double> pad_residual = std::span<double>(s.press_residual).first(pad_count);
     for (std::size_t a = 0; a < pad_count; ++a) {
         x[a] = pads[a].x;
         scale = std::max({scale, std::abs(pads[a].predicted), std::abs(x[a])});
     }
-    const auto residual_at = [&](const std::vector<double>& at, std::span<const double> at_x,
-                                 const std::vector<double>& at_height, bool solve) {
-        for (std::size_t q : awake) s.quotient[q] = law.difference_quotient(s.eta_prev[q], at[q]);
-        for (std::size_t a = 0; a < pad_count; ++a) pads[a].press->force_and_slope(at_x[a], pad_force[a], pad_slope[a]);
-        if (solve) {
-            // (the grid reads the points' forces from s.force: the quotients, for this evaluation)
-            std::swap(s.force, s.quotient);
-            solve_grid(s, law, k, grid, pads, pad_force, &at_height);
-            std::swap(s.force, s.quotient);
-        }
-        double largest = 0.0;
-        for (std::size_t p : awake) {
-            double push = 0.0;
-            for (std::size_t q : awake) push += gram(p, q) * s.quotient[q];
-            for (std::size_t a = 0; a < pad_count; ++a) push += pads[a].coupling[p] * pad_force[a];
-            s.residual[p] = at[p] + k * push + grid_push(s, k, grid, p, pads) - s.b[p];
-            largest = std::max(largest, std::abs(s.residual[p]));
-        }
-        for (std::size_t a = 0; a < pad_count; ++a) {
-            double push = 0.0;
-            for (std::size_t q : awake) push += points_[q].weight_m * pads[a].coupling[q] * s.quotient[q];
-            for (std::size_t b = 0; b < pad_count; ++b) push += cross(pads, a, b) * pad_force[b];
-            pad_residual[a] = at_x[a] - pads[a].predicted - k * push - grid_push(s, k, grid, size() + a, pads);
-            largest = std::max(largest, std::abs(pad_residual[a]));
-        }
-        // A finger's equation rounds relative to its own size (a stiff pad's slope times the
-        // finger's height): measured against the points' scale, its floor at theirs.
-        for (std::size_t f = 0; f < fingers; ++f) {
-            const double size = s.height_size[f];
-            largest = std::max(largest, std::abs(s.height_residual[f]) * (size > scale ? scale / size : 1.0));
-        }
-        return largest;
-    };
     const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * scale;
-    // residual_at swaps s.force with s.quotient: the trial point lives in a vector of its own.
-    std::vector<double>& candidate = s.candidate;
-    std::copy(r.begin(), r.end(), candidate.begin());
-    double norm = residual_at(r, x, s.height, !evaluated);
+    std::copy(r.begin(), r.end(), s.candidate.begin());
+    double norm = joint_residual(s, law, k, grid, pads, r, x, s.height, !evaluated, scale);
     int iteration = 0;
     bool stalled = false;
     // (a start carried on from the last steps that needs more than a few iterations is a poor one)
@@ -505,71 +597,14 @@ bool PointContact::solve_with_grid(State& s, const Law& law, double k, Grid& gri
             jacobian.bottomRows(static_cast<Eigen::Index>(fingers)).setZero();
             jacobian.rightCols(static_cast<Eigen::Index>(fingers)).setZero();
         }
-        for (std::size_t g = 0; g < grid.points.size(); ++g) {
-            const ContactSolution& sol = grid.solutions[g];
-            if (sol.force == 0.0 && sol.increment + grid.a[g] <= 0.0 && grid.a[g] <= 0.0) continue;
-            const double slope = law.slope_of_quotient(grid.a[g], sol.increment, sol.force);
-            const double w = slope / (1.0 + k * slope);
-            if (w == 0.0) continue;
-            const std::size_t i = grid.points[g];
-            const double kkw = k * k * grid.step * w;
-            for (std::size_t a = 0; a < count; ++a)
-                for (std::size_t c = 0; c < count; ++c) {
-                    const std::size_t p = awake[a], q = awake[c];
-                    jacobian(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(c)) -=
-                        kkw * points_[q].weight_m * s.slope[q] * grid_coupling(p, i) * grid_coupling(q, i);
-                }
-            for (std::size_t pa = 0; pa < pad_count; ++pa) {
-                const double m_i = pads[pa].grid[i];
-                const auto e = static_cast<Eigen::Index>(count + pa);
-                for (std::size_t a = 0; a < count; ++a) {
-                    const std::size_t p = awake[a];
-                    const auto ia = static_cast<Eigen::Index>(a);
-                    jacobian(ia, e) -= kkw * pad_slope[pa] * grid_coupling(p, i) * m_i;
-                    jacobian(e, ia) += kkw * points_[p].weight_m * s.slope[p] * m_i * grid_coupling(p, i);
-                }
-                for (std::size_t pb = 0; pb < pad_count; ++pb)
-                    jacobian(e, static_cast<Eigen::Index>(count + pb)) += kkw * pad_slope[pb] * m_i * pads[pb].grid[i];
-            }
-        }
+        add_grid_response(*this, s, law, k, grid, pads, pad_slope, jacobian);
         if (grid.pads != nullptr) pads_jacobian(s, k, grid, pads, pad_slope, jacobian);
         for (std::size_t a = 0; a < count; ++a) step(static_cast<Eigen::Index>(a)) = -s.residual[awake[a]];
         for (std::size_t a = 0; a < pad_count; ++a) step(static_cast<Eigen::Index>(count + a)) = -pad_residual[a];
         for (std::size_t f = 0; f < fingers; ++f) step(static_cast<Eigen::Index>(first_height + f)) = -s.height_residual[f];
         step = Eigen::PartialPivLU<Matrix>(jacobian).solve(step);
-        double t = 1.0, trial_norm = 0.0;
-        bool decreased = false;
-        // Backtracking is for the kink of [eta]_+ far from the solution; near it, a full Newton
-        // step that does not lower the residual finds it at its round-off floor (a stiff pad's
-        // force rounds to its slope times eps |u|, far above eps times the unknowns).
-        const int halvings = norm <= 1e-9 * scale ? 1 : 40;
-        for (int halving = 0; halving < halvings; ++halving, t *= 0.5) {
-            for (std::size_t a = 0; a < count; ++a) candidate[awake[a]] = r[awake[a]] + t * step(static_cast<Eigen::Index>(a));
-            for (std::size_t a = 0; a < pad_count; ++a) trial_x[a] = x[a] + t * step(static_cast<Eigen::Index>(count + a));
-            for (std::size_t f = 0; f < fingers; ++f)
-                s.height_candidate[f] = s.height[f] + t * step(static_cast<Eigen::Index>(first_height + f));
-            trial_norm = residual_at(candidate, trial_x, s.height_candidate, true);
-            if (trial_norm < norm) {
-                r.swap(candidate);
-                s.height.swap(s.height_candidate);
-                std::copy(trial_x.begin(), trial_x.end(), x.begin());
-                norm = trial_norm;
-                decreased = true;
-                break;
-            }
-        }
-        if (!decreased) {
+        if (!joint_step(s, law, k, grid, pads, step, x, norm, scale)) {
             stalled = true;
-            if (trial_norm <= 2.0 * norm && converged(trial_norm, step, stalled, scale)) {
-                // At the round-off floor, the last trial as good as r: it is the one evaluated
-                // (the fingers' state is its trial's), so it is the answer.
-                r.swap(candidate);
-                s.height.swap(s.height_candidate);
-                std::copy(trial_x.begin(), trial_x.end(), x.begin());
-                norm = trial_norm;
-            } else {
-                residual_at(r, x, s.height, true);  // back to r's quotients and grid solutions
-            }
             break;
         }
     }

@@ -214,6 +214,19 @@ private:
     template <class Matrix, ContactForceLaw Law>
     bool solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
                          bool may_fail = false) const;
+    // The joint system's residuals at increments `at`, the pads' `at_x` and the fingers' heights
+    // `at_height` (the grid's equations solved for them where `solve`); the largest, a finger's
+    // measured against the points' `scale`.
+    template <ContactForceLaw Law>
+    double joint_residual(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
+                          const std::vector<double>& at, std::span<const double> at_x,
+                          const std::vector<double>& at_height, bool solve, double scale) const;
+    // Newton's step `step` from s.increment, the pads' x and s.height, halved until the residual
+    // `norm` drops: true, the unknowns moved and `norm` theirs; false where none did (at the
+    // round-off floor: the last trial taken where it is as good, else r's evaluation restored).
+    template <class Vector, ContactForceLaw Law>
+    bool joint_step(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads, const Vector& step,
+                    std::span<double> x, double& norm, double scale) const;
     template <class Matrix, ContactForceLaw Law>
     void solve_coupled(State& s, const Law& law, double k, std::span<Pad> pads) const;
 
