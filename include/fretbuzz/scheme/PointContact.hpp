@@ -191,44 +191,8 @@ private:
     void solve_points(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads,
                       bool held = false) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
-    // The grid's equations (and the pads') given the points' forces; returns whether any grid or
-    // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
-    // `height`: the fingers' heights to try (GridPads::trial); none: their own solves (GridPads::solve).
-    template <ContactForceLaw Law>
-    bool solve_grid(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
-                    std::span<const double> pad_force, const std::vector<double>* height = nullptr) const;
-    // k dx sum_i M_pi f_i over the grid's pushing points and the fingers' pads (u at x_p: p < size();
-    // pad a's u_s for p == size() + a).
-    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, std::span<const Pad> pads) const;
-    double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
-    template <class Matrix, ContactForceLaw Law>
-    void points_jacobian(State& s, const Law& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
-    template <class Matrix>
-    void pad_border(const State& s, double k, std::span<const Pad> pads, std::span<const double> pad_slope,
-                    Matrix& jacobian) const;
-    template <class Matrix>
-    void pads_jacobian(State& s, double k, const Grid& grid, std::span<const Pad> pads, std::span<const double> pad_slope,
-                       Matrix& jacobian) const;
-    // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
-    // does not converge (else throws SolverError).
-    template <class Matrix, ContactForceLaw Law>
-    bool solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
-                         bool may_fail = false) const;
-    // The joint system's residuals at increments `at`, the pads' `at_x` and the fingers' heights
-    // `at_height` (the grid's equations solved for them where `solve`); the largest, a finger's
-    // measured against the points' `scale`.
-    template <ContactForceLaw Law>
-    double joint_residual(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
-                          const std::vector<double>& at, std::span<const double> at_x,
-                          const std::vector<double>& at_height, bool solve, double scale) const;
-    // Newton's step `step` from s.increment, the pads' x and s.height, halved until the residual
-    // `norm` drops: true, the unknowns moved and `norm` theirs; false where none did (at the
-    // round-off floor: the last trial taken where it is as good, else r's evaluation restored).
-    template <class Vector, ContactForceLaw Law>
-    bool joint_step(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads, const Vector& step,
-                    std::span<double> x, double& norm, double scale) const;
-    template <class Matrix, ContactForceLaw Law>
-    void solve_coupled(State& s, const Law& law, double k, std::span<Pad> pads) const;
+    // (Newton's method on the points' system is PointNewton's, on the points beside the grid
+    // GridNewton's: private headers of src/scheme.)
 
     std::vector<PointObstacle> points_;
     std::vector<double> planned_heights_, heights_;
