@@ -100,11 +100,6 @@ void PointContact::start(State& s, std::span<const double> q, std::span<const do
 }
 
 template <ContactForceLaw Law>
-bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k) const {
-    return solve(s, predicted, law, k, std::span<Pad>());
-}
-
-template <ContactForceLaw Law>
 bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k,
                          std::span<Pad> pads) const {
     solve_points(s, predicted, law, k, pads);
@@ -167,11 +162,6 @@ bool PointContact::commit(State& s) const {
         s.eta_curr[p] = eta_next;
     }
     return any_push(s.force);
-}
-
-template <ContactForceLaw Law>
-bool PointContact::solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid) const {
-    return solve(s, predicted, law, k, grid, std::span<Pad>());
 }
 
 template <ContactForceLaw Law>
@@ -252,9 +242,7 @@ void PointContact::add_impulse(const State& s, double k, std::span<double> impul
 }
 
 // The laws the scheme plans with.
-template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double) const;
 template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, std::span<Pad>) const;
-template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, Grid&) const;
 template bool PointContact::solve(State&, std::span<const double>, const PenaltyContact&, double, Grid&,
                                   std::span<Pad>) const;
 template double PointContact::potential(const State&, const PenaltyContact&, bool) const;

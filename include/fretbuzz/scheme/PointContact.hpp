@@ -135,10 +135,6 @@ public:
     void rest(State& s, std::size_t p) const;
     // Point p awake again, eta from the state (q^n, d^n).
     void wake(State& s, std::size_t p, std::span<const double> q, std::span<const double> d) const;
-    // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
-    // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
-    template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k) const;
     // Pads pressing on their u_s in the same step (pluckers at their exact positions): with pad
     // a's force F_a(x_a) the system gains one unknown per pad,
     //     r_p + k sum_q G_pq f_q + k sum_a h^a_p F_a(x_a) = b_p,
@@ -155,9 +151,11 @@ public:
         double x = 0.0;
         std::span<const double> grid;  // m_i = s . S_i at every grid point (with a Grid only)
     };
+    // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
+    // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
     // pads: at most the State's room (make_state).
     template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads) const;
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads = {}) const;
     // The grid's active obstacle points in the same step (grid_coupled() only): each one's
     // eta^{n-1} (a) and free-step increment (b); `solutions` receives each one's solution with
     // the points' forces (the caller moves the grid's eta on).
@@ -168,13 +166,11 @@ public:
         double step = 0.0;  // dx
         GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
-    template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid) const;
     // The points, the pads and the grid's active obstacle points in one solve (no point need be
     // grid_coupled() where there are none awake).
     template <ContactForceLaw Law>
     bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid,
-               std::span<Pad> pads) const;
+               std::span<Pad> pads = {}) const;
     bool grid_coupled() const { return grid_points_ != 0; }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
