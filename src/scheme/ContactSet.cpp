@@ -162,7 +162,13 @@ void ContactSet::step_friction(SecondPolarisation& y, long n) {
     y.step(n, forces_.rubbing(parts_), point_forces);
 }
 
+void ContactSet::fill_pass(kernels::StepPass& pass, const ForceGestures& gestures) {
+    pushes_.fill(pass, route_.push, forces_.list(), prediction_.field(), points_, gestures, pluckers_, parts_);
+    prediction_.ask(pass, route_, points_, grid_, parts_);
+}
+
 void ContactSet::end_step(Screening& screening, const ModalState& modes, long next) {
+    prediction_.keep(points_, next);
     if (screening.on()) {
         ContactScheduler& scheduler = screening.scheduler();
         scheduler.end_step();

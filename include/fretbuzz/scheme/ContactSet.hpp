@@ -52,20 +52,13 @@ public:
     // Step n's contacts solved from the free prediction of `modes`, shifted by the gestures' loads
     // where record.loaded; the step's route decided.
     void solve(const ModalState& modes, const ForceGestures& gestures, long n, StepRecord& record);
-    // The pass into step `next`, run(pass), with the step's pushes and the forecasts the route
-    // asks for in it; the forecasts kept after it ran.
-    template <class Run>
-    void pass(const ForceGestures& gestures, long next, Run&& run) {
-        kernels::StepPass pass;
-        pushes_.fill(pass, route_.push, forces_.list(), prediction_.field(), points_, gestures, pluckers_, parts_);
-        prediction_.ask(pass, route_, points_, grid_, parts_);
-        run(pass);
-        prediction_.keep(points_, next);
-    }
+    // The step's pushes and the forecasts the route asks for into `pass` (end_step keeps them).
+    void fill_pass(kernels::StepPass& pass, const ForceGestures& gestures);
     // Friction along y from this step's normal forces (the grid's, the pads' and the exact points').
     void step_friction(SecondPolarisation& y, long n);
-    // After the pass: the screening told of the pushes (the motion is a new free motion), points
-    // apart put to sleep; the forces off the grid reported.
+    // After the pass into step `next`: the forecasts it formed kept, the screening told of the
+    // pushes (the motion is a new free motion), points apart put to sleep; the forces off the
+    // grid reported.
     void end_step(Screening& screening, const ModalState& modes, long next);
     void forget_forces() {  // (and the forecasts, formed for points now asleep, before a flight)
         forces_.list().clear();

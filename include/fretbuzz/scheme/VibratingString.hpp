@@ -150,7 +150,9 @@ inline void VibratingString::end_step() {
 inline void VibratingString::advance() {
     const bool loaded = record_.loaded;
     if (loaded) gestures_.begin_step(modes_);
-    contacts_.pass(gestures_, n_ + 1, [this](kernels::StepPass& pass) { run_pass(pass); });
+    kernels::StepPass pass;
+    contacts_.fill_pass(pass, gestures_);
+    run_pass(pass);
     if (loaded) gestures_.end_step(modes_);
 }
 
