@@ -49,9 +49,7 @@ void VibratingString::restart() {
     // What the passes formed belongs to the state before the change.
     ledger_.forget();
     pickups_.forget();
-    contacts_.forget_forecasts();
     pickups_.keep(modes_);
-    if (n_ == 0) return;  // the first step looks at everything anyway
     contacts_.restart(modes_, screening_, n_);
 }
 

@@ -135,10 +135,6 @@ public:
     void rest(State& s, std::size_t p) const;
     // Point p awake again, eta from the state (q^n, d^n).
     void wake(State& s, std::size_t p, std::span<const double> q, std::span<const double> d) const;
-    // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
-    // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
-    template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k) const;
     // Pads pressing on their u_s in the same step (pluckers at their exact positions): with pad
     // a's force F_a(x_a) the system gains one unknown per pad,
     //     r_p + k sum_q G_pq f_q + k sum_a h^a_p F_a(x_a) = b_p,
@@ -155,9 +151,11 @@ public:
         double x = 0.0;
         std::span<const double> grid;  // m_i = s . S_i at every grid point (with a Grid only)
     };
+    // One step: `predicted[p]` is u at point p after a free step; k = dt^2/mu. Fills s.force
+    // (force per unit length f_p), moves eta one level on, and returns whether any point pushed.
     // pads: at most the State's room (make_state).
     template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads) const;
+    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads = {}) const;
     // The grid's active obstacle points in the same step (grid_coupled() only): each one's
     // eta^{n-1} (a) and free-step increment (b); `solutions` receives each one's solution with
     // the points' forces (the caller moves the grid's eta on).
@@ -168,13 +166,11 @@ public:
         double step = 0.0;  // dx
         GridPads* pads = nullptr;  // fingers' pads, solved with them (their grid points are not in `points`)
     };
-    template <ContactForceLaw Law>
-    bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid) const;
     // The points, the pads and the grid's active obstacle points in one solve (no point need be
     // grid_coupled() where there are none awake).
     template <ContactForceLaw Law>
     bool solve(State& s, std::span<const double> predicted, const Law& law, double k, Grid& grid,
-               std::span<Pad> pads) const;
+               std::span<Pad> pads = {}) const;
     bool grid_coupled() const { return grid_points_ != 0; }
     // M_pi = phi(x_p) . S_i
     double grid_coupling(std::size_t p, std::size_t i) const { return grid_rows_[p * grid_points_ + i]; }
@@ -191,31 +187,8 @@ private:
     void solve_points(State& s, std::span<const double> predicted, const Law& law, double k, std::span<Pad> pads,
                       bool held = false) const;
     bool commit(State& s) const;  // moves eta one level on; whether any point pushed
-    // The grid's equations (and the pads') given the points' forces; returns whether any grid or
-    // pad point pushed. (s.pad_* is scratch: s is otherwise read only.)
-    // `height`: the fingers' heights to try (GridPads::trial); none: their own solves (GridPads::solve).
-    template <ContactForceLaw Law>
-    bool solve_grid(State& s, const Law& law, double k, Grid& grid, std::span<const Pad> pads,
-                    std::span<const double> pad_force, const std::vector<double>* height = nullptr) const;
-    // k dx sum_i M_pi f_i over the grid's pushing points and the fingers' pads (u at x_p: p < size();
-    // pad a's u_s for p == size() + a).
-    double grid_push(const State& s, double k, const Grid& grid, std::size_t p, std::span<const Pad> pads) const;
-    double newton_scale(State& s) const;  // the awake points' list, and the size Newton's tolerance is relative to
-    template <class Matrix, ContactForceLaw Law>
-    void points_jacobian(State& s, const Law& law, double k, const std::vector<double>& r, Matrix& jacobian) const;
-    template <class Matrix>
-    void pad_border(const State& s, double k, std::span<const Pad> pads, std::span<const double> pad_slope,
-                    Matrix& jacobian) const;
-    template <class Matrix>
-    void pads_jacobian(State& s, double k, const Grid& grid, std::span<const Pad> pads, std::span<const double> pad_slope,
-                       Matrix& jacobian) const;
-    // evaluated: s holds the evaluation at Newton's start. may_fail: returns false where Newton
-    // does not converge (else throws SolverError).
-    template <class Matrix, ContactForceLaw Law>
-    bool solve_with_grid(State& s, const Law& law, double k, Grid& grid, std::span<Pad> pads, bool evaluated,
-                         bool may_fail = false) const;
-    template <class Matrix, ContactForceLaw Law>
-    void solve_coupled(State& s, const Law& law, double k, std::span<Pad> pads) const;
+    // (Newton's method on the points' system is PointNewton's, on the points beside the grid
+    // GridNewton's: private headers of src/scheme.)
 
     std::vector<PointObstacle> points_;
     std::vector<double> planned_heights_, heights_;

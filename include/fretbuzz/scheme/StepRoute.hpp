@@ -4,9 +4,16 @@
 // per step, in its solve (the solve's part from the state at the top, the pushes' part when the
 // solve's forces are known, at its end); the phases after it (the pass, the screening) read it
 // instead of each deriving it again from the contacts' flags.
+#include <cstddef>
 #include <cstdint>
 
 namespace fretbuzz {
+
+class ExactPluckers;
+class ExactPoints;
+class GridContact;
+class Plan;
+class PlayedParts;
 
 struct StepRoute {
     // The unknowns off the grid: the exact points and the exact pluckers.
@@ -39,6 +46,13 @@ struct StepRoute {
     Push push = Push::none;
     bool forecast_points = false;  // the pass forms the awake exact points' next predictions (first)
     bool forecast_grid = false;    // and those at the grid's active points and pads (after them)
+
+    // The solve's part, from the state at the top of the step (pluckers: some act); the rest none.
+    static StepRoute of_solve(const Plan& plan, const GridContact& grid, const ExactPoints& points,
+                              const ExactPluckers& pluckers, const PlayedParts& parts, bool pluckers_act);
+    // The pushes' part and the forecasts, from the solve's `forces` (and whether the step is loaded).
+    void choose_pushes(const Plan& plan, const GridContact& grid, const ExactPoints& points, const PlayedParts& parts,
+                       std::size_t forces, bool loaded);
 };
 
 }  // namespace fretbuzz

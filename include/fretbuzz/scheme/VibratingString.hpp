@@ -133,7 +133,7 @@ inline double VibratingString::work() const {
 }
 
 inline void VibratingString::begin_step() {
-    screening_.wake_due(modes_, contacts_.grid(), contacts_.points(), contacts_.field_scratch());
+    contacts_.wake_due(screening_, modes_);
     record_.loaded = false;
     if (!gestures_.empty() && gestures_.load(n_)) record_.mark_loaded();
 }
@@ -142,10 +142,8 @@ inline void VibratingString::solve_contacts() { contacts_.solve(modes_, gestures
 
 inline void VibratingString::end_step() {
     advance();
-    // Friction from this step's normal forces (the grid's and the exact points').
-    if (y_) y_->step(n_, contacts_.rubbing_points(), contacts_.point_forces());
-    if (screening_.on()) contacts_.tell_screening(screening_, modes_, n_ + 1);
-    contacts_.report_forces();
+    if (y_) contacts_.step_friction(*y_, n_);
+    contacts_.end_step(screening_, modes_, n_ + 1);
     ++n_;
 }
 
@@ -155,7 +153,6 @@ inline void VibratingString::advance() {
     kernels::StepPass pass;
     contacts_.fill_pass(pass, gestures_);
     run_pass(pass);
-    contacts_.keep_forecasts(n_ + 1);
     if (loaded) gestures_.end_step(modes_);
 }
 
