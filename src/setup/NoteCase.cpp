@@ -402,28 +402,28 @@ double touch_free_scale(const Case& c) {
         for (std::size_t j = 0; j < n; ++j) bound += amplitude[j] * shape(j);
         if (bound > 0.0) scale = std::min(scale, clearance / (norm * bound));
     };
-    const double step = std::numbers::pi / static_cast<double>(n + 1);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double g = c.obstacle_height_m[i];
-        if (!std::isfinite(g)) continue;
-        // sin((j + 1) theta) for j = 0, 1, ... by turning a unit phasor, not n sines a point (the
-        // grid's n^2 sines were most of this bound's cost); its round-off, under 4 (j + 1)
-        // epsilon, is added so that the bound stays one.
-        const double theta = static_cast<double>(i + 1) * step;
-        tighten(-s * g, [turn_re = std::cos(theta), turn_im = std::sin(theta), re = 1.0, im = 0.0](std::size_t j) mutable {
+    // |sin((j + 1) theta)| for j = 0, 1, ... in turn, by turning a unit phasor rather than one
+    // sine a mode (the grid's n^2 sines were most of this bound's cost); its round-off, under
+    // 4 (j + 1) epsilon, is added so that the bound stays one.
+    const auto sines = [](double theta) {
+        return [turn_re = std::cos(theta), turn_im = std::sin(theta), re = 1.0, im = 0.0](std::size_t j) mutable {
             const double next = re * turn_re - im * turn_im;
             im = re * turn_im + im * turn_re;
             re = next;
             return std::abs(im) + 4.0 * static_cast<double>(j + 1) * std::numeric_limits<double>::epsilon();
-        });
+        };
+    };
+    const double step = std::numbers::pi / static_cast<double>(n + 1);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = c.obstacle_height_m[i];
+        if (!std::isfinite(g)) continue;
+        tighten(-s * g, sines(static_cast<double>(i + 1) * step));
     }
     // The frets at their exact positions: |phi_j(x)| / sqrt(2/L) = |sin(j pi x / L)|. This runs
     // for every pluck, so no basis (nor its transform's plan) is built for it, and a fret's
     // shapes are formed only where the cheap look does not settle it.
     for (const PointObstacle& p : c.point_obstacles)
-        tighten(-s * p.height_m, [&](std::size_t j) {
-            return std::abs(std::sin(static_cast<double>(j + 1) * std::numbers::pi * p.x_m / c.string.length_m));
-        });
+        tighten(-s * p.height_m, sines(std::numbers::pi * p.x_m / c.string.length_m));
     return scale;
 }
 
